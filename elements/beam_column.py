@@ -1,0 +1,99 @@
+"""2-D elastic Euler-Bernoulli beam-column with a linear geometric transformation.
+
+Dofs per element: ``[ux1, uy1, rz1, ux2, uy2, rz2]`` in global axes (N, m, rad).
+
+References
+----------
+Przemieniecki, J.S. (1968) Theory of Matrix Structural Analysis, ch. 5 and 11.
+OpenSees ``SRC/element/elasticBeamColumn/ElasticBeam2d.cpp`` (mass conventions).
+"""
+import numpy as np
+from numba import njit
+
+from .base import ElementType, register, rotation_2d
+from .kernels import rotate_to_global
+
+
+@njit(cache=True)
+def _local_stiffness(A, E, I, L):
+    n = A.shape[0]
+    k = np.zeros((n, 6, 6))
+    for e in range(n):
+        ea = E[e] * A[e] / L[e]
+        ei = E[e] * I[e]
+        l1, l2, l3 = L[e], L[e] * L[e], L[e] * L[e] * L[e]
+        k[e, 0, 0] = k[e, 3, 3] = ea
+        k[e, 0, 3] = k[e, 3, 0] = -ea
+        k[e, 1, 1] = k[e, 4, 4] = 12.0 * ei / l3
+        k[e, 1, 4] = k[e, 4, 1] = -12.0 * ei / l3
+        k[e, 1, 2] = k[e, 2, 1] = k[e, 1, 5] = k[e, 5, 1] = 6.0 * ei / l2
+        k[e, 4, 2] = k[e, 2, 4] = k[e, 4, 5] = k[e, 5, 4] = -6.0 * ei / l2
+        k[e, 2, 2] = k[e, 5, 5] = 4.0 * ei / l1
+        k[e, 2, 5] = k[e, 5, 2] = 2.0 * ei / l1
+    return k
+
+
+@njit(cache=True)
+def _local_consistent_mass(rho, L):
+    n = rho.shape[0]
+    m = np.zeros((n, 6, 6))
+    for e in range(n):
+        l1 = L[e]
+        ax = rho[e] * l1 / 6.0
+        m[e, 0, 0] = m[e, 3, 3] = 2.0 * ax
+        m[e, 0, 3] = m[e, 3, 0] = ax
+        b = rho[e] * l1 / 420.0
+        m[e, 1, 1] = m[e, 4, 4] = 156.0 * b
+        m[e, 1, 4] = m[e, 4, 1] = 54.0 * b
+        m[e, 1, 2] = m[e, 2, 1] = 22.0 * l1 * b
+        m[e, 4, 5] = m[e, 5, 4] = -22.0 * l1 * b
+        m[e, 1, 5] = m[e, 5, 1] = -13.0 * l1 * b
+        m[e, 2, 4] = m[e, 4, 2] = 13.0 * l1 * b
+        m[e, 2, 2] = m[e, 5, 5] = 4.0 * l1 * l1 * b
+        m[e, 2, 5] = m[e, 5, 2] = -3.0 * l1 * l1 * b
+    return m
+
+
+@register
+class ElasticBeamColumn2d(ElementType):
+    """Elastic beam-column: area ``A`` [m²], modulus ``E`` [Pa], inertia ``I`` [m⁴], mass per
+    length ``rho`` [kg/m]; ``cmass`` 1 for the consistent mass matrix (cubic Hermite bending,
+    linear axial), 0 for the lumped one (ρL/2 on ux and uy of each node, no rotary inertia),
+    as OpenSees's ``elasticBeamColumn ... -mass rho [-cMass]``."""
+
+    name = "elasticBeamColumn"
+    param_names = ("A", "E", "I", "rho", "cmass")
+    positive = ("A", "E", "I")
+    non_negative = ("rho",)
+    defaults = {"rho": 0.0, "cmass": 0.0}
+    response_kinds = ("force", "globalForce", "localForce")
+
+    def stiffness(self, coords, params):
+        c, s, L = rotation_2d(coords)
+        return rotate_to_global(_local_stiffness(params[:, 0], params[:, 1], params[:, 2], L), c, s, 2, 3)
+
+    def mass(self, coords, params):
+        c, s, L = rotation_2d(coords)
+        rho, consistent = params[:, 3], params[:, 4] != 0.0
+        m = np.zeros((len(params), 6, 6))
+        half = 0.5 * rho * L
+        for d in (0, 1, 3, 4):
+            m[:, d, d] = half
+        if consistent.any():
+            mc = rotate_to_global(_local_consistent_mass(rho, L), c, s, 2, 3)
+            m[consistent] = mc[consistent]
+        return m
+
+    def response(self, kind, coords, params, u_e, v_e):
+        """``localForce``: ``[N1, V1, M1, N2, V2, M2]`` in element axes (forces the nodes exert
+        on the element); other kinds as in the base class."""
+        if kind == "localForce":
+            c, s, _ = rotation_2d(coords)
+            g = super().response("force", coords, params, u_e, v_e)
+            out = np.empty_like(g)
+            for o in (0, 3):
+                out[:, o] = c * g[:, o] + s * g[:, o + 1]
+                out[:, o + 1] = -s * g[:, o] + c * g[:, o + 1]
+                out[:, o + 2] = g[:, o + 2]
+            return out
+        return super().response(kind, coords, params, u_e, v_e)

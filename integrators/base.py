@@ -1,0 +1,106 @@
+"""The integrator contract: stages of coefficients, never elements.
+
+Every step of every integrator is a sequence of *stages* (Newmark and HHT: one; Bathe: two).
+A stage solves, for its acceleration ``a_s``,
+
+    M a_s + C ṽ + K ũ = P̃,    ũ = Σ_j ku[j] X_j + ku[A] a_s,   ṽ = Σ_j kv[j] X_j + kv[A] a_s,
+    P̃ = Σ_q w_q P(t_n + θ_q Δt),
+
+then sets ``u_s = Σ_j du[j] X_j + du[A] a_s`` and ``v_s = Σ_j dv[j] X_j + dv[A] a_s``. The
+*bank* ``X`` holds the known vectors: slots 0, 1, 2 are ``u_n, v_n, a_n``; stage ``s`` writes
+its ``u_s, v_s, a_s`` to slots ``3 + 3 s, 4 + 3 s, 5 + 3 s``; index ``A = n_slots`` is the
+coefficient of the unknown ``a_s``. The last stage's slots are the state at ``t_n + Δt``. The
+effective matrix of a stage is ``K̂_s = M + kv[A] C + ku[A] K``, constant for a linear model and a
+constant step, so the analysis factors it once.
+
+Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
+-----------------------------------------------------------------------------
+1. ``name`` (str) and ``n_stages`` (int) class attributes; register with :func:`register`.
+2. ``stages(dt)`` returns ``n_stages`` :class:`Stage` objects; coefficient arrays have length
+   ``n_slots + 1`` with ``n_slots = 3 + 3 n_stages``, and a stage only reads slots already written.
+3. ``stability_limit(dt)``: ``None`` if unconditionally stable, else the largest stable
+   ``ω Δt`` (undamped); the analysis compares it with ``ω_max Δt`` and refuses to run beyond it.
+4. ``explicit``: True when ``ku[A] = kv[A] = 0`` in every stage, so that ``K̂ = M``.
+5. Parameters are validated in ``__init__`` with an :class:`~vtsi.errors.AnalysisError`
+   naming the integrator, the parameter and its stable range.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vtsi.errors import AnalysisError
+
+INTEGRATORS = {}
+
+
+def register(cls):
+    for attribute in ("name", "n_stages"):
+        if getattr(cls, attribute, None) is None:
+            raise TypeError(f"integrator {cls.__name__}: missing class attribute {attribute!r}")
+    INTEGRATORS[cls.name] = cls
+    return cls
+
+
+def make_integrator(spec, *args, **kwargs):
+    """An integrator from an instance, a class, or a registered name (with its parameters)."""
+    if isinstance(spec, Integrator):
+        if args or kwargs:
+            raise AnalysisError(f"integrator {spec.name}: parameters given twice")
+        return spec
+    if isinstance(spec, type) and issubclass(spec, Integrator):
+        return spec(*args, **kwargs)
+    if spec in INTEGRATORS:
+        return INTEGRATORS[spec](*args, **kwargs)
+    raise AnalysisError(f"unknown integrator {spec!r}; known: {', '.join(sorted(INTEGRATORS))}")
+
+
+@dataclass
+class Stage:
+    """Coefficients of one stage (see the module docstring); ``theta`` is the stage's end time
+    as a fraction of the step, ``load`` the ``(θ_q, w_q)`` pairs of its load evaluation."""
+
+    du: np.ndarray
+    dv: np.ndarray
+    ku: np.ndarray
+    kv: np.ndarray
+    load: list = field(default_factory=lambda: [(1.0, 1.0)])
+    theta: float = 1.0
+
+
+class Integrator:
+    """Base class of the time integrators (see the module docstring for the contract)."""
+
+    name = None
+    n_stages = None
+    explicit = False
+
+    @property
+    def n_slots(self):
+        return 3 + 3 * self.n_stages
+
+    def coefficients(self, **by_slot):
+        """A coefficient vector from ``u_n=..., v_n=..., a_n=..., a=...`` or ``slot3=...``."""
+        names = {"u_n": 0, "v_n": 1, "a_n": 2, "a": self.n_slots}
+        c = np.zeros(self.n_slots + 1)
+        for key, value in by_slot.items():
+            c[names[key] if key in names else int(key[4:])] += value
+        return c
+
+    def stages(self, dt):
+        raise NotImplementedError
+
+    def stability_limit(self, dt):
+        return None
+
+    def __repr__(self):
+        params = ", ".join(f"{k}={v:g}" for k, v in vars(self).items() if isinstance(v, float))
+        return f"{type(self).__name__}({params})"
+
+
+def check_parameter(integrator, name, value, low, high, low_open=False, high_open=False, why=""):
+    """Raise an AnalysisError unless ``low <= value <= high`` (open ends as flagged)."""
+    ok = (value > low if low_open else value >= low) and (value < high if high_open else value <= high)
+    if not (np.isfinite(value) and ok):
+        lo, hi = ("(" if low_open else "["), (")" if high_open else "]")
+        raise AnalysisError(f"integrator {integrator}: {name} = {value:g} is outside {lo}{low:g}, {high:g}{hi}"
+                            + (f" ({why})" if why else ""))

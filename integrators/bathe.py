@@ -1,0 +1,47 @@
+"""Bathe's composite scheme: trapezoidal rule to ``t + γΔt``, then the three-point backward
+Euler formula to ``t + Δt``. With γ = ½ it is second order and ``ρ∞ = 0`` (OpenSees: TRBDF2).
+
+References
+----------
+Bathe, K.J., Baig, M.M.I. (2005) On a composite implicit time integration procedure for
+nonlinear dynamics. Comput. Struct. 83, 2513-2524.
+Bathe, K.J. (2007) Conserving energy and momentum in nonlinear dynamics: a simple implicit
+time integration scheme. Comput. Struct. 85, 437-445.
+"""
+from .base import Integrator, Stage, check_parameter, register
+
+
+@register
+class Bathe(Integrator):
+    """Two stages per step; stage 2 uses ``v = c1 u_n + c2 u_γ + c3 u``, ``a = c1 v_n + c2 v_γ + c3 v``
+    with ``c1 = (1-γ)/(γΔt)``, ``c2 = -1/((1-γ)γΔt)``, ``c3 = (2-γ)/((1-γ)Δt)``."""
+
+    name = "Bathe"
+    n_stages = 2
+
+    def __init__(self, gamma=0.5):
+        self.gamma = float(gamma)
+        check_parameter(self.name, "gamma", self.gamma, 0.0, 1.0, low_open=True, high_open=True)
+
+    def stages(self, dt):
+        g = self.gamma
+        h = g * dt
+        du1 = self.coefficients(u_n=1.0, v_n=h, a_n=h * h / 4.0, a=h * h / 4.0)
+        dv1 = self.coefficients(v_n=1.0, a_n=h / 2.0, a=h / 2.0)
+        c1 = (1.0 - g) / (g * dt)
+        c2 = -1.0 / ((1.0 - g) * g * dt)
+        c3 = (2.0 - g) / ((1.0 - g) * dt)
+        dv2 = self.coefficients(v_n=-c1 / c3, slot4=-c2 / c3, a=1.0 / c3)
+        du2 = self.coefficients(u_n=-c1 / c3, slot3=-c2 / c3) + dv2 / c3
+        return [Stage(du=du1, dv=dv1, ku=du1, kv=dv1, load=[(g, 1.0)], theta=g),
+                Stage(du=du2, dv=dv2, ku=du2, kv=dv2, load=[(1.0, 1.0)], theta=1.0)]
+
+
+@register
+class TRBDF2(Bathe):
+    """OpenSees's name for Bathe's scheme with γ = ½."""
+
+    name = "TRBDF2"
+
+    def __init__(self):
+        super().__init__(0.5)

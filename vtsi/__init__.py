@@ -1,0 +1,18 @@
+"""vtsi: dynamic analysis of trains crossing railway bridges (vehicle-track-structure interaction).
+
+Object API: :class:`Model`, analyses (:class:`StaticAnalysis`, :class:`TransientAnalysis`,
+:func:`eigen`), integrators (:mod:`vtsi.integrators`), elements (:mod:`vtsi.elements`),
+recorders (:mod:`vtsi.recorders`). OpenSees-style commands: :mod:`vtsi.opensees`.
+
+Glossary (used throughout): K, C, M stiffness, damping, mass matrices; u, v, a displacement,
+velocity, acceleration; P load; λ contact force (compression positive); SI units.
+"""
+from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, eigen
+from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError, VtsiError
+from vtsi.model import Model
+from vtsi.timeseries import Constant, Linear, Path
+
+__version__ = "0.1.0"
+__all__ = ["Model", "StaticAnalysis", "TransientAnalysis", "eigen", "domain_state",
+           "Constant", "Linear", "Path",
+           "VtsiError", "ModelError", "AnalysisError", "DivergenceError", "CommandError"]

@@ -1,0 +1,306 @@
+"""Analyses of a linear model: static (load control), eigenvalues and transient.
+
+The transient analysis factors each stage's effective matrix once (banded Cholesky) and runs
+the steps in compiled chunks (:mod:`vtsi.timeloop`), handing each chunk to the recorders.
+"""
+import logging
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse.linalg as spla
+
+from vtsi.banded import NotPositiveDefinite, band_rows, cholesky_band, cholesky_solve, half_bandwidth, pad
+from vtsi.errors import AnalysisError, DivergenceError
+from vtsi.integrators import make_integrator
+from vtsi.timeloop import run_linear_steps
+
+log = logging.getLogger(__name__)
+QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
+
+
+class DomainState:
+    """Committed response of a model: time [s] and full-dof ``u, v, a`` (m, m/s, m/s²)."""
+
+    def __init__(self, n_full):
+        self.time = 0.0
+        self.u, self.v, self.a = np.zeros(n_full), np.zeros(n_full), np.zeros(n_full)
+
+
+def domain_state(model):
+    """The model's committed state, created (at rest) or resized when the dofs change."""
+    n_full = model.build().n_full
+    state = getattr(model, "state", None)
+    if state is None or state.u.shape[0] != n_full:
+        time = state.time if state is not None else 0.0
+        state = model.state = DomainState(n_full)
+        state.time = time
+    return state
+
+
+def factor(assembly, matrix, what):
+    """Banded Cholesky factor of a free-dof matrix; a failure names the dof at fault."""
+    kd = half_bandwidth(assembly.K) if assembly.n_free > 1 else 0
+    kd = max(kd, half_bandwidth(assembly.M), half_bandwidth(assembly.C))
+    try:
+        return cholesky_band(matrix, kd)
+    except NotPositiveDefinite as exc:
+        raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(exc.pivot)}: "
+                            "the structure is a mechanism or that dof has neither stiffness nor mass "
+                            "(fix it or connect it)") from None
+
+
+def _pattern_loads(assembly, patterns):
+    """CSR of the free-dof load vectors of ``patterns``: (ptr, dof, val)."""
+    ptr, dofs, vals = [0], [], []
+    for p in patterns:
+        vec = assembly.load_vector(p)
+        nz = np.flatnonzero(vec)
+        dofs.append(nz)
+        vals.append(vec[nz])
+        ptr.append(ptr[-1] + len(nz))
+    cat = lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
+    return np.array(ptr, dtype=np.int64), cat(dofs, np.int64), cat(vals, np.float64)
+
+
+class _RecorderFeed:
+    """Maps the recorders' requests to kernel output columns and hands chunks over."""
+
+    def __init__(self, assembly, model, recorders):
+        self.recorders = list(recorders)
+        keys, self.columns = {}, []
+        for rec in self.recorders:
+            cols = []
+            for quantity, full in rec.requests(assembly):
+                cols.append(keys.setdefault((quantity, int(full)), len(keys)))
+            self.columns.append(np.array(cols, dtype=np.int64))
+        items = sorted(keys.items(), key=lambda kv: kv[1])
+        free = np.array([assembly.free_of_full[full] for (_, full), _ in items], dtype=np.int64)
+        self.free_mask = free >= 0
+        self.n_total = len(items)
+        self.rec_slot = np.array([QUANTITY_SLOT[q] for (q, _), _ in items], dtype=np.int64)[self.free_mask]
+        self.rec_index = free[self.free_mask]
+        for rec in self.recorders:
+            rec.start(assembly, model)
+
+    def deliver(self, times, out, assembly):
+        if not self.recorders or len(times) == 0:
+            return
+        full = np.zeros((len(times), self.n_total))
+        full[:, self.free_mask] = out
+        for rec, cols in zip(self.recorders, self.columns):
+            rec.write(times, full[:, cols], assembly)
+
+    def close(self):
+        for rec in self.recorders:
+            rec.close()
+
+
+class StaticAnalysis:
+    """Linear static analysis with load control: step ``k`` applies the patterns at pseudo-time
+    ``t0 + k dλ`` (OpenSees ``integrator LoadControl dλ``) and solves ``K u = P``."""
+
+    def __init__(self, model, d_lambda=1.0, recorders=()):
+        if not np.isfinite(d_lambda):
+            raise AnalysisError(f"LoadControl: increment must be finite, got {d_lambda}")
+        self.model, self.d_lambda, self.recorders = model, float(d_lambda), list(recorders)
+
+    def run(self, n_steps=1):
+        model = self.model
+        asm = model.build()
+        lower = factor(asm, asm.K, "stiffness matrix K")
+        state = domain_state(model)
+        patterns = list(model.patterns.values())
+        loads = [asm.load_vector(p) for p in patterns]
+        feed = _RecorderFeed(asm, model, self.recorders)
+        try:
+            for _ in range(int(n_steps)):
+                t = state.time + self.d_lambda
+                rhs = np.zeros(asm.n_free)
+                for p, vec in zip(patterns, loads):
+                    rhs += p.factors(np.array([t]))[0] * vec
+                kd = lower.shape[1] - 1
+                padded = pad(rhs, kd)
+                cholesky_solve(lower, padded)
+                state.u[:] = 0.0
+                state.u[asm.full_of_free] = padded[kd: kd + asm.n_free]
+                state.v[:] = 0.0
+                state.a[:] = 0.0
+                state.time = t
+                out = np.array([[(state.u, state.v, state.a)[s][asm.full_of_free[i]]
+                                 for s, i in zip(feed.rec_slot, feed.rec_index)]])
+                feed.deliver(np.array([t]), out, asm)
+        finally:
+            feed.close()
+        return state
+
+
+def eigen(model, n_modes):
+    """Lowest ``n_modes`` eigenpairs of ``K φ = ω² M φ`` on the free dofs.
+
+    Returns ``omega2 (n_modes,)`` [rad²/s²] ascending and ``shapes (n_full, n_modes)``
+    mass-normalised (``φᵀ M φ = 1``), zero at fixed dofs. Dofs without mass are allowed.
+    """
+    asm = model.build()
+    n = asm.n_free
+    if not 1 <= n_modes <= n - 1 if n > 1 else n_modes != 1:
+        raise AnalysisError(f"eigen: number of modes must be between 1 and {max(n - 1, 1)}, got {n_modes}")
+    factor(asm, asm.K, "stiffness matrix K")   # names the mechanism, if any
+    if n <= 1200:
+        mu, vec = scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray())
+        order = np.argsort(mu)[::-1][:n_modes]
+        if np.any(mu[order] <= 1e-14 * mu.max()):
+            raise AnalysisError(f"eigen: only {int(np.sum(mu > 1e-14 * mu.max()))} dofs carry mass, "
+                                f"{n_modes} modes requested")
+        omega2, vec = 1.0 / mu[order], vec[:, order]
+    else:
+        omega2, vec = spla.eigsh(asm.K.tocsc(), k=n_modes, M=asm.M.tocsc(), sigma=0.0, which="LM")
+        order = np.argsort(omega2)
+        omega2, vec = omega2[order], vec[:, order]
+    vec = vec / np.sqrt(np.einsum("ij,ij->j", vec, asm.M @ vec))
+    shapes = np.zeros((asm.n_full, n_modes))
+    shapes[asm.full_of_free] = vec
+    return omega2, shapes
+
+
+def max_frequency(assembly):
+    """Largest ω [rad/s] of ``K φ = ω² M φ`` (stability check of conditionally stable schemes);
+    infinite when a free dof has stiffness but no mass."""
+    try:
+        if assembly.n_free <= 1500:
+            lam = scipy.linalg.eigvalsh(assembly.K.toarray(), assembly.M.toarray(), subset_by_index=[assembly.n_free - 1] * 2)
+        else:
+            lam = spla.eigsh(assembly.K.tocsc(), k=1, M=assembly.M.tocsc(), which="LM",
+                             return_eigenvectors=False, tol=1e-8)
+    except (np.linalg.LinAlgError, spla.ArpackError, ValueError):
+        return np.inf
+    return float(np.sqrt(max(lam[-1], 0.0)))
+
+
+class TransientAnalysis:
+    """Linear transient analysis with any registered integrator and a constant step.
+
+    Parameters
+    ----------
+    model : Model
+    integrator : name, class or instance (``'Newmark'``, ``HHT(0.9)``, ``'Bathe'`` ...).
+    dt : time step [s], > 0.
+    recorders : recorders fed every chunk.
+    divergence_limit : a step whose largest |u| exceeds this (or is NaN) stops the run with
+        a :class:`~vtsi.errors.DivergenceError` naming the step and the time.
+    chunk_steps : steps per compiled call (recorders receive chunks of this size).
+    """
+
+    def __init__(self, model, integrator="Newmark", dt=None, recorders=(), divergence_limit=1e8,
+                 chunk_steps=2000):
+        self.model = model
+        self.integrator = make_integrator(integrator)
+        self.recorders = list(recorders)
+        self.divergence_limit = float(divergence_limit)
+        self.chunk_steps = int(chunk_steps)
+        self.dt = None
+        self._prepared_for = None
+        if dt is not None:
+            self.set_dt(dt)
+
+    def set_dt(self, dt):
+        try:
+            dt = float(dt)
+        except (TypeError, ValueError):
+            raise AnalysisError(f"transient analysis: dt must be a number, got {dt!r}") from None
+        if not (np.isfinite(dt) and dt > 0.0):
+            raise AnalysisError(f"transient analysis: dt must be > 0 and finite, got {dt}")
+        if dt != self.dt:
+            self.dt, self._prepared_for = dt, None
+
+    def _prepare(self):
+        """Factor the stage matrices (once per model version and dt) and pack the stages."""
+        asm = self.model.build()
+        if self._prepared_for is asm:
+            return asm
+        integ, dt = self.integrator, self.dt
+        limit = integ.stability_limit(dt)
+        stages = integ.stages(dt)
+        A = integ.n_slots
+        factors = []
+        for s, st in enumerate(stages):
+            k_hat = asm.M + st.kv[A] * asm.C + st.ku[A] * asm.K
+            what = f"effective matrix of {integ.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
+            factors.append(factor(asm, k_hat.tocsr(), what))
+        if limit is not None:
+            omega_max = max_frequency(asm)
+            if omega_max * dt > limit * (1.0 + 1e-12):
+                raise AnalysisError(f"integrator {integ.name}: dt = {dt:g} s exceeds its stability limit "
+                                    f"{limit / omega_max:.6g} s (= {limit:.4g}/omega_max, omega_max = "
+                                    f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
+        self.factors = np.ascontiguousarray(np.stack(factors))
+        kd = self.factors.shape[2] - 1
+        self.k_rows, self.c_rows = band_rows(asm.K, kd), band_rows(asm.C, kd)
+        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
+        self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
+        self.load_points = [st.load for st in stages]
+        self._prepared_for = asm
+        return asm
+
+    def _load_factors(self, patterns, t0, n):
+        """``(n, n_stages, n_patterns)`` stage load factors of the steps after ``t0``."""
+        steps = t0 + self.dt * np.arange(n, dtype=float)
+        table = np.zeros((n, len(self.load_points), len(patterns)))
+        for s, points in enumerate(self.load_points):
+            for theta, weight in points:
+                times = steps + theta * self.dt
+                for p, pattern in enumerate(patterns):
+                    table[:, s, p] += weight * pattern.factors(times)
+        if not np.all(np.isfinite(table)):
+            raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
+        return table
+
+    def run(self, n_steps):
+        """Advance ``n_steps`` steps from the model's committed state; returns the state."""
+        if self.dt is None:
+            raise AnalysisError("transient analysis: no time step set")
+        n_steps = int(n_steps)
+        if n_steps < 0:
+            raise AnalysisError(f"transient analysis: number of steps must be >= 0, got {n_steps}")
+        asm = self._prepare()
+        state = domain_state(self.model)
+        patterns = list(self.model.patterns.values())
+        load_ptr, load_dof, load_val = _pattern_loads(asm, patterns)
+        n_slots = self.integrator.n_slots
+        kd = self.factors.shape[2] - 1
+        bank = np.zeros((n_slots, asm.n_free + 2 * kd))
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            bank[slot, kd: kd + asm.n_free] = vec[asm.full_of_free]
+        feed = _RecorderFeed(asm, self.model, self.recorders)
+        work = np.zeros((3, asm.n_free + 2 * kd))
+        done = 0
+        try:
+            while done < n_steps:
+                n = min(self.chunk_steps, n_steps - done)
+                t0 = state.time
+                table = self._load_factors(patterns, t0, n)
+                out = np.zeros((n, len(feed.rec_index)))
+                bad = run_linear_steps(bank, self.du, self.dv, self.ku, self.kv, self.factors,
+                                       self.k_rows, self.c_rows, asm.has_damping, table,
+                                       load_ptr, load_dof, load_val, feed.rec_slot, feed.rec_index,
+                                       out, self.divergence_limit, work)
+                good = n if bad < 0 else bad
+                times = t0 + self.dt * np.arange(1, good + 1)
+                feed.deliver(times, out[:good], asm)
+                if bad >= 0:
+                    step = done + bad + 1
+                    raise DivergenceError(
+                        f"transient analysis diverged at step {step}, t = {t0 + (bad + 1) * self.dt:.6g} s "
+                        f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
+                        step, t0 + (bad + 1) * self.dt)
+                self._commit(state, bank[:, kd: kd + asm.n_free], asm, t0 + n * self.dt)
+                done += n
+        finally:
+            feed.close()
+        return state
+
+    @staticmethod
+    def _commit(state, bank, asm, time):
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            vec[:] = 0.0
+            vec[asm.full_of_free] = bank[slot]
+        state.time = time

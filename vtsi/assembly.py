@@ -1,0 +1,177 @@
+"""Dof numbering and assembly of K, M, C into scipy CSR through a precomputed position map.
+
+For every element type the element dof indices are computed once; the union of all element
+blocks (plus every diagonal entry) gives the CSR pattern, and ``positions[type]`` maps each
+entry of the ``(n_el, nd, nd)`` element matrices to its slot in the CSR ``data`` array. A numba
+kernel then adds all element matrices of a type in one call.
+
+Dof indices: a *full* index is ``node_index * ndf + d`` (d = 0 ux, 1 uy, 2 rz). The free dofs
+are renumbered for a small bandwidth (reverse Cuthill-McKee); ``free_of_full[j]`` is the free
+index of full dof ``j`` or -1 where the dof is fixed.
+"""
+import numpy as np
+import scipy.sparse as sp
+from numba import njit
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+from vtsi.errors import ModelError
+
+DOF_NAMES = ("ux", "uy", "rz")
+
+
+@njit(cache=True)
+def scatter_add(data, positions, matrices, weights):
+    """``data[positions[e, i, j]] += weights[e] * matrices[e, i, j]`` for all elements."""
+    n_el, nd, _ = matrices.shape
+    for e in range(n_el):
+        w = weights[e]
+        if w == 0.0:
+            continue
+        for i in range(nd):
+            for j in range(nd):
+                data[positions[e, i, j]] += w * matrices[e, i, j]
+
+
+class Assembly:
+    """The assembled linear model: matrices, dof maps and element data, built by :meth:`Model.build`.
+
+    Attributes
+    ----------
+    K_full, M_full, C_full : CSR (n_full, n_full) over all dofs (for reactions).
+    K, M, C : CSR (n_free, n_free) over the free dofs in solver order.
+    free_of_full : int64 (n_full,) free index of each full dof, -1 if fixed.
+    full_of_free : int64 (n_free,) full index of each free dof.
+    """
+
+    def __init__(self, model):
+        self.ndf = model.ndf
+        self.node_tags = np.array(list(model.nodes), dtype=np.int64)
+        self.node_index = {tag: i for i, tag in enumerate(self.node_tags)}
+        self.coords = np.array([model.nodes[t] for t in self.node_tags], dtype=np.float64).reshape(-1, 2)
+        self.n_full = len(self.node_tags) * self.ndf
+        if self.n_full == 0:
+            raise ModelError("model has no nodes")
+        self._element_data(model)
+        self._assemble(model)
+        self._number_free_dofs(model)
+
+    # -- element blocks -------------------------------------------------------------------
+    def _element_data(self, model):
+        self.blocks = []  # (etype, tags, coords, params, full dofs)
+        for etype in model.element_types.values():
+            if len(etype) == 0:
+                continue
+            tags = np.array(etype.tags, dtype=np.int64)
+            conn = np.array([[self.node_index[n] for n in nodes] for nodes in etype.nodes], dtype=np.int64)
+            coords = self.coords[conn]
+            etype.check_geometry(coords, tags, etype.nodes)
+            local = np.array(etype.node_dofs, dtype=np.int64)
+            dofs = (conn[:, :, None] * self.ndf + local[None, None, :]).reshape(len(tags), -1)
+            self.blocks.append((etype, tags, coords, etype.params, dofs))
+        self.element_location = {}
+        for b, (_, tags, *_rest) in enumerate(self.blocks):
+            for i, tag in enumerate(tags):
+                self.element_location[int(tag)] = (b, i)
+
+    def _assemble(self, model):
+        n = self.n_full
+        rows = [np.arange(n)]
+        cols = [np.arange(n)]
+        for *_, dofs in self.blocks:
+            nd = dofs.shape[1]
+            rows.append(np.repeat(dofs, nd, axis=1).ravel())
+            cols.append(np.tile(dofs, (1, nd)).ravel())
+        keys = np.concatenate(rows) * n + np.concatenate(cols)
+        unique, inverse = np.unique(keys, return_inverse=True)
+        indptr = np.searchsorted(unique // n, np.arange(n + 1)).astype(np.int64)
+        indices = (unique % n).astype(np.int64)
+        offset = n
+        k_data, m_data, c_data, kr_data = (np.zeros(len(unique)) for _ in range(4))
+        for etype, tags, coords, params, dofs in self.blocks:
+            nd = dofs.shape[1]
+            positions = inverse[offset: offset + dofs.shape[0] * nd * nd].reshape(-1, nd, nd).astype(np.int64)
+            offset += dofs.shape[0] * nd * nd
+            ones = np.ones(len(tags))
+            ke = etype.stiffness(coords, params)
+            scatter_add(k_data, positions, ke, ones)
+            scatter_add(kr_data, positions, ke, etype.rayleigh_weights(params) if hasattr(etype, "rayleigh_weights") else ones)
+            scatter_add(m_data, positions, etype.mass(coords, params), ones)
+            scatter_add(c_data, positions, etype.damping(coords, params), ones)
+        diag = inverse[:n]
+        nodal_mass = np.zeros(n)
+        for tag, values in model.nodal_mass.items():
+            i = self.node_index[tag]
+            nodal_mass[i * self.ndf: i * self.ndf + len(values)] += values
+        m_data[diag] += nodal_mass
+        alpha_m, beta_k = model.rayleigh_factors
+        c_data += alpha_m * m_data + beta_k * kr_data
+        make = lambda data: sp.csr_matrix((data, indices, indptr), shape=(n, n))
+        self.K_full, self.M_full, self.C_full = make(k_data), make(m_data), make(c_data)
+        self.has_damping = bool(np.any(c_data != 0.0))
+
+    def _number_free_dofs(self, model):
+        fixed = np.zeros(self.n_full, dtype=bool)
+        for tag, flags in model.fixities.items():
+            i = self.node_index[tag]
+            fixed[i * self.ndf: (i + 1) * self.ndf] |= np.asarray(flags[: self.ndf], dtype=bool)
+        free = np.flatnonzero(~fixed)
+        if free.size == 0:
+            raise ModelError("every dof of the model is fixed: nothing to analyse")
+        pattern = abs(self.K_full[free][:, free]) + abs(self.M_full[free][:, free]) + abs(self.C_full[free][:, free])
+        pattern.eliminate_zeros()
+        order = reverse_cuthill_mckee(sp.csr_matrix(pattern), symmetric_mode=True)
+        self.full_of_free = free[order].astype(np.int64)
+        self.free_of_full = -np.ones(self.n_full, dtype=np.int64)
+        self.free_of_full[self.full_of_free] = np.arange(len(self.full_of_free))
+        sub = lambda a: a[self.full_of_free][:, self.full_of_free].tocsr()
+        self.K, self.M, self.C = sub(self.K_full), sub(self.M_full), sub(self.C_full)
+        for a in (self.K, self.M, self.C):
+            a.eliminate_zeros()   # exact structural zeros (e.g. axial-bending of a straight beam)
+            a.sort_indices()
+
+    # -- helpers --------------------------------------------------------------------------
+    @property
+    def n_free(self):
+        return len(self.full_of_free)
+
+    def dof_label(self, free_index):
+        """``'node 5 dof 2 (uy)'`` for a free dof index (OpenSees's 1-based dof numbers)."""
+        full = int(self.full_of_free[free_index])
+        node, d = divmod(full, self.ndf)
+        return f"node {self.node_tags[node]} dof {d + 1} ({DOF_NAMES[d]})"
+
+    def full_dof(self, node_tag, dof):
+        """Full index of ``dof`` (1-based, OpenSees) of node ``node_tag``."""
+        if node_tag not in self.node_index:
+            raise ModelError(f"node {node_tag} does not exist")
+        if not 1 <= dof <= self.ndf:
+            raise ModelError(f"node {node_tag}: dof {dof} out of range 1..{self.ndf}")
+        return self.node_index[node_tag] * self.ndf + dof - 1
+
+    def load_vector(self, pattern):
+        """Free-dof load vector ``(n_free,)`` of a pattern's nodal loads (factor 1)."""
+        p = np.zeros(self.n_full)
+        for tag, values in pattern.nodal.items():
+            if tag not in self.node_index:
+                raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
+            if len(values) > self.ndf:
+                raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, "
+                                 f"ndf is {self.ndf}")
+            i = self.node_index[tag]
+            p[i * self.ndf: i * self.ndf + len(values)] += values
+        return p[self.full_of_free]
+
+    def element_state(self, tags, u_full, v_full):
+        """Group element tags by type: yields ``(etype, coords, params, u_e, v_e, order)``."""
+        by_block = {}
+        for k, tag in enumerate(tags):
+            if tag not in self.element_location:
+                raise ModelError(f"element {tag} does not exist")
+            b, i = self.element_location[tag]
+            by_block.setdefault(b, []).append((k, i))
+        for b, pairs in by_block.items():
+            etype, _, coords, params, dofs = self.blocks[b]
+            order = np.array([k for k, _ in pairs])
+            idx = np.array([i for _, i in pairs])
+            d = dofs[idx]
+            yield etype, coords[idx], params[idx], u_full[..., d], v_full[..., d], order

@@ -1,0 +1,34 @@
+"""Exceptions raised by vtsi. Every message names the object and the value at fault."""
+
+
+class VtsiError(Exception):
+    """Base class of every error vtsi raises on purpose."""
+
+
+class ModelError(VtsiError, ValueError):
+    """A model definition is invalid (bad tag, bad parameter, unknown type...)."""
+
+
+class AnalysisError(VtsiError, RuntimeError):
+    """An analysis cannot run as set up (mechanism, bad step size, unstable integrator...)."""
+
+
+class DivergenceError(AnalysisError):
+    """A time integration produced non-finite or unbounded response.
+
+    Attributes
+    ----------
+    step : int
+        1-based index of the first step whose response diverged.
+    time : float
+        Time of that step [s].
+    """
+
+    def __init__(self, message, step, time):
+        super().__init__(message)
+        self.step = step
+        self.time = time
+
+
+class CommandError(VtsiError, ValueError):
+    """A command of the OpenSees-style layer is unknown, unsupported or malformed."""

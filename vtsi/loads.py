@@ -1,0 +1,34 @@
+"""Load patterns: nodal loads scaled by a time series (OpenSees ``pattern Plain``)."""
+import numpy as np
+
+from vtsi.errors import ModelError
+from vtsi.timeseries import TimeSeries
+
+
+class LoadPattern:
+    """Nodal loads ``[Fx, Fy, Mz]`` [N, N·m] times ``factor * series(t)``.
+
+    Loads on the same node add up (as in OpenSees).
+    """
+
+    def __init__(self, tag, series, factor=1.0):
+        if not isinstance(series, TimeSeries):
+            raise ModelError(f"pattern {tag}: time series must be a TimeSeries, got {series!r}")
+        factor = float(factor)
+        if not np.isfinite(factor):
+            raise ModelError(f"pattern {tag}: factor must be finite, got {factor}")
+        self.tag, self.series, self.factor = tag, series, factor
+        self.nodal = {}
+        self.constant_time = None   # set by loadConst: the factor frozen at this time
+
+    def load(self, node, *values):
+        values = np.asarray(values, dtype=float)
+        if not np.all(np.isfinite(values)):
+            raise ModelError(f"pattern {self.tag}: load on node {node} has NaN or inf: {values.tolist()}")
+        self.nodal[node] = self.nodal.get(node, 0.0) + values
+
+    def factors(self, t):
+        """Load factor at the times ``t`` (array)."""
+        if self.constant_time is not None:
+            return np.full(np.shape(t), self.factor * float(self.series(np.array([self.constant_time]))[0]))
+        return self.factor * self.series(t)

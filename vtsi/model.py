@@ -1,0 +1,157 @@
+"""The model: nodes, fixities, masses, elements, time series, load patterns and damping.
+
+Built through this object API or through the OpenSees-style commands of :mod:`vtsi.opensees`;
+every call validates its input and raises :class:`~vtsi.errors.ModelError` naming the object
+and the value at fault. :meth:`Model.build` numbers the dofs and assembles the matrices
+(cached until the model changes).
+"""
+import numpy as np
+
+import vtsi.elements  # noqa: F401  (registers the element library)
+from vtsi.assembly import Assembly
+from vtsi.elements.base import element_type
+from vtsi.errors import ModelError
+from vtsi.loads import LoadPattern
+from vtsi.timeseries import TimeSeries
+
+
+class Model:
+    """A 2-D structural model (``ndm = 2``, ``ndf = 3``: ux, uy, rz; SI units).
+
+    Examples
+    --------
+    >>> m = Model()
+    >>> m.node(1, 0.0, 0.0); m.node(2, 10.0, 0.0)
+    >>> m.fix(1, 1, 1, 0); m.fix(2, 0, 1, 0)
+    >>> m.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=3e10, I=2.0, rho=1e4, cmass=1)
+    """
+
+    def __init__(self, ndm=2, ndf=3):
+        if ndm != 2 or ndf not in (2, 3):
+            raise ModelError(f"model: only ndm 2 with ndf 2 or 3 is supported, got ndm {ndm} ndf {ndf}")
+        self.ndm, self.ndf = ndm, ndf
+        self.nodes = {}
+        self.fixities = {}
+        self.nodal_mass = {}
+        self.element_types = {}
+        self._element_owner = {}
+        self.time_series = {}
+        self.patterns = {}
+        self.rayleigh_factors = (0.0, 0.0)
+        self._assembly = None
+
+    # -- definition -----------------------------------------------------------------------
+    def _changed(self):
+        self._assembly = None
+
+    def node(self, tag, *coords, mass=None):
+        tag = _tag("node", tag)
+        if tag in self.nodes:
+            raise ModelError(f"node {tag} already exists")
+        if len(coords) != self.ndm:
+            raise ModelError(f"node {tag}: needs {self.ndm} coordinates, got {len(coords)}")
+        xy = np.asarray(coords, dtype=float)
+        if not np.all(np.isfinite(xy)):
+            raise ModelError(f"node {tag}: coordinates must be finite, got {xy.tolist()}")
+        self.nodes[tag] = xy
+        if mass is not None:
+            self.mass(tag, *mass)
+        self._changed()
+
+    def _node(self, tag, what):
+        if tag not in self.nodes:
+            raise ModelError(f"{what}: node {tag} does not exist")
+        return tag
+
+    def fix(self, tag, *flags):
+        self._node(tag, "fix")
+        if len(flags) != self.ndf or any(f not in (0, 1) for f in flags):
+            raise ModelError(f"fix node {tag}: needs {self.ndf} flags of 0 or 1, got {list(flags)}")
+        old = self.fixities.get(tag, (0,) * self.ndf)
+        self.fixities[tag] = tuple(int(a or b) for a, b in zip(old, flags))
+        self._changed()
+
+    def mass(self, tag, *values):
+        self._node(tag, "mass")
+        values = np.asarray(values, dtype=float)
+        if len(values) != self.ndf or not np.all(np.isfinite(values)) or np.any(values < 0):
+            raise ModelError(f"mass node {tag}: needs {self.ndf} finite values >= 0, got {values.tolist()}")
+        self.nodal_mass[tag] = values
+        self._changed()
+
+    def element(self, type_name, tag, nodes, **params):
+        """Add element ``tag`` of the registered type ``type_name`` on ``nodes``."""
+        tag = _tag("element", tag)
+        if tag in self._element_owner:
+            raise ModelError(f"element {tag} already exists")
+        cls = element_type(type_name)
+        for n in nodes:
+            if n not in self.nodes:
+                raise ModelError(f"element {tag} ({type_name}): node {n} does not exist")
+        etype = self.element_types.setdefault(type_name, cls())
+        etype.add(tag, nodes, **params)
+        self._element_owner[tag] = etype
+        self._changed()
+
+    def remove_element(self, tag):
+        if tag not in self._element_owner:
+            raise ModelError(f"remove element: element {tag} does not exist")
+        self._element_owner.pop(tag).remove(tag)
+        self._changed()
+
+    def add_time_series(self, series):
+        if not isinstance(series, TimeSeries):
+            raise ModelError(f"timeSeries: expected a TimeSeries, got {series!r}")
+        if series.tag in self.time_series:
+            raise ModelError(f"timeSeries {series.tag} already exists")
+        self.time_series[series.tag] = series
+        return series
+
+    def pattern(self, tag, series, factor=1.0):
+        """Create and return a :class:`LoadPattern`; ``series`` is a TimeSeries or its tag."""
+        if tag in self.patterns:
+            raise ModelError(f"pattern {tag} already exists")
+        if not isinstance(series, TimeSeries):
+            if series not in self.time_series:
+                raise ModelError(f"pattern {tag}: time series {series} does not exist")
+            series = self.time_series[series]
+        p = self.patterns[tag] = LoadPattern(tag, series, factor)
+        return p
+
+    def load(self, pattern_tag, node, *values):
+        if pattern_tag not in self.patterns:
+            raise ModelError(f"load: pattern {pattern_tag} does not exist")
+        self._node(node, f"load in pattern {pattern_tag}")
+        if len(values) != self.ndf:
+            raise ModelError(f"load on node {node}: needs {self.ndf} values, got {len(values)}")
+        self.patterns[pattern_tag].load(node, *values)
+
+    def remove_pattern(self, tag):
+        if tag not in self.patterns:
+            raise ModelError(f"remove loadPattern: pattern {tag} does not exist")
+        del self.patterns[tag]
+
+    def rayleigh(self, alpha_m, beta_k, beta_k_init=0.0, beta_k_comm=0.0):
+        """Rayleigh damping ``C = alpha_m M + (beta_k + beta_k_init + beta_k_comm) K`` (linear model:
+        current, initial and committed stiffness coincide)."""
+        values = np.array([alpha_m, beta_k, beta_k_init, beta_k_comm], dtype=float)
+        if not np.all(np.isfinite(values)) or np.any(values < 0):
+            raise ModelError(f"rayleigh: factors must be finite and >= 0, got {values.tolist()}")
+        self.rayleigh_factors = (values[0], values[1] + values[2] + values[3])
+        self._changed()
+
+    # -- assembly -------------------------------------------------------------------------
+    def build(self):
+        """Number the dofs and assemble K, M, C (cached until the model changes)."""
+        if self._assembly is None:
+            self._assembly = Assembly(self)
+        return self._assembly
+
+    def element_tags(self):
+        return sorted(self._element_owner)
+
+
+def _tag(kind, tag):
+    if isinstance(tag, (bool, np.bool_)) or not isinstance(tag, (int, np.integer)):
+        raise ModelError(f"{kind} tag must be an integer, got {tag!r}")
+    return int(tag)

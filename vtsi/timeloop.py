@@ -1,0 +1,108 @@
+"""The compiled time loop of a linear transient analysis (no Python per step).
+
+One call runs a chunk of steps of any integrator described by stage coefficients (see
+:mod:`vtsi.integrators.base`), with constant effective matrices factored beforehand, and
+writes the requested responses of every step to ``out``. All vectors are padded
+(:mod:`vtsi.banded`). It returns the 0-based index of the first step whose response is
+non-finite or exceeds ``limit`` in absolute value, or -1.
+"""
+import numpy as np
+from numba import njit
+
+from vtsi.banded import band_matvec_add, cholesky_solve
+
+
+@njit(cache=True)
+def sparse_coefficients(coef):
+    """Nonzero slots of each stage's coefficient rows: ``(slots, values, counts)``;
+    the last column of ``coef`` (the unknown's coefficient) is left out."""
+    n_stages, width = coef.shape
+    slots = np.zeros((n_stages, width), dtype=np.int64)
+    values = np.zeros((n_stages, width))
+    counts = np.zeros(n_stages, dtype=np.int64)
+    for s in range(n_stages):
+        for j in range(width - 1):
+            if coef[s, j] != 0.0:
+                slots[s, counts[s]] = j
+                values[s, counts[s]] = coef[s, j]
+                counts[s] += 1
+    return slots, values, counts
+
+
+@njit(cache=True)
+def combine(dest, bank, slots, values, count, lo, hi):
+    """``dest[lo:hi] = Σ_q values[q] bank[slots[q], lo:hi]``."""
+    for i in range(lo, hi):
+        acc = 0.0
+        for q in range(count):
+            acc += values[q] * bank[slots[q], i]
+        dest[i] = acc
+
+
+@njit(cache=True)
+def add_pattern_loads(rhs, factors, load_ptr, load_dof, load_val, offset):
+    for p in range(factors.shape[0]):
+        f = factors[p]
+        if f != 0.0:
+            for k in range(load_ptr[p], load_ptr[p + 1]):
+                rhs[offset + load_dof[k]] += f * load_val[k]
+
+
+@njit(cache=True)
+def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
+                     load_factors, load_ptr, load_dof, load_val,
+                     rec_slot, rec_index, out, limit, work):
+    """Advance ``out.shape[0]`` steps in place.
+
+    bank : (n_slots, n + 2 kd) padded state bank; slots 0..2 = u, v, a at the chunk start.
+    du, dv, ku, kv : (n_stages, n_slots + 1) stage coefficients.
+    factors : (n_stages, n + kd, kd + 1) banded Cholesky factors of the stage matrices.
+    k_rows, c_rows : (n, 2 kd + 1) band rows of K and C; ``damped`` False skips C.
+    load_factors : (n_steps, n_stages, n_patterns) stage load factors of the patterns.
+    load_ptr, load_dof, load_val : CSR of the pattern load vectors (free dof indices).
+    rec_slot, rec_index : slot (0 u, 1 v, 2 a) and free dof read by each output column.
+    work : (3, n + 2 kd) zeroed scratch vectors.
+    """
+    n_steps = out.shape[0]
+    n_stages, width = du.shape
+    A = width - 1
+    kd = factors.shape[2] - 1
+    n = k_rows.shape[0]
+    lo, hi = kd, kd + n
+    rhs, xk, xc = work[0], work[1], work[2]
+    su, vu, cu = sparse_coefficients(du)
+    sv, vv, cv = sparse_coefficients(dv)
+    sk, vk, ck = sparse_coefficients(ku)
+    sc, vc, cc = sparse_coefficients(kv)
+    for step in range(n_steps):
+        for s in range(n_stages):
+            rhs[lo:hi] = 0.0
+            add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
+            combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
+            band_matvec_add(rhs, k_rows, xk, -1.0)
+            if damped:
+                combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
+                band_matvec_add(rhs, c_rows, xc, -1.0)
+            cholesky_solve(factors[s], rhs)
+            base = 3 + 3 * s
+            ua, va = du[s, A], dv[s, A]
+            combine(bank[base], bank, su[s], vu[s], cu[s], lo, hi)
+            combine(bank[base + 1], bank, sv[s], vv[s], cv[s], lo, hi)
+            for i in range(lo, hi):
+                bank[base, i] += ua * rhs[i]
+                bank[base + 1, i] += va * rhs[i]
+                bank[base + 2, i] = rhs[i]
+        last = 3 + 3 * (n_stages - 1)
+        worst = 0.0
+        for i in range(lo, hi):
+            bank[0, i] = bank[last, i]
+            bank[1, i] = bank[last + 1, i]
+            bank[2, i] = bank[last + 2, i]
+            x = abs(bank[0, i])
+            if not x <= worst:   # also true for NaN
+                worst = x
+        if not worst <= limit:
+            return step
+        for r in range(rec_slot.shape[0]):
+            out[step, r] = bank[rec_slot[r], lo + rec_index[r]]
+    return -1

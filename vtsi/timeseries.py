@@ -1,0 +1,97 @@
+"""Time series: load factor as a function of time, evaluated on arrays of times.
+
+Conventions follow OpenSees (``timeSeries Constant / Linear / Path``): a Path is linearly
+interpolated between its points, zero before its first time and after its last one (unless
+``use_last``, which then holds the last value).
+"""
+import numpy as np
+
+from vtsi.errors import ModelError
+
+
+class TimeSeries:
+    """Contract: ``__call__(t)`` takes an array of times [s] and returns factors of its shape."""
+
+    tag = None
+
+    def __call__(self, t):
+        raise NotImplementedError
+
+
+class Constant(TimeSeries):
+    def __init__(self, factor=1.0, tag=None):
+        self.factor, self.tag = _finite("Constant", tag, "factor", factor), tag
+
+    def __call__(self, t):
+        return np.full(np.shape(t), self.factor)
+
+
+class Linear(TimeSeries):
+    def __init__(self, factor=1.0, tag=None):
+        self.factor, self.tag = _finite("Linear", tag, "factor", factor), tag
+
+    def __call__(self, t):
+        return self.factor * np.asarray(t, dtype=float)
+
+
+class Path(TimeSeries):
+    """Piecewise-linear factor through ``(time, values)``.
+
+    Parameters
+    ----------
+    time : array (n,), strictly increasing [s]; or None with ``dt``: times ``start_time + k dt``.
+    values : array (n,) of factors.
+    factor : scale applied to ``values``.
+    use_last : hold the last value after the last time (else zero).
+    prepend_zero : insert a zero value before the first one (at ``time[0] - dt``, or at 0).
+    """
+
+    def __init__(self, values, time=None, dt=None, factor=1.0, use_last=False, prepend_zero=False,
+                 start_time=0.0, tag=None):
+        name = f"timeSeries Path {tag}" if tag is not None else "Path"
+        values = np.asarray(values, dtype=float).ravel()
+        if values.size == 0:
+            raise ModelError(f"{name}: no values given")
+        if not np.all(np.isfinite(values)):
+            bad = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise ModelError(f"{name}: value {bad} is {values[bad]} (NaN or inf)")
+        if time is None:
+            if dt is None or not dt > 0.0:
+                raise ModelError(f"{name}: dt must be > 0, got {dt}")
+            time = start_time + dt * np.arange(values.size)
+        else:
+            time = np.asarray(time, dtype=float).ravel()
+            if time.size != values.size:
+                raise ModelError(f"{name}: {time.size} times but {values.size} values")
+            if not np.all(np.isfinite(time)):
+                raise ModelError(f"{name}: times contain NaN or inf")
+            steps = np.diff(time)
+            if np.any(steps <= 0.0):
+                bad = int(np.flatnonzero(steps <= 0.0)[0])
+                raise ModelError(f"{name}: times must increase; time[{bad + 1}] = {time[bad + 1]:g} "
+                                 f"follows time[{bad}] = {time[bad]:g}")
+        if prepend_zero:
+            t0 = time[0] - (dt if dt is not None else 0.0) if dt is not None else 0.0
+            if t0 >= time[0]:
+                t0 = time[0] - 1e-12 * max(1.0, abs(time[0]))
+            time, values = np.r_[t0, time], np.r_[0.0, values]
+        self.time, self.values = time, values
+        self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), bool(use_last), tag
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        right = self.values[-1] if self.use_last else 0.0
+        out = np.interp(t, self.time, self.values, left=0.0, right=right)
+        if not self.use_last:
+            out = np.where(t > self.time[-1], 0.0, out)
+        return self.factor * out
+
+
+def _finite(kind, tag, name, value):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"timeSeries {kind} {tag}: {name} must be a number, got {value!r}") from None
+    if not np.isfinite(value):
+        raise ModelError(f"timeSeries {kind} {tag}: {name} must be finite, got {value}")
+    return value
