@@ -1,5 +1,6 @@
 """Bathe's composite scheme: trapezoidal rule to ``t + γΔt``, then the three-point backward
-Euler formula to ``t + Δt``. With γ = ½ it is second order and ``ρ∞ = 0`` (OpenSees: TRBDF2).
+Euler formula to ``t + Δt``. With γ = ½ it is second order and ``ρ∞ = 0``. (OpenSees's TRBDF2 is the same
+scheme but advances one *sub-step* per analysis step.)
 
 References
 ----------
@@ -35,13 +36,3 @@ class Bathe(Integrator):
         du2 = self.coefficients(u_n=-c1 / c3, slot3=-c2 / c3) + dv2 / c3
         return [Stage(du=du1, dv=dv1, ku=du1, kv=dv1, load=[(g, 1.0)], theta=g),
                 Stage(du=du2, dv=dv2, ku=du2, kv=dv2, load=[(1.0, 1.0)], theta=1.0)]
-
-
-@register
-class TRBDF2(Bathe):
-    """OpenSees's name for Bathe's scheme with γ = ½."""
-
-    name = "TRBDF2"
-
-    def __init__(self):
-        super().__init__(0.5)

@@ -1,0 +1,201 @@
+"""Vertical rail irregularity: spectra, random sample profiles, and profiles as functions of x.
+
+The irregularity r(x) is the rail's vertical deviation [m], positive upwards (DESIGN §3): a wheel
+on a smooth, rigid rail at x sits at height r(x). Spectra are one-sided power spectral densities
+S(Ω) [m²/(rad/m)] of the spatial angular frequency Ω = 2π/wavelength [rad/m], so that the variance
+of r is ∫₀^∞ S(Ω) dΩ.
+
+The spectra's constants are those of the project's reference data (reference/README.md).
+
+References
+----------
+.. [1] Lei, X. (2017). High Speed Railway Track Dynamics, Springer, ch. 5 "Track irregularity
+   power spectrum and numerical simulation": the German high-speed spectra (after the Deutsche
+   Bundesbahn) and the FRA classes 1-6 (US Federal Railroad Administration).
+.. [2] Shinozuka, M. & Jan, C.-M. (1972). Digital simulation of random processes and its
+   applications. J. Sound Vib. 25(1), 111-128: the sum of cosines with random phases.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.interpolate
+
+_GERMAN = {'low': 4.032e-7, 'high': 1.080e-6}  # A_v [m·rad], low / high interference
+_GERMAN_OMEGA_C, _GERMAN_OMEGA_R = 0.8246, 0.0206  # [rad/m]
+_FRA_AV = (1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339)  # A_v [cm²·rad/m], classes 1..6
+_FRA_OMEGA_C, _FRA_K = 0.8245, 0.25
+
+
+def _omega(omega, where, allow_zero):
+    omega = np.asarray(omega, dtype=np.float64)
+    bad = ~np.isfinite(omega) | (omega < 0 if allow_zero else omega <= 0)
+    if np.any(bad):
+        raise ValueError(f"{where}: omega must be finite and {'>=' if allow_zero else '>'} 0 [rad/m], "
+                         f"got {omega[bad].ravel()[0]!r}")
+    return omega
+
+
+def german_psd(omega, level='low'):
+    """German high-speed vertical profile spectrum, one-sided.
+
+    S(Ω) = A_v Ω_c² / ((Ω² + Ω_r²)(Ω² + Ω_c²)), Ω_c = 0.8246 rad/m, Ω_r = 0.0206 rad/m,
+    A_v = 4.032e-7 m·rad ('low' interference) or 1.080e-6 m·rad ('high').
+
+    Parameters
+    ----------
+    omega : array_like
+        Spatial angular frequency Ω ≥ 0 [rad/m].
+    level : {'low', 'high'}
+
+    Returns
+    -------
+    ndarray, shape of omega
+        S(Ω) [m²/(rad/m)].
+
+    References
+    ----------
+    Lei (2017), ch. 5.
+    """
+    if level not in _GERMAN:
+        raise ValueError(f"german_psd: unknown level {level!r}; valid: {list(_GERMAN)}")
+    w2 = _omega(omega, 'german_psd', allow_zero=True) ** 2
+    return _GERMAN[level] * _GERMAN_OMEGA_C ** 2 / ((w2 + _GERMAN_OMEGA_R ** 2) * (w2 + _GERMAN_OMEGA_C ** 2))
+
+
+def fra_psd(omega, fra_class=6):
+    """FRA (US Federal Railroad Administration) vertical profile spectrum, one-sided.
+
+    S(Ω) = k A_v Ω_c² / (Ω² (Ω² + Ω_c²)) in cm²/(rad/m) with A_v in cm²·rad/m, k = 0.25,
+    Ω_c = 0.8245 rad/m; returned converted to m²/(rad/m) (× 1e-4). Class 6 is the best track.
+
+    Parameters
+    ----------
+    omega : array_like
+        Spatial angular frequency Ω > 0 [rad/m] (S is singular at 0).
+    fra_class : int
+        1 … 6.
+
+    Returns
+    -------
+    ndarray, shape of omega
+        S(Ω) [m²/(rad/m)].
+
+    References
+    ----------
+    Lei (2017), ch. 5.
+    """
+    if fra_class not in range(1, 7):
+        raise ValueError(f"fra_psd: unknown fra_class {fra_class!r}; valid: 1, 2, 3, 4, 5, 6")
+    w2 = _omega(omega, 'fra_psd', allow_zero=False) ** 2
+    return 1e-4 * _FRA_K * _FRA_AV[fra_class - 1] * _FRA_OMEGA_C ** 2 / (w2 * (w2 + _FRA_OMEGA_C ** 2))
+
+
+def sample_profile(psd, x, wavelength_band=(3.0, 150.0), n_waves=None, rng=None):
+    """A random profile with one-sided spectrum ``psd`` over a wavelength band.
+
+    r(x) = Σ_k √(2 S(Ω_k) ΔΩ) cos(Ω_k x + φ_k), with n_waves frequencies Ω_k at the midpoints of
+    equal intervals ΔΩ spanning [2π/λ_max, 2π/λ_min], and phases φ_k uniform in [0, 2π). Its
+    variance over x is Σ S(Ω_k) ΔΩ ≈ ∫ S dΩ over the band. The profile repeats its pattern with
+    period 2π/ΔΩ; the default n_waves keeps that period at least as long as the span of x.
+
+    Parameters
+    ----------
+    psd : callable
+        S(Ω) [m²/(rad/m)], vectorised, e.g. ``german_psd`` or
+        ``functools.partial(fra_psd, fra_class=5)``.
+    x : array_like
+        Positions [m], any shape.
+    wavelength_band : (float, float)
+        Shortest and longest wavelength λ_min < λ_max [m].
+    n_waves : int, optional
+        Number of cosines. Default: max(1000, ⌈(Ω_max − Ω_min)(x_max − x_min)/(2π)⌉).
+    rng : numpy.random.Generator or int or None
+        Random source (or seed) for the phases.
+
+    Returns
+    -------
+    ndarray, shape of x
+        r(x) [m], positive upwards.
+
+    References
+    ----------
+    Shinozuka & Jan (1972).
+    """
+    x = np.asarray(x, dtype=np.float64)
+    lam_min, lam_max = (float(v) for v in wavelength_band)
+    if not (np.isfinite(lam_max) and 0 < lam_min < lam_max):
+        raise ValueError(f"sample_profile: wavelength_band must be 0 < min < max [m], got {wavelength_band!r}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("sample_profile: x must be finite")
+    w_lo, w_hi = 2 * np.pi / lam_max, 2 * np.pi / lam_min
+    if n_waves is None:
+        span = x.max() - x.min() if x.size else 0.0
+        n_waves = max(1000, int(np.ceil((w_hi - w_lo) * span / (2 * np.pi))))
+    if int(n_waves) != n_waves or n_waves < 1:
+        raise ValueError(f"sample_profile: n_waves must be a positive integer, got {n_waves!r}")
+    d_omega = (w_hi - w_lo) / int(n_waves)
+    omega = w_lo + d_omega * (np.arange(int(n_waves)) + 0.5)
+    amplitude = np.sqrt(2.0 * np.asarray(psd(omega), dtype=np.float64) * d_omega)
+    phase = np.random.default_rng(rng).uniform(0.0, 2.0 * np.pi, omega.size)
+    flat = x.ravel()
+    r = np.zeros(flat.size)
+    block = max(1, 2 ** 22 // max(flat.size, 1))  # bounds the (waves × points) work array to 32 MB
+    for s in range(0, omega.size, block):
+        k = slice(s, s + block)
+        r += amplitude[k] @ np.cos(np.outer(omega[k], flat) + phase[k, None])
+    return r.reshape(x.shape)
+
+
+class Irregularity:
+    """A rail profile r(x) [m] (positive up) with derivatives, vectorised over x.
+
+    Built from samples (a C² cubic spline through them, zero outside the sampled range unless
+    ``extrapolate``) or from functions (:meth:`from_function`).
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Strictly increasing positions [m], n ≥ 2.
+    r : array_like, shape (n,)
+        Profile values [m].
+    extrapolate : bool
+        Continue the end polynomials outside [x[0], x[-1]] instead of returning 0.
+
+    Notes
+    -----
+    With the default, r jumps to 0 at the ends of the sampled range unless the samples end at 0:
+    sample beyond the region the wheels cross, or taper the ends.
+    """
+
+    def __init__(self, x, r, extrapolate=False):
+        spline = scipy.interpolate.CubicSpline(np.asarray(x, dtype=np.float64), np.asarray(r, dtype=np.float64),
+                                               extrapolate=True)
+        self._funcs = (spline, spline.derivative(1), spline.derivative(2))
+        self._range = None if extrapolate else (spline.x[0], spline.x[-1])
+
+    @classmethod
+    def from_function(cls, f, df=None, d2f=None):
+        """A profile given by vectorised functions r = f(x), r' = df(x), r'' = d2f(x) (m, m/m, 1/m);
+        the derivatives are optional, needed only if asked for."""
+        self = cls.__new__(cls)
+        self._funcs = (f, df, d2f)
+        self._range = None
+        return self
+
+    @classmethod
+    def from_psd(cls, psd, x, extrapolate=False, **kwargs):
+        """``Irregularity(x, sample_profile(psd, x, **kwargs), extrapolate)``."""
+        return cls(x, sample_profile(psd, x, **kwargs), extrapolate=extrapolate)
+
+    def __call__(self, x, nu=0):
+        """r(x) (``nu = 0``), r'(x) (1) or r''(x) (2); same shape as x [m, 1, 1/m]."""
+        if nu not in (0, 1, 2):
+            raise ValueError(f"Irregularity: derivative order nu must be 0, 1 or 2, got {nu!r}")
+        func = self._funcs[nu]
+        if func is None:
+            raise ValueError(f"Irregularity: derivative {nu} of this profile was not given (from_function)")
+        x = np.asarray(x, dtype=np.float64)
+        value = np.asarray(func(x), dtype=np.float64) * np.ones_like(x)
+        if self._range is not None:
+            value = np.where((x >= self._range[0]) & (x <= self._range[1]), value, 0.0)
+        return value
