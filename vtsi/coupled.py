@@ -1,0 +1,348 @@
+"""Coupled train-bridge transient analysis (Fedorova & Sivaselvan 2017; DESIGN §4-§5).
+
+Bridge and train are separate subdomains; the wheel-rail contact forces are the Lagrange
+multipliers of a :class:`~vtsi.constraint.MovingLoadConstraint`. Every effective matrix is
+factored once per analysis, the bridge flexibility on the track dofs is precomputed once per
+stage, and the steps run in compiled chunks (:mod:`vtsi.coupled_loop`).
+
+References
+----------
+Fedorova, M., Sivaselvan, M.V. (2017) An algorithm for dynamic vehicle-track-structure
+interaction analysis for high-speed trains. Engineering Structures 148, 524-539.
+"""
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from vtsi.analysis import QUANTITY_SLOT, _pattern_loads, domain_state, factor
+from vtsi.banded import NotPositiveDefinite, band_rows, cholesky_band, cholesky_solve, half_bandwidth
+from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled_loop import run_coupled_steps
+from vtsi.errors import AnalysisError, DivergenceError, ModelError
+from vtsi.integrators import make_integrator
+from vtsi.lcp import lcp_workspace
+from vtsi.models.cars import GRAVITY
+
+CONTACT_STRATEGIES = ("bilateral", "lcp")
+TRAIN_QUANTITIES = {"train_u": 0, "train_v": 1, "train_a": 2}
+
+
+class CoupledAnalysis:
+    """Transient analysis of a bridge model with a train tied to it.
+
+    Parameters
+    ----------
+    model : Model (the bridge, with its track elements).
+    constraint : MovingLoadConstraint (holds the Track and the TrainSubdomain).
+    integrator : name, class or instance ('Newmark', 'HHT', 'Bathe', ...).
+    dt : time step [s].
+    contact : 'bilateral' (wheels always on the rail) or 'lcp' (contact loss allowed).
+    gravity : g [m/s²] for the train's weight (its gravity_load is used as built) and, with
+        ``bridge_self_weight``, for the bridge's weight ``-g M 1_y``.
+    bridge_self_weight : add the bridge's own weight to the dead load (results are totals).
+    recorders : bridge recorders (:mod:`vtsi.recorders`) and train/contact recorders, whose
+        requests may name 'u', 'v', 'a' (bridge full dof), 'train_u', 'train_v', 'train_a'
+        (train dof) or 'contact_force', 'gap' (contact wheel index).
+    divergence_limit : |u| [m] beyond which a step counts as diverged.
+
+    After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
+    and ``gap`` (n_steps, n_c) [m] hold every step of the run.
+    """
+
+    def __init__(self, model, constraint, integrator="Newmark", dt=None, contact="bilateral",
+                 gravity=GRAVITY, bridge_self_weight=False, recorders=(), divergence_limit=1e3,
+                 chunk_steps=2000):
+        if not isinstance(constraint, MovingLoadConstraint):
+            raise ModelError(f"CoupledAnalysis: constraint must be a MovingLoadConstraint, got {type(constraint).__name__}")
+        if contact not in CONTACT_STRATEGIES:
+            raise AnalysisError(f"CoupledAnalysis: unknown contact strategy {contact!r}; "
+                                f"valid: {', '.join(CONTACT_STRATEGIES)}")
+        self.model, self.constraint, self.contact = model, constraint, contact
+        self.train = constraint.train
+        self.integrator = make_integrator(integrator)
+        if self.integrator.explicit:
+            raise AnalysisError(f"CoupledAnalysis: {self.integrator.name} is explicit; a constrained "
+                                "analysis needs an implicit integrator (Newmark, HHT, Bathe)")
+        self.gravity, self.bridge_self_weight = float(gravity), bool(bridge_self_weight)
+        self.recorders = list(recorders)
+        self.divergence_limit, self.chunk_steps = float(divergence_limit), int(chunk_steps)
+        if dt is None or not (np.isfinite(dt) and dt > 0):
+            raise AnalysisError(f"CoupledAnalysis: dt must be > 0 and finite, got {dt}")
+        self.dt = float(dt)
+        self._prepared = None
+        self.static_state = None
+        self.time = np.zeros(0)
+        self.contact_force = np.zeros((0, constraint.n_contact))
+        self.gap = np.zeros((0, constraint.n_contact))
+        self._lcp_work = lcp_workspace(constraint.n_contact)
+
+    # -- preparation ----------------------------------------------------------------------
+    def _bridge_constant_load(self, asm):
+        """Bridge self weight on the free dofs (zero unless ``bridge_self_weight``)."""
+        if not self.bridge_self_weight:
+            return np.zeros(asm.n_free)
+        ones_y = np.zeros(asm.n_full)
+        ones_y[1::asm.ndf] = 1.0
+        return -self.gravity * (asm.M_full @ ones_y)[asm.full_of_free]
+
+    def _prepare(self):
+        asm = self.model.build()
+        if self._prepared is asm:
+            return asm
+        integ, dt, train, track = self.integrator, self.dt, self.train, self.constraint.track
+        stages = integ.stages(dt)
+        A = integ.n_slots
+        fac_b, fac_t, flex, tflex = [], [], [], []
+        kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
+        for s, st in enumerate(stages):
+            k_hat = (asm.M + st.kv[A] * asm.C + st.ku[A] * asm.K).tocsr()
+            fb = factor(asm, k_hat, f"bridge effective matrix of {integ.name} stage {s + 1}")
+            fac_b.append(fb)
+            flex.append(_inverse_columns(fb, track.free_index)[track.free_index])
+            if train.n_dof:
+                kt_hat = (train.M + st.kv[A] * train.C + st.ku[A] * train.K).tocsr()
+                try:
+                    ft = cholesky_band(kt_hat, kd_t)
+                except NotPositiveDefinite as exc:
+                    raise AnalysisError(f"train effective matrix of stage {s + 1} is singular at train dof "
+                                        f"{train.train.dof_names[exc.pivot]}: a dof with neither mass nor "
+                                        "stiffness") from None
+                cols = _inverse_columns(ft, train.wheel_dofs)
+                tflex.append(cols[train.wheel_dofs])
+            else:
+                ft = np.zeros((0, 1))
+                tflex.append(np.zeros((0, 0)))
+            fac_t.append(ft)
+        self.fac_b = np.ascontiguousarray(np.stack(fac_b))
+        self.fac_t = np.ascontiguousarray(np.stack(fac_t))
+        self.flex = np.ascontiguousarray(np.stack(flex))
+        self.tflex = np.ascontiguousarray(np.stack(tflex))
+        kd_b = self.fac_b.shape[2] - 1
+        self.kb_rows, self.cb_rows = band_rows(asm.K, kd_b), band_rows(asm.C, kd_b)
+        kd_t = self.fac_t.shape[2] - 1
+        self.kt_rows = band_rows(train.K, kd_t) if train.n_dof else np.zeros((0, 1))
+        self.ct_rows = band_rows(train.C, kd_t) if train.n_dof else np.zeros((0, 1))
+        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
+        self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
+        self.stage_theta = np.array([st.theta for st in stages])
+        n_q = max(len(st.load) for st in stages)
+        self.load_theta = np.zeros((len(stages), n_q))
+        self.load_weight = np.zeros((len(stages), n_q))
+        for s, st in enumerate(stages):
+            for q, (theta, w) in enumerate(st.load):
+                self.load_theta[s, q], self.load_weight[s, q] = theta, w
+        self._prepared = asm
+        return asm
+
+    # -- dead load ------------------------------------------------------------------------
+    def static(self):
+        """Static equilibrium of bridge and train under gravity (and the patterns at the current
+        time) with the wheels on the rail: sets the committed states and ``static_state``."""
+        asm = self.model.build()
+        state = domain_state(self.model)
+        train, con, track = self.train, self.constraint, self.constraint.track
+        t = state.time
+        p_b = self._bridge_constant_load(asm)
+        for pattern in self.model.patterns.values():
+            p_b = p_b + pattern.factors(np.array([t]))[0] * asm.load_vector(pattern)
+        if len(con.x0_force):
+            cols, vals = track.rows(con.x0_force + train.speed * t)
+            for i, f in enumerate(train.wheel_forces):
+                keep = cols[i] >= 0
+                np.add.at(p_b, track.free_index[cols[i][keep]], -f * vals[i][keep])
+        n_b, n_t, n_c = asm.n_free, train.n_dof, con.n_contact
+        cols, vals, r = con.rows_at(t, self.dt)
+        rows, cs, vs = [], [], []
+        for i in range(n_c):
+            keep = cols[i] >= 0
+            rows.append(np.full(keep.sum(), i))
+            cs.append(track.free_index[cols[i][keep]])
+            vs.append(vals[i][keep])
+        N = sp.csr_matrix((np.concatenate(vs) if vs else [], (np.concatenate(rows) if rows else [],
+                           np.concatenate(cs) if cs else [])), shape=(n_c, n_b))
+        S = sp.csr_matrix((np.ones(n_c), (np.arange(n_c), train.wheel_dofs)), shape=(n_c, n_t))
+        big = sp.bmat([[asm.K, None, N.T], [None, train.K if n_t else None, -S.T if n_t else None],
+                       [N, -S if n_t else None, None]], format="csc") if n_c else \
+            sp.bmat([[asm.K, None], [None, train.K]], format="csc") if n_t else asm.K.tocsc()
+        rhs = np.concatenate([p_b, train.gravity_load, -r])[: big.shape[0]]
+        with np.errstate(all="ignore"):
+            try:
+                sol = spla.spsolve(big, rhs)
+            except RuntimeError:
+                sol = np.full(big.shape[0], np.nan)
+        if not np.all(np.isfinite(sol)) or np.linalg.norm(big @ sol - rhs) > 1e-8 * max(np.linalg.norm(rhs), 1.0):
+            raise AnalysisError("dead load: the static train-bridge system is singular (a bridge mechanism, "
+                                "or a train dof held by neither a spring nor a wheel)")
+        state.u[:] = 0.0
+        state.u[asm.full_of_free] = sol[:n_b]
+        state.v[:] = 0.0
+        state.a[:] = 0.0
+        train.u[:] = sol[n_b: n_b + n_t]
+        train.v[:] = 0.0
+        train.a[:] = 0.0
+        self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
+                             "contact_force": sol[n_b + n_t:].copy()}
+        return self.static_state
+
+    # -- time stepping --------------------------------------------------------------------
+    def run(self, n_steps):
+        """Advance ``n_steps`` steps from the committed states (call :meth:`static` first for a
+        start from the dead-load equilibrium). Returns the domain state."""
+        n_steps = int(n_steps)
+        if n_steps < 0:
+            raise AnalysisError(f"CoupledAnalysis: number of steps must be >= 0, got {n_steps}")
+        asm = self._prepare()
+        state = domain_state(self.model)
+        train, con, track = self.train, self.constraint, self.constraint.track
+        patterns = list(self.model.patterns.values())
+        load_ptr, load_dof, load_val = _pattern_loads(asm, patterns)
+        constant = self._bridge_constant_load(asm)
+        nz = np.flatnonzero(constant)
+        load_ptr = np.append(load_ptr, load_ptr[-1] + len(nz))
+        load_dof = np.concatenate([load_dof, nz]).astype(np.int64)
+        load_val = np.concatenate([load_val, constant[nz]])
+        n_slots = self.integrator.n_slots
+        kd_b, kd_t = self.fac_b.shape[2] - 1, self.fac_t.shape[2] - 1
+        n_b, n_t, n_c = asm.n_free, train.n_dof, con.n_contact
+        bank_b = np.zeros((n_slots, n_b + 2 * kd_b))
+        bank_t = np.zeros((n_slots, n_t + 2 * kd_t))
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            bank_b[slot, kd_b: kd_b + n_b] = vec[asm.full_of_free]
+        for slot, vec in enumerate((train.u, train.v, train.a)):
+            bank_t[slot, kd_t: kd_t + n_t] = vec
+        feed = _CoupledFeed(asm, self.model, self.recorders, n_t, n_c)
+        taps, weights = con.taps(self.dt)
+        width = con.width(self.dt)
+        cols = np.empty((n_c, width), dtype=np.int64)
+        vals = np.empty((n_c, width))
+        work_b = np.zeros((3, n_b + 2 * kd_b))
+        work_t = np.zeros((3, n_t + 2 * kd_t))
+        W, q, lam = np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c)
+        times_all, force_all, gap_all = [self.time], [self.contact_force], [self.gap]
+        done = 0
+        try:
+            while done < n_steps:
+                n = min(self.chunk_steps, n_steps - done)
+                t0 = state.time
+                steps = t0 + self.dt * np.arange(n, dtype=float)
+                table = np.zeros((n, len(self.stage_theta), len(patterns) + 1))
+                for s in range(len(self.stage_theta)):
+                    for theta, w in zip(self.load_theta[s], self.load_weight[s]):
+                        if w != 0.0:
+                            for p, pattern in enumerate(patterns):
+                                table[:, s, p] += w * pattern.factors(steps + theta * self.dt)
+                    table[:, s, -1] = 1.0
+                r_table = np.ascontiguousarray(np.stack(
+                    [con.irregularity_at(steps + th * self.dt, self.dt) for th in self.stage_theta], axis=1))
+                out_b = np.zeros((n, len(feed.b_index)))
+                out_t = np.zeros((n, len(feed.t_index)))
+                out_force, out_gap = np.zeros((n, n_c)), np.zeros((n, n_c))
+                bad = run_coupled_steps(
+                    bank_b, bank_t, self.du, self.dv, self.ku, self.kv,
+                    self.fac_b, self.kb_rows, self.cb_rows, asm.has_damping,
+                    self.fac_t, self.kt_rows, self.ct_rows, bool(train.n_dof and train.C.nnz),
+                    table, load_ptr, load_dof, load_val, train.gravity_load,
+                    self.flex, self.tflex, track.x_start, track.length, track.dofs, track.free_index,
+                    con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
+                    taps, weights, r_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
+                    self.contact == "lcp", feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
+                    out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, W, q, lam,
+                    self._lcp_work)
+                good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
+                times = t0 + self.dt * np.arange(1, good + 1)
+                feed.deliver(times, out_b[:good], out_t[:good], out_force[:good], out_gap[:good])
+                times_all.append(times)
+                force_all.append(out_force[:good])
+                gap_all.append(out_gap[:good])
+                if bad != -1:
+                    step = done + good + 1
+                    t_bad = t0 + (good + 1) * self.dt
+                    if bad >= 0:
+                        raise DivergenceError(f"coupled analysis diverged at step {step}, t = {t_bad:.6g} s "
+                                              f"(|u| > {self.divergence_limit:g} m or NaN) with "
+                                              f"{self.integrator!r}, dt = {self.dt:g} s", step, t_bad)
+                    raise DivergenceError(f"coupled analysis: contact flexibility W is singular at step {step}, "
+                                          f"t = {t_bad:.6g} s", step, t_bad)
+                self._commit(state, train, asm, bank_b[:, kd_b: kd_b + n_b], bank_t[:, kd_t: kd_t + n_t],
+                             t0 + n * self.dt)
+                done += n
+        finally:
+            feed.close()
+            self.time = np.concatenate(times_all)
+            self.contact_force = np.concatenate(force_all)
+            self.gap = np.concatenate(gap_all)
+        return state
+
+    @staticmethod
+    def _commit(state, train, asm, bank_b, bank_t, time):
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            vec[:] = 0.0
+            vec[asm.full_of_free] = bank_b[slot]
+        for slot, vec in enumerate((train.u, train.v, train.a)):
+            vec[:] = bank_t[slot]
+        state.time = time
+
+
+def _inverse_columns(lower, dofs):
+    """``K̂⁻¹[:, dofs]`` from a banded factor (one padded solve per column) -> (n, len(dofs))."""
+    kd = lower.shape[1] - 1
+    n = lower.shape[0] - kd
+    out = np.zeros((n, len(dofs)))
+    b = np.zeros(n + 2 * kd)
+    for j, d in enumerate(dofs):
+        b[:] = 0.0
+        b[kd + d] = 1.0
+        cholesky_solve(lower, b)
+        out[:, j] = b[kd: kd + n]
+    return out
+
+
+class _CoupledFeed:
+    """Resolves recorder requests over bridge, train and contact channels."""
+
+    def __init__(self, asm, model, recorders, n_t, n_c):
+        self.recorders, self.assembly = list(recorders), asm
+        keys, self.columns = {}, []
+        for rec in self.recorders:
+            cols = []
+            for quantity, index in rec.requests(asm):
+                key = (quantity, int(index))
+                if quantity in QUANTITY_SLOT:
+                    pass
+                elif quantity in TRAIN_QUANTITIES:
+                    if not 0 <= index < n_t:
+                        raise ModelError(f"recorder: train dof {index} out of range 0..{n_t - 1}")
+                elif quantity in ("contact_force", "gap"):
+                    if not 0 <= index < n_c:
+                        raise ModelError(f"recorder: contact wheel {index} out of range 0..{n_c - 1}")
+                else:
+                    raise ModelError(f"recorder: unknown quantity {quantity!r} in a coupled analysis")
+                cols.append(keys.setdefault(key, len(keys)))
+            self.columns.append(np.array(cols, dtype=np.int64))
+        self.items = sorted(keys, key=keys.get)
+        bridge = [(i, q, asm.free_of_full[k]) for i, (q, k) in enumerate(self.items) if q in QUANTITY_SLOT]
+        self.b_cols = np.array([i for i, _, f in bridge if f >= 0], dtype=np.int64)
+        self.b_slot = np.array([QUANTITY_SLOT[q] for _, q, f in bridge if f >= 0], dtype=np.int64)
+        self.b_index = np.array([f for _, _, f in bridge if f >= 0], dtype=np.int64)
+        train = [(i, q, k) for i, (q, k) in enumerate(self.items) if q in TRAIN_QUANTITIES]
+        self.t_cols = np.array([i for i, _, _ in train], dtype=np.int64)
+        self.t_slot = np.array([TRAIN_QUANTITIES[q] for _, q, _ in train], dtype=np.int64)
+        self.t_index = np.array([k for _, _, k in train], dtype=np.int64)
+        self.contact = [(i, q, k) for i, (q, k) in enumerate(self.items) if q in ("contact_force", "gap")]
+        for rec in self.recorders:
+            rec.start(asm, model)
+
+    def deliver(self, times, out_b, out_t, out_force, out_gap):
+        if not self.recorders or len(times) == 0:
+            return
+        full = np.zeros((len(times), len(self.items)))
+        full[:, self.b_cols] = out_b
+        full[:, self.t_cols] = out_t
+        for i, q, k in self.contact:
+            full[:, i] = (out_force if q == "contact_force" else out_gap)[:, k]
+        for rec, cols in zip(self.recorders, self.columns):
+            rec.write(times, full[:, cols], self.assembly)
+
+    def close(self):
+        for rec in self.recorders:
+            rec.close()

@@ -1,0 +1,226 @@
+"""The compiled time loop of a coupled train-bridge analysis (DESIGN §4).
+
+Each stage of each step, for bridge (b) and train (t) subdomains with constant factored
+effective matrices K̂ (acceleration form, see :mod:`vtsi.integrators.base`):
+
+1. free response of each subdomain: â = K̂⁻¹ R̂, û = ū + du_A â;
+2. contact flexibility W = du_A (N F Nᵀ + S K̂_t⁻¹ Sᵀ), with F = K̂_b⁻¹ on the track dofs
+   (precomputed once per stage) and N the constraint rows at the stage time;
+3. contact forces: W λ = -q, q = S û_t - N û_b - r (bilateral), or the LCP
+   λ >= 0, g = W λ + q >= 0, λ·g = 0 (contact loss);
+4. correction: a = â + K̂⁻¹ Gᵀ λ (one more solve per subdomain) and u, v updated.
+
+Force-only wheels (moving forces) load the bridge through their Hermite rows.
+"""
+import numpy as np
+from numba import njit
+
+from vtsi.banded import band_matvec_add, cholesky_solve
+from vtsi.lcp import solve_lcp
+from vtsi.timeloop import add_pattern_loads, combine, sparse_coefficients
+from vtsi.track import constraint_rows, hermite, host_element
+
+
+@njit(cache=True)
+def dense_cholesky_solve(W, b, n):
+    """Solve ``W x = b`` for the leading ``n × n`` block of SPD ``W`` in place (``W`` is
+    overwritten by its factor, ``b`` by ``x``). Returns False if ``W`` is not positive definite."""
+    for j in range(n):
+        d = W[j, j]
+        for k in range(j):
+            d -= W[j, k] * W[j, k]
+        if not d > 0.0:
+            return False
+        d = np.sqrt(d)
+        W[j, j] = d
+        for i in range(j + 1, n):
+            s = W[i, j]
+            for k in range(j):
+                s -= W[i, k] * W[j, k]
+            W[i, j] = s / d
+    for i in range(n):
+        s = b[i]
+        for k in range(i):
+            s -= W[i, k] * b[k]
+        b[i] = s / W[i, i]
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for k in range(i + 1, n):
+            s -= W[k, i] * b[k]
+        b[i] = s / W[i, i]
+    return True
+
+
+@njit(cache=True)
+def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk, ck, sc, vc, cc,
+                su, vu, cu, sv, vv, cv, ua, va):
+    """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots."""
+    kd = fac.shape[2] - 1
+    n = k_rows.shape[0]
+    lo, hi = kd, kd + n
+    combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
+    band_matvec_add(rhs, k_rows, xk, -1.0)
+    if damped:
+        combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
+        band_matvec_add(rhs, c_rows, xc, -1.0)
+    cholesky_solve(fac[s], rhs)
+    combine(bank[base], bank, su[s], vu[s], cu[s], lo, hi)
+    combine(bank[base + 1], bank, sv[s], vv[s], cv[s], lo, hi)
+    for i in range(lo, hi):
+        bank[base, i] += ua * rhs[i]
+        bank[base + 1, i] += va * rhs[i]
+        bank[base + 2, i] = rhs[i]
+
+
+@njit(cache=True)
+def _correct(bank, base, fac, rhs, s, ua, va):
+    """Add the response to the contact forces already scattered into ``rhs``."""
+    kd = fac.shape[2] - 1
+    cholesky_solve(fac[s], rhs)
+    for i in range(kd, rhs.shape[0] - kd):
+        bank[base, i] += ua * rhs[i]
+        bank[base + 1, i] += va * rhs[i]
+        bank[base + 2, i] += rhs[i]
+
+
+@njit(cache=True)
+def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
+                      fac_b, kb_rows, cb_rows, damped_b, fac_t, kt_rows, ct_rows, damped_t,
+                      load_factors, load_ptr, load_dof, load_val, p_train,
+                      flex, tflex, x_start, length, tdofs, track_free,
+                      x0_c, wheel_dof, x0_f, force_f, speed, taps, weights, r_table,
+                      t0, dt, stage_theta, load_theta, load_weight, lcp,
+                      rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
+                      out_force, out_gap, limit, work_b, work_t, cols, vals, W, q, lam, lcp_work):
+    """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
+    (-2 - step when the contact problem is singular at that step).
+
+    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); flex (n_stages,
+    n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
+    load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c).
+    """
+    n_steps = out_b.shape[0]
+    n_stages, width = du.shape
+    A = width - 1
+    kdb = fac_b.shape[2] - 1
+    kdt = fac_t.shape[2] - 1
+    n_b = kb_rows.shape[0]
+    n_t = kt_rows.shape[0]
+    n_c = x0_c.shape[0]
+    n_f = x0_f.shape[0]
+    rb, xkb, xcb = work_b[0], work_b[1], work_b[2]
+    rt, xkt, xct = work_t[0], work_t[1], work_t[2]
+    su, vu, cu = sparse_coefficients(du)
+    sv, vv, cv = sparse_coefficients(dv)
+    sk, vk, ck = sparse_coefficients(ku)
+    sc, vc, cc = sparse_coefficients(kv)
+    x = np.empty(n_c)
+    for step in range(n_steps):
+        for s in range(n_stages):
+            base = 3 + 3 * s
+            ua, va = du[s, A], dv[s, A]
+            # 1. free responses
+            rb[kdb: kdb + n_b] = 0.0
+            add_pattern_loads(rb, load_factors[step, s], load_ptr, load_dof, load_val, kdb)
+            for q_ in range(load_theta.shape[1]):
+                w_q = load_weight[s, q_]
+                if w_q == 0.0:
+                    continue
+                tq = t0 + (step + load_theta[s, q_]) * dt
+                for f in range(n_f):
+                    xf = x0_f[f] + speed * tq
+                    e = host_element(xf, x_start, length)
+                    if e < 0:
+                        continue
+                    h = hermite((xf - x_start[e]) / length[e], length[e])
+                    for a_ in range(4):
+                        d = tdofs[e, a_]
+                        if d >= 0:
+                            rb[kdb + track_free[d]] -= w_q * force_f[f] * h[a_]
+            _free_stage(bank_b, base, fac_b, kb_rows, cb_rows, damped_b, rb, xkb, xcb, s,
+                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va)
+            rt[kdt: kdt + n_t] = 0.0
+            for i in range(n_t):
+                rt[kdt + i] = p_train[i]
+            _free_stage(bank_t, base, fac_t, kt_rows, ct_rows, damped_t, rt, xkt, xct, s,
+                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va)
+            if n_c == 0:
+                continue
+            # 2. rows, free gap and contact flexibility
+            ts = t0 + (step + stage_theta[s]) * dt
+            for i in range(n_c):
+                x[i] = x0_c[i] + speed * ts
+            constraint_rows(x, taps, weights, x_start, length, tdofs, cols, vals)
+            nw = cols.shape[1]
+            for i in range(n_c):
+                g = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
+                for a_ in range(nw):
+                    c_ = cols[i, a_]
+                    if c_ >= 0:
+                        g -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                q[i] = g
+            for i in range(n_c):
+                for j in range(i + 1):
+                    acc = tflex[s, i, j]
+                    for a_ in range(nw):
+                        ca = cols[i, a_]
+                        if ca < 0:
+                            continue
+                        row = 0.0
+                        for b_ in range(nw):
+                            cb = cols[j, b_]
+                            if cb >= 0:
+                                row += flex[s, ca, cb] * vals[j, b_]
+                        acc += vals[i, a_] * row
+                    W[i, j] = ua * acc
+                    W[j, i] = ua * acc
+            # 3. contact forces
+            if lcp:
+                ok = solve_lcp(W, q, lam, n_c, lcp_work)
+            else:
+                for i in range(n_c):
+                    lam[i] = -q[i]
+                ok = dense_cholesky_solve(W, lam, n_c)
+            if not ok:
+                return -2 - step
+            # 4. corrections
+            rb[:] = 0.0
+            touched = False
+            for i in range(n_c):
+                for a_ in range(nw):
+                    c_ = cols[i, a_]
+                    if c_ >= 0:
+                        rb[kdb + track_free[c_]] -= lam[i] * vals[i, a_]
+                        touched = True
+            if touched:
+                _correct(bank_b, base, fac_b, rb, s, ua, va)
+            rt[:] = 0.0
+            for i in range(n_c):
+                rt[kdt + wheel_dof[i]] += lam[i]
+            _correct(bank_t, base, fac_t, rt, s, ua, va)
+            if s == n_stages - 1:
+                for i in range(n_c):
+                    g = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
+                    for a_ in range(nw):
+                        c_ = cols[i, a_]
+                        if c_ >= 0:
+                            g -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                    out_force[step, i] = lam[i]
+                    out_gap[step, i] = g
+        last = 3 + 3 * (n_stages - 1)
+        worst = 0.0
+        for bank in (bank_b, bank_t):
+            for i in range(bank.shape[1]):
+                bank[0, i] = bank[last, i]
+                bank[1, i] = bank[last + 1, i]
+                bank[2, i] = bank[last + 2, i]
+                xa = abs(bank[0, i])
+                if not xa <= worst:
+                    worst = xa
+        if not worst <= limit:
+            return step
+        for r in range(rec_b_slot.shape[0]):
+            out_b[step, r] = bank_b[rec_b_slot[r], kdb + rec_b_index[r]]
+        for r in range(rec_t_slot.shape[0]):
+            out_t[step, r] = bank_t[rec_t_slot[r], kdt + rec_t_index[r]]
+    return -1

@@ -1,0 +1,154 @@
+"""Linear complementarity problems of contact: find λ with
+
+    λ >= 0,   g = W λ + q >= 0,   λ·g = 0,
+
+for a symmetric positive (semi-)definite W (the contact flexibility). For SPD W this is the
+convex QP ``min ½ λᵀWλ + qᵀλ, λ >= 0``, solved exactly by an active-set method of the
+Lawson-Hanson kind: a free set F, ``W_FF λ_F = -q_F`` by Cholesky, an interpolation step back
+into the feasible region when an entry of λ_F turns non-positive, and the most violated
+inactive contact (most negative g) added next. It terminates in finitely many steps.
+
+Warm start: the previous call's free set is tried first; when it is still optimal (no wheel
+changed state, the usual case) the cost is one Cholesky factorisation, as in the bilateral
+solve. A semi-definite W_FF (redundant contacts) is regularised: ``W_FF + ε I`` with
+ε = 1e-12 · max diag(W), raised ×100 until the factorisation succeeds (documented fallback:
+it picks a force distribution among the redundant contacts, and g stays ≥ -ε‖λ‖).
+
+References
+----------
+Lawson, C.L., Hanson, R.J. (1974) Solving Least Squares Problems, ch. 23 (NNLS).
+Cottle, R.W., Pang, J.-S., Stone, R.E. (1992) The Linear Complementarity Problem.
+"""
+import numpy as np
+from numba import njit
+
+
+def lcp_workspace(n):
+    """Scratch array for :func:`solve_lcp` with ``n`` contacts; row ``n + 2`` holds the free
+    set flags between calls (1 = free), initialised to all free (bilateral guess)."""
+    work = np.zeros((n + 4, max(n, 1)))
+    work[n + 2, :n] = 1.0
+    return work
+
+
+@njit(cache=True)
+def _solve_free(W, q, lam_free, free, n, fac):
+    """``lam_free[F] = -W_FF⁻¹ q_F`` (0 elsewhere), regularised if W_FF is singular."""
+    idx = np.empty(n, dtype=np.int64)
+    m = 0
+    for i in range(n):
+        if free[i] > 0.5:
+            idx[m] = i
+            m += 1
+    dmax = 0.0
+    for a in range(m):
+        dmax = max(dmax, W[idx[a], idx[a]])
+    eps = 0.0
+    for attempt in range(12):
+        ok = True
+        for a in range(m):
+            for b in range(a + 1):
+                fac[a, b] = W[idx[a], idx[b]]
+            fac[a, a] += eps
+        for j in range(m):
+            d = fac[j, j]
+            for k in range(j):
+                d -= fac[j, k] * fac[j, k]
+            if not d > 0.0:
+                ok = False
+                break
+            d = np.sqrt(d)
+            fac[j, j] = d
+            for i in range(j + 1, m):
+                s = fac[i, j]
+                for k in range(j):
+                    s -= fac[i, k] * fac[j, k]
+                fac[i, j] = s / d
+        if ok:
+            break
+        eps = 1e-12 * dmax if eps == 0.0 else eps * 100.0
+    if not ok:
+        return False
+    for i in range(n):
+        lam_free[i] = 0.0
+    z = np.empty(m)
+    for a in range(m):
+        s = -q[idx[a]]
+        for k in range(a):
+            s -= fac[a, k] * z[k]
+        z[a] = s / fac[a, a]
+    for a in range(m - 1, -1, -1):
+        s = z[a]
+        for k in range(a + 1, m):
+            s -= fac[k, a] * z[k]
+        z[a] = s / fac[a, a]
+    for a in range(m):
+        lam_free[idx[a]] = z[a]
+    return True
+
+
+@njit(cache=True)
+def solve_lcp(W, q, lam, n, work):
+    """Solve LCP(W, q) for the leading ``n`` contacts into ``lam``; ``W`` is not modified.
+
+    ``work`` comes from :func:`lcp_workspace` and carries the free set from call to call.
+    Returns False only if no factorisation succeeds.
+    """
+    if n == 0:
+        return True
+    fac = work[:n, :n]
+    z = work[n, :n]
+    grad = work[n + 1, :n]
+    free = work[n + 2, :n]
+    scale = 0.0
+    for i in range(n):
+        scale = max(scale, abs(q[i]), W[i, i])
+    tol = 1e-14 * scale
+    # warm start: the previous free set, kept if its solution is feasible
+    if not _solve_free(W, q, z, free, n, fac):
+        return False
+    feasible = True
+    for i in range(n):
+        if free[i] > 0.5 and z[i] < 0.0:
+            feasible = False
+    for i in range(n):
+        if feasible:
+            lam[i] = z[i] if free[i] > 0.5 else 0.0
+        else:
+            lam[i] = 0.0
+            free[i] = 0.0
+    for outer in range(3 * n + 3):
+        enter, worst = -1, -tol
+        for i in range(n):
+            g = q[i]
+            for j in range(n):
+                g += W[i, j] * lam[j]
+            grad[i] = g
+            if free[i] < 0.5 and g < worst:
+                enter, worst = i, g
+        if enter < 0:
+            return True
+        free[enter] = 1.0
+        for inner in range(n + 1):
+            if not _solve_free(W, q, z, free, n, fac):
+                return False
+            if inner == 0 and z[enter] <= 0.0:
+                free[enter] = 0.0       # cannot carry load: optimal at zero (round-off case)
+                return True
+            alpha, blocked = 1.0, -1
+            for i in range(n):
+                if free[i] > 0.5 and z[i] <= 0.0:
+                    a_i = lam[i] / (lam[i] - z[i])
+                    if a_i < alpha:
+                        alpha, blocked = a_i, i
+            if blocked < 0:
+                for i in range(n):
+                    lam[i] = z[i] if free[i] > 0.5 else 0.0
+                break
+            for i in range(n):
+                if free[i] > 0.5:
+                    lam[i] += alpha * (z[i] - lam[i])
+                    if lam[i] <= 0.0 or i == blocked:
+                        lam[i] = 0.0
+                        free[i] = 0.0
+    return True
