@@ -5,23 +5,25 @@ For contact wheel i at x_i(t) = x_i0 + V t the constraint is
     S u_t - N(t) u_b - r(t) = 0      (gap g = S u_t - N u_b - r; bilateral: g = 0),
 
 with N's row the Hermite row of the track element under the wheel (zero off the track:
-rigid ground) and r the rail irregularity. ``interpolation='bspline'`` replaces the rows and
-r by their cubic B-spline smoothing in time (docs/theory/constraints.md):
+rigid ground) and r the rail irregularity. ``interpolation='bspline'`` (remedy (a)) replaces
+the constraint data by their cubic B-spline smoothing in time with knot spacing h = 2Δt
+(docs/theory/constraints.md):
 
-    Ñ(t) = Σ_{k=-3..3} w_k N(x(t + kΔt)),   r̃(t) = Σ_k w_k r(x(t + kΔt)),
-    w = (1, 8, 23, 32, 23, 8, 1)/96 = B₃(k/2)/2 (cubic B-spline of knot spacing 2Δt),
+    Ñ(t) = ∫ N(x(t - s)) B₃(s/h)/h ds,    r̃(t) = ∫ r(x(t - s)) B₃(s/h)/h ds,
 
-which is second-order accurate (Ñ - N = (2/3) Δt² N̈ + O(Δt⁴)) and whose transfer function
-has a fourth-order zero at z = -1, so the period-2Δt response that the trapezoidal rule
-leaves undamped is not excited when a wheel crosses a node.
+so that the constraint is C⁴ in time (the Hermite rows are only C¹: N'' jumps when a wheel
+crosses a node, and so do the wheel's acceleration and λ). The kernel's Fourier transform,
+sinc⁴(f h), has fourth-order zeros at the Nyquist frequency 1/(2Δt) and at all its odd
+multiples, so the constraint sampled at the steps carries no period-2Δt content: the mode the
+trapezoidal rule leaves undamped is not excited. The smoothing is second-order accurate:
+Ñ - N = (2Δt²/3) N̈ + O(Δt⁴) where N is smooth (the kernel's variance is h²/3).
 """
 import numpy as np
 
 from vtsi.errors import ModelError
-from vtsi.track import Track, row_width
+from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel, row_width
 from vtsi.train import TrainSubdomain
 
-BSPLINE_WEIGHTS = np.array([1.0, 8.0, 23.0, 32.0, 23.0, 8.0, 1.0]) / 96.0
 INTERPOLATIONS = ("hermite", "bspline")
 
 
@@ -55,35 +57,47 @@ class MovingLoadConstraint:
     def n_contact(self):
         return len(self.x0)
 
-    def taps(self, dt):
-        """Smoothing taps [m] along the track and weights (one tap for 'hermite')."""
-        if self.interpolation == "bspline":
-            return np.arange(-3, 4) * dt * self.train.speed, BSPLINE_WEIGHTS.copy()
-        return np.zeros(1), np.ones(1)
+    def knot(self, dt):
+        """Knot spacing of the smoothing along the track [m]: 2 V Δt, or 0 for 'hermite'."""
+        return 2.0 * self.train.speed * dt if self.interpolation == "bspline" else 0.0
 
     def width(self, dt):
-        taps, _ = self.taps(dt)
-        return row_width(self.track.length.min(), float(np.ptp(taps)))
+        return row_width(self.track.length.min(), self.knot(dt))
 
     def positions(self, t):
         """Contact-wheel positions at times ``t`` (array) -> ``(..., n_c)`` [m]."""
         return self.x0 + self.train.speed * np.asarray(t, dtype=float)[..., None]
 
-    def irregularity_at(self, t, dt):
-        """``r̃`` (or r) under the contact wheels at times ``t`` -> ``(..., n_c)`` [m]."""
+    def _profile(self, x, nu):
+        """r (nu = 0) or dr/dx (nu = 1) at x; a plain callable r(x) gets a central difference."""
+        try:
+            return np.asarray(self.irregularity(x, nu=nu), dtype=float)
+        except TypeError:
+            if nu == 0:
+                return np.asarray(self.irregularity(x), dtype=float)
+            h = 1e-4
+            return (np.asarray(self.irregularity(x + h), dtype=float) - np.asarray(self.irregularity(x - h), dtype=float)) / (2 * h)
+
+    def irregularity_at(self, t, dt, nu=0):
+        """``r̃`` (or r; ``nu = 1``: its rate dr̃/dt = V dr̃/dx) under the contact wheels at times
+        ``t`` -> ``(..., n_c)`` [m, m/s]."""
         x = self.positions(t)
         if self.irregularity is None:
             return np.zeros_like(x)
-        taps, weights = self.taps(dt)
-        r = np.zeros_like(x)
-        for tap, w in zip(taps, weights):
-            r += w * np.asarray(self.irregularity(x + tap), dtype=float)
+        knot = self.knot(dt)
+        if knot == 0.0:
+            r = self._profile(x, nu)
+        else:
+            r = np.zeros_like(x)
+            for k in range(4):    # kernel pieces [(k-2) knot, (k-1) knot], 4-point Gauss each
+                for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
+                    xi = (k - 1.5 + 0.5 * z) * knot
+                    r += 0.5 * w * bspline_kernel(xi / knot) * self._profile(x - xi, nu)
         if not np.all(np.isfinite(r)):
             raise ModelError("MovingLoadConstraint: the irregularity gives NaN or inf under a wheel")
-        return r
+        return r * self.train.speed ** nu
 
     def rows_at(self, t, dt):
-        """Time hook: ``(cols, vals, r)`` of the contact wheels at time ``t``."""
-        taps, weights = self.taps(dt)
-        cols, vals = self.track.rows(self.positions(t), taps, weights)
-        return cols, vals, self.irregularity_at(np.array(t), dt)
+        """Time hook: ``(cols, vals, slopes, r)`` of the contact wheels at time ``t``."""
+        cols, vals, slopes = self.track.rows(self.positions(t), self.knot(dt))
+        return cols, vals, slopes, self.irregularity_at(np.array(t), dt)

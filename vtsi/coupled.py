@@ -146,12 +146,12 @@ class CoupledAnalysis:
         for pattern in self.model.patterns.values():
             p_b = p_b + pattern.factors(np.array([t]))[0] * asm.load_vector(pattern)
         if len(con.x0_force):
-            cols, vals = track.rows(con.x0_force + train.speed * t)
+            cols, vals, _ = track.rows(con.x0_force + train.speed * t)
             for i, f in enumerate(train.wheel_forces):
                 keep = cols[i] >= 0
                 np.add.at(p_b, track.free_index[cols[i][keep]], -f * vals[i][keep])
         n_b, n_t, n_c = asm.n_free, train.n_dof, con.n_contact
-        cols, vals, r = con.rows_at(t, self.dt)
+        cols, vals, _, r = con.rows_at(t, self.dt)
         rows, cs, vs = [], [], []
         for i in range(n_c):
             keep = cols[i] >= 0
@@ -211,10 +211,10 @@ class CoupledAnalysis:
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
         feed = _CoupledFeed(asm, self.model, self.recorders, n_t, n_c)
-        taps, weights = con.taps(self.dt)
         width = con.width(self.dt)
         cols = np.empty((n_c, width), dtype=np.int64)
         vals = np.empty((n_c, width))
+        slopes = np.empty((n_c, width))
         work_b = np.zeros((3, n_b + 2 * kd_b))
         work_t = np.zeros((3, n_t + 2 * kd_t))
         W, q, lam = np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c)
@@ -232,8 +232,9 @@ class CoupledAnalysis:
                             for p, pattern in enumerate(patterns):
                                 table[:, s, p] += w * pattern.factors(steps + theta * self.dt)
                     table[:, s, -1] = 1.0
-                r_table = np.ascontiguousarray(np.stack(
-                    [con.irregularity_at(steps + th * self.dt, self.dt) for th in self.stage_theta], axis=1))
+                r_table, rate_table = (np.ascontiguousarray(np.stack(
+                    [con.irregularity_at(steps + th * self.dt, self.dt, nu) for th in self.stage_theta], axis=1))
+                    for nu in (0, 1))
                 out_b = np.zeros((n, len(feed.b_index)))
                 out_t = np.zeros((n, len(feed.t_index)))
                 out_force, out_gap = np.zeros((n, n_c)), np.zeros((n, n_c))
@@ -244,9 +245,9 @@ class CoupledAnalysis:
                     table, load_ptr, load_dof, load_val, train.gravity_load,
                     self.flex, self.tflex, track.x_start, track.length, track.dofs, track.free_index,
                     con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
-                    taps, weights, r_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
+                    con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
                     self.contact == "lcp", feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
-                    out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, W, q, lam,
+                    out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
                     self._lcp_work)
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)

@@ -4,13 +4,21 @@ Each stage of each step, for bridge (b) and train (t) subdomains with constant f
 effective matrices K̂ (acceleration form, see :mod:`vtsi.integrators.base`):
 
 1. free response of each subdomain: â = K̂⁻¹ R̂, û = ū + du_A â;
-2. contact flexibility W = du_A (N F Nᵀ + S K̂_t⁻¹ Sᵀ), with F = K̂_b⁻¹ on the track dofs
+2. contact flexibility W = dv_A (N F Nᵀ + S K̂_t⁻¹ Sᵀ), with F = K̂_b⁻¹ on the track dofs
    (precomputed once per stage) and N the constraint rows at the stage time;
-3. contact forces: W λ = -q, q = S û_t - N û_b - r (bilateral), or the LCP
-   λ >= 0, g = W λ + q >= 0, λ·g = 0 (contact loss);
+3. contact forces from the constraint at the velocity level (index 2),
+   ġ = S v_t - N v_b - Ṅ û_b - ṙ = 0 with Ṅ = V dN/dx taken at the free response û (so that
+   W stays symmetric): W λ = -q, q = S v̂_t - N v̂_b - Ṅ û_b - ṙ (bilateral), or the LCP
+   λ >= 0, ġ = W λ + q >= 0, λ·ġ = 0 for the wheels whose free position gap is closed
+   (contact loss; λ = 0 for the others);
 4. correction: a = â + K̂⁻¹ Gᵀ λ (one more solve per subdomain) and u, v updated.
 
 Force-only wheels (moving forces) load the bridge through their Hermite rows.
+
+Why the velocity level: with the constraint imposed on positions (index 3), the trapezoidal
+rule keeps an undamped period-2Δt mode in the wheels' accelerations, and a moving constraint
+pumps it: λ grew without bound in our S3 runs (docs/theory/constraints.md). At the velocity
+level the scheme is stable; the position gap drifts by O(Δt²) and is recorded (``out_gap``).
 """
 import numpy as np
 from numba import njit
@@ -88,10 +96,10 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       fac_b, kb_rows, cb_rows, damped_b, fac_t, kt_rows, ct_rows, damped_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free,
-                      x0_c, wheel_dof, x0_f, force_f, speed, taps, weights, r_table,
+                      x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
                       t0, dt, stage_theta, load_theta, load_weight, lcp,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
-                      out_force, out_gap, limit, work_b, work_t, cols, vals, W, q, lam, lcp_work):
+                      out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
@@ -150,14 +158,15 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
             ts = t0 + (step + stage_theta[s]) * dt
             for i in range(n_c):
                 x[i] = x0_c[i] + speed * ts
-            constraint_rows(x, taps, weights, x_start, length, tdofs, cols, vals)
+            constraint_rows(x, knot, x_start, length, tdofs, cols, vals, slopes)
             nw = cols.shape[1]
             for i in range(n_c):
-                g = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
+                g = bank_t[base + 1, kdt + wheel_dof[i]] - rate_table[step, s, i]
                 for a_ in range(nw):
                     c_ = cols[i, a_]
                     if c_ >= 0:
-                        g -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                        k_ = kdb + track_free[c_]
+                        g -= vals[i, a_] * bank_b[base + 1, k_] + speed * slopes[i, a_] * bank_b[base, k_]
                 q[i] = g
             for i in range(n_c):
                 for j in range(i + 1):
@@ -172,8 +181,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                             if cb >= 0:
                                 row += flex[s, ca, cb] * vals[j, b_]
                         acc += vals[i, a_] * row
-                    W[i, j] = ua * acc
-                    W[j, i] = ua * acc
+                    W[i, j] = va * acc
+                    W[j, i] = va * acc
             # 3. contact forces
             if lcp:
                 ok = solve_lcp(W, q, lam, n_c, lcp_work)

@@ -74,23 +74,38 @@ class Track:
     def n_track(self):
         return len(self.free_index)
 
-    def rows(self, x, taps=None, weights=None):
-        """Constraint rows of wheels at ``x (n_w,)``: ``(cols, vals)`` each ``(n_w, width)``
-        (cols -1 where unused); see :func:`constraint_rows` for ``taps``/``weights``."""
+    def rows(self, x, knot=0.0):
+        """Constraint rows of wheels at ``x (n_w,)``: ``(cols, vals, slopes)`` each
+        ``(n_w, width)`` (cols -1 where unused; ``slopes`` = dN/dx [1/m]); ``knot`` > 0 smooths
+        them (see :func:`constraint_rows`)."""
         x = np.asarray(x, dtype=float)
-        taps = np.zeros(1) if taps is None else np.asarray(taps, dtype=float)
-        weights = np.ones(1) if weights is None else np.asarray(weights, dtype=float)
-        width = row_width(self.length.min(), float(np.ptp(taps)))
+        width = row_width(self.length.min(), knot)
         cols = np.empty((len(x), width), dtype=np.int64)
         vals = np.empty((len(x), width))
-        constraint_rows(x, taps, weights, self.x_start, self.length, self.dofs, cols, vals)
-        return cols, vals
+        slopes = np.empty((len(x), width))
+        constraint_rows(x, float(knot), self.x_start, self.length, self.dofs, cols, vals, slopes)
+        return cols, vals, slopes
 
 
-def row_width(min_length, tap_span):
-    """Fixed number of entries a row needs when its taps span ``tap_span`` metres."""
-    spanned = int(np.ceil(tap_span / min_length)) + 1
+def row_width(min_length, knot):
+    """Fixed number of entries of a row smoothed over ``4 knot`` metres."""
+    spanned = int(np.ceil(4.0 * knot / min_length)) + 1
     return 2 * (spanned + 1)
+
+
+GAUSS_POINTS = np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526])
+GAUSS_WEIGHTS = np.array([0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538])
+
+
+@njit(cache=True)
+def bspline_kernel(s):
+    """Centred cubic B-spline B₃(s) (support [-2, 2], integral 1)."""
+    a = abs(s)
+    if a < 1.0:
+        return 2.0 / 3.0 - a * a + 0.5 * a * a * a
+    if a < 2.0:
+        return (2.0 - a) ** 3 / 6.0
+    return 0.0
 
 
 @njit(cache=True)
@@ -99,6 +114,13 @@ def hermite(xi, length):
     x2 = xi * xi
     x3 = x2 * xi
     return (1.0 - 3.0 * x2 + 2.0 * x3, length * (xi - 2.0 * x2 + x3), 3.0 * x2 - 2.0 * x3, length * (x3 - x2))
+
+
+@njit(cache=True)
+def hermite_slope(xi, length):
+    """d/dx of [H1, ℓ H2, H3, ℓ H4] at ξ [1/m, 1, 1/m, 1]."""
+    x2 = xi * xi
+    return ((6.0 * x2 - 6.0 * xi) / length, 1.0 - 4.0 * xi + 3.0 * x2, (6.0 * xi - 6.0 * x2) / length, 3.0 * x2 - 2.0 * xi)
 
 
 @njit(cache=True)
@@ -113,38 +135,68 @@ def host_element(x, x_start, length):
 
 
 @njit(cache=True)
-def constraint_rows(x, taps, weights, x_start, length, dofs, cols, vals):
-    """Row of each wheel: ``Σ_k weights[k] N(x + taps[k])``, merged by dof.
+def _add_entry(cols, vals, slopes, i, used, d, value, slope):
+    for j in range(used):
+        if cols[i, j] == d:
+            vals[i, j] += value
+            slopes[i, j] += slope
+            return used
+    cols[i, used] = d
+    vals[i, used] = value
+    slopes[i, used] = slope
+    return used + 1
 
-    ``taps`` [m] and ``weights`` describe a smoothing of the constraint (one tap of weight 1 for
-    the plain Hermite row). ``cols``/``vals`` ``(n_w, width)`` are overwritten; unused slots get
-    col -1 and value 0.
+
+@njit(cache=True)
+def constraint_rows(x, knot, x_start, length, dofs, cols, vals, slopes):
+    """Row of each wheel at ``x`` and its slope dN/dx: the Hermite row ``N(x)`` if
+    ``knot == 0``, else its convolution with the cubic B-spline kernel of knot spacing ``knot`` [m],
+
+        Ñ(x) = ∫ N(x - ξ) B₃(ξ / knot) / knot dξ,
+
+    computed exactly: on every piece where both the kernel and N are one polynomial (kernel
+    knots and element ends split the support), 4-point Gauss-Legendre integrates the degree-6
+    product without error (the slope alike, degree 5). ``cols``/``vals``/``slopes``
+    ``(n_w, width)`` are overwritten (col -1 unused).
     """
     n_w, width = cols.shape
+    n_el = x_start.shape[0]
+    x_end = x_start[n_el - 1] + length[n_el - 1]
     for i in range(n_w):
-        used = 0
         for j in range(width):
             cols[i, j] = -1
             vals[i, j] = 0.0
-        for k in range(taps.shape[0]):
-            xk = x[i] + taps[k]
-            e = host_element(xk, x_start, length)
-            if e < 0:
+            slopes[i, j] = 0.0
+        used = 0
+        if knot == 0.0:
+            e = host_element(x[i], x_start, length)
+            if e >= 0:
+                xi = (x[i] - x_start[e]) / length[e]
+                h = hermite(xi, length[e])
+                dh = hermite_slope(xi, length[e])
+                for a in range(4):
+                    if dofs[e, a] >= 0:
+                        used = _add_entry(cols, vals, slopes, i, used, dofs[e, a], h[a], dh[a])
+            continue
+        for k in range(4):
+            # kernel piece ξ in [(k-2) knot, (k-1) knot]  <->  x' = x - ξ in [lo, hi]
+            lo = max(x[i] - (k - 1) * knot, x_start[0])
+            hi = min(x[i] - (k - 2) * knot, x_end)
+            if hi <= lo:
                 continue
-            xi = (xk - x_start[e]) / length[e]
-            h = hermite(xi, length[e])
-            for a in range(4):
-                d = dofs[e, a]
-                if d < 0:
-                    continue
-                value = weights[k] * h[a]
-                slot = -1
-                for j in range(used):
-                    if cols[i, j] == d:
-                        slot = j
-                        break
-                if slot < 0:
-                    slot = used
-                    used += 1
-                    cols[i, slot] = d
-                vals[i, slot] += value
+            e = host_element(lo, x_start, length)
+            while e < n_el and x_start[e] < hi:
+                p = max(lo, x_start[e])
+                q = min(hi, x_start[e] + length[e])
+                if q > p:
+                    half = 0.5 * (q - p)
+                    for g in range(4):
+                        xg = p + half * (1.0 + GAUSS_POINTS[g])
+                        w = half * GAUSS_WEIGHTS[g] * bspline_kernel((x[i] - xg) / knot) / knot
+                        xi = (xg - x_start[e]) / length[e]
+                        h = hermite(xi, length[e])
+                        dh = hermite_slope(xi, length[e])
+                        for a in range(4):
+                            if dofs[e, a] >= 0:
+                                used = _add_entry(cols, vals, slopes, i, used, dofs[e, a], w * h[a], w * dh[a])
+                e += 1

@@ -1,0 +1,70 @@
+"""Ready-made bridge models (2-D Euler-Bernoulli beams on the x axis, y up; SI units).
+
+Each builder adds nodes and ``elasticBeamColumn`` elements to a :class:`vtsi.Model` and returns
+a :class:`BeamBridge` record with the tags a scene needs (track elements, midspan node...).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from vtsi.errors import ModelError
+
+
+@dataclass
+class BeamBridge:
+    """Tags of a beam bridge: ``nodes`` and ``elements`` in x order, ``supports`` (node tags),
+    ``midspan_nodes`` (one per span), ``span_lengths`` [m]."""
+
+    nodes: list
+    elements: list
+    supports: list
+    midspan_nodes: list
+    span_lengths: list
+
+    @property
+    def length(self):
+        return float(sum(self.span_lengths))
+
+
+def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent_mass=True, x0=0.0,
+                    first_node=1, first_element=1):
+    """A continuous beam over ``len(spans)`` spans [m] on pin (first support) and rollers.
+
+    Parameters
+    ----------
+    model : vtsi.Model
+    spans : sequence of span lengths [m].
+    elements_per_span : int, even (so that a node sits at each midspan).
+    E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only).
+    """
+    spans = [float(s) for s in spans]
+    if not spans or any(not s > 0 for s in spans):
+        raise ModelError(f"continuous_beam: spans must be positive, got {spans}")
+    n = int(elements_per_span)
+    if n < 2 or n % 2:
+        raise ModelError(f"continuous_beam: elements_per_span must be even and >= 2, got {elements_per_span}")
+    xs = [x0]
+    for s in spans:
+        xs.extend(xs[-1] + s * np.arange(1, n + 1) / n)
+    nodes = list(range(first_node, first_node + len(xs)))
+    for tag, x in zip(nodes, xs):
+        model.node(tag, float(x), 0.0)
+    supports = nodes[::n]
+    model.fix(supports[0], 1, 1, 0)
+    for tag in supports[1:]:
+        model.fix(tag, 0, 1, 0)
+    elements = list(range(first_element, first_element + len(nodes) - 1))
+    for e, (i, j) in zip(elements, zip(nodes[:-1], nodes[1:])):
+        model.element("elasticBeamColumn", e, (i, j), A=A, E=E, I=I, rho=mu, cmass=1 if consistent_mass else 0)
+    midspan = [nodes[k * n + n // 2] for k in range(len(spans))]
+    return BeamBridge(nodes, elements, supports, midspan, spans)
+
+
+def simply_supported_beam(model, L, n_elements, E, I, mu, **kwargs):
+    """One simply supported span (see :func:`continuous_beam`)."""
+    return continuous_beam(model, [L], n_elements, E, I, mu, **kwargs)
+
+
+def first_frequency(L, E, I, mu):
+    """f₁ = (π/L)² √(EI/μ) / 2π [Hz] of a simply supported Euler-Bernoulli beam."""
+    return (np.pi / L) ** 2 * np.sqrt(E * I / mu) / (2.0 * np.pi)

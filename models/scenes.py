@@ -1,0 +1,49 @@
+"""The benchmark scenes of DESIGN §7 as data and builders, shared by tests, benchmarks and
+examples. Every number here is either from ../shared/reference (with its source) or our own
+choice, stated as such.
+"""
+import numpy as np
+
+from .bridges import continuous_beam, simply_supported_beam
+from .cars import four_dof_car, sprung_mass
+from .trains import Train
+
+# S1: constant force over a simply supported beam (reference/README.md, speed anchors).
+S1 = dict(L=25.0, E=2.943e10, I=3.81, mu=36000.0, P=1.0e5, V=100.0 / 3.6, dt=1.0e-3)
+
+# S2: Yang & Yau (1997) sprung mass, after Biggs (1964) (reference/README.md).
+S2 = dict(L=25.0, E=2.87e9, I=2.9, mu=2303.0, m_s=5750.0, k_s=1595.0e3, V=100.0 / 3.6,
+          max_midspan_deflection=2.4073e-3, time_of_max=0.3711, max_sprung_acceleration=0.148)
+
+# S3: the paper's 4-dof car over a simply supported beam. Our own data (documented in
+# docs/scenes.md): a 30 m prestressed-concrete span and a car with the mass, pitch inertia and
+# suspension of an ICE3 coach lumped to two wheel groups (bogie + wheelsets) at ± l_c / 2.
+S3 = dict(L=30.0, E=3.5e10, I=7.0, mu=30000.0, n_elements=20,
+          m_c=47800.0, J_c=1.957888e6, m_w=3500.0 + 2 * 1800.0, k_s=2 * 7.0e5, c_s=2 * 4.0e4,
+          l_c=17.375, V=300.0 / 3.6)
+
+
+def s2_model(model, n_elements=20):
+    """Beam and train of S2 (vehicle at the left support at t = 0). Returns (bridge, train)."""
+    p = S2
+    bridge = simply_supported_beam(model, p["L"], n_elements, p["E"], p["I"], p["mu"])
+    train = Train([sprung_mass(p["m_s"], p["k_s"])], [0.0], p["V"], name="S2 sprung mass")
+    return bridge, train
+
+
+def s3_model(model, n_elements=None, speed=None, approach=None):
+    """Beam and 4-dof car of S3. The car's leading wheel starts ``approach`` metres before the
+    span (default: at the left support), so both wheels start on rigid ground in equilibrium.
+    Returns (bridge, train, x_head0)."""
+    p = S3
+    bridge = simply_supported_beam(model, p["L"], n_elements or p["n_elements"], p["E"], p["I"], p["mu"])
+    car = four_dof_car(p["m_c"], p["J_c"], p["m_w"], p["k_s"], p["c_s"], p["l_c"])
+    train = Train([car], [0.0], p["V"] if speed is None else speed, name="S3 four-dof car")
+    return bridge, train, -(approach or 0.0)
+
+
+def s5_viaduct(model, elements_per_span=20):
+    """S5 bridge: a 3 × 30 m continuous viaduct (our own section: E = 3.5e10 Pa, I = 7 m⁴,
+    μ = 30 t/m, as S3's span)."""
+    p = S3
+    return continuous_beam(model, [30.0, 30.0, 30.0], elements_per_span, p["E"], p["I"], p["mu"])
