@@ -1,5 +1,15 @@
-"""Element library (``vtsi.elements``): importing it registers every shipped element type."""
-from .base import ELEMENT_TYPES, ElementType, element_type, register
-from .beam_column import ElasticBeamColumn2d
+"""Element library (``vtsi.elements``): importing it registers every shipped element type.
 
-__all__ = ["ELEMENT_TYPES", "ElementType", "element_type", "register", "ElasticBeamColumn2d"]
+A new type subclasses :class:`ElementType`, follows the contract in :mod:`vtsi.elements.base`
+and is registered with :func:`register` (see ``examples/custom_element.py``); the helpers
+:func:`rotation_2d` and :func:`rotate_to_global` serve 2-D line elements.
+"""
+from .base import ELEMENT_TYPES, ElementType, element_type, register, rotation_2d
+from .beam_column import ElasticBeamColumn2d
+from .kernels import rotate_to_global
+from .point_mass import PointMass2d
+from .truss import Truss2d
+from .zero_length import ZeroLength2d
+
+__all__ = ["ELEMENT_TYPES", "ElementType", "element_type", "register", "rotation_2d", "rotate_to_global",
+           "ElasticBeamColumn2d", "Truss2d", "ZeroLength2d", "PointMass2d"]

@@ -13,13 +13,16 @@ Contract of an element type (checked by :func:`register` and by ``tests/test_ele
    ``node_dofs`` (tuple of int, which of a node's dofs the element connects, 0 = ux, 1 = uy,
    2 = rz; the element dof vector is node 1's dofs then node 2's, so ``ndof = n_nodes * len(node_dofs)``);
    ``param_names`` (tuple of str, the columns of ``params``);
-   ``positive`` (names that must be > 0), ``non_negative`` (names that must be >= 0);
+   ``positive`` (names that must be > 0), ``non_negative`` (names that must be >= 0),
+   ``flags`` (names of switches that must be 0 or 1, e.g. ``cmass``);
    ``defaults`` (dict of default parameter values).
 2. ``stiffness(coords, params)``, ``mass(coords, params)``: given ``coords (n_el, n_nodes, 2)``
    float64 [m] and ``params (n_el, n_par)`` float64, return ``(n_el, ndof, ndof)`` float64
    symmetric matrices in **global** axes [N/m, N, N·m; kg, kg·m²]. Override ``damping`` when the
    element has its own dashpots [N·s/m]; the default is zero. Rayleigh damping is added by
-   the model, not by the element.
+   the model, not by the element; an element whose stiffness must be left out of the βK term
+   (OpenSees ``-doRayleigh 0``) defines ``rayleigh_weights(params)``, ``(n_el,)`` float64 factors
+   on its stiffness in that term.
 3. ``check_geometry(coords, tags, node_tags)`` raises :class:`~vtsi.errors.ModelError` for
    geometry the element cannot take (zero length...). Line elements inherit the check.
 4. ``response(kind, coords, params, u_e, v_e)`` returns element forces ``(n_el, n_values)`` for
@@ -37,17 +40,27 @@ ELEMENT_TYPES = {}
 
 
 def register(cls):
-    """Class decorator: validate the contract of an element type and make it known by name."""
+    """Class decorator: validate the contract of an element type and make it known by name.
+
+    A name belongs to one class; the same class defined again (a script or notebook cell run
+    twice) replaces the old definition."""
     for attribute in ("name", "n_nodes", "node_dofs", "param_names"):
         if not hasattr(cls, attribute):
             raise TypeError(f"element type {cls.__name__}: missing class attribute {attribute!r}")
-    unknown = (set(cls.positive) | set(cls.non_negative) | set(cls.defaults)) - set(cls.param_names)
+    unknown = (set(cls.positive) | set(cls.non_negative) | set(cls.flags) | set(cls.defaults)) - set(cls.param_names)
     if unknown:
         raise TypeError(f"element type {cls.__name__}: {sorted(unknown)} are not in param_names")
+    if not isinstance(cls.name, str) or not cls.name:
+        raise TypeError(f"element type {cls.__name__}: name must be a non-empty str, got {cls.name!r}")
     if any(d not in (0, 1, 2) for d in cls.node_dofs):
         raise TypeError(f"element type {cls.__name__}: node_dofs {cls.node_dofs} must be among 0, 1, 2")
-    if cls.name in ELEMENT_TYPES and ELEMENT_TYPES[cls.name] is not cls:
-        raise TypeError(f"element type name {cls.name!r} is already registered by {ELEMENT_TYPES[cls.name].__name__}")
+    for method in ("stiffness", "mass"):
+        if getattr(cls, method) is getattr(ElementType, method):
+            raise TypeError(f"element type {cls.__name__}: must override {method}()")
+    known = ELEMENT_TYPES.get(cls.name)
+    redefined = known is not None and (known.__module__, known.__qualname__) == (cls.__module__, cls.__qualname__)
+    if known is not None and known is not cls and not redefined:   # re-running a script redefines its class
+        raise TypeError(f"element type name {cls.name!r} is already registered by {known.__module__}.{known.__qualname__}")
     ELEMENT_TYPES[cls.name] = cls
     return cls
 
@@ -69,6 +82,7 @@ class ElementType:
     param_names = ()
     positive = ()
     non_negative = ()
+    flags = ()
     defaults = {}
     response_kinds = ("force", "globalForce")
 
@@ -110,6 +124,8 @@ class ElementType:
                 raise ModelError(f"element {tag} ({self.name}): {pname} must be > 0, got {value:g}")
             if pname in self.non_negative and value < 0.0:
                 raise ModelError(f"element {tag} ({self.name}): {pname} must be >= 0, got {value:g}")
+            if pname in self.flags and value not in (0.0, 1.0):
+                raise ModelError(f"element {tag} ({self.name}): {pname} must be 0 or 1, got {value:g}")
             values.append(value)
         self.tags.append(int(tag))
         self.nodes.append(tuple(int(n) for n in nodes))

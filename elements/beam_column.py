@@ -65,6 +65,7 @@ class ElasticBeamColumn2d(ElementType):
     param_names = ("A", "E", "I", "rho", "cmass")
     positive = ("A", "E", "I")
     non_negative = ("rho",)
+    flags = ("cmass",)
     defaults = {"rho": 0.0, "cmass": 0.0}
     response_kinds = ("force", "globalForce", "localForce")
 

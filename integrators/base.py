@@ -20,7 +20,8 @@ Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
    ``n_slots + 1`` with ``n_slots = 3 + 3 n_stages``, and a stage only reads slots already written.
 3. ``stability_limit(dt)``: ``None`` if unconditionally stable, else the largest stable
    ``ω Δt`` (undamped); the analysis compares it with ``ω_max Δt`` and refuses to run beyond it.
-4. ``explicit``: True when ``ku[A] = kv[A] = 0`` in every stage, so that ``K̂ = M``.
+4. ``explicit``: True when ``ku[A] = 0`` in every stage, so that ``K̂ = M + kv[A] C`` holds no
+   stiffness (``K̂ = M`` for an undamped model; central difference has ``kv[A] = Δt/2``).
 5. Parameters are validated in ``__init__`` with an :class:`~vtsi.errors.AnalysisError`
    naming the integrator, the parameter and its stable range.
 """

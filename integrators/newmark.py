@@ -9,6 +9,8 @@ Hughes, T.J.R. (1987) The Finite Element Method, §9.3 (stability limits).
 """
 import numpy as np
 
+from vtsi.errors import AnalysisError
+
 from .base import Integrator, Stage, check_parameter, register
 
 
@@ -62,8 +64,14 @@ class CentralDifference(Newmark):
 class HHT(Newmark):
     """Hilber-Hughes-Taylor α-method in OpenSees's convention: equilibrium at ``t_n + αΔt`` with
     ``ũ = (1 - α) u_n + α u_{n+1}``, ``ṽ`` alike, inertia at ``t_{n+1}``; ``α`` in [2/3, 1]
-    (Hilber's α_H = α - 1). Defaults ``γ = 3/2 - α``, ``β = (2 - α)²/4`` give second order and
-    spectral radius ``ρ∞ = α/(2 - α)``, which is ``(1 + α_H)/(1 - α_H)`` in Hilber's form."""
+    (Hilber's α_H = α - 1). Defaults ``γ = 3/2 - α``, ``β = (2 - α)²/4`` give second order,
+    unconditional stability and spectral radius ``ρ∞ = α/(2 - α)``, which is
+    ``(1 + α_H)/(1 - α_H)`` in Hilber's form.
+
+    Other ``γ, β`` (OpenSees's ``integrator HHT α γ β``) need ``γ >= 3/2 - α`` (else slow modes
+    grow); their stability limit is computed from the characteristic polynomial (see
+    :func:`hht_stability_limit`) and a choice unstable at every practical step is refused.
+    """
 
     name = "HHT"
 
@@ -73,6 +81,17 @@ class HHT(Newmark):
                         why="OpenSees convention; alpha = 1 is the trapezoidal rule")
         super().__init__(1.5 - self.alpha if gamma is None else gamma,
                          (2.0 - self.alpha) ** 2 / 4.0 if beta is None else beta)
+        self._limit = None
+        if gamma is None and beta is None:
+            return                                   # Hilber et al. (1977): unconditionally stable
+        if self.gamma < 1.5 - self.alpha - 1e-12:
+            raise AnalysisError(f"integrator {self.name}: gamma = {self.gamma:g} is below 3/2 - alpha = "
+                                f"{1.5 - self.alpha:g} (the scheme then amplifies every slow mode)")
+        self._limit = hht_stability_limit(self.alpha, self.gamma, self.beta)
+        if self._limit == 0.0:
+            raise AnalysisError(f"integrator {self.name}: beta = {self.beta:g} is too small for alpha = "
+                                f"{self.alpha:g}, gamma = {self.gamma:g}: unstable already at omega*dt = 0.1 "
+                                "(raise beta, or omit gamma and beta)")
 
     def stages(self, dt):
         du, dv = self._newmark_update(dt)
@@ -80,3 +99,43 @@ class HHT(Newmark):
         ku = a * du + self.coefficients(u_n=1.0 - a)
         kv = a * dv + self.coefficients(v_n=1.0 - a)
         return [Stage(du=du, dv=dv, ku=ku, kv=kv, load=[(a, 1.0)])]
+
+    def stability_limit(self, dt):
+        return self._limit
+
+
+def hht_stability_limit(alpha, gamma, beta, tol=1e-10):
+    """Largest stable ``Ω = ωΔt`` of undamped HHT(α, γ, β) (OpenSees α), or None if stable for
+    every Ω (up to 1e8).
+
+    The roots of the characteristic polynomial (``u_n ∝ λⁿ``)
+
+        λ (λ - 1)² + Ω² (αλ + 1 - α) (βλ² + (½ - 2β + γ) λ + ½ + β - γ) = 0
+
+    leave the unit disc either through λ = -1, at ``Ω = 1/√((2α - 1)(γ/2 - β))`` (Newmark's
+    limit when α = 1), or, for small β, earlier through a complex pair (and stay out: the
+    unstable set is ``[limit, ∞)``); the limit is the first Ω in ``[0.1, ...]`` with spectral
+    radius above ``1 + tol``, found on a log grid and refined by bisection. ``0.0`` means
+    "unstable already at Ω = 0.1", the smallest Ω checked.
+    """
+    crossing = (2.0 * alpha - 1.0) * (0.5 * gamma - beta)
+    top = 1.0 / np.sqrt(crossing) if crossing > 0.0 else 1e8
+    tail = np.array([beta, 0.5 - 2.0 * beta + gamma, 0.5 + beta - gamma])
+    forcing = np.polymul([alpha, 1.0 - alpha], tail)
+
+    def unstable(omega_dt):
+        poly = np.polyadd([1.0, -2.0, 1.0, 0.0], omega_dt * omega_dt * forcing)
+        return np.max(np.abs(np.roots(poly))) > 1.0 + tol
+
+    grid = np.geomspace(0.1, top, max(2, int(25 * np.log10(top / 0.1)) + 1))
+    grid[-1] = top * (1.0 - 1e-9)               # just below the λ = -1 crossing
+    bad = next((i for i, om in enumerate(grid) if unstable(om)), None)
+    if bad is None:
+        return None if crossing <= 0.0 else top
+    if bad == 0:
+        return 0.0
+    lo, hi = grid[bad - 1], grid[bad]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if unstable(mid) else (mid, hi)
+    return lo

@@ -11,6 +11,7 @@ from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, eigen
 from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError, VtsiError
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, Path
+import vtsi.recorders  # noqa: E402,F401  (vtsi.recorders.NodeRecorder etc.)
 
 __version__ = "0.1.0"
 __all__ = ["Model", "StaticAnalysis", "TransientAnalysis", "eigen", "domain_state",

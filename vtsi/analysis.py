@@ -65,7 +65,7 @@ def _pattern_loads(assembly, patterns):
 class _RecorderFeed:
     """Maps the recorders' requests to kernel output columns and hands chunks over."""
 
-    def __init__(self, assembly, model, recorders):
+    def __init__(self, assembly, model, recorders, info=None):
         self.recorders = list(recorders)
         keys, self.columns = {}, []
         for rec in self.recorders:
@@ -79,8 +79,15 @@ class _RecorderFeed:
         self.n_total = len(items)
         self.rec_slot = np.array([QUANTITY_SLOT[q] for (q, _), _ in items], dtype=np.int64)[self.free_mask]
         self.rec_index = free[self.free_mask]
-        for rec in self.recorders:
-            rec.start(assembly, model)
+        started = []
+        try:
+            for rec in self.recorders:
+                rec.start(assembly, model, info)
+                started.append(rec)
+        except Exception:
+            for rec in started:
+                rec.close()
+            raise
 
     def deliver(self, times, out, assembly):
         if not self.recorders or len(times) == 0:
@@ -111,7 +118,8 @@ class StaticAnalysis:
         state = domain_state(model)
         patterns = list(model.patterns.values())
         loads = [asm.load_vector(p) for p in patterns]
-        feed = _RecorderFeed(asm, model, self.recorders)
+        feed = _RecorderFeed(asm, model, self.recorders,
+                             {"analysis": "static", "integrator": "LoadControl", "dt": self.d_lambda})
         try:
             for _ in range(int(n_steps)):
                 t = state.time + self.d_lambda
@@ -142,10 +150,10 @@ def eigen(model, n_modes):
     """
     asm = model.build()
     n = asm.n_free
-    if not 1 <= n_modes <= n - 1 if n > 1 else n_modes != 1:
-        raise AnalysisError(f"eigen: number of modes must be between 1 and {max(n - 1, 1)}, got {n_modes}")
+    if not 1 <= n_modes <= n:
+        raise AnalysisError(f"eigen: number of modes must be between 1 and {n} (the free dofs), got {n_modes}")
     factor(asm, asm.K, "stiffness matrix K")   # names the mechanism, if any
-    if n <= 1200:
+    if n <= 1200 or n_modes >= n - 1:
         mu, vec = scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray())
         order = np.argsort(mu)[::-1][:n_modes]
         if np.any(mu[order] <= 1e-14 * mu.max()):
@@ -270,7 +278,8 @@ class TransientAnalysis:
         bank = np.zeros((n_slots, asm.n_free + 2 * kd))
         for slot, vec in enumerate((state.u, state.v, state.a)):
             bank[slot, kd: kd + asm.n_free] = vec[asm.full_of_free]
-        feed = _RecorderFeed(asm, self.model, self.recorders)
+        feed = _RecorderFeed(asm, self.model, self.recorders,
+                             {"analysis": "transient", "integrator": repr(self.integrator), "dt": self.dt})
         work = np.zeros((3, asm.n_free + 2 * kd))
         done = 0
         try:

@@ -86,16 +86,18 @@ class Assembly:
         indptr = np.searchsorted(unique // n, np.arange(n + 1)).astype(np.int64)
         indices = (unique % n).astype(np.int64)
         offset = n
-        k_data, m_data, c_data, kr_data = (np.zeros(len(unique)) for _ in range(4))
+        k_data, m_data, c_data, kr_data, mr_data = (np.zeros(len(unique)) for _ in range(5))
         for etype, tags, coords, params, dofs in self.blocks:
             nd = dofs.shape[1]
             positions = inverse[offset: offset + dofs.shape[0] * nd * nd].reshape(-1, nd, nd).astype(np.int64)
             offset += dofs.shape[0] * nd * nd
             ones = np.ones(len(tags))
-            ke = etype.stiffness(coords, params)
+            rayleigh = etype.rayleigh_weights(params) if hasattr(etype, "rayleigh_weights") else ones
+            ke, me = etype.stiffness(coords, params), etype.mass(coords, params)
             scatter_add(k_data, positions, ke, ones)
-            scatter_add(kr_data, positions, ke, etype.rayleigh_weights(params) if hasattr(etype, "rayleigh_weights") else ones)
-            scatter_add(m_data, positions, etype.mass(coords, params), ones)
+            scatter_add(kr_data, positions, ke, rayleigh)
+            scatter_add(m_data, positions, me, ones)
+            scatter_add(mr_data, positions, me, rayleigh)
             scatter_add(c_data, positions, etype.damping(coords, params), ones)
         diag = inverse[:n]
         nodal_mass = np.zeros(n)
@@ -103,8 +105,9 @@ class Assembly:
             i = self.node_index[tag]
             nodal_mass[i * self.ndf: i * self.ndf + len(values)] += values
         m_data[diag] += nodal_mass
+        mr_data[diag] += nodal_mass
         alpha_m, beta_k = model.rayleigh_factors
-        c_data += alpha_m * m_data + beta_k * kr_data
+        c_data += alpha_m * mr_data + beta_k * kr_data   # Rayleigh only on elements that take it
         make = lambda data: sp.csr_matrix((data, indices, indptr), shape=(n, n))
         self.K_full, self.M_full, self.C_full = make(k_data), make(m_data), make(c_data)
         self.has_damping = bool(np.any(c_data != 0.0))

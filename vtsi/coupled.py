@@ -210,7 +210,8 @@ class CoupledAnalysis:
             bank_b[slot, kd_b: kd_b + n_b] = vec[asm.full_of_free]
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
-        feed = _CoupledFeed(asm, self.model, self.recorders, n_t, n_c)
+        feed = _CoupledFeed(asm, self.model, self.recorders, n_t, n_c,
+                            {"analysis": "coupled", "integrator": repr(self.integrator), "dt": self.dt})
         width = con.width(self.dt)
         cols = np.empty((n_c, width), dtype=np.int64)
         vals = np.empty((n_c, width))
@@ -301,7 +302,7 @@ def _inverse_columns(lower, dofs):
 class _CoupledFeed:
     """Resolves recorder requests over bridge, train and contact channels."""
 
-    def __init__(self, asm, model, recorders, n_t, n_c):
+    def __init__(self, asm, model, recorders, n_t, n_c, info=None):
         self.recorders, self.assembly = list(recorders), asm
         keys, self.columns = {}, []
         for rec in self.recorders:
@@ -331,7 +332,7 @@ class _CoupledFeed:
         self.t_index = np.array([k for _, _, k in train], dtype=np.int64)
         self.contact = [(i, q, k) for i, (q, k) in enumerate(self.items) if q in ("contact_force", "gap")]
         for rec in self.recorders:
-            rec.start(asm, model)
+            rec.start(asm, model, info)
 
     def deliver(self, times, out_b, out_t, out_force, out_gap):
         if not self.recorders or len(times) == 0:

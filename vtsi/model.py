@@ -85,6 +85,9 @@ class Model:
         if tag in self._element_owner:
             raise ModelError(f"element {tag} already exists")
         cls = element_type(type_name)
+        if max(cls.node_dofs) >= self.ndf:
+            raise ModelError(f"element {tag} ({type_name}): needs node dofs {[d + 1 for d in cls.node_dofs]}, "
+                             f"but the model has ndf {self.ndf}")
         for n in nodes:
             if n not in self.nodes:
                 raise ModelError(f"element {tag} ({type_name}): node {n} does not exist")

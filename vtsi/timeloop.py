@@ -101,7 +101,7 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
             x = abs(bank[0, i])
             if not x <= worst:   # also true for NaN
                 worst = x
-        if not worst <= limit:
+        if not (worst <= limit and worst < np.inf):   # NaN, inf (even with limit = inf), or too large
             return step
         for r in range(rec_slot.shape[0]):
             out[step, r] = bank[rec_slot[r], lo + rec_index[r]]

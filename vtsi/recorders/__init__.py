@@ -1,5 +1,11 @@
-"""Recorders (``vtsi.recorders``): see :mod:`.base` for the contract."""
+"""Recorders (``vtsi.recorders``): what is recorded (node, reaction, element responses), where it
+goes (memory, HDF5, OpenSees text) and envelopes. See :mod:`.base` for the contract and
+``docs/recorders.md`` for the columns, units and file layouts."""
 from .base import Recorder
-from .node import NodeRecorder
+from .element import ElementRecorder
+from .envelope import Envelope
+from .node import NodeRecorder, ReactionRecorder
+from .sinks import HDF5Sink, MemorySink, Sink, TextSink
 
-__all__ = ["Recorder", "NodeRecorder"]
+__all__ = ["Recorder", "NodeRecorder", "ReactionRecorder", "ElementRecorder", "Envelope",
+           "Sink", "MemorySink", "HDF5Sink", "TextSink"]

@@ -5,48 +5,165 @@ code and hands each chunk of steps over. Recorders never slow the time loop down
 lose what was computed: a chunk is written before the next one starts, and a run that fails
 still delivers every completed step.
 
-Contract of a recorder
-----------------------
+A recorder is three separate things (see ``docs/recorders.md``):
+
+* **what** is recorded: a *response* (node disp/vel/accel, reactions, element forces), i.e. the
+  dofs it requests and how it turns them into its columns (:meth:`Recorder.compute`);
+* **where** it goes: a *sink* (:mod:`vtsi.recorders.sinks`: memory, HDF5, OpenSees text);
+* **envelopes**: running min / max / absmax of every column with the time of each
+  (:class:`~vtsi.recorders.envelope.Envelope`), kept next to the history or instead of it.
+
+Contract of a recorder (what an analysis relies on)
+---------------------------------------------------
 1. ``requests(assembly)`` -> list of ``(quantity, full_dof)`` with quantity ``'u'``, ``'v'`` or
-   ``'a'`` (displacement, velocity, acceleration), called when an analysis starts.
-2. ``start(assembly, model)``: open the sink (file, memory); called once per analysis run.
-3. ``write(times, columns, assembly)``: ``times (n,)`` [s], ``columns (n, len(requests))`` in the
-   order requested; called after every chunk of steps.
-4. ``close()``: flush and release (files stay readable at every flush in between).
-5. ``dt`` (optional, OpenSees ``-dT``): record only when at least ``dt`` has elapsed.
+   ``'a'`` (displacement, velocity, acceleration), called when an analysis starts. Fixed dofs
+   may be requested; they read 0.
+2. ``start(assembly, model, info=None)``: called once per analysis run (an analysis run several
+   times, as OpenSees's ``analyze`` in a loop, calls it every time: the record continues, it is
+   not restarted). ``info`` (optional dict) describes the analysis: ``'analysis'``
+   (``'static'``/``'transient'``), ``'integrator'`` (name), ``'dt'`` [s]; sinks store it as
+   metadata.
+3. ``write(times, columns, assembly)``: ``times (n,)`` [s] increasing, ``columns (n,
+   len(requests))`` in the order requested; called after every chunk of steps.
+4. ``close()``: flush and release; called when the run ends, also when it fails (files stay
+   readable at every flush in between).
+5. ``dt`` (optional, OpenSees ``-dT``): record a step iff ``t - t_next >= -1e-5 dt``, then
+   ``t_next = t + dt`` (``t_next`` starts at 0 and is never reset, as in OpenSees).
+
+Contract of a response subclass (what :class:`Recorder` needs to do the rest)
+-----------------------------------------------------------------------------
+a. ``requests(assembly)`` as above.
+b. ``prepare(assembly, model)``: resolve names to indices (once per run); return the column
+   description: a dict with ``'units'`` (list of str, one per column) and ``'columns'`` (dict of
+   name -> array ``(n_columns,)``: e.g. ``node``, ``dof``, ``dof_name``), plus ``'quantity'``.
+c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of the kept steps.
 """
 import numpy as np
 
+from vtsi.errors import ModelError
+
+DT_TOLERANCE = 1e-5   # OpenSees relDeltaTTol
+
 
 class Recorder:
-    """Base class; see the module docstring."""
+    """Base class: a response (subclass) + a sink + an optional envelope.
+
+    Parameters
+    ----------
+    sink : :class:`~vtsi.recorders.sinks.Sink` or None (memory, :class:`MemorySink`).
+    dt : record only every ``dt`` seconds (OpenSees ``-dT``); None or 0: every step.
+    envelope : keep the running min / max / absmax of every column (``self.envelope``).
+    history : keep the time history (False with ``envelope=True``: OpenSees ``EnvelopeNode`` /
+        ``EnvelopeElement``: only the envelope goes to the sink).
+    tag : optional identifier (the command layer's recorder tag).
+    """
 
     tag = None
     dt = None
+    name = "Recorder"
 
+    def __init__(self, sink=None, dt=None, envelope=False, history=True, tag=None):
+        from vtsi.recorders.envelope import Envelope
+        from vtsi.recorders.sinks import MemorySink, Sink
+
+        if sink is None:
+            sink = MemorySink()
+        if not isinstance(sink, Sink):
+            raise ModelError(f"{self.name}: sink must be a Sink (MemorySink, HDF5Sink, TextSink), got {sink!r}")
+        if dt is not None:
+            try:
+                dt = float(dt)
+            except (TypeError, ValueError):
+                raise ModelError(f"{self.name}: dt must be a number, got {dt!r}") from None
+            if not (np.isfinite(dt) and dt >= 0.0):
+                raise ModelError(f"{self.name}: dt must be >= 0 and finite, got {dt}")
+        if not (history or envelope):
+            raise ModelError(f"{self.name}: records nothing (history=False and envelope=False)")
+        self.sink, self.dt, self.tag = sink, dt, tag
+        self.history = bool(history)
+        self.envelope = Envelope() if envelope else None
+        sink.check(self)
+        self._next_time = 0.0
+        self._layout = None
+
+    def __repr__(self):
+        what = ", ".join(f"{k}={getattr(self, k)!r}" for k in ("nodes", "elements", "dofs", "response")
+                         if hasattr(self, k))
+        return f"{type(self).__name__}({what}, sink={type(self.sink).__name__})"
+
+    # -- analysis-facing contract ----------------------------------------------------------
     def requests(self, assembly):
         raise NotImplementedError
 
-    def start(self, assembly, model):
-        self._last_time = -np.inf
+    def start(self, assembly, model, info=None):
+        layout = self.prepare(assembly, model)
+        n_columns = len(layout["units"])
+        if self._layout is not None and self._layout["n_columns"] != n_columns:
+            raise ModelError(f"{self.name}: the model now gives {n_columns} columns, the record "
+                             f"started with {self._layout['n_columns']}")
+        layout["n_columns"] = n_columns
+        layout.setdefault("attrs", {}).update(_model_metadata(assembly, model, info))
+        layout["attrs"].update(recorder=type(self).__name__, record_dt=float(self.dt or 0.0))
+        self._layout = layout
+        if self.envelope is not None:
+            self.envelope.resize(n_columns)
+        self.sink.open(layout, self)
 
     def write(self, times, columns, assembly):
-        raise NotImplementedError
+        keep = self._select(times)
+        if not keep.any():
+            return
+        times = np.ascontiguousarray(times[keep], dtype=np.float64)
+        values = np.ascontiguousarray(self.compute(times, columns[keep], assembly), dtype=np.float64)
+        if self.envelope is not None:
+            self.envelope.update(times, values)
+        self.sink.write(times, values if self.history else None, self.envelope)
 
     def close(self):
-        pass
+        self.sink.close(self.envelope)
 
+    # -- response-facing contract (override) -----------------------------------------------
+    def prepare(self, assembly, model):
+        raise NotImplementedError
+
+    def compute(self, times, columns, assembly):
+        raise NotImplementedError
+
+    # -- results of the memory sink --------------------------------------------------------
+    @property
+    def time(self):
+        """Recorded times ``(n,)`` [s] (memory and HDF5 sinks)."""
+        return self.sink.time
+
+    @property
+    def values(self):
+        """Recorded values ``(n, n_columns)`` (memory and HDF5 sinks)."""
+        return self.sink.values
+
+    # -- helpers ---------------------------------------------------------------------------
     def _select(self, times):
-        """Mask of the steps to keep under the ``-dT`` rule (OpenSees: record when
-        ``t - t_last >= dT``)."""
-        if not self.dt:
-            return np.ones(len(times), dtype=bool)
+        """Mask of the steps to keep under OpenSees's ``-dT`` rule (see the module docstring)."""
         keep = np.zeros(len(times), dtype=bool)
-        last = self._last_time
-        tol = 1e-10 * self.dt
-        for i, t in enumerate(times):
-            if t - last >= self.dt - tol:
-                keep[i] = True
-                last = t
-        self._last_time = last
-        return keep
+        if not self.dt:
+            keep[:] = True
+            return keep
+        tol = DT_TOLERANCE * self.dt
+        i, n = 0, len(times)
+        while True:
+            i += int(np.searchsorted(times[i:], self._next_time - tol, side="left"))
+            if i >= n:
+                return keep
+            keep[i] = True
+            self._next_time = times[i] + self.dt
+            i += 1
+
+
+def _model_metadata(assembly, model, info):
+    import vtsi
+
+    meta = {"vtsi_version": vtsi.__version__, "n_nodes": int(len(assembly.node_tags)),
+            "n_elements": int(len(assembly.element_location)), "ndf": int(assembly.ndf)}
+    for key, value in (info or {}).items():
+        if value is not None:
+            meta[key] = value
+    return meta

@@ -1,39 +1,176 @@
-"""Node response recorders: displacement, velocity, acceleration of chosen node dofs."""
-import numpy as np
+"""Node recorders: displacement, velocity, acceleration and reactions of chosen node dofs.
 
+Columns are node-major, as OpenSees writes them: node 1 dof 1, node 1 dof 2, ..., node 2 dof 1...
+"""
+import numpy as np
+import scipy.sparse as sp
+
+from vtsi.assembly import DOF_NAMES
 from vtsi.errors import ModelError
 from vtsi.recorders.base import Recorder
 
 QUANTITIES = {"disp": "u", "vel": "v", "accel": "a"}
+REACTIONS = ("reaction", "reactionIncInertia")
+RESPONSES = tuple(QUANTITIES) + REACTIONS
+DESCRIPTION = {"disp": "displacement", "vel": "velocity", "accel": "acceleration",
+               "reaction": "reaction", "reactionIncInertia": "reaction including inertia and damping"}
+UNITS = {"disp": ("m", "rad"), "vel": ("m/s", "rad/s"), "accel": ("m/s^2", "rad/s^2"),
+         "reaction": ("N", "N m"), "reactionIncInertia": ("N", "N m")}
 
 
 class NodeRecorder(Recorder):
-    """Records ``response`` ('disp', 'vel', 'accel') of ``dofs`` (1-based) at ``nodes`` to memory.
+    """Records ``response`` of ``dofs`` (1-based: 1 ux, 2 uy, 3 rz) at ``nodes``.
 
-    After a run, ``time (n,)`` [s] and ``values (n, len(nodes) * len(dofs))`` (node-major columns:
-    node 1 dof 1, node 1 dof 2, ..., as OpenSees writes them) hold every recorded step.
+    Responses (OpenSees names): ``'disp'`` [m, rad], ``'vel'`` [m/s, rad/s], ``'accel'``
+    [m/s², rad/s²], ``'reaction'`` and ``'reactionIncInertia'`` [N, N·m] (see
+    :class:`ReactionRecorder`). Columns are node-major: ``(n, len(nodes) * len(dofs))``.
+
+    With the default memory sink, ``time (n,)`` [s] and ``values`` hold every recorded step
+    after (and during) a run. ``sink``, ``dt``, ``envelope``, ``history``, ``tag``: see
+    :class:`~vtsi.recorders.base.Recorder`.
     """
 
-    def __init__(self, nodes, dofs, response="disp", dt=None, tag=None):
-        if response not in QUANTITIES:
-            raise ModelError(f"node recorder: unknown response {response!r}; valid: {', '.join(QUANTITIES)}")
-        self.nodes, self.dofs, self.response, self.dt, self.tag = list(nodes), list(dofs), response, dt, tag
-        self._times, self._chunks = [], []
+    name = "node recorder"
+
+    def __init__(self, nodes, dofs, response="disp", sink=None, dt=None, envelope=False, history=True, tag=None):
+        if response not in RESPONSES:
+            raise ModelError(f"node recorder: unknown response {response!r}; valid: {', '.join(RESPONSES)}")
+        self.nodes, self.dofs = _int_list("node recorder", "nodes", nodes), _int_list("node recorder", "dofs", dofs)
+        self.response = response
+        super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
+        self._reaction = None
 
     def requests(self, assembly):
-        q = QUANTITIES[self.response]
-        return [(q, assembly.full_dof(n, d)) for n in self.nodes for d in self.dofs]
+        full = [assembly.full_dof(n, d) for n in self.nodes for d in self.dofs]
+        if self.response in QUANTITIES:
+            q = QUANTITIES[self.response]
+            return [(q, f) for f in full]
+        self._reaction = _ReactionRows(assembly, np.array(full, dtype=np.int64),
+                                       self.response == "reactionIncInertia")
+        return self._reaction.requests
 
-    def write(self, times, columns, assembly):
-        keep = self._select(times)
-        self._times.append(times[keep])
-        self._chunks.append(columns[keep])
+    def prepare(self, assembly, model):
+        if self._reaction is not None:
+            self._reaction.set_loads(assembly, model)
+        ndf = assembly.ndf
+        nodes = np.repeat(self.nodes, len(self.dofs)).astype(np.int64)
+        dofs = np.tile(self.dofs, len(self.nodes)).astype(np.int64)
+        translation, rotation = UNITS[self.response]
+        units = [rotation if d == 3 and ndf == 3 else translation for d in dofs]
+        return {"response": self.response, "quantity": DESCRIPTION[self.response], "units": units,
+                "columns": {"node": nodes, "dof": dofs, "dof_name": np.array([DOF_NAMES[d - 1] for d in dofs])}}
 
-    @property
-    def time(self):
-        return np.concatenate(self._times) if self._times else np.zeros(0)
+    def compute(self, times, columns, assembly):
+        if self._reaction is None:
+            return columns
+        return self._reaction.compute(times, columns)
 
-    @property
-    def values(self):
-        n = len(self.nodes) * len(self.dofs)
-        return np.concatenate(self._chunks) if self._chunks else np.zeros((0, n))
+
+class ReactionRecorder(NodeRecorder):
+    """Support reactions ``R`` [N, N·m] at ``dofs`` of ``nodes``: the force the support exerts
+    on the structure, ``R = F_resisting - P`` as OpenSees computes it (a beam loaded downwards
+    has upward, positive reactions; in static equilibrium they sum to minus the applied load).
+
+    ``include_inertia=False`` (default, OpenSees ``'reaction'`` / ``reactions()``):
+    ``R = K u + C_el v - P``, with ``C_el`` the elements' own dashpots (no Rayleigh damping,
+    no inertia). ``include_inertia=True`` (OpenSees ``'reactionIncInertia'`` /
+    ``reactions('-dynamic')``): ``R = K u + C v + M a - P`` with the full C (Rayleigh
+    included) and M. ``P`` is the nodal load the patterns apply at that dof at the recorded
+    time (usually zero on a support).
+    """
+
+    name = "reaction recorder"
+
+    def __init__(self, nodes, dofs, include_inertia=False, sink=None, dt=None, envelope=False, history=True,
+                 tag=None):
+        response = "reactionIncInertia" if include_inertia else "reaction"
+        super().__init__(nodes, dofs, response=response, sink=sink, dt=dt, envelope=envelope, history=history,
+                         tag=tag)
+
+
+class _ReactionRows:
+    """Rows of ``K, C, M`` at the reaction dofs, restricted to the free dofs they couple to."""
+
+    def __init__(self, assembly, rows, include_inertia):
+        self.rows = rows
+        parts = [("u", assembly.K_full[rows])]
+        if include_inertia:
+            parts += [("v", assembly.C_full[rows]), ("a", assembly.M_full[rows])]
+        else:
+            c_el = _element_damping_rows(assembly, rows)
+            if c_el is not None:
+                parts.append(("v", c_el))
+        self.requests, self.blocks = [], []
+        free = assembly.free_of_full
+        for quantity, matrix in parts:
+            matrix = sp.csr_matrix(matrix)
+            matrix.eliminate_zeros()
+            cols = np.unique(matrix.indices)
+            cols = cols[free[cols] >= 0]     # fixed dofs do not move
+            if cols.size == 0:
+                continue
+            start = len(self.requests)
+            self.requests += [(quantity, int(c)) for c in cols]
+            self.blocks.append((slice(start, start + cols.size), matrix[:, cols].tocsr()))
+        self.loads = []
+
+    def set_loads(self, assembly, model):
+        """Nodal loads of the model's patterns at the reaction rows (``Assembly.load_vector``
+        keeps only free dofs, so they are gathered here)."""
+        self.loads = []
+        ndf = assembly.ndf
+        for pattern in model.patterns.values():
+            full = np.zeros(assembly.n_full)
+            for tag, values in pattern.nodal.items():
+                if tag in assembly.node_index:
+                    i = assembly.node_index[tag] * ndf
+                    full[i: i + min(len(values), ndf)] += np.asarray(values)[:ndf]
+            vec = full[self.rows]
+            if np.any(vec != 0.0):
+                self.loads.append((pattern, vec))
+
+    def compute(self, times, columns):
+        out = np.zeros((len(times), len(self.rows)))
+        for cols, matrix in self.blocks:
+            out += (matrix @ columns[:, cols].T).T
+        for pattern, vec in self.loads:
+            out -= np.outer(pattern.factors(np.asarray(times)), vec)
+        return out
+
+
+def _element_damping_rows(assembly, rows):
+    """Rows ``rows`` of the elements' own damping matrix (without Rayleigh), or None if zero."""
+    wanted = np.zeros(assembly.n_full, dtype=bool)
+    wanted[rows] = True
+    r, c, v = [], [], []
+    for etype, _tags, coords, params, dofs in assembly.blocks:
+        touch = wanted[dofs].any(axis=1)
+        if not touch.any():
+            continue
+        d = etype.damping(coords[touch], params[touch])
+        if not np.any(d):
+            continue
+        sel = dofs[touch]
+        nd = sel.shape[1]
+        r.append(np.repeat(sel, nd, axis=1).ravel())
+        c.append(np.tile(sel, (1, nd)).ravel())
+        v.append(d.ravel())
+    if not r:
+        return None
+    matrix = sp.coo_matrix((np.concatenate(v), (np.concatenate(r), np.concatenate(c))),
+                           shape=(assembly.n_full, assembly.n_full)).tocsr()
+    return matrix[rows]
+
+
+def _int_list(who, what, items):
+    out = []
+    for x in np.atleast_1d(np.asarray(items, dtype=object)):
+        if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer, float, np.floating)) \
+                or int(x) != x:
+            raise ModelError(f"{who}: {what} must be integers, got {items!r}")
+        out.append(int(x))
+    if what == "dofs" and any(d < 1 for d in out):
+        raise ModelError(f"{who}: dofs are 1-based (1 ux, 2 uy, 3 rz), got {out}")
+    if not out:
+        raise ModelError(f"{who}: no {what} given")
+    return out

@@ -1,0 +1,330 @@
+"""Where recorded values go: memory (numpy), HDF5 (h5py) or an OpenSees-style text file.
+
+Contract of a sink
+------------------
+1. ``check(recorder)``: called when the recorder is built; raise for a combination the sink
+   cannot store (a text file holds a history *or* an envelope; a sink serves one recorder).
+2. ``open(layout, recorder)``: called at every analysis start. The first call creates the
+   storage; later calls continue the same record. ``layout`` holds ``n_columns``, ``units``
+   (one str per column), ``quantity``, ``response``, ``columns`` (name -> array per column)
+   and ``attrs`` (model and analysis metadata).
+3. ``write(times, values, envelope)``: after every chunk with at least one recorded step;
+   ``values (n, n_columns)`` or None (envelope-only recorder), ``envelope`` or None.
+4. ``close(envelope)``: at the end of every run, also a failed one; the storage stays valid.
+"""
+import datetime
+import os
+
+import numpy as np
+
+from vtsi.errors import ModelError
+
+
+class Sink:
+    """Base class of the sinks (see the module docstring)."""
+
+    def check(self, recorder):
+        owner = getattr(self, "_owner", None)
+        if owner is not None and owner is not recorder:
+            raise ModelError(f"{type(self).__name__}: this sink already belongs to {owner!r}; give each "
+                             "recorder its own sink")
+        self._owner = recorder
+
+    def open(self, layout, recorder):
+        raise NotImplementedError
+
+    def write(self, times, values, envelope):
+        raise NotImplementedError
+
+    def close(self, envelope):
+        pass
+
+    @property
+    def time(self):
+        raise AttributeError(f"{type(self).__name__} keeps no values in memory")
+
+    @property
+    def values(self):
+        raise AttributeError(f"{type(self).__name__} keeps no values in memory")
+
+
+class MemorySink(Sink):
+    """Keeps the record in numpy arrays: ``time (n,)`` [s] and ``values (n, n_columns)``.
+
+    Chunks are stored as they come and concatenated once, when read (then kept as one array),
+    so recording costs no copy per step. ``layout`` describes the columns after the first run.
+    """
+
+    def __init__(self):
+        self.layout = None
+        self._times, self._chunks = [], []
+
+    def open(self, layout, recorder):
+        self.layout = layout
+
+    def write(self, times, values, envelope):
+        if values is not None:
+            self._times.append(times)
+            self._chunks.append(values)
+
+    @property
+    def time(self):
+        if len(self._times) != 1:
+            self._times = [np.concatenate(self._times) if self._times else np.zeros(0)]
+        return self._times[0]
+
+    @property
+    def values(self):
+        if len(self._chunks) != 1:
+            n = self.layout["n_columns"] if self.layout else 0
+            self._chunks = [np.concatenate(self._chunks) if self._chunks else np.zeros((0, n))]
+        return self._chunks[0]
+
+
+class HDF5Sink(Sink):
+    """One HDF5 file per recorder (h5py), appended chunk by chunk and flushed after each chunk.
+
+    File layout::
+
+        /                 attrs: recorder, response, quantity, vtsi_version, n_nodes,
+                          n_elements, ndf, record_dt, created (UTC ISO 8601) and, when the
+                          analysis gives them, analysis, integrator, dt
+        /time             (n,) float64 [s], resizable, a dimension scale
+        /values           (n, n_columns) float64, resizable along time, chunked;
+                          dims[0] = /time, dims[1] = the /columns scales;
+                          attrs: units (one str per column), quantity
+        /columns/<name>   (n_columns,) per-column labels (node, dof, dof_name or element,
+                          component, component_name), dimension scales of values' dim 1
+        /envelope/<name>  (n_columns,) min, max, absmax, time_of_min, time_of_max,
+                          time_of_absmax (with ``envelope=True``; attr n_records)
+
+    Parameters
+    ----------
+    path : file to create. An existing file is refused (``FileExistsError`` naming it) when
+        the sink is built, before any analysis work, unless ``overwrite=True``.
+    overwrite : replace an existing file.
+    flush_every : None (default): flush after every chunk; k: flush only once at least k
+        recorded steps have accumulated since the last flush (fewer flushes when chunks are
+        tiny, e.g. static steps; a killed run may then lose up to k - 1 steps).
+    compression : h5py compression filter for /values (e.g. ``'gzip'``), default none.
+
+    A run killed at any moment (even SIGKILL) leaves a readable file holding every step up
+    to the last flush; a run that raises closes the file with every completed step.
+    """
+
+    def __init__(self, path, overwrite=False, flush_every=None, compression=None):
+        self.path = os.fspath(path)
+        if os.path.exists(self.path) and not overwrite:
+            raise FileExistsError(f"HDF5 recorder: {self.path} already exists; pass overwrite=True "
+                                  "to replace it")
+        parent = os.path.dirname(os.path.abspath(self.path))
+        if not os.path.isdir(parent):
+            raise FileNotFoundError(f"HDF5 recorder: directory {parent} of {self.path} does not exist")
+        if flush_every is not None and (int(flush_every) != flush_every or flush_every < 1):
+            raise ModelError(f"HDF5 recorder {self.path}: flush_every must be an integer >= 1, got {flush_every!r}")
+        self.overwrite = bool(overwrite)
+        self.flush_every = None if flush_every is None else int(flush_every)
+        self.compression = compression
+        self._file = None
+        self._created = False
+        self._unflushed = 0
+
+    def open(self, layout, recorder):
+        import h5py
+
+        if self._created:
+            self._file = h5py.File(self.path, "r+")
+            self._file.attrs.update(_h5_attrs(layout["attrs"]))
+            return
+        mode = "w" if self.overwrite else "w-"
+        try:
+            f = h5py.File(self.path, mode)
+        except (OSError, FileExistsError) as exc:
+            raise type(exc)(f"HDF5 recorder: cannot create {self.path}: {exc}") from None
+        self._file, self._created = f, True
+        n = layout["n_columns"]
+        f.attrs.update(_h5_attrs(layout["attrs"]))
+        f.attrs["response"] = layout["response"]
+        f.attrs["quantity"] = layout["quantity"]
+        f.attrs["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+        columns = f.create_group("columns")
+        scales = []
+        for name, data in layout["columns"].items():
+            data = np.asarray(data)
+            if data.dtype.kind in "US":
+                ds = columns.create_dataset(name, data=data.astype(object), dtype=h5py.string_dtype())
+            else:
+                ds = columns.create_dataset(name, data=data)
+            ds.make_scale(name)
+            scales.append(ds)
+        columns.create_dataset("units", data=np.array(layout["units"], dtype=object), dtype=h5py.string_dtype())
+        if recorder.history:
+            rows = int(np.clip(2 ** 18 // (8 * max(n, 1)), 64, 16384))
+            time = f.create_dataset("time", shape=(0,), maxshape=(None,), chunks=(rows,), dtype="f8")
+            time.attrs["units"] = "s"
+            time.make_scale("time")
+            values = f.create_dataset("values", shape=(0, n), maxshape=(None, n), chunks=(rows, max(n, 1)),
+                                      dtype="f8", compression=self.compression)
+            values.attrs["units"] = np.array(layout["units"], dtype=object)
+            values.attrs["quantity"] = layout["quantity"]
+            values.dims[0].label = "time"
+            values.dims[0].attach_scale(time)
+            values.dims[1].label = "column"
+            for ds in scales:
+                values.dims[1].attach_scale(ds)
+        if recorder.envelope is not None:
+            env = f.create_group("envelope")
+            for name in recorder.envelope.FIELDS:
+                env.create_dataset(name, data=np.full(n, np.nan))
+                env[name].attrs["units"] = "s" if name.startswith("time") else np.array(layout["units"], dtype=object)
+            env.attrs["n_records"] = 0
+        f.flush()
+
+    def write(self, times, values, envelope):
+        f = self._file
+        if values is not None:
+            n0, n = f["time"].shape[0], len(times)
+            f["time"].resize((n0 + n,))
+            f["time"][n0:] = times
+            f["values"].resize(n0 + n, axis=0)
+            f["values"][n0:] = values
+        if envelope is not None:
+            env = f["envelope"]
+            for name in envelope.FIELDS:
+                env[name][...] = getattr(envelope, name)
+            env.attrs["n_records"] = envelope.n_records
+        self._unflushed += len(times)
+        if self.flush_every is None or self._unflushed >= self.flush_every:
+            f.flush()
+            self._unflushed = 0
+
+    def close(self, envelope):
+        if self._file is not None:
+            try:
+                self._file.flush()
+            finally:
+                self._file.close()
+                self._file = None
+                self._unflushed = 0
+
+    def _read(self, name, empty):
+        if self._file is not None:
+            return self._file[name][...] if name in self._file else empty
+        if not self._created:
+            return empty
+        import h5py
+
+        with h5py.File(self.path, "r") as f:
+            return f[name][...] if name in f else empty
+
+    @property
+    def time(self):
+        """Recorded times, read back from the file."""
+        return self._read("time", np.zeros(0))
+
+    @property
+    def values(self):
+        """Recorded values, read back from the file."""
+        return self._read("values", np.zeros((0, 0)))
+
+
+class TextSink(Sink):
+    """OpenSees-style text file (``recorder Node/Element ... -file``).
+
+    History recorder: one line per recorded step, ``[time] v1 v2 ...``, single spaces, each
+    number as C++ ``ostream`` with ``precision`` significant digits (``'%.{p}g'``).
+    Envelope-only recorder (``history=False``, OpenSees ``EnvelopeNode``/``EnvelopeElement``):
+    three lines, min, max and absmax, written when the run ends (rewritten after each run);
+    with ``time=True`` every value is preceded by the time it occurred (``t v`` pairs).
+
+    The file is created, or truncated, when the sink is built (OpenSees truncates when the
+    recorder command runs: scripts are re-run in place). Lines are flushed after every chunk;
+    ``close_on_write`` reopens and closes the file for every chunk instead.
+    """
+
+    def __init__(self, path, time=False, precision=6, close_on_write=False):
+        self.path = os.fspath(path)
+        if isinstance(precision, bool) or int(precision) != precision or precision < 0:
+            raise ModelError(f"text recorder {self.path}: precision must be an integer >= 0, got {precision!r}")
+        self.echo_time, self.precision, self.close_on_write = bool(time), int(precision), bool(close_on_write)
+        try:
+            with open(self.path, "w"):
+                pass
+        except OSError as exc:
+            raise type(exc)(f"text recorder: cannot create {self.path}: {exc.strerror}") from None
+        self._handle = None
+        self._recorder = None
+
+    def check(self, recorder):
+        super().check(recorder)
+        if recorder.history and recorder.envelope is not None:
+            raise ModelError(f"text recorder {self.path}: a text file holds the history (OpenSees Node/"
+                             "Element recorder) or the envelope (EnvelopeNode/EnvelopeElement), not "
+                             "both; use two recorders, or an HDF5Sink")
+
+    def open(self, layout, recorder):
+        self._recorder = recorder
+        if recorder.history and not self.close_on_write:
+            self._handle = open(self.path, "a")
+
+    def write(self, times, values, envelope):
+        if values is None:
+            return
+        text = format_rows(times if self.echo_time else None, values, self.precision)
+        if self.close_on_write:
+            with open(self.path, "a") as fh:
+                fh.write(text)
+        else:
+            self._handle.write(text)
+            self._handle.flush()
+
+    def close(self, envelope):
+        if self._handle is not None:
+            self._handle.close()
+            self._handle = None
+        if self._recorder is not None and not self._recorder.history and envelope is not None:
+            with open(self.path, "w") as fh:
+                fh.write(format_envelope(envelope, self.echo_time, self.precision))
+
+    @property
+    def time(self):
+        raise AttributeError(f"TextSink keeps no values in memory: read {self.path} (numpy.loadtxt)")
+
+    @property
+    def values(self):
+        raise AttributeError(f"TextSink keeps no values in memory: read {self.path} (numpy.loadtxt)")
+
+
+def format_rows(times, values, precision=6):
+    """Lines as OpenSees's DataFileStream writes them: ``[t] v1 v2 ...\\n`` with ``%.{p}g``."""
+    values = np.asarray(values, dtype=np.float64)
+    if times is not None:
+        values = np.column_stack([np.asarray(times, dtype=np.float64), values])
+    if values.shape[1] == 0:
+        return "\n" * values.shape[0]
+    line = " ".join([f"%.{precision}g"] * values.shape[1]) + "\n"
+    return "".join(line % tuple(row) for row in values.tolist())
+
+
+def format_envelope(envelope, echo_time=False, precision=6):
+    """The three lines of OpenSees's envelope recorders (min, max, absmax), empty if nothing
+    was recorded; with ``echo_time`` each value is preceded by its time of occurrence."""
+    if envelope.n_records == 0:
+        return ""
+    rows = []
+    for name in ("min", "max", "absmax"):
+        value = getattr(envelope, name)
+        if echo_time:
+            value = np.column_stack([getattr(envelope, "time_of_" + name), value]).ravel()
+        rows.append(value)
+    return format_rows(None, np.array(rows), precision)
+
+
+def _h5_attrs(attrs):
+    out = {}
+    for key, value in attrs.items():
+        if isinstance(value, (str, bool, int, float, np.integer, np.floating)):
+            out[key] = value
+        else:
+            out[key] = str(value)
+    return out
