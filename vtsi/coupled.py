@@ -44,6 +44,7 @@ class CoupledAnalysis:
         requests may name 'u', 'v', 'a' (bridge full dof), 'train_u', 'train_v', 'train_a'
         (train dof) or 'contact_force', 'gap' (contact wheel index).
     divergence_limit : |u| [m] beyond which a step counts as diverged.
+    gap_tol : position gap [m] above which a wheel counts as in flight (contact='lcp').
 
     After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
     and ``gap`` (n_steps, n_c) [m] hold every step of the run.
@@ -51,7 +52,7 @@ class CoupledAnalysis:
 
     def __init__(self, model, constraint, integrator="Newmark", dt=None, contact="bilateral",
                  gravity=GRAVITY, bridge_self_weight=False, recorders=(), divergence_limit=1e3,
-                 chunk_steps=2000):
+                 chunk_steps=2000, gap_tol=1e-9):
         if not isinstance(constraint, MovingLoadConstraint):
             raise ModelError(f"CoupledAnalysis: constraint must be a MovingLoadConstraint, got {type(constraint).__name__}")
         if contact not in CONTACT_STRATEGIES:
@@ -75,6 +76,8 @@ class CoupledAnalysis:
         self.contact_force = np.zeros((0, constraint.n_contact))
         self.gap = np.zeros((0, constraint.n_contact))
         self._lcp_work = lcp_workspace(constraint.n_contact)
+        self.gap_tol = float(gap_tol)
+        self.in_contact = np.ones(constraint.n_contact)
 
     # -- preparation ----------------------------------------------------------------------
     def _bridge_constant_load(self, asm):
@@ -247,7 +250,7 @@ class CoupledAnalysis:
                     self.flex, self.tflex, track.x_start, track.length, track.dofs, track.free_index,
                     con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                     con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
-                    self.contact == "lcp", feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
+                    self.contact == "lcp", self.gap_tol, self.in_contact, feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
                     out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
                     self._lcp_work)
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)

@@ -18,7 +18,8 @@ Force-only wheels (moving forces) load the bridge through their Hermite rows.
 Why the velocity level: with the constraint imposed on positions (index 3), the trapezoidal
 rule keeps an undamped period-2Δt mode in the wheels' accelerations, and a moving constraint
 pumps it: λ grew without bound in our S3 runs (docs/theory/constraints.md). At the velocity
-level the scheme is stable; the position gap drifts by O(Δt²) and is recorded (``out_gap``).
+level the scheme is stable; its O(Δt²) position drift is removed after every stage by
+projecting the wheels that are on the rail back onto it (positions only).
 """
 import numpy as np
 from numba import njit
@@ -97,7 +98,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
-                      t0, dt, stage_theta, load_theta, load_weight, lcp,
+                      t0, dt, stage_theta, load_theta, load_weight, lcp, gap_tol, in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
                       out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
@@ -105,7 +106,9 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
 
     Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
-    load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c).
+    load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
+    (contact force [N] and position gap [m] at the end of each step); ``in_contact`` (n_c)
+    carries each wheel's contact state (1.0 on the rail, 0.0 in flight) from step to step.
     """
     n_steps = out_b.shape[0]
     n_stages, width = du.shape
@@ -185,6 +188,20 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     W[j, i] = va * acc
             # 3. contact forces
             if lcp:
+                for i in range(n_c):
+                    gp = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
+                    for a_ in range(nw):
+                        c_ = cols[i, a_]
+                        if c_ >= 0:
+                            gp -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                    if gp > gap_tol:           # in flight: no force, decoupled
+                        for j in range(n_c):
+                            W[i, j] = 0.0
+                            W[j, i] = 0.0
+                        W[i, i] = 1.0
+                        q[i] = 1.0
+                    elif in_contact[i] < 0.5:  # landing: position-level condition
+                        q[i] = gp * va / ua
                 ok = solve_lcp(W, q, lam, n_c, lcp_work)
             else:
                 for i in range(n_c):
@@ -207,15 +224,22 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
             for i in range(n_c):
                 rt[kdt + wheel_dof[i]] += lam[i]
             _correct(bank_t, base, fac_t, rt, s, ua, va)
-            if s == n_stages - 1:
-                for i in range(n_c):
-                    g = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
-                    for a_ in range(nw):
-                        c_ = cols[i, a_]
-                        if c_ >= 0:
-                            g -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+            # position gaps; wheels on the rail are projected onto it (removes the O(Δt²)
+            # drift of the velocity-level constraint; velocities and accelerations untouched)
+            for i in range(n_c):
+                g = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
+                for a_ in range(nw):
+                    c_ = cols[i, a_]
+                    if c_ >= 0:
+                        g -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                if not lcp or lam[i] > 0.0 or g <= gap_tol:
+                    bank_t[base, kdt + wheel_dof[i]] -= g
+                    g = 0.0
+                if s == n_stages - 1:
                     out_force[step, i] = lam[i]
                     out_gap[step, i] = g
+                    if lcp:
+                        in_contact[i] = 1.0 if g <= gap_tol else 0.0
         last = 3 + 3 * (n_stages - 1)
         worst = 0.0
         for bank in (bank_b, bank_t):
