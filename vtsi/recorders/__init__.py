@@ -6,6 +6,7 @@ from .element import ElementRecorder
 from .envelope import Envelope
 from .node import NodeRecorder, ReactionRecorder
 from .sinks import HDF5Sink, MemorySink, Sink, TextSink
+from .vehicle import ContactRecorder, TrainRecorder
 
 __all__ = ["Recorder", "NodeRecorder", "ReactionRecorder", "ElementRecorder", "Envelope",
-           "Sink", "MemorySink", "HDF5Sink", "TextSink"]
+           "Sink", "MemorySink", "HDF5Sink", "TextSink", "TrainRecorder", "ContactRecorder"]
