@@ -173,6 +173,11 @@ class Irregularity:
         self._funcs = (spline, spline.derivative(1), spline.derivative(2))
         self._range = None if extrapolate else (spline.x[0], spline.x[-1])
 
+    @property
+    def x_range(self):
+        """Sampled range ``(x_first, x_last)`` [m] outside which r = 0, or None (defined everywhere)."""
+        return None if self._range is None else (float(self._range[0]), float(self._range[1]))
+
     @classmethod
     def from_function(cls, f, df=None, d2f=None):
         """A profile given by vectorised functions r = f(x), r' = df(x), r'' = d2f(x) (m, m/m, 1/m);

@@ -16,9 +16,13 @@ crosses a node, and so do the wheel's acceleration and λ). The kernel's Fourier
 sinc⁴(f h), has fourth-order zeros at the Nyquist frequency 1/(2Δt) and at all its odd
 multiples, so the constraint sampled at the steps carries no period-2Δt content: the mode the
 trapezoidal rule leaves undamped is not excited. The smoothing is second-order accurate:
-Ñ - N = (2Δt²/3) N̈ + O(Δt⁴) where N is smooth (the kernel's variance is h²/3).
+Ñ - N = (2Δt²/3) N̈ + O(Δt⁴) where N is smooth (the kernel's variance is h²/3). The
+smoothed profile r̃ is tabulated once per run at spacing V h / 8 and interpolated by a cubic
+spline (its derivative gives dr̃/dt); even a C² sampled profile benefits, since its third
+derivative jumps at every sample.
 """
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 from vtsi.errors import ModelError
 from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel, row_width
@@ -64,6 +68,20 @@ class MovingLoadConstraint:
     def width(self, dt):
         return row_width(self.track.length.min(), self.knot(dt))
 
+    def check_travel(self, t_first, t_last, dt):
+        """Refuse a run whose wheels leave the sampled range of the irregularity: the profile
+        would jump to zero there (a position jump the wheels cannot follow)."""
+        x_range = getattr(self.irregularity, "x_range", None)
+        if x_range is None or self.n_contact == 0:
+            return
+        margin = 2.0 * self.knot(dt)
+        x = self.positions(np.array([t_first, t_last]))
+        lo, hi = x.min() - margin, x.max() + margin
+        if lo < x_range[0] or hi > x_range[1]:
+            raise ModelError(f"MovingLoadConstraint: the irregularity is sampled on [{x_range[0]:g}, {x_range[1]:g}] m "
+                             f"but the wheels travel over [{lo:g}, {hi:g}] m in this run; sample the profile over "
+                             "the whole travel (or build it with extrapolate=True)")
+
     def positions(self, t):
         """Contact-wheel positions at times ``t`` (array) -> ``(..., n_c)`` [m]."""
         return self.x0 + self.train.speed * np.asarray(t, dtype=float)[..., None]
@@ -88,14 +106,28 @@ class MovingLoadConstraint:
         if knot == 0.0:
             r = self._profile(x, nu)
         else:
-            r = np.zeros_like(x)
-            for k in range(4):    # kernel pieces [(k-2) knot, (k-1) knot], 4-point Gauss each
-                for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
-                    xi = (k - 1.5 + 0.5 * z) * knot
-                    r += 0.5 * w * bspline_kernel(xi / knot) * self._profile(x - xi, nu)
+            r = self._smoothed_profile(x.min(), x.max(), knot)(x, nu)
         if not np.all(np.isfinite(r)):
             raise ModelError("MovingLoadConstraint: the irregularity gives NaN or inf under a wheel")
         return r * self.train.speed ** nu
+
+    def _smoothed_profile(self, x_lo, x_hi, knot):
+        """r̃ as a C² cubic spline tabulated at knot/8 spacing (cached; rebuilt when the range
+        grows): each node is the exact convolution by 4-point Gauss on the 4 kernel pieces."""
+        cached = getattr(self, "_smoothed", None)
+        if cached is not None and cached[0] == knot and cached[1] <= x_lo and x_hi <= cached[2]:
+            return cached[3]
+        lo, hi = x_lo - 50.0 * knot, x_hi + 50.0 * knot
+        grid = np.linspace(lo, hi, int(np.ceil((hi - lo) / (knot / 8.0))) + 1)
+        r = np.zeros_like(grid)
+        for k in range(4):    # kernel pieces [(k-2) knot, (k-1) knot], 4-point Gauss each
+            for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
+                xi = (k - 1.5 + 0.5 * z) * knot
+                r += 0.5 * w * bspline_kernel(xi / knot) * self._profile(grid - xi, 0)
+        spline = CubicSpline(grid, r)
+        table = lambda x, nu: spline(x, nu) if nu else spline(x)
+        self._smoothed = (knot, lo, hi, table)
+        return table
 
     def rows_at(self, t, dt):
         """Time hook: ``(cols, vals, slopes, r)`` of the contact wheels at time ``t``."""

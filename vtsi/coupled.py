@@ -197,6 +197,7 @@ class CoupledAnalysis:
         asm = self._prepare()
         state = domain_state(self.model)
         train, con, track = self.train, self.constraint, self.constraint.track
+        con.check_travel(state.time, state.time + n_steps * self.dt, self.dt)
         patterns = list(self.model.patterns.values())
         load_ptr, load_dof, load_val = _pattern_loads(asm, patterns)
         constant = self._bridge_constant_load(asm)

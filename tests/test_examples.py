@@ -1,0 +1,34 @@
+"""Examples are documentation: each runs here, as a newcomer would run it."""
+import importlib.util
+import pathlib
+
+import numpy as np
+
+EXAMPLES = pathlib.Path(__file__).resolve().parent.parent / "examples"
+
+
+def load(name):
+    spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_quickstart_runs_and_reports_engineering_checks(tmp_path, capsys):
+    quickstart = load("quickstart")
+    result = quickstart.main(str(tmp_path / "q.png"), n_cars=2)
+    out = capsys.readouterr().out
+    assert "peak deck acceleration" in out and "EN 1990" in out
+    assert (tmp_path / "q.png").stat().st_size > 10_000
+    # dead load: each wheel of the ICE3 coaches carries its static share on rigid ground
+    assert np.allclose(result["static_contact_force"], 152055.0, rtol=1e-3)
+    assert 0.0 < result["peak_acceleration"] < 3.5 and 0.0 < result["unloading"] < 0.5
+
+
+def test_readme_snippet_runs():
+    readme = (EXAMPLES.parent / "README.md").read_text()
+    snippet = readme.split("```python\n")[1].split("```")[0]
+    namespace = {}
+    exec(compile(snippet, "README.md", "exec"), namespace)
+    assert namespace["midspan"].values.min() < 0.0
+    assert np.all(namespace["forces"].values > 0.0)
