@@ -13,6 +13,7 @@ from vtsi.banded import NotPositiveDefinite, band_rows, cholesky_band, cholesky_
 from vtsi.errors import AnalysisError, DivergenceError
 from vtsi.integrators import make_integrator
 from vtsi.timeloop import run_linear_steps
+from vtsi.timeseries import Path
 
 log = logging.getLogger(__name__)
 QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
@@ -60,6 +61,38 @@ def _pattern_loads(assembly, patterns):
         ptr.append(ptr[-1] + len(nz))
     cat = lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
     return np.array(ptr, dtype=np.int64), cat(dofs, np.int64), cat(vals, np.float64)
+
+
+def pattern_factors(patterns, times):
+    """``(len(times), len(patterns))`` load factors. Path series that share one time grid (the
+    OpenSees idiom of one Path per loaded node) are evaluated together: one search for the
+    interval of each time, then one gather for all of them."""
+    out = np.empty((len(times), len(patterns)))
+    groups = {}
+    for p, pattern in enumerate(patterns):
+        series = pattern.series
+        if isinstance(series, Path) and pattern.constant_time is None:
+            key = (series.time.shape[0], series.time[0], series.time[-1], series.use_last)
+            group = groups.setdefault(key, (series.time, []))
+            if group[1] and not np.array_equal(group[0], series.time):
+                out[:, p] = pattern.factors(times)
+                continue
+            group[1].append(p)
+        else:
+            out[:, p] = pattern.factors(times)
+    for (_, _, _, use_last), (grid, members) in groups.items():
+        values = np.stack([patterns[p].series.values for p in members])
+        scale = np.array([patterns[p].factor * patterns[p].series.factor for p in members])
+        j = np.clip(np.searchsorted(grid, times, side="right") - 1, 0, len(grid) - 2) if len(grid) > 1 \
+            else np.zeros(len(times), dtype=np.int64)
+        w = (times - grid[j]) / (grid[j + 1] - grid[j]) if len(grid) > 1 else np.zeros(len(times))
+        w = np.clip(w, 0.0, 1.0)
+        left = values[:, j]
+        inside = left + (values[:, np.minimum(j + 1, len(grid) - 1)] - left) * w   # as np.interp
+        inside[:, times < grid[0]] = 0.0
+        inside[:, times > grid[-1]] = values[:, -1:] if use_last else 0.0
+        out[:, members] = (scale[:, None] * inside).T
+    return out
 
 
 class _RecorderFeed:
@@ -255,9 +288,7 @@ class TransientAnalysis:
         table = np.zeros((n, len(self.load_points), len(patterns)))
         for s, points in enumerate(self.load_points):
             for theta, weight in points:
-                times = steps + theta * self.dt
-                for p, pattern in enumerate(patterns):
-                    table[:, s, p] += weight * pattern.factors(times)
+                table[:, s, :] += weight * pattern_factors(patterns, steps + theta * self.dt)
         if not np.all(np.isfinite(table)):
             raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
         return table

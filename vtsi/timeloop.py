@@ -49,12 +49,36 @@ def add_pattern_loads(rhs, factors, load_ptr, load_dof, load_val, offset):
 
 
 @njit(cache=True)
+def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi):
+    """Stage update, fused: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into
+    the slots ``out_base..out_base+2``. Each entry reads only its own index, so the last stage
+    may overwrite slots 0..2 in place. Returns max |u| (inf if any entry is NaN)."""
+    worst = 0.0
+    for i in range(lo, hi):
+        a = rhs[i]
+        u = ua * a
+        for q in range(cu[s]):
+            u += vu[s, q] * bank[su[s, q], i]
+        v = va * a
+        for q in range(cv[s]):
+            v += vv[s, q] * bank[sv[s, q], i]
+        bank[out_base, i] = u
+        bank[out_base + 1, i] = v
+        bank[out_base + 2, i] = a
+        x = abs(u)
+        if not x <= worst:   # also true for NaN
+            worst = x if x == x else np.inf
+    return worst
+
+
+@njit(cache=True)
 def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
                      load_factors, load_ptr, load_dof, load_val,
                      rec_slot, rec_index, out, limit, work):
     """Advance ``out.shape[0]`` steps in place.
 
-    bank : (n_slots, n + 2 kd) padded state bank; slots 0..2 = u, v, a at the chunk start.
+    bank : (n_slots, n + 2 kd) padded state bank; slots 0..2 = u, v, a at the chunk start
+        (the last stage writes the new state there; stage s < last writes 3 + 3 s ...).
     du, dv, ku, kv : (n_stages, n_slots + 1) stage coefficients.
     factors : (n_stages, n + kd, kd + 1) banded Cholesky factors of the stage matrices.
     k_rows, c_rows : (n, 2 kd + 1) band rows of K and C; ``damped`` False skips C.
@@ -75,6 +99,7 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
     sk, vk, ck = sparse_coefficients(ku)
     sc, vc, cc = sparse_coefficients(kv)
     for step in range(n_steps):
+        worst = 0.0
         for s in range(n_stages):
             rhs[lo:hi] = 0.0
             add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
@@ -84,24 +109,9 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
                 combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
                 band_matvec_add(rhs, c_rows, xc, -1.0)
             cholesky_solve(factors[s], rhs)
-            base = 3 + 3 * s
-            ua, va = du[s, A], dv[s, A]
-            combine(bank[base], bank, su[s], vu[s], cu[s], lo, hi)
-            combine(bank[base + 1], bank, sv[s], vv[s], cv[s], lo, hi)
-            for i in range(lo, hi):
-                bank[base, i] += ua * rhs[i]
-                bank[base + 1, i] += va * rhs[i]
-                bank[base + 2, i] = rhs[i]
-        last = 3 + 3 * (n_stages - 1)
-        worst = 0.0
-        for i in range(lo, hi):
-            bank[0, i] = bank[last, i]
-            bank[1, i] = bank[last + 1, i]
-            bank[2, i] = bank[last + 2, i]
-            x = abs(bank[0, i])
-            if not x <= worst:   # also true for NaN
-                worst = x
-        if not (worst <= limit and worst < np.inf):   # NaN, inf (even with limit = inf), or too large
+            out_base = 0 if s == n_stages - 1 else 3 + 3 * s
+            worst = update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi)
+        if not (worst <= limit and worst < np.inf):   # NaN and ±inf diverge even with limit = inf
             return step
         for r in range(rec_slot.shape[0]):
             out[step, r] = bank[rec_slot[r], lo + rec_index[r]]
