@@ -37,6 +37,7 @@ from vtsi.errors import AnalysisError, CommandError, DivergenceError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, TimeSeries
+from vtsi.train_commands import TRAIN_COMMANDS, TrainCommands
 
 log = logging.getLogger(__name__)
 
@@ -46,7 +47,7 @@ COMMANDS = (
     "analyze", "eigen", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce",
     "eleResponse", "recorder", "wipe", "wipeAnalysis", "getTime", "setTime", "loadConst", "nodeCoord",
     "nodeEigenvector", "nodeResponse", "remove", "getNodeTags", "getEleTags",
-)
+) + TRAIN_COMMANDS
 """Every command this layer knows; anything else raises :class:`UnknownCommand`."""
 
 ELEMENT_TYPES = ("elasticBeamColumn", "truss", "zeroLength")
@@ -70,7 +71,7 @@ INTEGRATORS = ("LoadControl", "Newmark", "HHT", "CentralDifference", "TRBDF2", "
 ANALYSES = ("Static", "Transient")
 EIGEN_SOLVERS = ("-genBandArpack", "-fullGenLapack")
 NODE_RESPONSES = ("disp", "vel", "accel", "reaction", "reactionIncInertia")
-RECORDER_TYPES = ("Node", "EnvelopeNode", "Element", "EnvelopeElement")
+RECORDER_TYPES = ("Node", "EnvelopeNode", "Element", "EnvelopeElement", "Contact", "Train")
 ELEMENT_RESPONSE_ALIASES = {
     "forces": "force", "globalForces": "globalForce", "localForces": "localForce",
     "basicForces": "basicForce", "deformations": "deformation", "basicDeformations": "basicDeformation",
@@ -569,7 +570,7 @@ def _close_recorders_at_exit():
 # ---------------------------------------------------------------------------------------------
 # the session
 # ---------------------------------------------------------------------------------------------
-class Session:
+class Session(TrainCommands):
     """One OpenSees-style interpreter state: a model under construction, materials, transforms,
     the analysis settings, recorders and the results of the last queries.
 
@@ -596,6 +597,7 @@ class Session:
         self._reactions = None
         self._load_time = None     # time at which the domain last applied its loads
         self._clear_analysis()
+        self._clear_train()
 
     def _clear_analysis(self):
         self._settings = {"constraints": "Plain", "numberer": "RCM", "system": "BandGeneral",
@@ -1104,6 +1106,8 @@ class Session:
         a.done()
         if not dt > 0.0:
             raise CommandError(f"analyze: dt must be > 0, got {dt:g}")
+        if self._constraint is not None:
+            return self._analyze_coupled(n, dt)
         kind, integ = self._transient_integrator
         info = {"analysis": "transient", "integrator": kind, "dt": dt}
         if kind == "TRBDF2":
@@ -1361,6 +1365,8 @@ class Session:
         ``-ele``, ``-eleRange a b``; then the response."""
         from vtsi import recorders as rec
 
+        if args and args[0] in ("Contact", "Train"):
+            return self._vehicle_recorder(*args)
         model = self._model("recorder")
         a = _Args("recorder", args)
         kind = a.word("recorder type", RECORDER_TYPES)

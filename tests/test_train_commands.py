@@ -1,0 +1,128 @@
+"""vtsi's train commands (vtsi.train_commands) through vtsi.opensees and Tcl."""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import vtsi
+import vtsi.opensees as ops
+from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled import CoupledAnalysis
+from vtsi.errors import CommandError
+from vtsi.models.scenes import S2, s2_model
+from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
+from vtsi.track import Track
+from vtsi.train import TrainSubdomain
+
+NE, DT, STEPS = 20, 1e-3, 900
+
+
+def s2_commands(session, interpolation=()):
+    session.wipe()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(NE + 1):
+        session.node(i + 1, S2["L"] * i / NE, 0.0)
+    session.fix(1, 1, 1, 0)
+    session.fix(NE + 1, 0, 1, 0)
+    session.geomTransf("Linear", 1)
+    for e in range(NE):
+        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, S2["E"], S2["I"], 1, "-mass", S2["mu"], "-cMass")
+    session.track(1, "-eleRange", 1, NE)
+    session.car(1, "sprungMass", S2["m_s"], S2["k_s"])
+    session.train(1, S2["V"], "-cars", 1, 0.0)
+    session.movingLoadConstraint(1, 1, 1, 0.0, *interpolation)
+    session.integrator("Newmark", 0.5, 0.25)
+    session.analysis("Transient")
+
+
+def test_commands_equal_the_object_api():
+    session = ops.Session()
+    s2_commands(session)
+    mid = session.recorder("Node", "-node", NE // 2 + 1, "-dof", 2, "disp")
+    force = session.recorder("Contact", "force")
+    acc = session.recorder("Train", "-dof", "car0.body_y", "accel")
+    session.analyze(STEPS, DT)
+
+    model = vtsi.Model()
+    bridge, train = s2_model(model, NE)
+    constraint = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train))
+    recs = [NodeRecorder([bridge.midspan_nodes[0]], [2]), ContactRecorder(constraint),
+            TrainRecorder(constraint.train, ["car0.body_y"], "accel")]
+    analysis = CoupledAnalysis(model, constraint, "Newmark", DT, recorders=recs)
+    analysis.static()
+    analysis.run(STEPS)
+    for tag, ref in zip((mid, force, acc), recs):
+        np.testing.assert_allclose(session.recorders[tag].values, ref.values, rtol=1e-12, atol=1e-15)
+    # the S2 reference (Yang & Yau 1997): 2.4073 mm; 20 elements, 1 ms: within 0.2 %
+    assert abs(-session.recorders[mid].values.min() / S2["max_midspan_deflection"] - 1.0) < 2e-3
+
+
+def test_contact_recorder_text_and_bspline_option(tmp_path):
+    session = ops.Session()
+    s2_commands(session, ("-bspline",))
+    session.contact("lcp")
+    path = tmp_path / "contact.out"
+    session.recorder("Contact", "-file", str(path), "-time", "inContact")
+    session.analyze(100, DT)
+    session.wipe()
+    data = np.loadtxt(path)
+    assert data.shape == (100, 2) and np.all(data[:, 1] == 1.0)     # the sprung mass never lifts off
+
+
+def test_tcl_runs_train_commands(tmp_path):
+    out = tmp_path / "mid.out"
+    script = tmp_path / "s2.tcl"
+    script.write_text(f"""model basic -ndm 2 -ndf 3
+for {{set i 0}} {{$i <= {NE}}} {{incr i}} {{ node [expr $i+1] [expr {S2['L']}*$i/{NE}] 0.0 }}
+fix 1 1 1 0
+fix {NE + 1} 0 1 0
+geomTransf Linear 1
+for {{set e 1}} {{$e <= {NE}}} {{incr e}} {{ element elasticBeamColumn $e $e [expr $e+1] 1.0 {S2['E']} {S2['I']} 1 -mass {S2['mu']} -cMass }}
+track 1 -eleRange 1 {NE}
+car 1 sprungMass {S2['m_s']} {S2['k_s']}
+train 1 {S2['V']} -cars 1 0.0
+movingLoadConstraint 1 1 1 0.0
+integrator Newmark 0.5 0.25
+analysis Transient
+recorder Node -file {out} -time -node {NE // 2 + 1} -dof 2 disp
+analyze {STEPS} {DT}
+""")
+    subprocess.run([sys.executable, "-m", "vtsi", str(script)], check=True, capture_output=True, timeout=120)
+    session = ops.Session()
+    s2_commands(session)
+    mid = session.recorder("Node", "-node", NE // 2 + 1, "-dof", 2, "disp")
+    session.analyze(STEPS, DT)
+    np.testing.assert_allclose(np.loadtxt(out)[:, 1], session.recorders[mid].values[:, 0], rtol=1e-5, atol=1e-11)
+
+
+@pytest.mark.parametrize("command, args, message", [
+    ("car", (1, "bogie", 1.0), r"car type 'bogie' is not supported; supported: movingForce"),
+    ("car", (1, "catalogue", "TGV"), r"car 1: .*TGV"),
+    ("car", (1, "sprungMass", -5.0, 1e6), r"car 1: .*-5"),
+    ("train", (1, 80.0, "-cars", 9, 0.0), r"train 1: car 9 does not exist"),
+    ("track", (1, "-ele", 99), None),
+    ("movingLoadConstraint", (1, 7, 1, 0.0), r"train 7 does not exist"),
+    ("contact", ("penalty",), r"contact strategy 'penalty' is not supported; supported: bilateral, lcp"),
+])
+def test_bad_train_commands_name_the_object(command, args, message):
+    session = ops.Session()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    if message is None:    # an unknown track element is reported when the analysis is built
+        session.track(*args)
+        session.car(1, "movingForce", 1e5)
+        session.train(1, 80.0, "-cars", 1, 0.0)
+        session.movingLoadConstraint(1, 1, 1, 0.0)
+        with pytest.raises(vtsi.ModelError, match=r"track: element 99 does not exist|model has no nodes"):
+            session.deadLoad()
+        return
+    with pytest.raises(CommandError, match=message):
+        getattr(session, command)(*args)
+
+
+def test_coupled_analysis_refuses_explicit_integrators():
+    session = ops.Session()
+    s2_commands(session)
+    session.integrator("CentralDifference")
+    with pytest.raises(CommandError, match="CentralDifference is not available for a coupled analysis"):
+        session.analyze(1, DT)

@@ -1,0 +1,292 @@
+"""vtsi's own OpenSees-style commands for the coupled train-bridge analysis (a mixin of
+:class:`vtsi.opensees.Session`; documented in docs/commands.md, section 'Trains').
+
+    track(tag, '-ele', e1, e2, ...)  |  track(tag, '-eleRange', first, last)
+    car(tag, 'movingForce', P)  |  car(tag, 'movingMass', m)
+    car(tag, 'sprungMass', m_s, k_s, ['-c', c_s], ['-wheelMass', m_w])
+    car(tag, 'fourDof', m_c, J_c, m_w, k_s, c_s, l_c)  |  car(tag, 'catalogue', name)
+    train(tag, speed, '-cars', car1, offset1, car2, offset2, ...)
+    train(tag, speed, '-ICE3', nCars)  |  train(tag, speed, '-HSLM', 'A1')  |  train(tag, speed, '-axleFile', path)
+    irregularity(tag, 'profile', '-x', x..., '-r', r...)  |  irregularity(tag, 'file', path)
+    irregularity(tag, 'german', 'low'|'high', x_first, x_last, ['-seed', s])
+    irregularity(tag, 'fra', class, x_first, x_last, ['-seed', s])
+    movingLoadConstraint(tag, trainTag, trackTag, xHead0, ['-irregularity', irrTag], ['-bspline'])
+    contact('bilateral'|'lcp')
+    deadLoad()
+    recorder('Contact', '-file'|'-h5', f, ['-time'], ['-wheel', i...], 'force'|'gap'|'inContact')
+    recorder('Train', '-file'|'-h5', f, ['-time'], ['-dof', name_or_index...], 'disp'|'vel'|'accel')
+
+Units SI; speed in m/s; offsets are measured backwards from the train's head; xHead0 is the
+head's position at t = 0. With a moving-load constraint defined, ``analyze(n, dt)`` of a
+Transient analysis runs the coupled analysis (the dead-load equilibrium is computed first,
+at the first ``analyze``, unless ``deadLoad()`` was called).
+"""
+import numpy as np
+
+from vtsi.errors import CommandError
+
+TRAIN_COMMANDS = ("track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
+CAR_TYPES = ("movingForce", "movingMass", "sprungMass", "fourDof", "catalogue")
+CONTACT_RESPONSES = {"force": "force", "gap": "gap", "inContact": "in_contact"}
+TRAIN_RESPONSES = ("disp", "vel", "accel")
+
+
+def _args(command, args):
+    from vtsi.opensees import _Args
+    return _Args(command, args)
+
+
+class TrainCommands:
+    """Track, cars, trains, irregularities, the moving-load constraint and contact strategy."""
+
+    def _clear_train(self):
+        self._tracks, self._cars, self._trains, self._irregularities = {}, {}, {}, {}
+        self._constraint = None
+        self._contact = "bilateral"
+        self._coupled = None
+
+    def _new(self, registry, command, tag):
+        if tag in registry:
+            raise CommandError(f"{command}: {command} {tag} already exists")
+
+    def track(self, *args):
+        """``track(tag, '-ele', e...)`` or ``track(tag, '-eleRange', first, last)``: the chain of
+        beam elements the wheels run along (horizontal, ordered along +x, no gaps)."""
+        from vtsi.track import Track
+        model = self._model("track")
+        a = _args("track", args)
+        tag = a.int("track tag")
+        self._new(self._tracks, "track", tag)
+        opt = a.option(("-ele", "-eleRange"))
+        if opt == "-ele":
+            elements = a.ints("element tag")
+        else:
+            lo, hi = a.int("-eleRange start"), a.int("-eleRange end")
+            elements = [e for e in model.element_tags() if lo <= e <= hi]
+        a.done()
+        if not elements:
+            raise CommandError(f"track {tag}: no elements")
+        self._tracks[tag] = elements   # resolved when the analysis is built (the model may still grow)
+
+    def car(self, *args):
+        """``car(tag, type, ...)``: a vehicle (see the module docstring for the types)."""
+        from vtsi.models import cars
+        a = _args("car", args)
+        tag = a.int("car tag")
+        self._new(self._cars, "car", tag)
+        kind = a.word("car type", CAR_TYPES)
+        a.command = f"car {tag} {kind}"
+        try:
+            if kind == "movingForce":
+                car = cars.moving_force(a.float("P"))
+            elif kind == "movingMass":
+                car = cars.moving_mass(a.float("m"))
+            elif kind == "sprungMass":
+                m_s, k_s = a.float("m_s"), a.float("k_s")
+                extra = {"-c": 0.0, "-wheelMass": 0.0}
+                while a.more():
+                    extra[a.option(tuple(extra))] = a.float("value")
+                car = cars.sprung_mass(m_s, k_s, extra["-c"], extra["-wheelMass"])
+            elif kind == "fourDof":
+                car = cars.four_dof_car(*(a.float(n) for n in ("m_c", "J_c", "m_w", "k_s", "c_s", "l_c")))
+            else:
+                car = cars.car_from_catalogue(a.word("catalogue name"))
+        except (ValueError, KeyError) as exc:
+            raise CommandError(f"car {tag}: {exc}") from None
+        a.done()
+        self._cars[tag] = car
+
+    def train(self, *args):
+        """``train(tag, speed, '-cars', car, offset, ...)``, ``'-ICE3', n``, ``'-HSLM', 'A1'`` or
+        ``'-axleFile', path`` (CSV: position_m, load_kN)."""
+        from vtsi.models import trains
+        a = _args("train", args)
+        tag = a.int("train tag")
+        self._new(self._trains, "train", tag)
+        speed = a.float("speed")
+        opt = a.option(("-cars", "-ICE3", "-HSLM", "-axleFile"))
+        try:
+            if opt == "-cars":
+                pairs = []
+                while a.more():
+                    car_tag = a.int("car tag")
+                    if car_tag not in self._cars:
+                        raise CommandError(f"train {tag}: car {car_tag} does not exist")
+                    pairs.append((self._cars[car_tag], a.float(f"offset of car {car_tag}")))
+                if not pairs:
+                    raise CommandError(f"train {tag}: no cars after -cars")
+                built = trains.Train([c for c, _ in pairs], [o for _, o in pairs], speed, name=f"train {tag}")
+            elif opt == "-ICE3":
+                built = trains.ice3(a.int("number of cars"), speed=speed)
+            elif opt == "-HSLM":
+                built = trains.hslm_a(a.word("HSLM-A train (A1..A10)"), speed)
+            else:
+                built = trains.Train.from_csv(a.word("axle file"), speed)
+        except (ValueError, KeyError, OSError) as exc:
+            raise CommandError(f"train {tag}: {exc}") from None
+        a.done()
+        self._trains[tag] = built
+
+    def irregularity(self, *args):
+        """``irregularity(tag, 'profile', '-x', x..., '-r', r...)``, ``(tag, 'file', path)``, or a
+        random profile ``(tag, 'german', 'low'|'high', x_first, x_last, ['-seed', s])`` /
+        ``(tag, 'fra', class, x_first, x_last, ['-seed', s])`` (one-sided PSDs, 3-150 m)."""
+        from vtsi.models import Irregularity, fra_psd, german_psd
+        a = _args("irregularity", args)
+        tag = a.int("irregularity tag")
+        self._new(self._irregularities, "irregularity", tag)
+        kind = a.word("irregularity type", ("profile", "file", "german", "fra"))
+        try:
+            if kind == "profile":
+                a.option(("-x",))
+                x = a.floats("x")
+                a.option(("-r",))
+                r = a.floats("r")
+                if len(x) != len(r) or len(x) < 2:
+                    raise CommandError(f"irregularity {tag}: -x and -r need the same number (>= 2) of values, "
+                                       f"got {len(x)} and {len(r)}")
+                profile = Irregularity(x, r)
+            elif kind == "file":
+                data = np.loadtxt(a.word("file name"), ndmin=2)
+                if data.shape[1] != 2:
+                    raise CommandError(f"irregularity {tag}: the file needs two columns x r, got {data.shape[1]}")
+                profile = Irregularity(data[:, 0], data[:, 1])
+            else:
+                level = a.word("level", ("low", "high")) if kind == "german" else a.int("FRA class")
+                x0, x1 = a.float("x_first"), a.float("x_last")
+                seed = None
+                if a.more():
+                    a.option(("-seed",))
+                    seed = a.int("seed")
+                if not x1 > x0:
+                    raise CommandError(f"irregularity {tag}: x_last must exceed x_first, got {x0:g} .. {x1:g}")
+                psd = (lambda w: german_psd(w, level)) if kind == "german" else (lambda w: fra_psd(w, level))
+                x = np.linspace(x0, x1, int(np.ceil((x1 - x0) / 0.05)) + 1)
+                profile = Irregularity.from_psd(psd, x, rng=np.random.default_rng(seed))
+        except ValueError as exc:
+            raise CommandError(f"irregularity {tag}: {exc}") from None
+        a.done()
+        self._irregularities[tag] = profile
+
+    def movingLoadConstraint(self, *args):
+        """``movingLoadConstraint(tag, trainTag, trackTag, xHead0, ['-irregularity', t], ['-bspline'])``."""
+        a = _args("movingLoadConstraint", args)
+        tag = a.int("constraint tag")
+        if self._constraint is not None:
+            raise CommandError(f"movingLoadConstraint {tag}: a constraint is already defined (one train per model)")
+        train_tag, track_tag, x_head0 = a.int("train tag"), a.int("track tag"), a.float("xHead0")
+        if train_tag not in self._trains:
+            raise CommandError(f"movingLoadConstraint {tag}: train {train_tag} does not exist")
+        if track_tag not in self._tracks:
+            raise CommandError(f"movingLoadConstraint {tag}: track {track_tag} does not exist")
+        irregularity, interpolation = None, "hermite"
+        while a.more():
+            opt = a.option(("-irregularity", "-bspline"))
+            if opt == "-bspline":
+                interpolation = "bspline"
+            else:
+                t = a.int("irregularity tag")
+                if t not in self._irregularities:
+                    raise CommandError(f"movingLoadConstraint {tag}: irregularity {t} does not exist")
+                irregularity = self._irregularities[t]
+        self._constraint = dict(train=train_tag, track=track_tag, x_head0=x_head0,
+                                irregularity=irregularity, interpolation=interpolation)
+        self._coupled = None
+
+    def contact(self, *args):
+        """``contact('bilateral')`` (wheels always on the rail) or ``contact('lcp')`` (contact loss)."""
+        a = _args("contact", args)
+        self._contact = a.word("contact strategy", ("bilateral", "lcp"))
+        a.done()
+        self._coupled = None
+
+    def deadLoad(self, *args):
+        """Static equilibrium of bridge and train under gravity (and the patterns); results are totals."""
+        _args("deadLoad", args).done()
+        self._coupled_analysis("deadLoad", dt=None).static()
+        self._dead_load_done = True
+
+    # -- the analysis ----------------------------------------------------------------------------
+    def _coupled_analysis(self, command, dt):
+        from vtsi.constraint import MovingLoadConstraint
+        from vtsi.coupled import CoupledAnalysis
+        from vtsi.track import Track
+        from vtsi.train import TrainSubdomain
+        if self._constraint is None:
+            raise CommandError(f"{command}: no movingLoadConstraint defined")
+        model = self._model(command)
+        kind, integ = self._transient_integrator or ("Newmark", None)
+        if kind in ("TRBDF2", "CentralDifference"):
+            raise CommandError(f"{command}: integrator {kind} is not available for a coupled analysis; "
+                               "use Newmark, HHT or Bathe")
+        if self._coupled is None or self._coupled.model is not model:
+            spec = self._constraint
+            subdomain = TrainSubdomain(self._trains[spec["train"]], spec["x_head0"])
+            constraint = MovingLoadConstraint(Track(model, self._tracks[spec["track"]]), subdomain,
+                                              spec["irregularity"], spec["interpolation"])
+            self._coupled = CoupledAnalysis(model, constraint, integ or "Newmark", dt or 1.0, contact=self._contact)
+            self._dead_load_done = False
+        analysis = self._coupled
+        if dt is not None and dt != analysis.dt:
+            analysis.dt, analysis._prepared = float(dt), None
+        if integ is not None and analysis.integrator is not integ:
+            analysis.integrator, analysis._prepared = integ, None
+        return analysis
+
+    def _analyze_coupled(self, n, dt):
+        analysis = self._coupled_analysis("analyze", dt)
+        if not self._dead_load_done:
+            analysis.static()
+            self._dead_load_done = True
+        analysis.recorders = self._recorder_list()
+        analysis.run(n)
+        return 0
+
+    def _vehicle_recorder(self, *args):
+        """``recorder('Contact', ...)`` or ``recorder('Train', ...)`` (see the module docstring)."""
+        from vtsi import recorders as rec
+        from vtsi.opensees import _KeptOpen
+        a = _args("recorder", args)
+        kind = a.word("recorder type", ("Contact", "Train"))
+        name = f"recorder {kind}"
+        a.command = name
+        opts = {"-time": False, "-precision": 6, "-dT": None, "-closeOnWrite": False}
+        picks = None
+        response = None
+        valid = ["-file", "-h5", "-hdf5", "-time", "-precision", "-dT", "-wheel" if kind == "Contact" else "-dof"]
+        while a.more():
+            x = a.peek()
+            if isinstance(x, str) and x.startswith("-"):
+                opt = a.option(valid)
+                if opt in ("-file", "-h5", "-hdf5"):
+                    opts["sink"] = (opt, a.word(f"{opt} file name"))
+                elif opt == "-time":
+                    opts["-time"] = True
+                elif opt == "-precision":
+                    opts[opt] = a.int("-precision")
+                elif opt == "-dT":
+                    opts[opt] = a.float("-dT")
+                elif opt == "-wheel":
+                    picks = a.ints("wheel index")
+                else:
+                    picks = []
+                    while a.more() and not (isinstance(a.peek(), str) and (a.peek().startswith("-")
+                                                                          or a.peek() in TRAIN_RESPONSES)):
+                        picks.append(a.take("train dof"))
+            else:
+                response = a.word("response", tuple(CONTACT_RESPONSES) if kind == "Contact" else TRAIN_RESPONSES)
+        if response is None:
+            raise CommandError(f"{name}: no response given")
+        analysis = self._coupled_analysis(name, dt=None)
+        sink = self._recorder_sink(name, opts)
+        if kind == "Contact":
+            recorder = rec.ContactRecorder(analysis.constraint, picks, CONTACT_RESPONSES[response], sink=sink,
+                                           dt=opts["-dT"])
+        else:
+            recorder = rec.TrainRecorder(analysis.train, picks, response, sink=sink, dt=opts["-dT"])
+        tag = self._recorder_count
+        self._recorder_count += 1
+        recorder.tag = tag
+        self.recorders[tag] = recorder
+        self._kept[tag] = _KeptOpen(recorder)
+        return tag
