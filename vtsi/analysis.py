@@ -38,16 +38,29 @@ def domain_state(model):
     return state
 
 
-def factor(assembly, matrix, what):
-    """Banded Cholesky factor of a free-dof matrix; a failure names the dof at fault."""
+def factor(assembly, matrix, what, cause=None):
+    """Banded Cholesky factor of a free-dof matrix; a failure names the dof at fault (``cause``:
+    the explanation that follows, by default "a mechanism or a dof with neither stiffness nor mass")."""
     kd = half_bandwidth(assembly.K) if assembly.n_free > 1 else 0
     kd = max(kd, half_bandwidth(assembly.M), half_bandwidth(assembly.C))
     try:
         return cholesky_band(matrix, kd)
     except NotPositiveDefinite as exc:
         raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(exc.pivot)}: "
-                            "the structure is a mechanism or that dof has neither stiffness nor mass "
-                            "(fix it or connect it)") from None
+                            + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
+                                        "mass (fix it or connect it)")) from None
+
+
+def _integer(who, what, value, low=None):
+    """``value`` as an int (>= ``low``), or an AnalysisError naming ``who`` and the value."""
+    try:
+        ok = not isinstance(value, (bool, np.bool_, str)) and float(value) == int(value)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok or (low is not None and int(value) < low):
+        bound = f" >= {low}" if low is not None else ""
+        raise AnalysisError(f"{who}: {what} must be an integer{bound}, got {value!r}")
+    return int(value)
 
 
 def _pattern_loads(assembly, patterns):
@@ -140,11 +153,16 @@ class StaticAnalysis:
     ``t0 + k dλ`` (OpenSees ``integrator LoadControl dλ``) and solves ``K u = P``."""
 
     def __init__(self, model, d_lambda=1.0, recorders=()):
-        if not np.isfinite(d_lambda):
+        try:
+            finite = np.isfinite(float(d_lambda))
+        except (TypeError, ValueError):
+            raise AnalysisError(f"LoadControl: increment must be a number, got {d_lambda!r}") from None
+        if not finite:
             raise AnalysisError(f"LoadControl: increment must be finite, got {d_lambda}")
         self.model, self.d_lambda, self.recorders = model, float(d_lambda), list(recorders)
 
     def run(self, n_steps=1):
+        n_steps = _integer("static analysis", "number of steps", n_steps, 0)
         model = self.model
         asm = model.build()
         lower = factor(asm, asm.K, "stiffness matrix K")
@@ -154,7 +172,7 @@ class StaticAnalysis:
         feed = _RecorderFeed(asm, model, self.recorders,
                              {"analysis": "static", "integrator": "LoadControl", "dt": self.d_lambda})
         try:
-            for _ in range(int(n_steps)):
+            for _ in range(n_steps):
                 t = state.time + self.d_lambda
                 rhs = np.zeros(asm.n_free)
                 for p, vec in zip(patterns, loads):
@@ -183,6 +201,7 @@ def eigen(model, n_modes):
     """
     asm = model.build()
     n = asm.n_free
+    n_modes = _integer("eigen", "number of modes", n_modes)
     if not 1 <= n_modes <= n:
         raise AnalysisError(f"eigen: number of modes must be between 1 and {n} (the free dofs), got {n_modes}")
     factor(asm, asm.K, "stiffness matrix K")   # names the mechanism, if any
@@ -236,8 +255,14 @@ class TransientAnalysis:
         self.model = model
         self.integrator = make_integrator(integrator)
         self.recorders = list(recorders)
-        self.divergence_limit = float(divergence_limit)
-        self.chunk_steps = int(chunk_steps)
+        try:
+            self.divergence_limit = float(divergence_limit)
+        except (TypeError, ValueError):
+            self.divergence_limit = np.nan
+        if not self.divergence_limit > 0.0:
+            raise AnalysisError(f"transient analysis: divergence_limit must be a number > 0 (inf: no bound), "
+                                f"got {divergence_limit!r}")
+        self.chunk_steps = _integer("transient analysis", "chunk_steps", chunk_steps, 1)
         self.dt = None
         self._prepared_for = None
         if dt is not None:
@@ -266,7 +291,9 @@ class TransientAnalysis:
         for s, st in enumerate(stages):
             k_hat = asm.M + st.kv[A] * asm.C + st.ku[A] * asm.K
             what = f"effective matrix of {integ.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
-            factors.append(factor(asm, k_hat.tocsr(), what))
+            cause = (f"{integ.name} is explicit, so every free dof needs mass and that one has none "
+                     "(give it mass, fix it, or use an implicit integrator: Newmark, HHT, Bathe)") if integ.explicit else None
+            factors.append(factor(asm, k_hat.tocsr(), what, cause))
         if limit is not None:
             omega_max = max_frequency(asm)
             if omega_max * dt > limit * (1.0 + 1e-12):
@@ -297,9 +324,7 @@ class TransientAnalysis:
         """Advance ``n_steps`` steps from the model's committed state; returns the state."""
         if self.dt is None:
             raise AnalysisError("transient analysis: no time step set")
-        n_steps = int(n_steps)
-        if n_steps < 0:
-            raise AnalysisError(f"transient analysis: number of steps must be >= 0, got {n_steps}")
+        n_steps = _integer("transient analysis", "number of steps", n_steps, 0)
         asm = self._prepare()
         state = domain_state(self.model)
         patterns = list(self.model.patterns.values())

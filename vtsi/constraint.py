@@ -52,7 +52,7 @@ class MovingLoadConstraint:
             raise ModelError(f"MovingLoadConstraint: unknown interpolation {interpolation!r}; "
                              f"valid: {', '.join(INTERPOLATIONS)}")
         if irregularity is not None and not callable(irregularity):
-            raise ModelError("MovingLoadConstraint: irregularity must be callable r(x)")
+            raise ModelError(f"MovingLoadConstraint: irregularity must be callable r(x), got {type(irregularity).__name__}")
         self.track, self.train, self.irregularity, self.interpolation = track, train, irregularity, interpolation
         self.x0 = train.wheel_x0(train.contact_wheels)
         self.x0_force = train.wheel_x0(train.force_wheels)
@@ -108,7 +108,9 @@ class MovingLoadConstraint:
         else:
             r = self._smoothed_profile(x.min(), x.max(), knot)(x, nu)
         if not np.all(np.isfinite(r)):
-            raise ModelError("MovingLoadConstraint: the irregularity gives NaN or inf under a wheel")
+            where = np.argwhere(~np.isfinite(r))[0]
+            raise ModelError(f"MovingLoadConstraint: the irregularity gives {r[tuple(where)]} under contact wheel "
+                             f"{where[-1]} at x = {x[tuple(where)]:g} m")
         return r * self.train.speed ** nu
 
     def _smoothed_profile(self, x_lo, x_hi, knot):

@@ -14,7 +14,10 @@ class LoadPattern:
     def __init__(self, tag, series, factor=1.0):
         if not isinstance(series, TimeSeries):
             raise ModelError(f"pattern {tag}: time series must be a TimeSeries, got {series!r}")
-        factor = float(factor)
+        try:
+            factor = float(factor)
+        except (TypeError, ValueError):
+            raise ModelError(f"pattern {tag}: factor must be a number, got {factor!r}") from None
         if not np.isfinite(factor):
             raise ModelError(f"pattern {tag}: factor must be finite, got {factor}")
         self.tag, self.series, self.factor = tag, series, factor
@@ -22,13 +25,24 @@ class LoadPattern:
         self.constant_time = None   # set by loadConst: the factor frozen at this time
 
     def load(self, node, *values):
-        values = np.asarray(values, dtype=float)
+        try:
+            values = np.asarray(values, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(f"pattern {self.tag}: load on node {node} must be numbers, got {list(values)!r}") from None
         if not np.all(np.isfinite(values)):
             raise ModelError(f"pattern {self.tag}: load on node {node} has NaN or inf: {values.tolist()}")
         self.nodal[node] = self.nodal.get(node, 0.0) + values
 
     def factors(self, t):
-        """Load factor at the times ``t`` (array)."""
+        """Load factor at the times ``t`` (array); a NaN or inf factor raises a ModelError naming
+        the pattern, its series and the first such time (never a silent NaN load)."""
         if self.constant_time is not None:
-            return np.full(np.shape(t), self.factor * float(self.series(np.array([self.constant_time]))[0]))
-        return self.factor * self.series(t)
+            out = np.full(np.shape(t), self.factor * float(self.series(np.array([self.constant_time]))[0]))
+        else:
+            out = self.factor * np.asarray(self.series(t), dtype=float)
+        if not np.all(np.isfinite(out)):
+            bad = np.flatnonzero(~np.isfinite(out).ravel())[0]
+            when = self.constant_time if self.constant_time is not None else np.asarray(t, dtype=float).ravel()[bad]
+            raise ModelError(f"pattern {self.tag}: time series {self.series.tag} ({type(self.series).__name__}) "
+                             f"gives load factor {out.ravel()[bad]} at t = {when:g} s")
+        return out

@@ -50,12 +50,17 @@ class Model:
             raise ModelError(f"node {tag} already exists")
         if len(coords) != self.ndm:
             raise ModelError(f"node {tag}: needs {self.ndm} coordinates, got {len(coords)}")
-        xy = np.asarray(coords, dtype=float)
+        try:
+            xy = np.asarray(coords, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(f"node {tag}: coordinates must be numbers, got {list(coords)!r}") from None
         if not np.all(np.isfinite(xy)):
             raise ModelError(f"node {tag}: coordinates must be finite, got {xy.tolist()}")
+        if mass is not None:
+            mass = _nodal_mass(tag, mass, self.ndf)   # checked before the node is added
         self.nodes[tag] = xy
         if mass is not None:
-            self.mass(tag, *mass)
+            self.nodal_mass[tag] = mass
         self._changed()
 
     def _node(self, tag, what):
@@ -73,10 +78,7 @@ class Model:
 
     def mass(self, tag, *values):
         self._node(tag, "mass")
-        values = np.asarray(values, dtype=float)
-        if len(values) != self.ndf or not np.all(np.isfinite(values)) or np.any(values < 0):
-            raise ModelError(f"mass node {tag}: needs {self.ndf} finite values >= 0, got {values.tolist()}")
-        self.nodal_mass[tag] = values
+        self.nodal_mass[tag] = _nodal_mass(tag, values, self.ndf)
         self._changed()
 
     def element(self, type_name, tag, nodes, **params):
@@ -85,12 +87,14 @@ class Model:
         if tag in self._element_owner:
             raise ModelError(f"element {tag} already exists")
         cls = element_type(type_name)
+        if isinstance(nodes, (int, np.integer)) or not hasattr(nodes, "__len__"):
+            raise ModelError(f"element {tag} ({type_name}): nodes must be a sequence of node tags, got {nodes!r}")
         if max(cls.node_dofs) >= self.ndf:
             raise ModelError(f"element {tag} ({type_name}): needs node dofs {[d + 1 for d in cls.node_dofs]}, "
                              f"but the model has ndf {self.ndf}")
         for n in nodes:
             if n not in self.nodes:
-                raise ModelError(f"element {tag} ({type_name}): node {n} does not exist")
+                raise ModelError(f"element {tag} ({type_name}): node {n!r} does not exist")
         etype = self.element_types.setdefault(type_name, cls())
         etype.add(tag, nodes, **params)
         self._element_owner[tag] = etype
@@ -105,6 +109,7 @@ class Model:
     def add_time_series(self, series):
         if not isinstance(series, TimeSeries):
             raise ModelError(f"timeSeries: expected a TimeSeries, got {series!r}")
+        _tag("timeSeries", series.tag)
         if series.tag in self.time_series:
             raise ModelError(f"timeSeries {series.tag} already exists")
         self.time_series[series.tag] = series
@@ -112,6 +117,7 @@ class Model:
 
     def pattern(self, tag, series, factor=1.0):
         """Create and return a :class:`LoadPattern`; ``series`` is a TimeSeries or its tag."""
+        tag = _tag("pattern", tag)
         if tag in self.patterns:
             raise ModelError(f"pattern {tag} already exists")
         if not isinstance(series, TimeSeries):
@@ -152,6 +158,17 @@ class Model:
 
     def element_tags(self):
         return sorted(self._element_owner)
+
+
+def _nodal_mass(tag, values, ndf):
+    """``values`` as ``ndf`` finite masses >= 0 [kg, kg m^2], or a ModelError naming node ``tag``."""
+    try:
+        values = np.asarray(values, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ModelError(f"mass node {tag}: masses must be numbers, got {values!r}") from None
+    if len(values) != ndf or not np.all(np.isfinite(values)) or np.any(values < 0):
+        raise ModelError(f"mass node {tag}: needs {ndf} finite values >= 0, got {values.tolist()}")
+    return values
 
 
 def _tag(kind, tag):

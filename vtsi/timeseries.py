@@ -48,23 +48,27 @@ class Path(TimeSeries):
 
     def __init__(self, values, time=None, dt=None, factor=1.0, use_last=False, prepend_zero=False,
                  start_time=0.0, tag=None):
-        name = f"timeSeries Path {tag}" if tag is not None else "Path"
-        values = np.asarray(values, dtype=float).ravel()
+        name = f"timeSeries Path {tag}" if tag is not None else "timeSeries Path"
+        values = _numbers(name, "values", values)
         if values.size == 0:
             raise ModelError(f"{name}: no values given")
         if not np.all(np.isfinite(values)):
             bad = int(np.flatnonzero(~np.isfinite(values))[0])
             raise ModelError(f"{name}: value {bad} is {values[bad]} (NaN or inf)")
         if time is None:
-            if dt is None or not dt > 0.0:
+            if dt is None:
+                raise ModelError(f"{name}: give the sample times (time=...) or the step dt")
+            dt = _finite("Path", tag, "dt", dt)
+            if not dt > 0.0:
                 raise ModelError(f"{name}: dt must be > 0, got {dt}")
-            time = start_time + dt * np.arange(values.size)
+            time = _finite("Path", tag, "start_time", start_time) + dt * np.arange(values.size)
         else:
-            time = np.asarray(time, dtype=float).ravel()
+            time = _numbers(name, "time", time)
             if time.size != values.size:
                 raise ModelError(f"{name}: {time.size} times but {values.size} values")
             if not np.all(np.isfinite(time)):
-                raise ModelError(f"{name}: times contain NaN or inf")
+                bad = int(np.flatnonzero(~np.isfinite(time))[0])
+                raise ModelError(f"{name}: time[{bad}] is {time[bad]} (NaN or inf)")
             steps = np.diff(time)
             if np.any(steps <= 0.0):
                 bad = int(np.flatnonzero(steps <= 0.0)[0])
@@ -87,11 +91,20 @@ class Path(TimeSeries):
         return self.factor * out
 
 
+def _numbers(name, what, values):
+    """``values`` as a flat float64 array, or a ModelError naming the series."""
+    try:
+        return np.asarray(values, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ModelError(f"{name}: {what} must be numbers, got {values!r}") from None
+
+
 def _finite(kind, tag, name, value):
+    where = f"timeSeries {kind} {tag}" if tag is not None else f"timeSeries {kind}"
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise ModelError(f"timeSeries {kind} {tag}: {name} must be a number, got {value!r}") from None
+        raise ModelError(f"{where}: {name} must be a number, got {value!r}") from None
     if not np.isfinite(value):
-        raise ModelError(f"timeSeries {kind} {tag}: {name} must be finite, got {value}")
+        raise ModelError(f"{where}: {name} must be finite, got {value}")
     return value

@@ -31,11 +31,15 @@ class Track:
 
     def __init__(self, model, elements):
         asm = model.build()
+        bad = [e for e in elements if isinstance(e, (bool, np.bool_)) or not isinstance(e, (int, np.integer))]
+        if bad:
+            raise ModelError(f"track: element tags must be integers, got {bad[0]!r}")
         elements = [int(e) for e in elements]
         if not elements:
             raise ModelError("track: no elements given")
         if len(set(elements)) != len(elements):
-            raise ModelError("track: an element is listed twice")
+            twice = next(e for e in elements if elements.count(e) > 1)
+            raise ModelError(f"track: element {twice} is listed twice")
         ends, full = [], []
         for tag in elements:
             if tag not in asm.element_location:
