@@ -98,6 +98,14 @@ class Integrator:
         return f"{type(self).__name__}({params})"
 
 
+def number(integrator, name, value):
+    """``float(value)``, or an AnalysisError naming the integrator and the parameter."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise AnalysisError(f"integrator {integrator}: {name} must be a number, got {value!r}") from None
+
+
 def check_parameter(integrator, name, value, low, high, low_open=False, high_open=False, why=""):
     """Raise an AnalysisError unless ``low <= value <= high`` (open ends as flagged)."""
     ok = (value > low if low_open else value >= low) and (value < high if high_open else value <= high)

@@ -9,7 +9,7 @@ nonlinear dynamics. Comput. Struct. 83, 2513-2524.
 Bathe, K.J. (2007) Conserving energy and momentum in nonlinear dynamics: a simple implicit
 time integration scheme. Comput. Struct. 85, 437-445.
 """
-from .base import Integrator, Stage, check_parameter, register
+from .base import Integrator, Stage, check_parameter, number, register
 
 
 @register
@@ -21,7 +21,7 @@ class Bathe(Integrator):
     n_stages = 2
 
     def __init__(self, gamma=0.5):
-        self.gamma = float(gamma)
+        self.gamma = number(self.name, "gamma", gamma)
         check_parameter(self.name, "gamma", self.gamma, 0.0, 1.0, low_open=True, high_open=True)
 
     def stages(self, dt):

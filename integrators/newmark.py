@@ -11,7 +11,7 @@ import numpy as np
 
 from vtsi.errors import AnalysisError
 
-from .base import Integrator, Stage, check_parameter, register
+from .base import Integrator, Stage, check_parameter, number, register
 
 
 @register
@@ -28,7 +28,7 @@ class Newmark(Integrator):
     n_stages = 1
 
     def __init__(self, gamma=0.5, beta=0.25):
-        self.gamma, self.beta = float(gamma), float(beta)
+        self.gamma, self.beta = number(self.name, "gamma", gamma), number(self.name, "beta", beta)
         check_parameter(self.name, "gamma", self.gamma, 0.5, 1.0,
                         why="gamma < 1/2 amplifies every mode (unstable); gamma > 1 is first-order damped beyond use")
         check_parameter(self.name, "beta", self.beta, 0.0, 1.0)
@@ -76,7 +76,7 @@ class HHT(Newmark):
     name = "HHT"
 
     def __init__(self, alpha=1.0, gamma=None, beta=None):
-        self.alpha = float(alpha)
+        self.alpha = number(self.name, "alpha", alpha)
         check_parameter(self.name, "alpha", self.alpha, 2.0 / 3.0, 1.0,
                         why="OpenSees convention; alpha = 1 is the trapezoidal rule")
         super().__init__(1.5 - self.alpha if gamma is None else gamma,

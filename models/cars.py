@@ -29,6 +29,8 @@ from importlib import resources
 import numpy as np
 import scipy.linalg
 
+from vtsi.errors import ModelError
+
 GRAVITY = 9.81
 """Default acceleration of gravity g [m/s²], as in the reference data."""
 
@@ -100,30 +102,30 @@ class Car:
         for attr in ('M', 'C', 'K'):
             a = getattr(self, attr)
             if a.shape != (n, n) or not np.all(np.isfinite(a)):
-                raise ValueError(f"{where}: {attr} must be a finite ({n}, {n}) matrix, got shape {a.shape}")
+                raise ModelError(f"{where}: {attr} must be a finite ({n}, {n}) matrix, got shape {a.shape}")
             if not np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * np.abs(a).max(initial=0.0)):
-                raise ValueError(f"{where}: {attr} is not symmetric")
+                raise ModelError(f"{where}: {attr} is not symmetric")
         if self.gravity_load.shape != (n,):
-            raise ValueError(f"{where}: gravity_load must have shape ({n},), got {self.gravity_load.shape}")
+            raise ModelError(f"{where}: gravity_load must have shape ({n},), got {self.gravity_load.shape}")
         if self.wheel_offsets.ndim != 1 or self.wheel_offsets.size == 0:
-            raise ValueError(f"{where}: wheel_offsets must be a non-empty 1-d array")
+            raise ModelError(f"{where}: wheel_offsets must be a non-empty 1-d array")
         if np.any(np.diff(self.wheel_offsets) <= 0) or not np.all(np.isfinite(self.wheel_offsets)):
-            raise ValueError(f"{where}: wheel_offsets must be finite and increasing, got {self.wheel_offsets}")
+            raise ModelError(f"{where}: wheel_offsets must be finite and increasing, got {self.wheel_offsets}")
         if n == 0:
             if self.wheel_dofs.size or self.static_wheel_loads is None:
-                raise ValueError(f"{where}: a force-only car (no dofs) needs static_wheel_loads and no wheel_dofs")
+                raise ModelError(f"{where}: a force-only car (no dofs) needs static_wheel_loads and no wheel_dofs")
             loads = _frozen(self.static_wheel_loads, np.float64)
         else:
             wd = self.wheel_dofs
             if (wd.shape != self.wheel_offsets.shape or np.unique(wd).size != wd.size
                     or np.any((wd < 0) | (wd >= n))):
-                raise ValueError(f"{where}: wheel_dofs must be {self.wheel_offsets.size} distinct "
+                raise ModelError(f"{where}: wheel_dofs must be {self.wheel_offsets.size} distinct "
                                  f"indices in [0, {n}), got {wd}")
             if self.static_wheel_loads is not None:
-                raise ValueError(f"{where}: static_wheel_loads are computed from the statics, do not pass them")
+                raise ModelError(f"{where}: static_wheel_loads are computed from the statics, do not pass them")
             loads = _frozen(self._solve_statics(), np.float64)
         if loads.shape != self.wheel_offsets.shape or not np.all(loads > 0):
-            raise ValueError(f"{where}: static wheel loads must be > 0 for every wheel, got {loads}")
+            raise ModelError(f"{where}: static wheel loads must be > 0 for every wheel, got {loads}")
         set_(self, 'static_wheel_loads', loads)
 
     @property
@@ -147,7 +149,7 @@ class Car:
         try:
             u_f = scipy.linalg.solve(K[np.ix_(f, f)], P[f], assume_a='sym')
         except (np.linalg.LinAlgError, scipy.linalg.LinAlgError) as err:
-            raise ValueError(f"car {self.name!r}: the bodies are not supported by the wheels "
+            raise ModelError(f"car {self.name!r}: the bodies are not supported by the wheels "
                              "(singular stiffness with the wheels held)") from err
         return K[np.ix_(w, f)] @ u_f - P[w]
 
@@ -166,7 +168,7 @@ def _check(where, positive=(), nonnegative=()):
     for params, bound, op in ((positive, '>', np.greater), (nonnegative, '>=', np.greater_equal)):
         for name, value in params:
             if not (np.isfinite(value) and op(value, 0.0)):
-                raise ValueError(f"{where}: {name} must be {bound} 0, got {value!r}")
+                raise ModelError(f"{where}: {name} must be {bound} 0, got {value!r}")
 
 
 def _point(y, rz=None, a=0.0):
@@ -318,14 +320,14 @@ def ten_dof_car(params, g=GRAVITY, name='ten-dof car'):
     missing = set(TEN_DOF_PARAMETERS) - set(params)
     unknown = set(params) - set(TEN_DOF_PARAMETERS)
     if missing or unknown:
-        raise ValueError(f"{where}: missing parameters {sorted(missing)}, unknown {sorted(unknown)}; "
+        raise ModelError(f"{where}: missing parameters {sorted(missing)}, unknown {sorted(unknown)}; "
                          f"expected {list(TEN_DOF_PARAMETERS)}")
     p = {key: float(value) for key, value in params.items()}
     _check(where, positive=[(k, v) for k, v in p.items() if not k.endswith('damping')] + [('g', g)],
            nonnegative=[(k, v) for k, v in p.items() if k.endswith('damping')])
     Lc, Lb = p['bogie_centre_spacing'], p['axle_spacing']
     if Lc <= Lb:
-        raise ValueError(f"{where}: bogie_centre_spacing ({Lc}) must exceed axle_spacing ({Lb})")
+        raise ModelError(f"{where}: bogie_centre_spacing ({Lc}) must exceed axle_spacing ({Lb})")
     springs = []
     for j, a in enumerate((Lc / 2, -Lc / 2)):
         bogie_y, bogie_rz = 2 + 2 * j, 3 + 2 * j
@@ -376,5 +378,5 @@ def car_from_catalogue(name, g=GRAVITY):
     """
     catalogue = _catalogue()
     if name not in catalogue:
-        raise ValueError(f"car_from_catalogue: unknown car {name!r}; valid names: {list(catalogue)}")
+        raise ModelError(f"car_from_catalogue: unknown car {name!r}; valid names: {list(catalogue)}")
     return ten_dof_car(catalogue[name], g=g, name=name)

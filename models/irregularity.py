@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.interpolate
 
+from vtsi.errors import ModelError
+
 _GERMAN = {'low': 4.032e-7, 'high': 1.080e-6}  # A_v [m·rad], low / high interference
 _GERMAN_OMEGA_C, _GERMAN_OMEGA_R = 0.8246, 0.0206  # [rad/m]
 _FRA_AV = (1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339)  # A_v [cm²·rad/m], classes 1..6
@@ -30,7 +32,7 @@ def _omega(omega, where, allow_zero):
     omega = np.asarray(omega, dtype=np.float64)
     bad = ~np.isfinite(omega) | (omega < 0 if allow_zero else omega <= 0)
     if np.any(bad):
-        raise ValueError(f"{where}: omega must be finite and {'>=' if allow_zero else '>'} 0 [rad/m], "
+        raise ModelError(f"{where}: omega must be finite and {'>=' if allow_zero else '>'} 0 [rad/m], "
                          f"got {omega[bad].ravel()[0]!r}")
     return omega
 
@@ -57,7 +59,7 @@ def german_psd(omega, level='low'):
     Lei (2017), ch. 5.
     """
     if level not in _GERMAN:
-        raise ValueError(f"german_psd: unknown level {level!r}; valid: {list(_GERMAN)}")
+        raise ModelError(f"german_psd: unknown level {level!r}; valid: {list(_GERMAN)}")
     w2 = _omega(omega, 'german_psd', allow_zero=True) ** 2
     return _GERMAN[level] * _GERMAN_OMEGA_C ** 2 / ((w2 + _GERMAN_OMEGA_R ** 2) * (w2 + _GERMAN_OMEGA_C ** 2))
 
@@ -85,7 +87,7 @@ def fra_psd(omega, fra_class=6):
     Lei (2017), ch. 5.
     """
     if fra_class not in range(1, 7):
-        raise ValueError(f"fra_psd: unknown fra_class {fra_class!r}; valid: 1, 2, 3, 4, 5, 6")
+        raise ModelError(f"fra_psd: unknown fra_class {fra_class!r}; valid: 1, 2, 3, 4, 5, 6")
     w2 = _omega(omega, 'fra_psd', allow_zero=False) ** 2
     return 1e-4 * _FRA_K * _FRA_AV[fra_class - 1] * _FRA_OMEGA_C ** 2 / (w2 * (w2 + _FRA_OMEGA_C ** 2))
 
@@ -124,15 +126,15 @@ def sample_profile(psd, x, wavelength_band=(3.0, 150.0), n_waves=None, rng=None)
     x = np.asarray(x, dtype=np.float64)
     lam_min, lam_max = (float(v) for v in wavelength_band)
     if not (np.isfinite(lam_max) and 0 < lam_min < lam_max):
-        raise ValueError(f"sample_profile: wavelength_band must be 0 < min < max [m], got {wavelength_band!r}")
+        raise ModelError(f"sample_profile: wavelength_band must be 0 < min < max [m], got {wavelength_band!r}")
     if not np.all(np.isfinite(x)):
-        raise ValueError("sample_profile: x must be finite")
+        raise ModelError("sample_profile: x must be finite")
     w_lo, w_hi = 2 * np.pi / lam_max, 2 * np.pi / lam_min
     if n_waves is None:
         span = x.max() - x.min() if x.size else 0.0
         n_waves = max(1000, int(np.ceil((w_hi - w_lo) * span / (2 * np.pi))))
     if int(n_waves) != n_waves or n_waves < 1:
-        raise ValueError(f"sample_profile: n_waves must be a positive integer, got {n_waves!r}")
+        raise ModelError(f"sample_profile: n_waves must be a positive integer, got {n_waves!r}")
     d_omega = (w_hi - w_lo) / int(n_waves)
     omega = w_lo + d_omega * (np.arange(int(n_waves)) + 0.5)
     amplitude = np.sqrt(2.0 * np.asarray(psd(omega), dtype=np.float64) * d_omega)
@@ -168,8 +170,17 @@ class Irregularity:
     """
 
     def __init__(self, x, r, extrapolate=False):
-        spline = scipy.interpolate.CubicSpline(np.asarray(x, dtype=np.float64), np.asarray(r, dtype=np.float64),
-                                               extrapolate=True)
+        x, r = np.asarray(x, dtype=np.float64), np.asarray(r, dtype=np.float64)
+        if x.ndim != 1 or x.shape != r.shape or x.size < 2:
+            raise ModelError(f"Irregularity: x and r must be two 1-d arrays of the same length >= 2, "
+                             f"got shapes {x.shape} and {r.shape}")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(r))):
+            raise ModelError("Irregularity: x and r must be finite (NaN or inf found)")
+        steps = np.diff(x)
+        if np.any(steps <= 0):
+            i = int(np.flatnonzero(steps <= 0)[0]) + 1
+            raise ModelError(f"Irregularity: x must increase strictly; x[{i}] = {x[i]:g} follows x[{i - 1}] = {x[i - 1]:g}")
+        spline = scipy.interpolate.CubicSpline(x, r, extrapolate=True)
         self._funcs = (spline, spline.derivative(1), spline.derivative(2))
         self._range = None if extrapolate else (spline.x[0], spline.x[-1])
 
@@ -195,10 +206,10 @@ class Irregularity:
     def __call__(self, x, nu=0):
         """r(x) (``nu = 0``), r'(x) (1) or r''(x) (2); same shape as x [m, 1, 1/m]."""
         if nu not in (0, 1, 2):
-            raise ValueError(f"Irregularity: derivative order nu must be 0, 1 or 2, got {nu!r}")
+            raise ModelError(f"Irregularity: derivative order nu must be 0, 1 or 2, got {nu!r}")
         func = self._funcs[nu]
         if func is None:
-            raise ValueError(f"Irregularity: derivative {nu} of this profile was not given (from_function)")
+            raise ModelError(f"Irregularity: derivative {nu} of this profile was not given (from_function)")
         x = np.asarray(x, dtype=np.float64)
         value = np.asarray(func(x), dtype=np.float64) * np.ones_like(x)
         if self._range is not None:

@@ -21,6 +21,8 @@ from importlib import resources
 import numpy as np
 import scipy.sparse
 
+from vtsi.errors import ModelError
+
 from .cars import Car, _frozen, car_from_catalogue, moving_force
 
 
@@ -73,12 +75,12 @@ class Train:
         self.name = str(name)
         where = f"train {self.name!r}"
         if not self.cars or not all(isinstance(car, Car) for car in self.cars):
-            raise ValueError(f"{where}: cars must be a non-empty sequence of Car")
+            raise ModelError(f"{where}: cars must be a non-empty sequence of Car")
         if self.car_offsets.shape != (len(self.cars),) or not np.all(np.isfinite(self.car_offsets)):
-            raise ValueError(f"{where}: car_offsets must be {len(self.cars)} finite numbers, "
+            raise ModelError(f"{where}: car_offsets must be {len(self.cars)} finite numbers, "
                              f"got shape {self.car_offsets.shape}")
         if not (np.isfinite(self.speed) and self.speed >= 0):
-            raise ValueError(f"{where}: speed must be finite and >= 0, got {speed!r}")
+            raise ModelError(f"{where}: speed must be finite and >= 0, got {speed!r}")
         n_dofs = [car.n_dof for car in self.cars]
         self.dof_start = _frozen(np.concatenate([[0], np.cumsum(n_dofs)]), np.int64)
         self.n_dof = int(self.dof_start[-1])
@@ -90,7 +92,7 @@ class Train:
         steps = np.diff(self.wheel_offsets)
         if np.any(steps <= 0):
             i = int(np.argmax(steps <= 0)) + 1
-            raise ValueError(f"{where}: wheel offsets must increase from head to tail; wheel {i} (car "
+            raise ModelError(f"{where}: wheel offsets must increase from head to tail; wheel {i} (car "
                              f"{self.wheel_car[i]}) at {self.wheel_offsets[i]} m is not behind wheel {i - 1} "
                              f"at {self.wheel_offsets[i - 1]} m")
         self.static_wheel_loads = _frozen(np.concatenate([car.static_wheel_loads for car in self.cars]),
@@ -137,9 +139,9 @@ class Train:
     def uniform(cls, car, n_cars, car_length, speed, name=None):
         """``n_cars`` copies of ``car``, one every ``car_length`` metres (offsets 0, L, 2L, …)."""
         if int(n_cars) != n_cars or n_cars < 1:
-            raise ValueError(f"Train.uniform: n_cars must be a positive integer, got {n_cars!r}")
+            raise ModelError(f"Train.uniform: n_cars must be a positive integer, got {n_cars!r}")
         if not (np.isfinite(car_length) and car_length > 0):
-            raise ValueError(f"Train.uniform: car_length must be > 0, got {car_length!r}")
+            raise ModelError(f"Train.uniform: car_length must be > 0, got {car_length!r}")
         return cls([car] * int(n_cars), np.arange(int(n_cars)) * float(car_length), speed,
                    name=name or f"{int(n_cars)} x {car.name}")
 
@@ -183,10 +185,10 @@ class Train:
         rows = [(line, row) for line, row in enumerate(csv.reader(text.splitlines(), dialect), start=1)
                 if any(cell.strip() for cell in row)]
         if not rows:
-            raise ValueError(f"{path}: empty axle table")
+            raise ModelError(f"{path}: empty axle table")
         header = [cell.strip().lower() for cell in rows[0][1]]
         if 'position_m' not in header or 'load_kn' not in header:
-            raise ValueError(f"{path} line {rows[0][0]}: header must name the columns 'position_m' and "
+            raise ModelError(f"{path} line {rows[0][0]}: header must name the columns 'position_m' and "
                              f"'load_kN', got {rows[0][1]}")
         columns = header.index('position_m'), header.index('load_kn')
         values, labels = [], []
@@ -194,10 +196,10 @@ class Train:
             try:
                 values.append([float(row[c]) for c in columns])
             except (ValueError, IndexError) as err:
-                raise ValueError(f"{path} line {line}: cannot read position_m and load_kN from {row}") from err
+                raise ModelError(f"{path} line {line}: cannot read position_m and load_kN from {row}") from err
             labels.append(f"{path} line {line}")
         if not values:
-            raise ValueError(f"{path}: no axles below the header")
+            raise ModelError(f"{path}: no axles below the header")
         values = np.array(values)
         positions, loads = _check_axle_table(values[:, 0], values[:, 1] * 1e3, labels, 'Train.from_csv')
         return cls([moving_force(P) for P in loads], positions, speed, name=name or str(path))
@@ -207,15 +209,15 @@ def _check_axle_table(positions, loads, labels, where):
     positions = np.asarray(positions, dtype=np.float64)
     loads = np.asarray(loads, dtype=np.float64)
     if positions.ndim != 1 or positions.shape != loads.shape or positions.size == 0:
-        raise ValueError(f"{where}: positions and loads must be 1-d arrays of equal, non-zero length, "
+        raise ModelError(f"{where}: positions and loads must be 1-d arrays of equal, non-zero length, "
                          f"got shapes {positions.shape} and {loads.shape}")
     for i, (x, P) in enumerate(zip(positions, loads)):
         if not np.isfinite(x):
-            raise ValueError(f"{where}: {labels[i]}: position must be finite, got {x}")
+            raise ModelError(f"{where}: {labels[i]}: position must be finite, got {x}")
         if not (np.isfinite(P) and P > 0):
-            raise ValueError(f"{where}: {labels[i]}: load must be > 0, got {P}")
+            raise ModelError(f"{where}: {labels[i]}: load must be > 0, got {P}")
         if i and x <= positions[i - 1]:
-            raise ValueError(f"{where}: {labels[i]}: position {x} m is not greater than the previous "
+            raise ModelError(f"{where}: {labels[i]}: position {x} m is not greater than the previous "
                              f"{positions[i - 1]} m; positions must increase from head to tail")
     return positions, loads
 
@@ -250,7 +252,7 @@ def ice3(n_cars=8, *, speed, name='ICE3'):
     mechanical description of AVE S-103 - ICE3 Velaro E high speed train, oa.upm.es/43946.
     """
     if int(n_cars) != n_cars or n_cars < 2:
-        raise ValueError(f"ice3: n_cars must be an integer >= 2, got {n_cars!r}")
+        raise ModelError(f"ice3: n_cars must be an integer >= 2, got {n_cars!r}")
     car = car_from_catalogue('ICE3_coach')
     front_overhang = np.full(int(n_cars), _ICE3_OVERHANG)
     front_overhang[0] = _ICE3_NOSE
@@ -291,7 +293,7 @@ def hslm_a(number, speed):
     table = _hslm_table()
     key = f"A{number}" if not str(number).upper().startswith('A') else str(number).upper()
     if key not in table:
-        raise ValueError(f"hslm_a: unknown train {number!r}; valid: {list(table)} (or 1 … 10)")
+        raise ModelError(f"hslm_a: unknown train {number!r}; valid: {list(table)} (or 1 … 10)")
     N, D, d, P = (table[key][k] for k in ('N', 'D_m', 'd_m', 'P_kN'))
     centres = 18.7625 + D * np.arange(1, N + 2)
     front = np.concatenate([[0.0, 3.0, 14.0, 17.0, 20.525, 20.525 + d],

@@ -465,8 +465,10 @@ def test_one_sink_for_two_recorders_and_text_file_with_history_and_envelope(tmp_
 
 
 RECORDER_START_CASES = [
-    ("node recorder on unknown node", lambda: NodeRecorder([42], [2]), ModelError, r"node 42 does not exist"),
-    ("node recorder on dof 4", lambda: NodeRecorder([3], [4]), ModelError, r"^node 3: dof 4 out of range 1\.\.3$"),
+    ("node recorder on unknown node", lambda: NodeRecorder([42], [2]), ModelError,
+     r"^node recorder: node 42 does not exist$"),
+    ("node recorder on dof 4", lambda: NodeRecorder([3], [4]), ModelError,
+     r"^node recorder: node 3: dof 4 out of range 1\.\.3$"),
     ("element recorder on unknown element", lambda: ElementRecorder([42]), ModelError,
      r"^element recorder: element 42 does not exist$"),
     ("element recorder with unknown response", lambda: ElementRecorder([1], "stress"), ModelError,

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from vtsi.analysis import QUANTITY_SLOT, _pattern_loads, domain_state, factor
+from vtsi.analysis import QUANTITY_SLOT, _integer, _pattern_loads, domain_state, factor
 from vtsi.banded import NotPositiveDefinite, band_rows, cholesky_band, cholesky_solve, half_bandwidth
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
@@ -47,7 +47,9 @@ class CoupledAnalysis:
     gap_tol : position gap [m] above which a wheel counts as in flight (contact='lcp').
 
     After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
-    and ``gap`` (n_steps, n_c) [m] hold every step of the run.
+    and ``gap`` (n_steps, n_c) [m] hold every step of the run; :meth:`contact_events` and
+    :meth:`contact_summary` derive lift-offs, landings and per-wheel figures from them
+    (:mod:`vtsi.contact`).
     """
 
     def __init__(self, model, constraint, integrator="Newmark", dt=None, contact="bilateral",
@@ -66,10 +68,9 @@ class CoupledAnalysis:
                                 "analysis needs an implicit integrator (Newmark, HHT, Bathe)")
         self.gravity, self.bridge_self_weight = float(gravity), bool(bridge_self_weight)
         self.recorders = list(recorders)
-        self.divergence_limit, self.chunk_steps = float(divergence_limit), int(chunk_steps)
-        if dt is None or not (np.isfinite(dt) and dt > 0):
-            raise AnalysisError(f"CoupledAnalysis: dt must be > 0 and finite, got {dt}")
-        self.dt = float(dt)
+        self.chunk_steps = _integer("CoupledAnalysis", "chunk_steps", chunk_steps, 1)
+        self.divergence_limit = _positive("divergence_limit", divergence_limit, finite=False)
+        self.dt = _positive("dt", dt)
         self._prepared = None
         self.static_state = None
         self.time = np.zeros(0)
@@ -191,9 +192,7 @@ class CoupledAnalysis:
     def run(self, n_steps):
         """Advance ``n_steps`` steps from the committed states (call :meth:`static` first for a
         start from the dead-load equilibrium). Returns the domain state."""
-        n_steps = int(n_steps)
-        if n_steps < 0:
-            raise AnalysisError(f"CoupledAnalysis: number of steps must be >= 0, got {n_steps}")
+        n_steps = _integer("CoupledAnalysis", "number of steps", n_steps, 0)
         asm = self._prepare()
         state = domain_state(self.model)
         train, con, track = self.train, self.constraint, self.constraint.track
@@ -279,6 +278,18 @@ class CoupledAnalysis:
             self.gap = np.concatenate(gap_all)
         return state
 
+    # -- contact results ------------------------------------------------------------------
+    def contact_events(self, interpolate=True):
+        """Lift-off and landing events of the steps run so far (:func:`vtsi.contact.contact_events`)."""
+        from vtsi.contact import contact_events
+        return contact_events(self, interpolate=interpolate)
+
+    def contact_summary(self, static_load=None, interpolate=True):
+        """Per-wheel separations, longest flight, force extremes and unloading ratio ΔQ/Q of the
+        steps run so far (:func:`vtsi.contact.contact_summary`)."""
+        from vtsi.contact import contact_summary
+        return contact_summary(self, static_load=static_load, interpolate=interpolate)
+
     @staticmethod
     def _commit(state, train, asm, bank_b, bank_t, time):
         for slot, vec in enumerate((state.u, state.v, state.a)):
@@ -287,6 +298,17 @@ class CoupledAnalysis:
         for slot, vec in enumerate((train.u, train.v, train.a)):
             vec[:] = bank_t[slot]
         state.time = time
+
+
+def _positive(what, value, finite=True):
+    """``value`` as a float > 0 (and finite, unless ``finite=False``), or an AnalysisError naming it."""
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise AnalysisError(f"CoupledAnalysis: {what} must be a number, got {value!r}") from None
+    if not value > 0.0 or (finite and not np.isfinite(value)):
+        raise AnalysisError(f"CoupledAnalysis: {what} must be > 0{' and finite' if finite else ''}, got {value}")
+    return value
 
 
 def _inverse_columns(lower, dofs):

@@ -608,6 +608,11 @@ class Session(TrainCommands):
         self._transient = None
         self._trbdf2 = None
 
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise UnknownCommand(f"Session has no command {name!r}; supported commands: {', '.join(COMMANDS)}")
+
     # -- helpers ------------------------------------------------------------------------------
     def _model(self, command):
         if self.domain is None:

@@ -41,7 +41,10 @@ class NodeRecorder(Recorder):
         self._reaction = None
 
     def requests(self, assembly):
-        full = [assembly.full_dof(n, d) for n in self.nodes for d in self.dofs]
+        try:
+            full = [assembly.full_dof(n, d) for n in self.nodes for d in self.dofs]
+        except ModelError as exc:
+            raise ModelError(f"{self.name}: {exc}") from None
         if self.response in QUANTITIES:
             q = QUANTITIES[self.response]
             return [(q, f) for f in full]
