@@ -25,39 +25,9 @@ import numpy as np
 from numba import njit
 
 from vtsi.banded import band_matvec_add, cholesky_solve
-from vtsi.lcp import solve_lcp
+from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
 from vtsi.timeloop import add_pattern_loads, combine, sparse_coefficients
 from vtsi.track import constraint_rows, hermite, host_element
-
-
-@njit(cache=True)
-def dense_cholesky_solve(W, b, n):
-    """Solve ``W x = b`` for the leading ``n × n`` block of SPD ``W`` in place (``W`` is
-    overwritten by its factor, ``b`` by ``x``). Returns False if ``W`` is not positive definite."""
-    for j in range(n):
-        d = W[j, j]
-        for k in range(j):
-            d -= W[j, k] * W[j, k]
-        if not d > 0.0:
-            return False
-        d = np.sqrt(d)
-        W[j, j] = d
-        for i in range(j + 1, n):
-            s = W[i, j]
-            for k in range(j):
-                s -= W[i, k] * W[j, k]
-            W[i, j] = s / d
-    for i in range(n):
-        s = b[i]
-        for k in range(i):
-            s -= W[i, k] * b[k]
-        b[i] = s / W[i, i]
-    for i in range(n - 1, -1, -1):
-        s = b[i]
-        for k in range(i + 1, n):
-            s -= W[k, i] * b[k]
-        b[i] = s / W[i, i]
-    return True
 
 
 @njit(cache=True)
@@ -206,7 +176,9 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
             else:
                 for i in range(n_c):
                     lam[i] = -q[i]
-                ok = dense_cholesky_solve(W, lam, n_c)
+                ok = cholesky_in_place(W, n_c)
+                if ok:
+                    cholesky_substitute(W, lam, n_c)
             if not ok:
                 return -2 - step
             # 4. corrections

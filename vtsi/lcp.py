@@ -32,6 +32,41 @@ def lcp_workspace(n):
 
 
 @njit(cache=True)
+def cholesky_in_place(a, m):
+    """Cholesky factor of the leading ``m × m`` block of SPD ``a``, in place (lower triangle);
+    returns False if that block is not positive definite."""
+    for j in range(m):
+        d = a[j, j]
+        for k in range(j):
+            d -= a[j, k] * a[j, k]
+        if not d > 0.0:
+            return False
+        d = np.sqrt(d)
+        a[j, j] = d
+        for i in range(j + 1, m):
+            s = a[i, j]
+            for k in range(j):
+                s -= a[i, k] * a[j, k]
+            a[i, j] = s / d
+    return True
+
+
+@njit(cache=True)
+def cholesky_substitute(a, b, m):
+    """Solve ``L Lᵀ x = b`` in place with the factor left by :func:`cholesky_in_place`."""
+    for i in range(m):
+        s = b[i]
+        for k in range(i):
+            s -= a[i, k] * b[k]
+        b[i] = s / a[i, i]
+    for i in range(m - 1, -1, -1):
+        s = b[i]
+        for k in range(i + 1, m):
+            s -= a[k, i] * b[k]
+        b[i] = s / a[i, i]
+
+
+@njit(cache=True)
 def _solve_free(W, q, lam_free, free, n, fac):
     """``lam_free[F] = -W_FF⁻¹ q_F`` (0 elsewhere), regularised if W_FF is singular."""
     idx = np.empty(n, dtype=np.int64)
@@ -44,44 +79,24 @@ def _solve_free(W, q, lam_free, free, n, fac):
     for a in range(m):
         dmax = max(dmax, W[idx[a], idx[a]])
     eps = 0.0
+    ok = False
     for attempt in range(12):
-        ok = True
         for a in range(m):
             for b in range(a + 1):
                 fac[a, b] = W[idx[a], idx[b]]
             fac[a, a] += eps
-        for j in range(m):
-            d = fac[j, j]
-            for k in range(j):
-                d -= fac[j, k] * fac[j, k]
-            if not d > 0.0:
-                ok = False
-                break
-            d = np.sqrt(d)
-            fac[j, j] = d
-            for i in range(j + 1, m):
-                s = fac[i, j]
-                for k in range(j):
-                    s -= fac[i, k] * fac[j, k]
-                fac[i, j] = s / d
+        ok = cholesky_in_place(fac, m)
         if ok:
             break
         eps = 1e-12 * dmax if eps == 0.0 else eps * 100.0
     if not ok:
         return False
-    for i in range(n):
-        lam_free[i] = 0.0
     z = np.empty(m)
     for a in range(m):
-        s = -q[idx[a]]
-        for k in range(a):
-            s -= fac[a, k] * z[k]
-        z[a] = s / fac[a, a]
-    for a in range(m - 1, -1, -1):
-        s = z[a]
-        for k in range(a + 1, m):
-            s -= fac[k, a] * z[k]
-        z[a] = s / fac[a, a]
+        z[a] = -q[idx[a]]
+    cholesky_substitute(fac, z, m)
+    for i in range(n):
+        lam_free[i] = 0.0
     for a in range(m):
         lam_free[idx[a]] = z[a]
     return True
