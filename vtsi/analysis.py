@@ -9,7 +9,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse.linalg as spla
 
-from vtsi.banded import NotPositiveDefinite, band_rows, cholesky_band, cholesky_solve, half_bandwidth, pad
+from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, pad, solve_band
 from vtsi.errors import AnalysisError, DivergenceError
 from vtsi.integrators import make_integrator
 from vtsi.timeloop import run_linear_steps
@@ -44,7 +44,7 @@ def factor(assembly, matrix, what, cause=None):
     kd = half_bandwidth(assembly.K) if assembly.n_free > 1 else 0
     kd = max(kd, half_bandwidth(assembly.M), half_bandwidth(assembly.C))
     try:
-        return cholesky_band(matrix, kd)
+        return ldl_band(matrix, kd)
     except NotPositiveDefinite as exc:
         raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(exc.pivot)}: "
                             + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
@@ -179,7 +179,7 @@ class StaticAnalysis:
                     rhs += p.factors(np.array([t]))[0] * vec
                 kd = lower.shape[1] - 1
                 padded = pad(rhs, kd)
-                cholesky_solve(lower, padded)
+                solve_band(lower, padded)
                 state.u[:] = 0.0
                 state.u[asm.full_of_free] = padded[kd: kd + asm.n_free]
                 state.v[:] = 0.0
@@ -347,7 +347,7 @@ class TransientAnalysis:
                 bad = run_linear_steps(bank, self.du, self.dv, self.ku, self.kv, self.factors,
                                        self.k_rows, self.c_rows, asm.has_damping, table,
                                        load_ptr, load_dof, load_val, feed.rec_slot, feed.rec_index,
-                                       out, self.divergence_limit, work)
+                                       out, self.divergence_limit, work, band_type(self.factors.shape[2] - 1))
                 good = n if bad < 0 else bad
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out[:good], asm)

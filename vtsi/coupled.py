@@ -15,7 +15,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from vtsi.analysis import QUANTITY_SLOT, _integer, _pattern_loads, domain_state, factor
-from vtsi.banded import NotPositiveDefinite, band_rows, cholesky_band, cholesky_solve, half_bandwidth
+from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, solve_band
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
@@ -106,7 +106,7 @@ class CoupledAnalysis:
             if train.n_dof:
                 kt_hat = (train.M + st.kv[A] * train.C + st.ku[A] * train.K).tocsr()
                 try:
-                    ft = cholesky_band(kt_hat, kd_t)
+                    ft = ldl_band(kt_hat, kd_t)
                 except NotPositiveDefinite as exc:
                     raise AnalysisError(f"train effective matrix of stage {s + 1} is singular at train dof "
                                         f"{train.train.dof_names[exc.pivot]}: a dof with neither mass nor "
@@ -252,7 +252,7 @@ class CoupledAnalysis:
                     con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
                     self.contact == "lcp", self.gap_tol, self.in_contact, feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
                     out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
-                    self._lcp_work)
+                    self._lcp_work, band_type(kd_b), band_type(kd_t))
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out_b[:good], out_t[:good], out_force[:good], out_gap[:good])
@@ -320,7 +320,7 @@ def _inverse_columns(lower, dofs):
     for j, d in enumerate(dofs):
         b[:] = 0.0
         b[kd + d] = 1.0
-        cholesky_solve(lower, b)
+        solve_band(lower, b)
         out[:, j] = b[kd: kd + n]
     return out
 

@@ -24,7 +24,7 @@ projecting the wheels that are on the rail back onto it (positions only).
 import numpy as np
 from numba import njit
 
-from vtsi.banded import band_matvec_add, cholesky_solve
+from vtsi.banded import band_matvec_add, ldl_solve
 from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
 from vtsi.timeloop import add_pattern_loads, combine, sparse_coefficients
 from vtsi.track import constraint_rows, hermite, host_element
@@ -32,17 +32,17 @@ from vtsi.track import constraint_rows, hermite, host_element
 
 @njit(cache=True)
 def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk, ck, sc, vc, cc,
-                su, vu, cu, sv, vv, cv, ua, va):
+                su, vu, cu, sv, vv, cv, ua, va, band):
     """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots."""
-    kd = fac.shape[2] - 1
+    kd = len(band)
     n = k_rows.shape[0]
     lo, hi = kd, kd + n
     combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
-    band_matvec_add(rhs, k_rows, xk, -1.0)
+    band_matvec_add(rhs, k_rows, xk, -1.0, band)
     if damped:
         combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
-        band_matvec_add(rhs, c_rows, xc, -1.0)
-    cholesky_solve(fac[s], rhs)
+        band_matvec_add(rhs, c_rows, xc, -1.0, band)
+    ldl_solve(fac[s], rhs, band)
     combine(bank[base], bank, su[s], vu[s], cu[s], lo, hi)
     combine(bank[base + 1], bank, sv[s], vv[s], cv[s], lo, hi)
     for i in range(lo, hi):
@@ -52,10 +52,10 @@ def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk,
 
 
 @njit(cache=True)
-def _correct(bank, base, fac, rhs, s, ua, va):
+def _correct(bank, base, fac, rhs, s, ua, va, band):
     """Add the response to the contact forces already scattered into ``rhs``."""
-    kd = fac.shape[2] - 1
-    cholesky_solve(fac[s], rhs)
+    kd = len(band)
+    ldl_solve(fac[s], rhs, band)
     for i in range(kd, rhs.shape[0] - kd):
         bank[base, i] += ua * rhs[i]
         bank[base + 1, i] += va * rhs[i]
@@ -70,21 +70,21 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
                       t0, dt, stage_theta, load_theta, load_weight, lcp, gap_tol, in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
-                      out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work):
+                      out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
     Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
     load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
+    (band_b, band_t: the half bandwidths of the bridge and train factors as types, see vtsi.banded)
     (contact force [N] and position gap [m] at the end of each step); ``in_contact`` (n_c)
     carries each wheel's contact state (1.0 on the rail, 0.0 in flight) from step to step.
     """
+    kdb, kdt = len(band_b), len(band_t)
     n_steps = out_b.shape[0]
     n_stages, width = du.shape
     A = width - 1
-    kdb = fac_b.shape[2] - 1
-    kdt = fac_t.shape[2] - 1
     n_b = kb_rows.shape[0]
     n_t = kt_rows.shape[0]
     n_c = x0_c.shape[0]
@@ -119,12 +119,12 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                         if d >= 0:
                             rb[kdb + track_free[d]] -= w_q * force_f[f] * h[a_]
             _free_stage(bank_b, base, fac_b, kb_rows, cb_rows, damped_b, rb, xkb, xcb, s,
-                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va)
+                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
                 rt[kdt + i] = p_train[i]
             _free_stage(bank_t, base, fac_t, kt_rows, ct_rows, damped_t, rt, xkt, xct, s,
-                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va)
+                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_t)
             if n_c == 0:
                 continue
             # 2. rows, free gap and contact flexibility
@@ -191,11 +191,11 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                         rb[kdb + track_free[c_]] -= lam[i] * vals[i, a_]
                         touched = True
             if touched:
-                _correct(bank_b, base, fac_b, rb, s, ua, va)
+                _correct(bank_b, base, fac_b, rb, s, ua, va, band_b)
             rt[:] = 0.0
             for i in range(n_c):
                 rt[kdt + wheel_dof[i]] += lam[i]
-            _correct(bank_t, base, fac_t, rt, s, ua, va)
+            _correct(bank_t, base, fac_t, rt, s, ua, va, band_t)
             # position gaps; wheels on the rail are projected onto it (removes the O(Δt²)
             # drift of the velocity-level constraint; velocities and accelerations untouched)
             for i in range(n_c):

@@ -32,7 +32,7 @@ import numpy as np
 
 from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, factor
 from vtsi.analysis import eigen as _eigen
-from vtsi.banded import cholesky_solve
+from vtsi.banded import solve_band
 from vtsi.errors import AnalysisError, CommandError, DivergenceError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
 from vtsi.model import Model
@@ -444,7 +444,7 @@ class _OpenSeesTRBDF2:
                 kd = lower.shape[1] - 1
                 padded = np.zeros(asm.n_free + 2 * kd)
                 padded[kd: kd + asm.n_free] = rhs
-                cholesky_solve(lower, padded)
+                solve_band(lower, padded)
                 u1 = padded[kd: kd + asm.n_free].copy()
                 if kind == 0:
                     v1 = 2.0 * (u1 - u) / dt - v

@@ -9,7 +9,7 @@ non-finite or exceeds ``limit`` in absolute value, or -1.
 import numpy as np
 from numba import njit
 
-from vtsi.banded import band_matvec_add, cholesky_solve
+from vtsi.banded import band_matvec_add, ldl_solve
 
 
 @njit(cache=True)
@@ -31,12 +31,15 @@ def sparse_coefficients(coef):
 
 @njit(cache=True)
 def combine(dest, bank, slots, values, count, lo, hi):
-    """``dest[lo:hi] = Σ_q values[q] bank[slots[q], lo:hi]``."""
+    """``dest[lo:hi] = Σ_q values[q] bank[slots[q], lo:hi]`` (one contiguous pass per term, so
+    that each pass vectorises)."""
     for i in range(lo, hi):
-        acc = 0.0
-        for q in range(count):
-            acc += values[q] * bank[slots[q], i]
-        dest[i] = acc
+        dest[i] = 0.0
+    for q in range(count):
+        c = values[q]
+        row = bank[slots[q]]
+        for i in range(lo, hi):
+            dest[i] += c * row[i]
 
 
 @njit(cache=True)
@@ -49,22 +52,20 @@ def add_pattern_loads(rhs, factors, load_ptr, load_dof, load_val, offset):
 
 
 @njit(cache=True)
-def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi):
-    """Stage update, fused: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into
-    the slots ``out_base..out_base+2``. Each entry reads only its own index, so the last stage
-    may overwrite slots 0..2 in place. Returns max |u| (inf if any entry is NaN)."""
+def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, tmp_u, tmp_v):
+    """Stage update: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into the
+    slots ``out_base..out_base+2`` (built in ``tmp_u``/``tmp_v`` first, so the last stage may
+    overwrite slots 0..2 that it reads). Returns max |u| (inf if any entry is NaN)."""
+    combine(tmp_u, bank, su[s], vu[s], cu[s], lo, hi)
+    combine(tmp_v, bank, sv[s], vv[s], cv[s], lo, hi)
+    u_out, v_out, a_out = bank[out_base], bank[out_base + 1], bank[out_base + 2]
     worst = 0.0
     for i in range(lo, hi):
         a = rhs[i]
-        u = ua * a
-        for q in range(cu[s]):
-            u += vu[s, q] * bank[su[s, q], i]
-        v = va * a
-        for q in range(cv[s]):
-            v += vv[s, q] * bank[sv[s, q], i]
-        bank[out_base, i] = u
-        bank[out_base + 1, i] = v
-        bank[out_base + 2, i] = a
+        u = tmp_u[i] + ua * a
+        u_out[i] = u
+        v_out[i] = tmp_v[i] + va * a
+        a_out[i] = a
         x = abs(u)
         if not x <= worst:   # also true for NaN
             worst = x if x == x else np.inf
@@ -74,7 +75,7 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi)
 @njit(cache=True)
 def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
                      load_factors, load_ptr, load_dof, load_val,
-                     rec_slot, rec_index, out, limit, work):
+                     rec_slot, rec_index, out, limit, work, band):
     """Advance ``out.shape[0]`` steps in place.
 
     bank : (n_slots, n + 2 kd) padded state bank; slots 0..2 = u, v, a at the chunk start
@@ -86,11 +87,12 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
     load_ptr, load_dof, load_val : CSR of the pattern load vectors (free dof indices).
     rec_slot, rec_index : slot (0 u, 1 v, 2 a) and free dof read by each output column.
     work : (3, n + 2 kd) zeroed scratch vectors.
+    band : ``band_type(kd)``, the half bandwidth as a type (the kernel is compiled for it).
     """
+    kd = len(band)
     n_steps = out.shape[0]
     n_stages, width = du.shape
     A = width - 1
-    kd = factors.shape[2] - 1
     n = k_rows.shape[0]
     lo, hi = kd, kd + n
     rhs, xk, xc = work[0], work[1], work[2]
@@ -104,13 +106,14 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
             rhs[lo:hi] = 0.0
             add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
             combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
-            band_matvec_add(rhs, k_rows, xk, -1.0)
+            band_matvec_add(rhs, k_rows, xk, -1.0, band)
             if damped:
                 combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
-                band_matvec_add(rhs, c_rows, xc, -1.0)
-            cholesky_solve(factors[s], rhs)
+                band_matvec_add(rhs, c_rows, xc, -1.0, band)
+            ldl_solve(factors[s], rhs, band)
             out_base = 0 if s == n_stages - 1 else 3 + 3 * s
-            worst = update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi)
+            worst = update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi,
+                                 xk, xc)
         if not (worst <= limit and worst < np.inf):   # NaN and ±inf diverge even with limit = inf
             return step
         for r in range(rec_slot.shape[0]):
