@@ -5,6 +5,7 @@
     python benchmarks/run.py S1 --baseline        # + the 'python loop + scipy splu' column
     python benchmarks/run.py S1 --json            # one JSON object on stdout, nothing else
     python benchmarks/run.py S1 --json --quick    # reduced size (what the tests run)
+    python benchmarks/run.py S3 --chart DIR       # + PNG charts in DIR (implies --json)
 
 Exit status: 0 on success, 2 on a usage error (unknown scene), 3 when a module the scene needs
 (e.g. openseespy, its peer) cannot be imported.
@@ -12,6 +13,7 @@ Exit status: 0 on success, 2 on a usage error (unknown scene), 3 when a module t
 import argparse
 import contextlib
 import importlib
+import inspect
 import json
 import os
 import platform
@@ -85,6 +87,8 @@ def main(argv=None):
     parser.add_argument("--baseline", action="store_true",
                         help="also time a plain Python loop with scipy splu (factored once)")
     parser.add_argument("--repeats", type=int, default=3, help="best of this many repetitions (default 3)")
+    parser.add_argument("--chart", metavar="DIR",
+                        help="write the scene's PNG charts to DIR (scenes that draw charts, e.g. S3); implies --json")
     args = parser.parse_args(argv)
 
     if args.list:
@@ -99,11 +103,17 @@ def main(argv=None):
     if args.repeats < 1:
         parser.error(f"--repeats must be >= 1, got {args.repeats}")
     scene = scenes[name]
+    options = {}
+    if args.chart is not None:
+        if "chart" not in inspect.signature(scene.run).parameters:
+            parser.error(f"scene {name} draws no charts (--chart)")
+        options["chart"] = args.chart
+        args.json = True
     check_requirements(scene)
 
     guard = stdout_to_stderr() if args.json else contextlib.nullcontext()
     with guard:
-        result = scene.run(quick=args.quick, baseline=args.baseline, repeats=args.repeats)
+        result = scene.run(quick=args.quick, baseline=args.baseline, repeats=args.repeats, **options)
     result["versions"] = versions()
     result["cpu_count"] = os.cpu_count()
     result["load_average"] = list(os.getloadavg()) if hasattr(os, "getloadavg") else None

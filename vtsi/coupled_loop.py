@@ -96,6 +96,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     sk, vk, ck = sparse_coefficients(ku)
     sc, vc, cc = sparse_coefficients(kv)
     x = np.empty(n_c)
+    on_bridge = np.zeros(n_c, dtype=np.bool_)
     for step in range(n_steps):
         for s in range(n_stages):
             base = 3 + 3 * s
@@ -142,18 +143,22 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                         g -= vals[i, a_] * bank_b[base + 1, k_] + speed * slopes[i, a_] * bank_b[base, k_]
                 q[i] = g
             for i in range(n_c):
+                on_bridge[i] = cols[i, 0] >= 0
+            for i in range(n_c):
                 for j in range(i + 1):
                     acc = tflex[s, i, j]
-                    for a_ in range(nw):
-                        ca = cols[i, a_]
-                        if ca < 0:
-                            continue
-                        row = 0.0
-                        for b_ in range(nw):
-                            cb = cols[j, b_]
-                            if cb >= 0:
+                    if on_bridge[i] and on_bridge[j]:   # N F Nᵀ: only wheels on the track
+                        for a_ in range(nw):
+                            ca = cols[i, a_]
+                            if ca < 0:
+                                break
+                            row = 0.0
+                            for b_ in range(nw):
+                                cb = cols[j, b_]
+                                if cb < 0:
+                                    break
                                 row += flex[s, ca, cb] * vals[j, b_]
-                        acc += vals[i, a_] * row
+                            acc += vals[i, a_] * row
                     W[i, j] = va * acc
                     W[j, i] = va * acc
             # 3. contact forces

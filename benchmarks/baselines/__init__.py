@@ -1,0 +1,2 @@
+"""Straightforward implementations of vtsi's algorithms (plain Python loops over numpy/scipy),
+measured side by side with vtsi by the benchmark scenes (e.g. S5)."""
