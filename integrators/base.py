@@ -58,7 +58,9 @@ def make_integrator(spec, *args, **kwargs):
 @dataclass
 class Stage:
     """Coefficients of one stage (see the module docstring); ``theta`` is the stage's end time
-    as a fraction of the step, ``load`` the ``(θ_q, w_q)`` pairs of its load evaluation."""
+    as a fraction of the step, ``load`` the ``(θ_q, w_q)`` pairs of its load evaluation, and
+    ``force_weight`` the weight ω of the stage's own constraint forces in its equation: the
+    stage balances ``ω Gᵀλ_s + (1 - ω) Gᵀλ_n`` (HHT: ω = α, as for every other force)."""
 
     du: np.ndarray
     dv: np.ndarray
@@ -66,6 +68,7 @@ class Stage:
     kv: np.ndarray
     load: list = field(default_factory=lambda: [(1.0, 1.0)])
     theta: float = 1.0
+    force_weight: float = 1.0
 
 
 class Integrator:

@@ -98,7 +98,7 @@ class HHT(Newmark):
         a = self.alpha
         ku = a * du + self.coefficients(u_n=1.0 - a)
         kv = a * dv + self.coefficients(v_n=1.0 - a)
-        return [Stage(du=du, dv=dv, ku=ku, kv=kv, load=[(a, 1.0)])]
+        return [Stage(du=du, dv=dv, ku=ku, kv=kv, load=[(a, 1.0)], force_weight=a)]
 
     def stability_limit(self, dt):
         return self._limit

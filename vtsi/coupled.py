@@ -129,6 +129,7 @@ class CoupledAnalysis:
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
         self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
         self.stage_theta = np.array([st.theta for st in stages])
+        self.force_weight = np.array([st.force_weight for st in stages])
         n_q = max(len(st.load) for st in stages)
         self.load_theta = np.zeros((len(stages), n_q))
         self.load_weight = np.zeros((len(stages), n_q))
@@ -186,6 +187,7 @@ class CoupledAnalysis:
         train.a[:] = 0.0
         self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
                              "contact_force": sol[n_b + n_t:].copy()}
+        self._prev = None
         return self.static_state
 
     # -- time stepping --------------------------------------------------------------------
@@ -250,9 +252,9 @@ class CoupledAnalysis:
                     self.flex, self.tflex, track.x_start, track.length, track.dofs, track.free_index,
                     con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                     con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
-                    self.contact == "lcp", self.gap_tol, self.in_contact, feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
+                    self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
                     out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
-                    self._lcp_work, band_type(kd_b), band_type(kd_t))
+                    self._lcp_work, band_type(kd_b), band_type(kd_t), *self._previous_forces(width))
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out_b[:good], out_t[:good], out_force[:good], out_gap[:good])
@@ -289,6 +291,26 @@ class CoupledAnalysis:
         steps run so far (:func:`vtsi.contact.contact_summary`)."""
         from vtsi.contact import contact_summary
         return contact_summary(self, static_load=static_load, interpolate=interpolate)
+
+    def _previous_forces(self, width):
+        """Contact forces and rows of the last committed step (the dead-load forces and the rows
+        at the current time before the first step), for integrators that weight them (HHT)."""
+        con = self.constraint
+        prev = getattr(self, "_prev", None)
+        if prev is None or prev[1].shape[1] != width:
+            t = domain_state(self.model).time
+            cols, vals = np.full((con.n_contact, width), -1, dtype=np.int64), np.zeros((con.n_contact, width))
+            if con.n_contact:
+                c0, v0, _, _ = con.rows_at(t, self.dt)
+                cols[:, : c0.shape[1]], vals[:, : v0.shape[1]] = c0, v0
+            if len(self.contact_force):
+                lam = self.contact_force[-1].copy()
+            elif self.static_state is not None:
+                lam = self.static_state["contact_force"].copy()
+            else:
+                lam = np.zeros(con.n_contact)
+            prev = self._prev = (lam, cols, vals)
+        return prev
 
     @staticmethod
     def _commit(state, train, asm, bank_b, bank_t, time):

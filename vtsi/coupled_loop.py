@@ -68,16 +68,20 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
-                      t0, dt, stage_theta, load_theta, load_weight, lcp, gap_tol, in_contact,
+                      t0, dt, stage_theta, load_theta, load_weight, force_weight, lcp, gap_tol, in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
-                      out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t):
+                      out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
+                      lam_prev, cols_prev, vals_prev):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
     Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
     load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
-    (band_b, band_t: the half bandwidths of the bridge and train factors as types, see vtsi.banded)
+    (band_b, band_t: the half bandwidths of the bridge and train factors as types, see vtsi.banded).
+    ``force_weight`` (n_stages): ω of each stage (HHT: α): the stage solves for μ = ω λ_s with
+    (1 - ω) times the previous step's forces ``lam_prev`` on rows ``cols_prev``/``vals_prev``
+    as a known load; λ_s = μ / ω. Those three arrays are updated at every step.
     (contact force [N] and position gap [m] at the end of each step); ``in_contact`` (n_c)
     carries each wheel's contact state (1.0 on the rail, 0.0 in flight) from step to step.
     """
@@ -119,11 +123,22 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                         d = tdofs[e, a_]
                         if d >= 0:
                             rb[kdb + track_free[d]] -= w_q * force_f[f] * h[a_]
+            w_prev = 1.0 - force_weight[s]
+            if w_prev != 0.0:
+                for i in range(n_c):
+                    for a_ in range(cols_prev.shape[1]):
+                        c_ = cols_prev[i, a_]
+                        if c_ < 0:
+                            break
+                        rb[kdb + track_free[c_]] -= w_prev * lam_prev[i] * vals_prev[i, a_]
             _free_stage(bank_b, base, fac_b, kb_rows, cb_rows, damped_b, rb, xkb, xcb, s,
                         sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
                 rt[kdt + i] = p_train[i]
+            if w_prev != 0.0:
+                for i in range(n_c):
+                    rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]
             _free_stage(bank_t, base, fac_t, kt_rows, ct_rows, damped_t, rt, xkt, xct, s,
                         sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_t)
             if n_c == 0:
@@ -213,10 +228,16 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     bank_t[base, kdt + wheel_dof[i]] -= g
                     g = 0.0
                 if s == n_stages - 1:
-                    out_force[step, i] = lam[i]
+                    out_force[step, i] = lam[i] / force_weight[s]
                     out_gap[step, i] = g
                     if lcp:
                         in_contact[i] = 1.0 if g <= gap_tol else 0.0
+        if n_c > 0:
+            for i in range(n_c):
+                lam_prev[i] = out_force[step, i]
+                for a_ in range(cols.shape[1]):
+                    cols_prev[i, a_] = cols[i, a_]
+                    vals_prev[i, a_] = vals[i, a_]
         last = 3 + 3 * (n_stages - 1)
         worst = 0.0
         for bank in (bank_b, bank_t):
