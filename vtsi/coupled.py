@@ -39,7 +39,9 @@ class CoupledAnalysis:
     contact : 'bilateral' (wheels always on the rail) or 'lcp' (contact loss allowed).
     gravity : g [m/s²] for the train's weight (its gravity_load is used as built) and, with
         ``bridge_self_weight``, for the bridge's weight ``-g M 1_y``.
-    bridge_self_weight : add the bridge's own weight to the dead load (results are totals).
+    bridge_self_weight : add the bridge's own weight to the dead load (results are totals). The
+        rail is straight at the deck's self-weight state (the track is laid on the deflected
+        deck): the constraint measures the rail from that deflected line.
     recorders : bridge recorders (:mod:`vtsi.recorders`) and train/contact recorders, whose
         requests may name 'u', 'v', 'a' (bridge full dof), 'train_u', 'train_v', 'train_a'
         (train dof) or 'contact_force', 'gap' (contact wheel index).
@@ -72,6 +74,7 @@ class CoupledAnalysis:
         self.divergence_limit = _positive("divergence_limit", divergence_limit, finite=False)
         self.dt = _positive("dt", dt)
         self._prepared = None
+        self._sag = None
         self.static_state = None
         self.time = np.zeros(0)
         self.contact_force = np.zeros((0, constraint.n_contact))
@@ -88,6 +91,19 @@ class CoupledAnalysis:
         ones_y = np.zeros(asm.n_full)
         ones_y[1::asm.ndf] = 1.0
         return -self.gravity * (asm.M_full @ ones_y)[asm.full_of_free]
+
+    def _rail_sag(self, t, nu):
+        """``(N(x) u_sw)`` (nu = 0) or its rate (nu = 1) under the contact wheels at times ``t``
+        (any shape) [m, m/s]: the deck's self-weight deflection, from which the rail is measured
+        (the track is laid on the deflected deck, so the rail is straight at that state)."""
+        con = self.constraint
+        x = con.positions(t)
+        if self._sag is None or con.n_contact == 0:
+            return np.zeros_like(x)
+        cols, vals, slopes = con.track.rows(x.ravel(), con.knot(self.dt))
+        sag = np.where(cols >= 0, self._sag[con.track.free_index[np.maximum(cols, 0)]], 0.0)
+        rows = vals if nu == 0 else con.train.speed * slopes
+        return np.einsum("ij,ij->i", rows, sag).reshape(x.shape)
 
     def _prepare(self):
         asm = self.model.build()
@@ -136,6 +152,9 @@ class CoupledAnalysis:
         for s, st in enumerate(stages):
             for q, (theta, w) in enumerate(st.load):
                 self.load_theta[s, q], self.load_weight[s, q] = theta, w
+        self._sag = None
+        if self.bridge_self_weight:
+            self._sag = _pad_solve(factor(asm, asm.K, "bridge stiffness K"), self._bridge_constant_load(asm))
         self._prepared = asm
         return asm
 
@@ -156,7 +175,9 @@ class CoupledAnalysis:
                 keep = cols[i] >= 0
                 np.add.at(p_b, track.free_index[cols[i][keep]], -f * vals[i][keep])
         n_b, n_t, n_c = asm.n_free, train.n_dof, con.n_contact
+        self._prepare()
         cols, vals, _, r = con.rows_at(t, self.dt)
+        r = r - self._rail_sag(np.array(t), 0)
         rows, cs, vs = [], [], []
         for i in range(n_c):
             keep = cols[i] >= 0
@@ -239,8 +260,8 @@ class CoupledAnalysis:
                                 table[:, s, p] += w * pattern.factors(steps + theta * self.dt)
                     table[:, s, -1] = 1.0
                 r_table, rate_table = (np.ascontiguousarray(np.stack(
-                    [con.irregularity_at(steps + th * self.dt, self.dt, nu) for th in self.stage_theta], axis=1))
-                    for nu in (0, 1))
+                    [con.irregularity_at(steps + th * self.dt, self.dt, nu) - self._rail_sag(steps + th * self.dt, nu)
+                     for th in self.stage_theta], axis=1)) for nu in (0, 1))
                 out_b = np.zeros((n, len(feed.b_index)))
                 out_t = np.zeros((n, len(feed.t_index)))
                 out_force, out_gap = np.zeros((n, n_c)), np.zeros((n, n_c))
@@ -331,6 +352,15 @@ def _positive(what, value, finite=True):
     if not value > 0.0 or (finite and not np.isfinite(value)):
         raise AnalysisError(f"CoupledAnalysis: {what} must be > 0{' and finite' if finite else ''}, got {value}")
     return value
+
+
+def _pad_solve(lower, rhs):
+    """``K̂⁻¹ rhs`` from a banded factor (unpadded in and out)."""
+    kd = lower.shape[1] - 1
+    b = np.zeros(len(rhs) + 2 * kd)
+    b[kd: kd + len(rhs)] = rhs
+    solve_band(lower, b)
+    return b[kd: kd + len(rhs)]
 
 
 def _inverse_columns(lower, dofs):
