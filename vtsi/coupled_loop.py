@@ -52,14 +52,15 @@ def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk,
 
 
 @njit(cache=True)
-def _correct(bank, base, fac, rhs, s, ua, va, band):
-    """Add the response to the contact forces already scattered into ``rhs``."""
+def _correct(bank, base, fac, rhs, s, ua, va, band, wa):
+    """Add the response to the contact forces already scattered into ``rhs`` (the acceleration
+    with weight ``wa``: 1 for a force, 0 for an impulse)."""
     kd = len(band)
     ldl_solve(fac[s], rhs, band)
     for i in range(kd, rhs.shape[0] - kd):
         bank[base, i] += ua * rhs[i]
         bank[base + 1, i] += va * rhs[i]
-        bank[base + 2, i] += rhs[i]
+        bank[base + 2, i] += wa * rhs[i]
 
 
 @njit(cache=True)
@@ -100,6 +101,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     sk, vk, ck = sparse_coefficients(ku)
     sc, vc, cc = sparse_coefficients(kv)
     x = np.empty(n_c)
+    landing = np.zeros(n_c)
     on_bridge = np.zeros(n_c, dtype=np.bool_)
     for step in range(n_steps):
         for s in range(n_stages):
@@ -177,6 +179,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     W[i, j] = va * acc
                     W[j, i] = va * acc
             # 3. contact forces
+            for i in range(n_c):
+                landing[i] = 0.0
             if lcp:
                 for i in range(n_c):
                     gp = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
@@ -184,14 +188,17 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                         c_ = cols[i, a_]
                         if c_ >= 0:
                             gp -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
-                    if gp > gap_tol:           # in flight: no force, decoupled
+                    # in flight: no force, decoupled; a wheel landing in this step takes its
+                    # impact at the last stage (a multi-stage scheme's memory of the pre-impact
+                    # velocity would undo an impact taken at an earlier stage)
+                    if gp > gap_tol or (in_contact[i] < 0.5 and s < n_stages - 1):
                         for j in range(n_c):
                             W[i, j] = 0.0
                             W[j, i] = 0.0
                         W[i, i] = 1.0
                         q[i] = 1.0
-                    elif in_contact[i] < 0.5:  # landing: position-level condition
-                        q[i] = gp * va / ua
+                    elif in_contact[i] < 0.5:  # landing: inelastic impact, velocity level (ġ >= 0)
+                        landing[i] = 1.0
                 ok = solve_lcp(W, q, lam, n_c, lcp_work)
             else:
                 for i in range(n_c):
@@ -201,21 +208,34 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     cholesky_substitute(W, lam, n_c)
             if not ok:
                 return -2 - step
-            # 4. corrections
-            rb[:] = 0.0
-            touched = False
-            for i in range(n_c):
-                for a_ in range(nw):
-                    c_ = cols[i, a_]
-                    if c_ >= 0:
-                        rb[kdb + track_free[c_]] -= lam[i] * vals[i, a_]
-                        touched = True
-            if touched:
-                _correct(bank_b, base, fac_b, rb, s, ua, va, band_b)
-            rt[:] = 0.0
-            for i in range(n_c):
-                rt[kdt + wheel_dof[i]] += lam[i]
-            _correct(bank_t, base, fac_t, rt, s, ua, va, band_t)
+            # 4. corrections; a landing wheel's impulse changes u and v but not the (smooth)
+            # acceleration that the next step's predictor uses
+            for part in range(2):
+                if part == 1:
+                    impact = False
+                    for i in range(n_c):
+                        if landing[i] > 0.5 and lam[i] > 0.0:
+                            impact = True
+                    if not impact:
+                        break
+                wa = 1.0 if part == 0 else 0.0
+                rb[:] = 0.0
+                touched = False
+                for i in range(n_c):
+                    if (landing[i] > 0.5) != (part == 1):
+                        continue
+                    for a_ in range(nw):
+                        c_ = cols[i, a_]
+                        if c_ >= 0:
+                            rb[kdb + track_free[c_]] -= lam[i] * vals[i, a_]
+                            touched = True
+                if touched:
+                    _correct(bank_b, base, fac_b, rb, s, ua, va, band_b, wa)
+                rt[:] = 0.0
+                for i in range(n_c):
+                    if (landing[i] > 0.5) == (part == 1):
+                        rt[kdt + wheel_dof[i]] += lam[i]
+                _correct(bank_t, base, fac_t, rt, s, ua, va, band_t, wa)
             # position gaps; wheels on the rail are projected onto it (removes the O(Δt²)
             # drift of the velocity-level constraint; velocities and accelerations untouched)
             for i in range(n_c):
@@ -228,13 +248,15 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     bank_t[base, kdt + wheel_dof[i]] -= g
                     g = 0.0
                 if s == n_stages - 1:
-                    out_force[step, i] = lam[i] / force_weight[s]
+                    # an impact is recorded as its impulse ι = va λ spread over the step: ι/Δt
+                    out_force[step, i] = lam[i] * va / dt if landing[i] > 0.5 else lam[i] / force_weight[s]
                     out_gap[step, i] = g
                     if lcp:
                         in_contact[i] = 1.0 if g <= gap_tol else 0.0
         if n_c > 0:
             for i in range(n_c):
-                lam_prev[i] = out_force[step, i]
+                # an impact is no force of the step: the next one does not carry it over
+                lam_prev[i] = 0.0 if landing[i] > 0.5 else out_force[step, i]
                 for a_ in range(cols.shape[1]):
                     cols_prev[i, a_] = cols[i, a_]
                     vals_prev[i, a_] = vals[i, a_]
