@@ -205,6 +205,11 @@ class CoupledAnalysis:
         state.a[:] = 0.0
         train.u[:] = sol[n_b: n_b + n_t]
         train.v[:] = 0.0
+        if n_c:   # wheels move with the rail: v_w = V N'(x) u_b + ṙ (ġ = 0 with the bridge at rest)
+            _, _, slopes, _ = con.rows_at(t, self.dt)
+            u_track = np.where(cols >= 0, sol[:n_b][track.free_index[np.maximum(cols, 0)]], 0.0)
+            rate = con.irregularity_at(np.array(t), self.dt, 1) - self._rail_sag(np.array(t), 1)
+            train.v[train.wheel_dofs] = train.speed * np.einsum("ij,ij->i", slopes, u_track) + rate
         train.a[:] = 0.0
         self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
                              "contact_force": sol[n_b + n_t:].copy()}
