@@ -45,7 +45,9 @@ import vtsi
 from vtsi.elements import ElementType, register, rotate_to_global, rotation_2d
 
 
-@njit(cache=True)
+# No on-disk cache (cache=True) here: this file runs as a script and is imported by the tests
+# under another module name, and numba keys its cache by the file alone.
+@njit
 def timoshenko_local_stiffness(A, E, I, G, kappa, L):
     """``(n_el, 6, 6)`` local stiffness [N/m, N, N·m] of uniform Timoshenko beams."""
     n = A.shape[0]
