@@ -13,7 +13,7 @@ from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidt
 from vtsi.errors import AnalysisError, DivergenceError
 from vtsi.integrators import make_integrator
 from vtsi.timeloop import run_linear_steps
-from vtsi.timeseries import Path
+from vtsi.timeseries import Path, interpolate_rows
 
 log = logging.getLogger(__name__)
 QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
@@ -76,10 +76,11 @@ def _pattern_loads(assembly, patterns):
     return np.array(ptr, dtype=np.int64), cat(dofs, np.int64), cat(vals, np.float64)
 
 
-def pattern_factors(patterns, times):
+def pattern_factors(patterns, times, cache=None):
     """``(len(times), len(patterns))`` load factors. Path series that share one time grid (the
-    OpenSees idiom of one Path per loaded node) are evaluated together: one search for the
-    interval of each time, then one gather for all of them."""
+    OpenSees idiom of one Path per loaded node) are evaluated together by
+    :func:`~vtsi.timeseries.interpolate_rows`; their stacked table is kept in ``cache`` (a dict)
+    from call to call."""
     out = np.empty((len(times), len(patterns)))
     groups = {}
     for p, pattern in enumerate(patterns):
@@ -93,18 +94,26 @@ def pattern_factors(patterns, times):
             group[1].append(p)
         else:
             out[:, p] = pattern.factors(times)
+    cache = {} if cache is None else cache
     for (_, _, _, use_last), (grid, members) in groups.items():
-        values = np.stack([patterns[p].series.values for p in members])
+        ids = tuple(id(patterns[p].series) for p in members)
+        table = cache.get(ids)
+        if table is None or table.shape != (len(grid), len(members)):
+            table = cache[ids] = np.stack([patterns[p].series.values for p in members], axis=1)
         scale = np.array([patterns[p].factor * patterns[p].series.factor for p in members])
-        j = np.clip(np.searchsorted(grid, times, side="right") - 1, 0, len(grid) - 2) if len(grid) > 1 \
-            else np.zeros(len(times), dtype=np.int64)
-        w = (times - grid[j]) / (grid[j + 1] - grid[j]) if len(grid) > 1 else np.zeros(len(times))
-        w = np.clip(w, 0.0, 1.0)
-        left = values[:, j]
-        inside = left + (values[:, np.minimum(j + 1, len(grid) - 1)] - left) * w   # as np.interp
-        inside[:, times < grid[0]] = 0.0
-        inside[:, times > grid[-1]] = values[:, -1:] if use_last else 0.0
-        out[:, members] = (scale[:, None] * inside).T
+        if len(grid) > 1:
+            j = np.clip(np.searchsorted(grid, times, side="right") - 1, 0, len(grid) - 2)
+            w = np.clip((times - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
+            # a time within 1e-10 of a step of a grid point is on it (step times are sums of
+            # dt and differ from the grid's k dt by rounding)
+            up = w > 1.0 - 1e-10
+            j, w = np.where(up, j + 1, j), np.where(up | (w < 1e-10), 0.0, w)
+        else:
+            j, w = np.zeros(len(times), dtype=np.int64), np.zeros(len(times))
+        inside = interpolate_rows(table, j, w) * scale
+        inside[times < grid[0]] = 0.0
+        inside[times > grid[-1]] = table[-1] * scale if use_last else 0.0
+        out[:, members] = inside
     return out
 
 
@@ -265,6 +274,7 @@ class TransientAnalysis:
         self.chunk_steps = _integer("transient analysis", "chunk_steps", chunk_steps, 1)
         self.dt = None
         self._prepared_for = None
+        self._path_tables = {}
         if dt is not None:
             self.set_dt(dt)
 
@@ -315,7 +325,7 @@ class TransientAnalysis:
         table = np.zeros((n, len(self.load_points), len(patterns)))
         for s, points in enumerate(self.load_points):
             for theta, weight in points:
-                table[:, s, :] += weight * pattern_factors(patterns, steps + theta * self.dt)
+                table[:, s, :] += weight * pattern_factors(patterns, steps + theta * self.dt, self._path_tables)
         if not np.all(np.isfinite(table)):
             raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
         return table

@@ -36,7 +36,7 @@ from vtsi.banded import solve_band
 from vtsi.errors import AnalysisError, CommandError, DivergenceError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
 from vtsi.model import Model
-from vtsi.timeseries import Constant, Linear, TimeSeries
+from vtsi.timeseries import Constant, Linear, TimeSeries, interpolate_rows
 from vtsi.train_commands import TRAIN_COMMANDS, TrainCommands
 
 log = logging.getLogger(__name__)
@@ -368,21 +368,20 @@ class _CommandTransient(TransientAnalysis):
             ids = tuple(id(x) for x in series)
             stack = cache.get(ids)
             if stack is None or any(a is not b for a, b in zip(stack[0], series)):
-                stack = (series, np.stack([x.values for x in series]), np.array([x.factor for x in series]))
+                stack = (series, np.stack([x.values for x in series], axis=1), np.array([x.factor for x in series]))
             self._path_stacks[ids] = stack
-            _, values, series_factor = stack
+            _, table, series_factor = stack
             x = (times - start) / dt
             i = np.floor(x)
             started = times >= start
             inside = started & (i + 1 < size)
             k = i[inside].astype(np.int64)
-            y = np.zeros((len(members), len(times)))
-            v1, v2 = values[:, k], values[:, k + 1]
-            y[:, inside] = v1 + (v2 - v1) * (x[inside] - k)
+            y = np.zeros((len(times), len(members)))
+            y[inside] = interpolate_rows(table, k, x[inside] - k)
             if use_last:
-                y[:, started & ~inside] = values[:, -1:]
+                y[started & ~inside] = table[-1]
             fact = np.array([patterns[p].factor for p in members])
-            out[:, members] = (fact[:, None] * (series_factor[:, None] * y)).T
+            out[:, members] = y * (fact * series_factor)
         return out
 
     def _commit(self, state, bank, asm, time):

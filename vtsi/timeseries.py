@@ -99,6 +99,20 @@ def _numbers(name, what, values):
         raise ModelError(f"{name}: {what} must be numbers, got {values!r}") from None
 
 
+def interpolate_rows(table, index, weight):
+    """Rows of ``table`` ``(n_points, n_series)`` at the fractional positions ``index + weight``
+    (``index`` int array, ``0 <= weight <= 1``), computed as ``np.interp`` does:
+    ``left + (right - left) * weight``, exact at the points. Returns ``(len(index), n_series)``.
+    Many series sampled on one grid (a Path per loaded node) are thus evaluated in one gather of
+    contiguous rows; times on consecutive grid points (the usual case) are a slice of ``table``."""
+    if not np.any(weight) and len(index) and index[-1] - index[0] == len(index) - 1 \
+            and np.all(np.diff(index) == 1):
+        return table[index[0]: index[-1] + 1]
+    left = table[index]
+    right = table[np.minimum(index + 1, table.shape[0] - 1)]
+    return left + (right - left) * weight[:, None]
+
+
 def _finite(kind, tag, name, value):
     where = f"timeSeries {kind} {tag}" if tag is not None else f"timeSeries {kind}"
     try:
