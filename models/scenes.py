@@ -2,7 +2,6 @@
 examples. Every number here is either from ../shared/reference (with its source) or our own
 choice, stated as such.
 """
-import numpy as np
 
 from .bridges import continuous_beam, simply_supported_beam
 from .cars import four_dof_car, sprung_mass

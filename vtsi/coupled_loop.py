@@ -24,9 +24,9 @@ projecting the wheels that are on the rail back onto it (positions only).
 import numpy as np
 from numba import njit
 
-from vtsi.banded import band_matvec_add, ldl_solve
+from vtsi.banded import ldl_solve
 from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
-from vtsi.timeloop import add_pattern_loads, combine, sparse_coefficients
+from vtsi.timeloop import add_pattern_loads, combine, solve_stage, sparse_coefficients
 from vtsi.track import constraint_rows, hermite, host_element
 
 
@@ -37,18 +37,25 @@ def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk,
     kd = len(band)
     n = k_rows.shape[0]
     lo, hi = kd, kd + n
-    combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
-    band_matvec_add(rhs, k_rows, xk, -1.0, band)
-    if damped:
-        combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
-        band_matvec_add(rhs, c_rows, xc, -1.0, band)
-    ldl_solve(fac[s], rhs, band)
+    solve_stage(bank, rhs, xk, xc, fac, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band)
     combine(bank[base], bank, su[s], vu[s], cu[s], lo, hi)
     combine(bank[base + 1], bank, sv[s], vv[s], cv[s], lo, hi)
     for i in range(lo, hi):
         bank[base, i] += ua * rhs[i]
         bank[base + 1, i] += va * rhs[i]
         bank[base + 2, i] = rhs[i]
+
+
+@njit(cache=True)
+def _position_gap(bank_t, bank_b, slot, i, wheel_dof, r, cols, vals, track_free, kdt, kdb):
+    """Position gap ``S u_t - N u_b - r`` of contact wheel ``i`` in the banks' ``slot`` [m]."""
+    g = bank_t[slot, kdt + wheel_dof[i]] - r
+    for a_ in range(cols.shape[1]):
+        c_ = cols[i, a_]
+        if c_ < 0:
+            break
+        g -= vals[i, a_] * bank_b[slot, kdb + track_free[c_]]
+    return g
 
 
 @njit(cache=True)
@@ -183,11 +190,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                 landing[i] = 0.0
             if lcp:
                 for i in range(n_c):
-                    gp = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
-                    for a_ in range(nw):
-                        c_ = cols[i, a_]
-                        if c_ >= 0:
-                            gp -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                    gp = _position_gap(bank_t, bank_b, base, i, wheel_dof, r_table[step, s, i], cols, vals,
+                                       track_free, kdt, kdb)
                     # in flight: no force, decoupled; a wheel landing in this step takes its
                     # impact at the last stage (a multi-stage scheme's memory of the pre-impact
                     # velocity would undo an impact taken at an earlier stage)
@@ -239,11 +243,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
             # position gaps; wheels on the rail are projected onto it (removes the O(Δt²)
             # drift of the velocity-level constraint; velocities and accelerations untouched)
             for i in range(n_c):
-                g = bank_t[base, kdt + wheel_dof[i]] - r_table[step, s, i]
-                for a_ in range(nw):
-                    c_ = cols[i, a_]
-                    if c_ >= 0:
-                        g -= vals[i, a_] * bank_b[base, kdb + track_free[c_]]
+                g = _position_gap(bank_t, bank_b, base, i, wheel_dof, r_table[step, s, i], cols, vals,
+                                  track_free, kdt, kdb)
                 if not lcp or lam[i] > 0.0 or g <= gap_tol:
                     bank_t[base, kdt + wheel_dof[i]] -= g
                     g = 0.0

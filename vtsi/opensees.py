@@ -417,7 +417,7 @@ class _OpenSeesTRBDF2:
         patterns = list(model.patterns.values())
         loads = [asm.load_vector(p) for p in patterns]
         free = asm.full_of_free
-        K, C, M = asm.K, asm.C, asm.M
+        C, M = asm.C, asm.M
         feed = _Feed(asm, model, recorders, info)
         chunk_t, chunk_rows = [], []
         try:
@@ -675,7 +675,7 @@ class Session(TrainCommands):
         coords = [a.float(f"coordinate {k + 1} of node {tag}") for k in range(model.ndm)]
         mass = None
         while a.more():
-            opt = a.option(("-mass",))
+            a.option(("-mass",))
             mass = [a.float(f"node {tag} -mass value") for _ in range(model.ndf)]
         model.node(tag, *coords)
         if mass is not None:
@@ -1439,7 +1439,11 @@ class Session(TrainCommands):
                     raise CommandError(f"{name}: element {e} does not exist")
             make = lambda s: _command_element_recorder(self, elements, response, sink=s, dt=opts["-dT"],
                                                        envelope=envelope, history=not envelope)
-        recorder = make(self._recorder_sink(name, opts))
+        return self._register_recorder(make(self._recorder_sink(name, opts)))
+
+    def _register_recorder(self, recorder):
+        """Give ``recorder`` the next tag (OpenSees: a counter wipe() does not reset), keep it open
+        across analyze() calls, and return the tag."""
         tag = self._recorder_count
         self._recorder_count += 1
         recorder.tag = tag

@@ -52,6 +52,18 @@ def add_pattern_loads(rhs, factors, load_ptr, load_dof, load_val, offset):
 
 
 @njit(cache=True)
+def solve_stage(bank, rhs, xk, xc, fac, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band):
+    """The stage's acceleration: ``rhs`` (holding the loads) minus ``K ũ`` and ``C ṽ`` of the
+    known part, solved with the stage factor in place."""
+    combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
+    band_matvec_add(rhs, k_rows, xk, -1.0, band)
+    if damped:
+        combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
+        band_matvec_add(rhs, c_rows, xc, -1.0, band)
+    ldl_solve(fac[s], rhs, band)
+
+
+@njit(cache=True)
 def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, tmp_u, tmp_v):
     """Stage update: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into the
     slots ``out_base..out_base+2`` (built in ``tmp_u``/``tmp_v`` first, so the last stage may
@@ -105,12 +117,7 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
         for s in range(n_stages):
             rhs[lo:hi] = 0.0
             add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
-            combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
-            band_matvec_add(rhs, k_rows, xk, -1.0, band)
-            if damped:
-                combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
-                band_matvec_add(rhs, c_rows, xc, -1.0, band)
-            ldl_solve(factors[s], rhs, band)
+            solve_stage(bank, rhs, xk, xc, factors, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band)
             out_base = 0 if s == n_stages - 1 else 3 + 3 * s
             worst = update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi,
                                  xk, xc)

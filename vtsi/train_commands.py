@@ -52,7 +52,6 @@ class TrainCommands:
     def track(self, *args):
         """``track(tag, '-ele', e...)`` or ``track(tag, '-eleRange', first, last)``: the chain of
         beam elements the wheels run along (horizontal, ordered along +x, no gaps)."""
-        from vtsi.track import Track
         model = self._model("track")
         a = _args("track", args)
         tag = a.int("track tag")
@@ -245,7 +244,6 @@ class TrainCommands:
     def _vehicle_recorder(self, *args):
         """``recorder('Contact', ...)`` or ``recorder('Train', ...)`` (see the module docstring)."""
         from vtsi import recorders as rec
-        from vtsi.opensees import _KeptOpen
         a = _args("recorder", args)
         kind = a.word("recorder type", ("Contact", "Train"))
         name = f"recorder {kind}"
@@ -284,9 +282,4 @@ class TrainCommands:
                                            dt=opts["-dT"])
         else:
             recorder = rec.TrainRecorder(analysis.train, picks, response, sink=sink, dt=opts["-dT"])
-        tag = self._recorder_count
-        self._recorder_count += 1
-        recorder.tag = tag
-        self.recorders[tag] = recorder
-        self._kept[tag] = _KeptOpen(recorder)
-        return tag
+        return self._register_recorder(recorder)

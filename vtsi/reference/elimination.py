@@ -670,7 +670,7 @@ class Phase:
     def reduce(self, t, u_b, v_b, u_t, v_t):
         """(y, ẏ) of a full state: y = [u_b; u_o]; ẏ by the impulse law
         Bᵀ M B ẏ = Bᵀ M (u̇ − Ḃ y − ḃ) (perfectly inelastic for the wheels in contact)."""
-        s, nb, V, w = self.s, self.s.n_b, self.s.V, self.w
+        s, V, w = self.s, self.s.V, self.w
         y = np.concatenate([u_b, u_t[self.o]])
         N, N1, _, _, r1, _ = self.constraint(t)
         rel = v_t.copy()
