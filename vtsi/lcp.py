@@ -34,18 +34,32 @@ def lcp_workspace(n):
 @njit(cache=True)
 def cholesky_in_place(a, m):
     """Cholesky factor of the leading ``m × m`` block of SPD ``a``, in place (lower triangle);
-    returns False if that block is not positive definite."""
+    returns False if that block is not positive definite.
+
+    Profile (skyline) factorisation: row i's entries left of its first nonzero stay zero in the
+    factor, so the dot products start there. W is mostly such zeros (a wheel on rigid ground is
+    coupled only to its car-mates), which makes a 32-wheel train ~5× cheaper than a dense
+    factorisation. The profile is kept in the (unused) upper triangle: ``a[0, i]``."""
+    for i in range(1, m):
+        f = 0
+        while f < i and a[i, f] == 0.0:
+            f += 1
+        a[0, i] = f
     for j in range(m):
+        fj = int(a[0, j]) if j > 0 else 0
         d = a[j, j]
-        for k in range(j):
+        for k in range(fj, j):
             d -= a[j, k] * a[j, k]
         if not d > 0.0:
             return False
         d = np.sqrt(d)
         a[j, j] = d
         for i in range(j + 1, m):
+            fi = int(a[0, i])
+            if fi > j:
+                continue
             s = a[i, j]
-            for k in range(j):
+            for k in range(max(fi, fj), j):
                 s -= a[i, k] * a[j, k]
             a[i, j] = s / d
     return True
@@ -56,13 +70,14 @@ def cholesky_substitute(a, b, m):
     """Solve ``L Lᵀ x = b`` in place with the factor left by :func:`cholesky_in_place`."""
     for i in range(m):
         s = b[i]
-        for k in range(i):
+        for k in range(int(a[0, i]) if i > 0 else 0, i):
             s -= a[i, k] * b[k]
         b[i] = s / a[i, i]
     for i in range(m - 1, -1, -1):
         s = b[i]
         for k in range(i + 1, m):
-            s -= a[k, i] * b[k]
+            if int(a[0, k]) <= i:
+                s -= a[k, i] * b[k]
         b[i] = s / a[i, i]
 
 
