@@ -86,16 +86,17 @@ def pattern_factors(patterns, times, cache=None):
     for p, pattern in enumerate(patterns):
         series = pattern.series
         if isinstance(series, Path) and pattern.constant_time is None:
-            key = (series.time.shape[0], series.time[0], series.time[-1], series.use_last)
+            key = (series.time.shape[0], float(series.time[0]), float(series.time[-1]), series.use_last, series.dt)
             group = groups.setdefault(key, (series.time, []))
-            if group[1] and not np.array_equal(group[0], series.time):
+            # series built with the same start, dt and length share their grid; others are compared
+            if group[1] and series.dt is None and not np.array_equal(group[0], series.time):
                 out[:, p] = pattern.factors(times)
                 continue
             group[1].append(p)
         else:
             out[:, p] = pattern.factors(times)
     cache = {} if cache is None else cache
-    for (_, _, _, use_last), (grid, members) in groups.items():
+    for (_, _, _, use_last, _), (grid, members) in groups.items():
         ids = tuple(id(patterns[p].series) for p in members)
         table = cache.get(ids)
         if table is None or table.shape != (len(grid), len(members)):

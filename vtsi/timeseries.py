@@ -80,6 +80,9 @@ class Path(TimeSeries):
                 t0 = time[0] - 1e-12 * max(1.0, abs(time[0]))
             time, values = np.r_[t0, time], np.r_[0.0, values]
         self.time, self.values = time, values
+        # the grid's step when it is uniform by construction (-dt), else None
+        self.dt = float(dt) if dt is not None and (not prepend_zero or time.size < 3 or
+                                                     time[1] - time[0] == dt) else None
         self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), bool(use_last), tag
 
     def __call__(self, t):
