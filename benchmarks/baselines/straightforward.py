@@ -101,6 +101,21 @@ class StraightforwardCoupled:
         dN = sp.csr_matrix((dH[keep], (r_idx, cols[keep])), shape=(self.n_c, self.n_b))
         return on, N, dN
 
+    def _free_response(self, u_b, v_b, a_b, u_t, v_t, a_t):
+        """Newmark free response (no contact force) of bridge and train: (â, û, v̂) of each."""
+        dt, b, g = self.dt, BETA, GAMMA
+        out = []
+        for u, v, a, K, C, lu, p, damped in ((u_b, v_b, a_b, self.K_b, self.C_b, self.lu_b, None, self.damped_b),
+                                             (u_t, v_t, a_t, self.K_t, self.C_t, self.lu_t, self.p_t, self.damped_t)):
+            u_p = u + dt * v + (0.5 - b) * dt * dt * a
+            v_p = v + (1 - g) * dt * a
+            rhs = -(K @ u_p) if p is None else p - K @ u_p
+            if damped:
+                rhs -= C @ v_p
+            a_h = lu.solve(rhs)
+            out += [a_h, u_p + b * dt * dt * a_h, v_p + g * dt * a_h]
+        return tuple(out)
+
     def run(self, u_b, v_b, a_b, u_t, v_t, a_t, n_steps, record_b=(), rows="dense"):
         """Advance ``n_steps`` from the given state (copied) at t = 0. Returns
         ``(λ (n_steps, n_c), bridge free dofs ``record_b`` (n_steps, k), final state tuple)``.
@@ -122,22 +137,7 @@ class StraightforwardCoupled:
         ext = np.zeros(n_b + 1)               # a bridge vector with the dump slot n_b (always 0)
         for k in range(n_steps):
             # 1. free responses
-            ub_p = u_b + dt * v_b + (0.5 - b) * dt * dt * a_b
-            vb_p = v_b + (1 - g) * dt * a_b
-            rhs = -(self.K_b @ ub_p)
-            if self.damped_b:
-                rhs -= self.C_b @ vb_p
-            ab_h = self.lu_b.solve(rhs)
-            ub_h = ub_p + b * dt * dt * ab_h
-            vb_h = vb_p + g * dt * ab_h
-            ut_p = u_t + dt * v_t + (0.5 - b) * dt * dt * a_t
-            vt_p = v_t + (1 - g) * dt * a_t
-            rhs = self.p_t - self.K_t @ ut_p
-            if self.damped_t:
-                rhs -= self.C_t @ vt_p
-            at_h = self.lu_t.solve(rhs)
-            ut_h = ut_p + b * dt * dt * at_h
-            vt_h = vt_p + g * dt * at_h
+            ab_h, ub_h, vb_h, at_h, ut_h, vt_h = self._free_response(u_b, v_b, a_b, u_t, v_t, a_t)
             # 2. rows, free velocity gap and contact flexibility
             on, cols, H, dH = self.rows(X_all[k])
             q = vt_h[wd] - rdot_all[k]
@@ -191,22 +191,7 @@ class StraightforwardCoupled:
         X_all = self.x0[None, :] + V * times[:, None]
         r_all, rdot_all = self._profile(X_all)
         for k in range(n_steps):
-            ub_p = u_b + dt * v_b + (0.5 - b) * dt * dt * a_b
-            vb_p = v_b + (1 - g) * dt * a_b
-            rhs = -(self.K_b @ ub_p)
-            if self.damped_b:
-                rhs -= self.C_b @ vb_p
-            ab_h = self.lu_b.solve(rhs)
-            ub_h = ub_p + b * dt * dt * ab_h
-            vb_h = vb_p + g * dt * ab_h
-            ut_p = u_t + dt * v_t + (0.5 - b) * dt * dt * a_t
-            vt_p = v_t + (1 - g) * dt * a_t
-            rhs = self.p_t - self.K_t @ ut_p
-            if self.damped_t:
-                rhs -= self.C_t @ vt_p
-            at_h = self.lu_t.solve(rhs)
-            ut_h = ut_p + b * dt * dt * at_h
-            vt_h = vt_p + g * dt * at_h
+            ab_h, ub_h, vb_h, at_h, ut_h, vt_h = self._free_response(u_b, v_b, a_b, u_t, v_t, a_t)
             on, N, dN = self.sparse_rows(X_all[k])
             W = self.W_t.copy()
             if len(on):
