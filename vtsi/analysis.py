@@ -10,7 +10,7 @@ import scipy.linalg
 import scipy.sparse.linalg as spla
 
 from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, pad, solve_band
-from vtsi.errors import AnalysisError, DivergenceError
+from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.timeloop import run_linear_steps
 from vtsi.timeseries import Path, interpolate_rows
@@ -119,22 +119,44 @@ def pattern_factors(patterns, times, cache=None):
 
 
 class _RecorderFeed:
-    """Maps the recorders' requests to kernel output columns and hands chunks over."""
+    """Maps the recorders' requests to output columns and hands chunks over.
 
-    def __init__(self, assembly, model, recorders, info=None):
+    Quantities 'u', 'v', 'a' of a full dof are read by a kernel from its state bank
+    (``rec_slot``, ``rec_index`` over the free dofs; fixed dofs read 0). ``channels`` declares the
+    further quantities an analysis records: ``name -> (group, slot, size, label)`` (a coupled
+    analysis: train dofs from slots 0..2 of the train's bank, contact wheels); :meth:`group`
+    tells the kernel what to record for a group and :meth:`deliver` takes it back by name.
+    """
+
+    def __init__(self, assembly, model, recorders, info=None, channels=None):
+        channels = channels or {}
         self.recorders = list(recorders)
         keys, self.columns = {}, []
         for rec in self.recorders:
             cols = []
-            for quantity, full in rec.requests(assembly):
-                cols.append(keys.setdefault((quantity, int(full)), len(keys)))
+            for quantity, index in rec.requests(assembly):
+                if quantity not in QUANTITY_SLOT:
+                    if quantity not in channels:
+                        raise ModelError(f"recorder: quantity {quantity!r} is not recorded by this analysis; "
+                                         f"available: {', '.join(list(QUANTITY_SLOT) + list(channels))}")
+                    _, _, size, label = channels[quantity]
+                    if not 0 <= index < size:
+                        raise ModelError(f"recorder: {label} {index} out of range 0..{size - 1}")
+                cols.append(keys.setdefault((quantity, int(index)), len(keys)))
             self.columns.append(np.array(cols, dtype=np.int64))
-        items = sorted(keys.items(), key=lambda kv: kv[1])
-        free = np.array([assembly.free_of_full[full] for (_, full), _ in items], dtype=np.int64)
-        self.free_mask = free >= 0
-        self.n_total = len(items)
-        self.rec_slot = np.array([QUANTITY_SLOT[q] for (q, _), _ in items], dtype=np.int64)[self.free_mask]
-        self.rec_index = free[self.free_mask]
+        self.items = sorted(keys, key=keys.get)
+        free = [(i, QUANTITY_SLOT[q], assembly.free_of_full[k]) for i, (q, k) in enumerate(self.items)
+                if q in QUANTITY_SLOT and assembly.free_of_full[k] >= 0]
+        self.bridge_cols = np.array([i for i, _, _ in free], dtype=np.int64)
+        self.rec_slot = np.array([s for _, s, _ in free], dtype=np.int64)
+        self.rec_index = np.array([f for _, _, f in free], dtype=np.int64)
+        groups = {}
+        for i, (q, k) in enumerate(self.items):
+            if q in channels:
+                group, slot, _, _ = channels[q]
+                for lst, value in zip(groups.setdefault(group, ([], [], [])), (i, slot, k)):
+                    lst.append(value)
+        self.groups = {g: tuple(np.array(x, dtype=np.int64) for x in v) for g, v in groups.items()}
         started = []
         try:
             for rec in self.recorders:
@@ -145,11 +167,21 @@ class _RecorderFeed:
                 rec.close()
             raise
 
-    def deliver(self, times, out, assembly):
+    def group(self, name):
+        """``(slots, indices)`` of the columns of channel group ``name``, in :meth:`deliver`'s order."""
+        empty = np.zeros(0, dtype=np.int64)
+        return self.groups.get(name, (empty, empty, empty))[1:]
+
+    def deliver(self, times, out, assembly, **groups):
+        """Hand a chunk over: ``out`` the kernel's bridge columns, ``groups[name]`` the columns of
+        each channel group (as :meth:`group` listed them)."""
         if not self.recorders or len(times) == 0:
             return
-        full = np.zeros((len(times), self.n_total))
-        full[:, self.free_mask] = out
+        full = np.zeros((len(times), len(self.items)))
+        full[:, self.bridge_cols] = out
+        for name, values in groups.items():
+            if name in self.groups:
+                full[:, self.groups[name][0]] = values
         for rec, cols in zip(self.recorders, self.columns):
             rec.write(times, full[:, cols], assembly)
 

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from vtsi.analysis import QUANTITY_SLOT, _integer, _pattern_loads, domain_state, factor
+from vtsi.analysis import _integer, _pattern_loads, _RecorderFeed, domain_state, factor
 from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, solve_band
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
@@ -241,8 +241,12 @@ class CoupledAnalysis:
             bank_b[slot, kd_b: kd_b + n_b] = vec[asm.full_of_free]
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
-        feed = _CoupledFeed(asm, self.model, self.recorders, n_t, n_c,
-                            {"analysis": "coupled", "integrator": repr(self.integrator), "dt": self.dt})
+        channels = {q: ("train", slot, n_t, "train dof") for q, slot in TRAIN_QUANTITIES.items()}
+        channels.update({q: (q, 0, n_c, "contact wheel") for q in ("contact_force", "gap")})
+        feed = _RecorderFeed(asm, self.model, self.recorders,
+                             {"analysis": "coupled", "integrator": repr(self.integrator), "dt": self.dt}, channels)
+        t_slot, t_index = feed.group("train")
+        force_wheels, gap_wheels = feed.group("contact_force")[1], feed.group("gap")[1]
         width = con.width(self.dt)
         cols = np.empty((n_c, width), dtype=np.int64)
         vals = np.empty((n_c, width))
@@ -267,8 +271,8 @@ class CoupledAnalysis:
                 r_table, rate_table = (np.ascontiguousarray(np.stack(
                     [con.irregularity_at(steps + th * self.dt, self.dt, nu) - self._rail_sag(steps + th * self.dt, nu)
                      for th in self.stage_theta], axis=1)) for nu in (0, 1))
-                out_b = np.zeros((n, len(feed.b_index)))
-                out_t = np.zeros((n, len(feed.t_index)))
+                out_b = np.zeros((n, len(feed.rec_index)))
+                out_t = np.zeros((n, len(t_index)))
                 out_force, out_gap = np.zeros((n, n_c)), np.zeros((n, n_c))
                 bad = run_coupled_steps(
                     bank_b, bank_t, self.du, self.dv, self.ku, self.kv,
@@ -278,12 +282,13 @@ class CoupledAnalysis:
                     self.flex, self.tflex, track.x_start, track.length, track.dofs, track.free_index,
                     con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                     con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
-                    self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.b_slot, feed.b_index, out_b, feed.t_slot, feed.t_index, out_t,
+                    self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.rec_slot, feed.rec_index, out_b, t_slot, t_index, out_t,
                     out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
                     self._lcp_work, band_type(kd_b), band_type(kd_t), *self._previous_forces(width))
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
-                feed.deliver(times, out_b[:good], out_t[:good], out_force[:good], out_gap[:good])
+                feed.deliver(times, out_b[:good], asm, train=out_t[:good],
+                             contact_force=out_force[:good][:, force_wheels], gap=out_gap[:good][:, gap_wheels])
                 times_all.append(times)
                 force_all.append(out_force[:good])
                 gap_all.append(out_gap[:good])
@@ -380,54 +385,3 @@ def _inverse_columns(lower, dofs):
         solve_band(lower, b)
         out[:, j] = b[kd: kd + n]
     return out
-
-
-class _CoupledFeed:
-    """Resolves recorder requests over bridge, train and contact channels."""
-
-    def __init__(self, asm, model, recorders, n_t, n_c, info=None):
-        self.recorders, self.assembly = list(recorders), asm
-        keys, self.columns = {}, []
-        for rec in self.recorders:
-            cols = []
-            for quantity, index in rec.requests(asm):
-                key = (quantity, int(index))
-                if quantity in QUANTITY_SLOT:
-                    pass
-                elif quantity in TRAIN_QUANTITIES:
-                    if not 0 <= index < n_t:
-                        raise ModelError(f"recorder: train dof {index} out of range 0..{n_t - 1}")
-                elif quantity in ("contact_force", "gap"):
-                    if not 0 <= index < n_c:
-                        raise ModelError(f"recorder: contact wheel {index} out of range 0..{n_c - 1}")
-                else:
-                    raise ModelError(f"recorder: unknown quantity {quantity!r} in a coupled analysis")
-                cols.append(keys.setdefault(key, len(keys)))
-            self.columns.append(np.array(cols, dtype=np.int64))
-        self.items = sorted(keys, key=keys.get)
-        bridge = [(i, q, asm.free_of_full[k]) for i, (q, k) in enumerate(self.items) if q in QUANTITY_SLOT]
-        self.b_cols = np.array([i for i, _, f in bridge if f >= 0], dtype=np.int64)
-        self.b_slot = np.array([QUANTITY_SLOT[q] for _, q, f in bridge if f >= 0], dtype=np.int64)
-        self.b_index = np.array([f for _, _, f in bridge if f >= 0], dtype=np.int64)
-        train = [(i, q, k) for i, (q, k) in enumerate(self.items) if q in TRAIN_QUANTITIES]
-        self.t_cols = np.array([i for i, _, _ in train], dtype=np.int64)
-        self.t_slot = np.array([TRAIN_QUANTITIES[q] for _, q, _ in train], dtype=np.int64)
-        self.t_index = np.array([k for _, _, k in train], dtype=np.int64)
-        self.contact = [(i, q, k) for i, (q, k) in enumerate(self.items) if q in ("contact_force", "gap")]
-        for rec in self.recorders:
-            rec.start(asm, model, info)
-
-    def deliver(self, times, out_b, out_t, out_force, out_gap):
-        if not self.recorders or len(times) == 0:
-            return
-        full = np.zeros((len(times), len(self.items)))
-        full[:, self.b_cols] = out_b
-        full[:, self.t_cols] = out_t
-        for i, q, k in self.contact:
-            full[:, i] = (out_force if q == "contact_force" else out_gap)[:, k]
-        for rec, cols in zip(self.recorders, self.columns):
-            rec.write(times, full[:, cols], self.assembly)
-
-    def close(self):
-        for rec in self.recorders:
-            rec.close()
