@@ -167,6 +167,10 @@ class _RecorderFeed:
                 rec.close()
             raise
 
+    def state_row(self, state, assembly):
+        """The bridge columns ``(len(rec_index),)`` of a committed state (Python-stepped analyses)."""
+        return np.stack((state.u, state.v, state.a))[self.rec_slot, assembly.full_of_free[self.rec_index]]
+
     def group(self, name):
         """``(slots, indices)`` of the columns of channel group ``name``, in :meth:`deliver`'s order."""
         empty = np.zeros(0, dtype=np.int64)
@@ -227,8 +231,7 @@ class StaticAnalysis:
                 state.v[:] = 0.0
                 state.a[:] = 0.0
                 state.time = t
-                out = np.array([[(state.u, state.v, state.a)[s][asm.full_of_free[i]]
-                                 for s, i in zip(feed.rec_slot, feed.rec_index)]])
+                out = feed.state_row(state, asm)[None, :]
                 feed.deliver(np.array([t]), out, asm)
         finally:
             feed.close()

@@ -30,7 +30,7 @@ import weakref
 
 import numpy as np
 
-from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, factor
+from vtsi.analysis import StaticAnalysis, TransientAnalysis, _RecorderFeed, domain_state, factor
 from vtsi.analysis import eigen as _eigen
 from vtsi.banded import solve_band
 from vtsi.errors import AnalysisError, CommandError, DivergenceError
@@ -418,7 +418,7 @@ class _OpenSeesTRBDF2:
         loads = [asm.load_vector(p) for p in patterns]
         free = asm.full_of_free
         C, M = asm.C, asm.M
-        feed = _Feed(asm, model, recorders, info)
+        feed = _RecorderFeed(asm, model, recorders, info)
         chunk_t, chunk_rows = [], []
         try:
             for step in range(n_steps):
@@ -459,11 +459,12 @@ class _OpenSeesTRBDF2:
                 state.u[free], state.v[free], state.a[free] = u1, v1, a1
                 state.time = t
                 chunk_t.append(t)
-                chunk_rows.append(feed.row(state))
+                chunk_rows.append(feed.state_row(state, asm))
                 if len(chunk_t) >= 2000:
-                    feed.deliver(chunk_t, chunk_rows)
+                    feed.deliver(np.array(chunk_t), np.array(chunk_rows), asm)
                     chunk_t, chunk_rows = [], []
-            feed.deliver(chunk_t, chunk_rows)
+            if chunk_t:
+                feed.deliver(np.array(chunk_t), np.array(chunk_rows), asm)
         finally:
             feed.close()
         return state
@@ -479,35 +480,6 @@ class _OpenSeesTRBDF2:
         lower = factor(asm, k_hat, f"effective matrix of TRBDF2 ({'trapezoidal' if kind == 0 else 'BDF2'} sub-step)")
         self._factors[key] = (asm, lower)
         return lower
-
-
-class _Feed:
-    """Hands a Python-stepped analysis' states to recorders (the recorder contract of
-    :mod:`vtsi.recorders.base`)."""
-
-    def __init__(self, asm, model, recorders, info):
-        self.asm, self.recorders = asm, list(recorders)
-        self.columns = []
-        for rec in self.recorders:
-            self.columns.append([("uva".index(q), int(full)) for q, full in rec.requests(asm)])
-        for rec in self.recorders:
-            rec.start(asm, model, info)
-
-    def row(self, state):
-        vecs = (state.u, state.v, state.a)
-        return [np.array([vecs[s][f] for s, f in cols]) for cols in self.columns]
-
-    def deliver(self, times, rows):
-        if not times:
-            return
-        times = np.array(times)
-        for k, rec in enumerate(self.recorders):
-            block = np.array([r[k] for r in rows]).reshape(len(times), len(self.columns[k]))
-            rec.write(times, block, self.asm)
-
-    def close(self):
-        for rec in self.recorders:
-            rec.close()
 
 
 class _KeptOpen:
