@@ -116,6 +116,16 @@ class StraightforwardCoupled:
             out += [a_h, u_p + b * dt * dt * a_h, v_p + g * dt * a_h]
         return tuple(out)
 
+    def _correct(self, ab_h, ub_h, vb_h, at_h, ut_h, vt_h, X, lam, on):
+        """Add the response to the contact forces λ: bridge through ``X = K̂_b⁻¹ N_onᵀ`` (wheels
+        ``on`` the bridge), train through ``F_t = K̂_t⁻¹ Sᵀ``."""
+        dt, b, g = self.dt, BETA, GAMMA
+        if len(on):
+            dab = -(X @ lam[on])
+            ab_h, ub_h, vb_h = ab_h + dab, ub_h + b * dt * dt * dab, vb_h + g * dt * dab
+        dat = self.F_t @ lam
+        return ab_h, ub_h, vb_h, at_h + dat, ut_h + b * dt * dt * dat, vt_h + g * dt * dat
+
     def run(self, u_b, v_b, a_b, u_t, v_t, a_t, n_steps, record_b=(), rows="dense"):
         """Advance ``n_steps`` from the given state (copied) at t = 0. Returns
         ``(λ (n_steps, n_c), bridge free dofs ``record_b`` (n_steps, k), final state tuple)``.
@@ -125,7 +135,7 @@ class StraightforwardCoupled:
         matrices rebuilt every step (the first way that comes to mind; slower)."""
         if rows == "sparse":
             return self._run_sparse(u_b, v_b, a_b, u_t, v_t, a_t, n_steps, record_b)
-        dt, g, b, V = self.dt, GAMMA, BETA, self.V
+        dt, g, V = self.dt, GAMMA, self.V
         n_b, wd = self.n_b, self.wd
         u_b, v_b, a_b, u_t, v_t, a_t = (np.array(z, dtype=float) for z in (u_b, v_b, a_b, u_t, v_t, a_t))
         record_b = np.asarray(record_b, dtype=np.int64)
@@ -138,6 +148,7 @@ class StraightforwardCoupled:
         for k in range(n_steps):
             # 1. free responses
             ab_h, ub_h, vb_h, at_h, ut_h, vt_h = self._free_response(u_b, v_b, a_b, u_t, v_t, a_t)
+            X = None                              # K̂_b⁻¹ N_onᵀ, set when a wheel is on the bridge
             # 2. rows, free velocity gap and contact flexibility
             on, cols, H, dH = self.rows(X_all[k])
             q = vt_h[wd] - rdot_all[k]
@@ -155,17 +166,7 @@ class StraightforwardCoupled:
             # 3. contact forces (velocity level)
             lam = -sla.solve(W, q, assume_a="pos")
             # 4. corrections
-            if len(on):
-                dab = -(X @ lam[on])
-                a_b = ab_h + dab
-                u_b = ub_h + b * dt * dt * dab
-                v_b = vb_h + g * dt * dab
-            else:
-                a_b, u_b, v_b = ab_h, ub_h, vb_h
-            dat = self.F_t @ lam
-            a_t = at_h + dat
-            u_t = ut_h + b * dt * dt * dat
-            v_t = vt_h + g * dt * dat
+            a_b, u_b, v_b, a_t, u_t, v_t = self._correct(ab_h, ub_h, vb_h, at_h, ut_h, vt_h, X, lam, on)
             # projection of the wheels onto the rail (positions only): u_w = N u_b + r
             rail = r_all[k].copy()
             if len(on):
@@ -182,7 +183,7 @@ class StraightforwardCoupled:
         return self.irregularity(X_all), self.V * self.irregularity(X_all, nu=1)
 
     def _run_sparse(self, u_b, v_b, a_b, u_t, v_t, a_t, n_steps, record_b=()):
-        dt, g, b, V = self.dt, GAMMA, BETA, self.V
+        dt, g, V = self.dt, GAMMA, self.V
         u_b, v_b, a_b, u_t, v_t, a_t = (np.array(z, dtype=float) for z in (u_b, v_b, a_b, u_t, v_t, a_t))
         record_b = np.asarray(record_b, dtype=np.int64)
         lam_out = np.zeros((n_steps, self.n_c))
@@ -192,6 +193,7 @@ class StraightforwardCoupled:
         r_all, rdot_all = self._profile(X_all)
         for k in range(n_steps):
             ab_h, ub_h, vb_h, at_h, ut_h, vt_h = self._free_response(u_b, v_b, a_b, u_t, v_t, a_t)
+            X = None                              # K̂_b⁻¹ N_onᵀ, set when a wheel is on the bridge
             on, N, dN = self.sparse_rows(X_all[k])
             W = self.W_t.copy()
             if len(on):
@@ -201,17 +203,7 @@ class StraightforwardCoupled:
             W *= g * dt
             q = vt_h[self.wd] - rdot_all[k] - N @ vb_h - V * (dN @ ub_h)
             lam = -sla.solve(W, q, assume_a="pos")
-            if len(on):
-                dab = -(X @ lam[on])
-                a_b = ab_h + dab
-                u_b = ub_h + b * dt * dt * dab
-                v_b = vb_h + g * dt * dab
-            else:
-                a_b, u_b, v_b = ab_h, ub_h, vb_h
-            dat = self.F_t @ lam
-            a_t = at_h + dat
-            u_t = ut_h + b * dt * dt * dat
-            v_t = vt_h + g * dt * dat
+            a_b, u_b, v_b, a_t, u_t, v_t = self._correct(ab_h, ub_h, vb_h, at_h, ut_h, vt_h, X, lam, on)
             u_t[self.wd] = r_all[k] + N @ u_b
             lam_out[k] = lam
             rec_out[k] = u_b[record_b]
