@@ -17,10 +17,13 @@ References
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.interpolate
 
 from vtsi.errors import ModelError
+from vtsi.spline import UniformCubic
 
 _GERMAN = {'low': 4.032e-7, 'high': 1.080e-6}  # A_v [m·rad], low / high interference
 _GERMAN_OMEGA_C, _GERMAN_OMEGA_R = 0.8246, 0.0206  # [rad/m]
@@ -180,9 +183,9 @@ class Irregularity:
         if np.any(steps <= 0):
             i = int(np.flatnonzero(steps <= 0)[0]) + 1
             raise ModelError(f"Irregularity: x must increase strictly; x[{i}] = {x[i]:g} follows x[{i - 1}] = {x[i - 1]:g}")
-        spline = scipy.interpolate.CubicSpline(x, r, extrapolate=True)
-        self._funcs = (spline, spline.derivative(1), spline.derivative(2))
-        self._range = None if extrapolate else (spline.x[0], spline.x[-1])
+        spline = UniformCubic(scipy.interpolate.CubicSpline(x, r, extrapolate=True))
+        self._funcs = tuple(functools.partial(spline, nu=nu) for nu in range(3))
+        self._range = None if extrapolate else (x[0], x[-1])
 
     @property
     def x_range(self):

@@ -345,6 +345,67 @@ def test_s1_fryba_daf_with_a_moving_force_train(alpha):
     assert daf_fe == pytest.approx(daf(alpha), rel=5e-3)
 
 
+# -- work the scene does not need ---------------------------------------------------------------
+@pytest.mark.parametrize("integrator", ["Newmark", "Bathe"])
+def test_dofs_at_rest_are_not_integrated(integrator):
+    """The deck's axial dofs hold no track dof, no load and no state: the time loop leaves them
+    out and their recorders read 0. An axial load brings them back in, and their response is
+    then the plain transient analysis's (axial and bending are uncoupled in a straight deck), to
+    1e-12; the bending response does not change (exactly)."""
+    dt, n = 1e-3, 300
+    runs = {}
+    for axial in (False, True):
+        model = vtsi.Model()
+        bridge, train, x_head0 = s3_model(model, 10)
+        asm = model.build()
+        axial_dofs = [asm.free_of_full[asm.full_dof(node, 1)] for node in bridge.nodes]
+        axial_dofs = [d for d in axial_dofs if d >= 0]
+        if axial:
+            t = np.linspace(0.0, 0.4, 41)
+            model.pattern(1, Path(2e6 * np.sin(30.0 * t), time=t)).load(bridge.nodes[-1], 1.0, 0.0, 0.0)
+        ux = NodeRecorder(bridge.nodes, [1], "disp")
+        analysis, mid, _ = _coupled(model, bridge, train, x_head0, integrator, dt, train_dofs=())
+        analysis.recorders.append(ux)
+        analysis.static()
+        analysis.run(n)
+        integrated = set(analysis.active.tolist())
+        assert set(axial_dofs) <= integrated if axial else not set(axial_dofs) & integrated
+        runs[axial] = (ux.sink.values.copy(), mid.sink.values.copy())
+    assert np.all(runs[False][0] == 0.0)
+    assert np.array_equal(runs[False][1], runs[True][1])
+    core_model = vtsi.Model()
+    bridge, _, _ = s3_model(core_model, 10)
+    t = np.linspace(0.0, 0.4, 41)
+    core_model.pattern(1, Path(2e6 * np.sin(30.0 * t), time=t)).load(bridge.nodes[-1], 1.0, 0.0, 0.0)
+    ux = NodeRecorder(bridge.nodes, [1], "disp")
+    vtsi.TransientAnalysis(core_model, integrator, dt, recorders=[ux]).run(n)
+    assert np.abs(ux.sink.values).max() > 1e-6
+    assert _rel(runs[True][0], ux.sink.values, np.abs(ux.sink.values).max()) < 1e-12
+
+
+def test_wheel_groups_are_the_cars():
+    """The contact wheels fall into one group per car (the train couples a car's wheels only);
+    each group's ground block inverse is the inverse of its W block, and nothing couples two
+    cars."""
+    from vtsi.models import ice3
+    model = vtsi.Model()
+    bridge = simply_supported_beam(model, 30.0, 10, S3["E"], S3["I"], S3["mu"])
+    train = ice3(3, speed=80.0)
+    analysis, _, _ = _coupled(model, bridge, train, -100.0, "Bathe", 1e-3, train_dofs=())
+    analysis.static()
+    ptr, wheels = analysis.group_ptr, analysis.group_wheel
+    assert np.array_equal(np.diff(ptr), [4, 4, 4])
+    for s in range(2):
+        va = analysis.dv[s, -1]
+        for g in range(3):
+            idx = wheels[ptr[g]: ptr[g + 1]]
+            block = va * analysis.tflex[s][np.ix_(idx, idx)]
+            assert np.allclose(analysis.ground_inv[s][np.ix_(idx, idx)] @ block, np.eye(4), atol=1e-10)
+            others = np.setdiff1d(np.arange(12), idx)
+            assert np.all(analysis.ground_inv[s][np.ix_(idx, others)] == 0.0)
+            assert np.all(analysis.tflex[s][np.ix_(idx, others)] == 0.0)
+
+
 # -- convergence --------------------------------------------------------------------------------
 BUMP = dict(height=5e-3, centre=-60.0, width=3.0)
 

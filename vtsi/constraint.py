@@ -25,6 +25,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.errors import ModelError
+from vtsi.spline import UniformCubic
 from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel, row_width
 from vtsi.train import TrainSubdomain
 
@@ -126,8 +127,7 @@ class MovingLoadConstraint:
             for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
                 xi = (k - 1.5 + 0.5 * z) * knot
                 r += 0.5 * w * bspline_kernel(xi / knot) * self._profile(grid - xi, 0)
-        spline = CubicSpline(grid, r)
-        table = lambda x, nu: spline(x, nu) if nu else spline(x)
+        table = UniformCubic(CubicSpline(grid, r))
         self._smoothed = (knot, lo, hi, table)
         return table
 

@@ -12,6 +12,7 @@ interaction analysis for high-speed trains. Engineering Structures 148, 524-539.
 """
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
 from vtsi.analysis import _integer, _pattern_loads, _RecorderFeed, domain_state, factor
@@ -105,20 +106,50 @@ class CoupledAnalysis:
         rows = vals if nu == 0 else con.train.speed * slopes
         return np.einsum("ij,ij->i", rows, sag).reshape(x.shape)
 
+    def _moving_dofs(self, asm):
+        """Free bridge dofs the time loop integrates: the connected components (couplings of K,
+        M, C) that hold a track dof, a load or a nonzero committed state. The others stay at
+        rest (zero load, zero state), e.g. the axial dofs of a straight horizontal deck, and read
+        0 in the recorders."""
+        if getattr(self, "_components", (None,))[0] is not asm:
+            graph = (abs(asm.K) + abs(asm.M) + abs(asm.C)).tocsr()
+            self._components = (asm, csgraph.connected_components(graph, directed=False)[1])
+        label = self._components[1]
+        state = domain_state(self.model)
+        moving = np.zeros(asm.n_free, dtype=bool)
+        moving[self.constraint.track.free_index] = True
+        moving[_pattern_loads(asm, list(self.model.patterns.values()))[1]] = True
+        moving |= self._bridge_constant_load(asm) != 0.0
+        for vec in (state.u, state.v, state.a):
+            moving |= vec[asm.full_of_free] != 0.0
+        return np.flatnonzero(np.isin(label, label[moving])).astype(np.int64)
+
     def _prepare(self):
         asm = self.model.build()
-        if self._prepared is asm:
+        active = self._moving_dofs(asm)
+        if self._prepared is asm and np.array_equal(active, self.active):
             return asm
-        integ, dt, train, track = self.integrator, self.dt, self.train, self.constraint.track
+        self.active = active
+        self.position = np.full(asm.n_free, -1, dtype=np.int64)
+        self.position[active] = np.arange(len(active))
+        K, M, C = (m[active][:, active].tocsr() for m in (asm.K, asm.M, asm.C))
+        self.has_damping = bool(np.any(C.data != 0.0))
+        track_dofs = self.position[self.constraint.track.free_index]
+        integ, dt, train = self.integrator, self.dt, self.train
         stages = integ.stages(dt)
         A = integ.n_slots
         fac_b, fac_t, flex, tflex = [], [], [], []
+        kd_b = max(half_bandwidth(K), half_bandwidth(M), half_bandwidth(C))
         kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
         for s, st in enumerate(stages):
-            k_hat = (asm.M + st.kv[A] * asm.C + st.ku[A] * asm.K).tocsr()
-            fb = factor(asm, k_hat, f"bridge effective matrix of {integ.name} stage {s + 1}")
+            try:
+                fb = ldl_band((M + st.kv[A] * C + st.ku[A] * K).tocsr(), kd_b)
+            except NotPositiveDefinite as exc:
+                raise AnalysisError(f"bridge effective matrix of {integ.name} stage {s + 1} is singular or not "
+                                    f"positive definite at {asm.dof_label(active[exc.pivot])}: the structure is a "
+                                    "mechanism or that dof has neither stiffness nor mass (fix it or connect it)") from None
             fac_b.append(fb)
-            flex.append(_inverse_columns(fb, track.free_index)[track.free_index])
+            flex.append(_inverse_columns(fb, track_dofs)[track_dofs])
             if train.n_dof:
                 kt_hat = (train.M + st.kv[A] * train.C + st.ku[A] * train.K).tocsr()
                 try:
@@ -138,12 +169,13 @@ class CoupledAnalysis:
         self.flex = np.ascontiguousarray(np.stack(flex))
         self.tflex = np.ascontiguousarray(np.stack(tflex))
         kd_b = self.fac_b.shape[2] - 1
-        self.kb_rows, self.cb_rows = band_rows(asm.K, kd_b), band_rows(asm.C, kd_b)
+        self.kb_rows, self.cb_rows = band_rows(K, kd_b), band_rows(C, kd_b)
         kd_t = self.fac_t.shape[2] - 1
         self.kt_rows = band_rows(train.K, kd_t) if train.n_dof else np.zeros((0, 1))
         self.ct_rows = band_rows(train.C, kd_t) if train.n_dof else np.zeros((0, 1))
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
         self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
+        self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.tflex, self.dv[:, A])
         self.stage_theta = np.array([st.theta for st in stages])
         self.force_weight = np.array([st.force_weight for st in stages])
         n_q = max(len(st.load) for st in stages)
@@ -230,15 +262,15 @@ class CoupledAnalysis:
         constant = self._bridge_constant_load(asm)
         nz = np.flatnonzero(constant)
         load_ptr = np.append(load_ptr, load_ptr[-1] + len(nz))
-        load_dof = np.concatenate([load_dof, nz]).astype(np.int64)
+        load_dof = self.position[np.concatenate([load_dof, nz]).astype(np.int64)]
         load_val = np.concatenate([load_val, constant[nz]])
         n_slots = self.integrator.n_slots
         kd_b, kd_t = self.fac_b.shape[2] - 1, self.fac_t.shape[2] - 1
-        n_b, n_t, n_c = asm.n_free, train.n_dof, con.n_contact
+        n_b, n_t, n_c = len(self.active), train.n_dof, con.n_contact
         bank_b = np.zeros((n_slots, n_b + 2 * kd_b))
         bank_t = np.zeros((n_slots, n_t + 2 * kd_t))
         for slot, vec in enumerate((state.u, state.v, state.a)):
-            bank_b[slot, kd_b: kd_b + n_b] = vec[asm.full_of_free]
+            bank_b[slot, kd_b: kd_b + n_b] = vec[asm.full_of_free[self.active]]
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
         channels = {q: ("train", slot, n_t, "train dof") for q, slot in TRAIN_QUANTITIES.items()}
@@ -276,15 +308,16 @@ class CoupledAnalysis:
                 out_force, out_gap = np.zeros((n, n_c)), np.zeros((n, n_c))
                 bad = run_coupled_steps(
                     bank_b, bank_t, self.du, self.dv, self.ku, self.kv,
-                    self.fac_b, self.kb_rows, self.cb_rows, asm.has_damping,
+                    self.fac_b, self.kb_rows, self.cb_rows, self.has_damping,
                     self.fac_t, self.kt_rows, self.ct_rows, bool(train.n_dof and train.C.nnz),
                     table, load_ptr, load_dof, load_val, train.gravity_load,
-                    self.flex, self.tflex, track.x_start, track.length, track.dofs, track.free_index,
+                    self.flex, self.tflex, track.x_start, track.length, track.dofs, self.position[track.free_index],
                     con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                     con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
-                    self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.rec_slot, feed.rec_index, out_b, t_slot, t_index, out_t,
+                    self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.rec_slot, self.position[feed.rec_index], out_b, t_slot, t_index, out_t,
                     out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
-                    self._lcp_work, band_type(kd_b), band_type(kd_t), *self._previous_forces(width))
+                    self._lcp_work, band_type(kd_b), band_type(kd_t), *self._previous_forces(width),
+                    self.group_ptr, self.group_wheel, self.ground_inv)
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out_b[:good], asm, train=out_t[:good],
@@ -301,7 +334,7 @@ class CoupledAnalysis:
                                               f"{self.integrator!r}, dt = {self.dt:g} s", step, t_bad)
                     raise DivergenceError(f"coupled analysis: contact flexibility W is singular at step {step}, "
                                           f"t = {t_bad:.6g} s", step, t_bad)
-                self._commit(state, train, asm, bank_b[:, kd_b: kd_b + n_b], bank_t[:, kd_t: kd_t + n_t],
+                self._commit(state, train, asm.full_of_free[self.active], bank_b[:, kd_b: kd_b + n_b], bank_t[:, kd_t: kd_t + n_t],
                              t0 + n * self.dt)
                 done += n
         finally:
@@ -344,10 +377,10 @@ class CoupledAnalysis:
         return prev
 
     @staticmethod
-    def _commit(state, train, asm, bank_b, bank_t, time):
+    def _commit(state, train, full_dofs, bank_b, bank_t, time):
         for slot, vec in enumerate((state.u, state.v, state.a)):
             vec[:] = 0.0
-            vec[asm.full_of_free] = bank_b[slot]
+            vec[full_dofs] = bank_b[slot]
         for slot, vec in enumerate((train.u, train.v, train.a)):
             vec[:] = bank_t[slot]
         state.time = time
@@ -362,6 +395,29 @@ def _positive(what, value, finite=True):
     if not value > 0.0 or (finite and not np.isfinite(value)):
         raise AnalysisError(f"CoupledAnalysis: {what} must be > 0{' and finite' if finite else ''}, got {value}")
     return value
+
+
+def _wheel_groups(tflex, va):
+    """Contact wheels grouped by the train's coupling (connected components of the train
+    flexibility S K̂_t⁻¹ Sᵀ over all stages: a car's wheels), as ``(group_ptr, group_wheel)``,
+    and per stage the inverse of each group's W block ``va S K̂_t⁻¹ Sᵀ`` (valid while none of the
+    group's wheels is on the track; a zero block if it is not positive definite)."""
+    n_stages, n_c = tflex.shape[0], tflex.shape[1]
+    _, label = csgraph.connected_components(sp.csr_matrix(np.any(tflex != 0.0, axis=0)), directed=False)
+    group_wheel = np.argsort(label, kind="stable").astype(np.int64)
+    group_ptr = np.concatenate([[0], np.cumsum(np.bincount(label))]).astype(np.int64)
+    ground_inv = np.zeros((n_stages, n_c, n_c))
+    for s in range(n_stages):
+        for g in range(len(group_ptr) - 1):
+            idx = group_wheel[group_ptr[g]: group_ptr[g + 1]]
+            block = va[s] * tflex[s][np.ix_(idx, idx)]
+            try:
+                factor_ = np.linalg.cholesky(block)
+            except np.linalg.LinAlgError:
+                continue
+            inverse = np.linalg.inv(factor_)
+            ground_inv[s][np.ix_(idx, idx)] = inverse.T @ inverse
+    return group_ptr, group_wheel, ground_inv
 
 
 def _pad_solve(lower, rhs):

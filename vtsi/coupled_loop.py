@@ -71,6 +71,112 @@ def _correct(bank, base, fac, rhs, s, ua, va, band, wa):
 
 
 @njit(cache=True)
+def _contact_flexibility(W, idx, m, flex, tflex, va, cols, vals, on_bridge):
+    """``W[a, b] = va (S K̂_t⁻¹ Sᵀ + N F Nᵀ)`` for the wheels ``idx[a], idx[b]``, a, b < m
+    (N F Nᵀ only between wheels on the track) [m/N]."""
+    nw = cols.shape[1]
+    for a in range(m):
+        i = idx[a]
+        for b in range(a + 1):
+            j = idx[b]
+            acc = tflex[i, j]
+            if on_bridge[i] and on_bridge[j]:
+                for a_ in range(nw):
+                    ca = cols[i, a_]
+                    if ca < 0:
+                        break
+                    row = 0.0
+                    for b_ in range(nw):
+                        cb = cols[j, b_]
+                        if cb < 0:
+                            break
+                        row += flex[ca, cb] * vals[j, b_]
+                    acc += vals[i, a_] * row
+            W[a, b] = va * acc
+            W[b, a] = va * acc
+
+
+@njit(cache=True)
+def _solve_system(W, q, lam, idx, m, va, flex, tflex, cols, vals, on_bridge, lcp, flight, lcp_work, zq, zl):
+    """Contact forces of the wheels ``idx[:m]`` (a set no other wheel is coupled to): bilateral
+    ``W λ = -q`` by Cholesky, or the LCP with the wheels in flight decoupled (λ = 0). The LCP's
+    free set is remembered per wheel in row ``n_c + 3`` of ``lcp_work``. False if singular."""
+    _contact_flexibility(W, idx, m, flex, tflex, va, cols, vals, on_bridge)
+    for a in range(m):
+        zq[a] = q[idx[a]]
+    if lcp:
+        memory = lcp_work[lcp_work.shape[0] - 1]
+        for a in range(m):
+            if flight[idx[a]]:
+                for b in range(m):
+                    W[a, b] = 0.0
+                    W[b, a] = 0.0
+                W[a, a] = 1.0
+                zq[a] = 1.0
+            lcp_work[m + 2, a] = memory[idx[a]]
+        if not solve_lcp(W, zq, zl, m, lcp_work):
+            return False
+        for a in range(m):
+            memory[idx[a]] = lcp_work[m + 2, a]
+            lam[idx[a]] = zl[a]
+        return True
+    if not cholesky_in_place(W, m):
+        return False
+    for a in range(m):
+        zl[a] = -zq[a]
+    cholesky_substitute(W, zl, m)
+    for a in range(m):
+        lam[idx[a]] = zl[a]
+    return True
+
+
+@njit(cache=True)
+def _contact_forces(W, q, lam, selected, va, flex, tflex, ground_inv, group_ptr, group_wheel,
+                    cols, vals, on_bridge, lcp, flight, landing, lcp_work, zq, zl):
+    """λ group by group (a group: the wheels the train couples, a car). A group with no wheel
+    on the track has a constant W block whose inverse ``ground_inv`` was precomputed (a zero
+    block where it is not positive definite): λ = -W⁻¹q, which is also the LCP's solution when
+    none of its wheels is in flight or landing and every λ > 0; otherwise the group is solved
+    alone (:func:`_solve_system`). The groups with a wheel on the track are coupled through the
+    bridge and solved together. Returns False if a system is singular."""
+    m = 0
+    for g in range(group_ptr.shape[0] - 1):
+        lo, hi = group_ptr[g], group_ptr[g + 1]
+        coupled = ground_inv[group_wheel[lo], group_wheel[lo]] == 0.0
+        simple = True
+        for k in range(lo, hi):
+            i = group_wheel[k]
+            coupled = coupled or on_bridge[i]
+            if lcp and (flight[i] or landing[i] > 0.5):
+                simple = False
+        if coupled:
+            for k in range(lo, hi):
+                selected[m] = group_wheel[k]
+                m += 1
+            continue
+        if simple:
+            for k in range(lo, hi):
+                i = group_wheel[k]
+                acc = 0.0
+                for l_ in range(lo, hi):
+                    acc += ground_inv[i, group_wheel[l_]] * q[group_wheel[l_]]
+                lam[i] = -acc
+                if lcp and not lam[i] > 0.0:
+                    simple = False
+        if simple:
+            if lcp:
+                for k in range(lo, hi):
+                    lcp_work[lcp_work.shape[0] - 1, group_wheel[k]] = 1.0
+        elif not _solve_system(W, q, lam, group_wheel[lo:hi], hi - lo, va, flex, tflex, cols, vals, on_bridge,
+                               lcp, flight, lcp_work, zq, zl):
+            return False
+    if m == 0:
+        return True
+    return _solve_system(W, q, lam, selected, m, va, flex, tflex, cols, vals, on_bridge, lcp, flight,
+                         lcp_work, zq, zl)
+
+
+@njit(cache=True)
 def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       fac_b, kb_rows, cb_rows, damped_b, fac_t, kt_rows, ct_rows, damped_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
@@ -79,7 +185,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       t0, dt, stage_theta, load_theta, load_weight, force_weight, lcp, gap_tol, in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
                       out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
-                      lam_prev, cols_prev, vals_prev):
+                      lam_prev, cols_prev, vals_prev, group_ptr, group_wheel, ground_inv):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
@@ -90,8 +196,12 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     ``force_weight`` (n_stages): ω of each stage (HHT: α): the stage solves for μ = ω λ_s with
     (1 - ω) times the previous step's forces ``lam_prev`` on rows ``cols_prev``/``vals_prev``
     as a known load; λ_s = μ / ω. Those three arrays are updated at every step.
-    (contact force [N] and position gap [m] at the end of each step); ``in_contact`` (n_c)
-    carries each wheel's contact state (1.0 on the rail, 0.0 in flight) from step to step.
+    out_force/out_gap: contact force [N] and position gap [m] at the end of each step;
+    ``in_contact`` (n_c) carries each wheel's contact state (1.0 on the rail, 0.0 in flight)
+    from step to step. ``group_ptr``/``group_wheel``: the contact wheels grouped by the train's
+    coupling (CSR-like; a group is a car); ``ground_inv`` (n_stages, n_c, n_c): per stage, the
+    inverse of each group's constant W block for when none of its wheels is on the track (a zero
+    block where it is not positive definite), see :func:`_bilateral_forces`.
     """
     kdb, kdt = len(band_b), len(band_t)
     n_steps = out_b.shape[0]
@@ -110,6 +220,9 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     x = np.empty(n_c)
     landing = np.zeros(n_c)
     on_bridge = np.zeros(n_c, dtype=np.bool_)
+    flight = np.zeros(n_c, dtype=np.bool_)
+    selected = np.empty(n_c, dtype=np.int64)
+    zq, zl = np.empty(n_c), np.empty(n_c)
     for step in range(n_steps):
         for s in range(n_stages):
             base = 3 + 3 * s
@@ -168,23 +281,6 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                 q[i] = g
             for i in range(n_c):
                 on_bridge[i] = cols[i, 0] >= 0
-            for i in range(n_c):
-                for j in range(i + 1):
-                    acc = tflex[s, i, j]
-                    if on_bridge[i] and on_bridge[j]:   # N F Nᵀ: only wheels on the track
-                        for a_ in range(nw):
-                            ca = cols[i, a_]
-                            if ca < 0:
-                                break
-                            row = 0.0
-                            for b_ in range(nw):
-                                cb = cols[j, b_]
-                                if cb < 0:
-                                    break
-                                row += flex[s, ca, cb] * vals[j, b_]
-                            acc += vals[i, a_] * row
-                    W[i, j] = va * acc
-                    W[j, i] = va * acc
             # 3. contact forces
             for i in range(n_c):
                 landing[i] = 0.0
@@ -195,21 +291,11 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     # in flight: no force, decoupled; a wheel landing in this step takes its
                     # impact at the last stage (a multi-stage scheme's memory of the pre-impact
                     # velocity would undo an impact taken at an earlier stage)
-                    if gp > gap_tol or (in_contact[i] < 0.5 and s < n_stages - 1):
-                        for j in range(n_c):
-                            W[i, j] = 0.0
-                            W[j, i] = 0.0
-                        W[i, i] = 1.0
-                        q[i] = 1.0
-                    elif in_contact[i] < 0.5:  # landing: inelastic impact, velocity level (ġ >= 0)
+                    flight[i] = gp > gap_tol or (in_contact[i] < 0.5 and s < n_stages - 1)
+                    if not flight[i] and in_contact[i] < 0.5:  # landing: inelastic impact, velocity level (ġ >= 0)
                         landing[i] = 1.0
-                ok = solve_lcp(W, q, lam, n_c, lcp_work)
-            else:
-                for i in range(n_c):
-                    lam[i] = -q[i]
-                ok = cholesky_in_place(W, n_c)
-                if ok:
-                    cholesky_substitute(W, lam, n_c)
+            ok = _contact_forces(W, q, lam, selected, va, flex[s], tflex[s], ground_inv[s], group_ptr, group_wheel,
+                                 cols, vals, on_bridge, lcp, flight, landing, lcp_work, zq, zl)
             if not ok:
                 return -2 - step
             # 4. corrections; a landing wheel's impulse changes u and v but not the (smooth)
@@ -273,8 +359,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                     worst = xa
         if not worst <= limit:
             return step
-        for r in range(rec_b_slot.shape[0]):
-            out_b[step, r] = bank_b[rec_b_slot[r], kdb + rec_b_index[r]]
+        for r in range(rec_b_slot.shape[0]):   # index -1: a dof at rest (not integrated)
+            out_b[step, r] = bank_b[rec_b_slot[r], kdb + rec_b_index[r]] if rec_b_index[r] >= 0 else 0.0
         for r in range(rec_t_slot.shape[0]):
             out_t[step, r] = bank_t[rec_t_slot[r], kdt + rec_t_index[r]]
     return -1

@@ -24,10 +24,13 @@ from numba import njit
 
 
 def lcp_workspace(n):
-    """Scratch array for :func:`solve_lcp` with ``n`` contacts; row ``n + 2`` holds the free
-    set flags between calls (1 = free), initialised to all free (bilateral guess)."""
+    """Scratch array for :func:`solve_lcp` with up to ``n`` contacts; row ``n + 2`` holds the
+    free set flags between calls (1 = free), initialised to all free (bilateral guess). Row
+    ``n + 3`` (also all free) is for a caller that solves subsets of the contacts
+    (``solve_lcp(..., m, work)`` with m < n, its flags in row m + 2) to remember each contact's
+    flag between calls."""
     work = np.zeros((n + 4, max(n, 1)))
-    work[n + 2, :n] = 1.0
+    work[n + 2:, :n] = 1.0
     return work
 
 
