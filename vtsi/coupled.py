@@ -12,7 +12,7 @@ interaction analysis for high-speed trains. Engineering Structures 148, 524-539.
 """
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.csgraph as csgraph
+from scipy.sparse import csgraph
 import scipy.sparse.linalg as spla
 
 from vtsi.analysis import _integer, _pattern_loads, _RecorderFeed, domain_state, factor
