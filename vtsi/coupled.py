@@ -12,11 +12,18 @@ interaction analysis for high-speed trains. Engineering Structures 148, 524-539.
 """
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse import csgraph
 import scipy.sparse.linalg as spla
+from scipy.sparse import csgraph
 
 from vtsi.analysis import _integer, _pattern_loads, _RecorderFeed, domain_state, factor
-from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, solve_band
+from vtsi.banded import (
+    NotPositiveDefinite,
+    band_rows,
+    band_type,
+    half_bandwidth,
+    ldl_band,
+    solve_band,
+)
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
