@@ -183,9 +183,10 @@ class Irregularity:
         if np.any(steps <= 0):
             i = int(np.flatnonzero(steps <= 0)[0]) + 1
             raise ModelError(f"Irregularity: x must increase strictly; x[{i}] = {x[i]:g} follows x[{i - 1}] = {x[i - 1]:g}")
-        spline = UniformCubic(scipy.interpolate.CubicSpline(x, r, extrapolate=True))
+        spline = UniformCubic(scipy.interpolate.CubicSpline(x, r, extrapolate=True), zero_outside=not extrapolate)
         self._funcs = tuple(functools.partial(spline, nu=nu) for nu in range(3))
         self._range = None if extrapolate else (x[0], x[-1])
+        self._sampled = True
 
     @property
     def x_range(self):
@@ -199,6 +200,7 @@ class Irregularity:
         self = cls.__new__(cls)
         self._funcs = (f, df, d2f)
         self._range = None
+        self._sampled = False
         return self
 
     @classmethod
@@ -214,7 +216,6 @@ class Irregularity:
         if func is None:
             raise ModelError(f"Irregularity: derivative {nu} of this profile was not given (from_function)")
         x = np.asarray(x, dtype=np.float64)
-        value = np.asarray(func(x), dtype=np.float64) * np.ones_like(x)
-        if self._range is not None:
-            value = np.where((x >= self._range[0]) & (x <= self._range[1]), value, 0.0)
-        return value
+        if self._sampled:    # zero outside the sampled range unless extrapolating: UniformCubic does it
+            return func(x)
+        return np.asarray(func(x), dtype=np.float64) * np.ones_like(x)

@@ -37,3 +37,14 @@ def test_non_uniform_breakpoints_use_scipy():
     assert not fast.uniform
     points = np.linspace(-0.2, 1.2, 57)
     assert np.array_equal(fast(points, 1), spline(points, 1))
+
+
+@pytest.mark.parametrize("knots", [np.linspace(0.0, 2.0, 21), np.array([0.0, 0.3, 0.5, 1.2, 2.0])])
+def test_zero_outside(knots):
+    spline = CubicSpline(knots, np.cos(knots))
+    fast = UniformCubic(spline, zero_outside=True)
+    points = np.array([-0.5, -1e-12, 0.0, 1.0, 2.0, 2.0 + 1e-12, 3.0])
+    out = fast(points, 1)
+    inside = (points >= 0.0) & (points <= 2.0)
+    assert np.all(out[~inside] == 0.0)
+    assert np.allclose(out[inside], spline(points[inside], 1), rtol=1e-12, atol=1e-14)

@@ -145,7 +145,7 @@ class CoupledAnalysis:
         integ, dt, train = self.integrator, self.dt, self.train
         stages = integ.stages(dt)
         A = integ.n_slots
-        fac_b, fac_t, flex, tflex = [], [], [], []
+        fac_b, fac_t, flex, tflex, response = [], [], [], [], []
         kd_b = max(half_bandwidth(K), half_bandwidth(M), half_bandwidth(C))
         kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
         for s, st in enumerate(stages):
@@ -167,14 +167,17 @@ class CoupledAnalysis:
                                         "stiffness") from None
                 cols = _inverse_columns(ft, train.wheel_dofs)
                 tflex.append(cols[train.wheel_dofs])
+                response.append(cols.T)
             else:
                 ft = np.zeros((0, 1))
                 tflex.append(np.zeros((0, 0)))
+                response.append(np.zeros((0, 0)))
             fac_t.append(ft)
         self.fac_b = np.ascontiguousarray(np.stack(fac_b))
         self.fac_t = np.ascontiguousarray(np.stack(fac_t))
         self.flex = np.ascontiguousarray(np.stack(flex))
         self.tflex = np.ascontiguousarray(np.stack(tflex))
+        self.wheel_response, self.response_range = _wheel_responses(response)
         kd_b = self.fac_b.shape[2] - 1
         self.kb_rows, self.cb_rows = band_rows(K, kd_b), band_rows(C, kd_b)
         kd_t = self.fac_t.shape[2] - 1
@@ -324,7 +327,7 @@ class CoupledAnalysis:
                     self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.rec_slot, self.position[feed.rec_index], out_b, t_slot, t_index, out_t,
                     out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
                     self._lcp_work, band_type(kd_b), band_type(kd_t), *self._previous_forces(width),
-                    self.group_ptr, self.group_wheel, self.ground_inv)
+                    self.group_ptr, self.group_wheel, self.ground_inv, self.wheel_response, self.response_range)
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out_b[:good], asm, train=out_t[:good],
@@ -402,6 +405,20 @@ def _positive(what, value, finite=True):
     if not value > 0.0 or (finite and not np.isfinite(value)):
         raise AnalysisError(f"CoupledAnalysis: {what} must be > 0{' and finite' if finite else ''}, got {value}")
     return value
+
+
+def _wheel_responses(response):
+    """``K̂_t⁻¹ Sᵀ`` per stage as rows (n_stages, n_c, n_t): the train's acceleration under a
+    unit force on each contact wheel, and the dof range ``[lo, hi)`` (n_c, 2) where each is
+    nonzero in some stage (its car's dofs)."""
+    response = np.ascontiguousarray(np.stack(response))
+    nonzero = np.any(response != 0.0, axis=0)
+    span = np.zeros((response.shape[1], 2), dtype=np.int64)
+    for i, row in enumerate(nonzero):
+        where = np.flatnonzero(row)
+        if len(where):
+            span[i] = where[0], where[-1] + 1
+    return response, span
 
 
 def _wheel_groups(tflex, va):

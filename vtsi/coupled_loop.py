@@ -11,7 +11,8 @@ effective matrices K̂ (acceleration form, see :mod:`vtsi.integrators.base`):
    W stays symmetric): W λ = -q, q = S v̂_t - N v̂_b - Ṅ û_b - ṙ (bilateral), or the LCP
    λ >= 0, ġ = W λ + q >= 0, λ·ġ = 0 for the wheels whose free position gap is closed
    (contact loss; λ = 0 for the others);
-4. correction: a = â + K̂⁻¹ Gᵀ λ (one more solve per subdomain) and u, v updated.
+4. correction: a = â + K̂⁻¹ Gᵀ λ (one more solve for the bridge; for the train the sum of
+   the wheels' precomputed responses K̂_t⁻¹ Sᵀ, each within its car) and u, v updated.
 
 Force-only wheels (moving forces) load the bridge through their Hermite rows.
 
@@ -185,7 +186,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       t0, dt, stage_theta, load_theta, load_weight, force_weight, lcp, gap_tol, in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
                       out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
-                      lam_prev, cols_prev, vals_prev, group_ptr, group_wheel, ground_inv):
+                      lam_prev, cols_prev, vals_prev, group_ptr, group_wheel, ground_inv, wheel_response,
+                      response_range):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
@@ -201,7 +203,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     from step to step. ``group_ptr``/``group_wheel``: the contact wheels grouped by the train's
     coupling (CSR-like; a group is a car); ``ground_inv`` (n_stages, n_c, n_c): per stage, the
     inverse of each group's constant W block for when none of its wheels is on the track (a zero
-    block where it is not positive definite), see :func:`_bilateral_forces`.
+    block where it is not positive definite), see :func:`_contact_forces`. ``wheel_response``
+    (n_stages, n_c, n_t): K̂_t⁻¹ Sᵀ as rows, nonzero within ``response_range`` (n_c, 2).
     """
     kdb, kdt = len(band_b), len(band_t)
     n_steps = out_b.shape[0]
@@ -321,11 +324,14 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                             touched = True
                 if touched:
                     _correct(bank_b, base, fac_b, rb, s, ua, va, band_b, wa)
-                rt[:] = 0.0
-                for i in range(n_c):
-                    if (landing[i] > 0.5) == (part == 1):
-                        rt[kdt + wheel_dof[i]] += lam[i]
-                _correct(bank_t, base, fac_t, rt, s, ua, va, band_t, wa)
+                for i in range(n_c):    # K̂_t⁻¹ Sᵀ λ from the wheels' precomputed responses
+                    if (landing[i] > 0.5) != (part == 1) or lam[i] == 0.0:
+                        continue
+                    for d in range(response_range[i, 0], response_range[i, 1]):
+                        da = lam[i] * wheel_response[s, i, d]
+                        bank_t[base, kdt + d] += ua * da
+                        bank_t[base + 1, kdt + d] += va * da
+                        bank_t[base + 2, kdt + d] += wa * da
             # position gaps; wheels on the rail are projected onto it (removes the O(Δt²)
             # drift of the velocity-level constraint; velocities and accelerations untouched)
             for i in range(n_c):

@@ -13,10 +13,10 @@ from numba import njit
 class UniformCubic:
     """``spline(x, nu)``: the value (nu = 0) or derivative ``nu`` (1, 2) of a scipy cubic
     :class:`~scipy.interpolate.PPoly` (e.g. a CubicSpline), extrapolating with the end pieces as
-    scipy does with ``extrapolate=True``."""
+    scipy does with ``extrapolate=True``, or 0 outside the breakpoints if ``zero_outside``."""
 
-    def __init__(self, ppoly):
-        self.ppoly = ppoly
+    def __init__(self, ppoly, zero_outside=False):
+        self.ppoly, self.zero_outside = ppoly, bool(zero_outside)
         breaks = np.asarray(ppoly.x, dtype=float)
         steps = np.diff(breaks)
         h = (breaks[-1] - breaks[0]) / len(steps)
@@ -27,20 +27,26 @@ class UniformCubic:
     def __call__(self, x, nu=0):
         x = np.asarray(x, dtype=float)
         if not self.uniform:
-            return np.asarray(self.ppoly(x, nu), dtype=float)
+            out = np.asarray(self.ppoly(x, nu), dtype=float)
+            if self.zero_outside:
+                out = np.where((x >= self._breaks[0]) & (x <= self._breaks[-1]), out, 0.0)
+            return out
         out = np.empty(x.size)
-        _evaluate(self._coef, self._breaks, self._inv_h, np.ascontiguousarray(x).ravel(), nu, out)
+        _evaluate(self._coef, self._breaks, self._inv_h, np.ascontiguousarray(x).ravel(), nu, self.zero_outside, out)
         return out.reshape(x.shape)
 
 
 @njit(cache=True)
-def _evaluate(coef, breaks, inv_h, x, nu, out):
+def _evaluate(coef, breaks, inv_h, x, nu, zero_outside, out):
     """Piece k = floor((x - x₀)/h) (clamped), local t = x - breaks[k], Horner on ``coef[k]``
     (highest power first, scipy's layout)."""
     last = coef.shape[0] - 1
     for i in range(x.shape[0]):
         if not np.isfinite(x[i]):
             out[i] = np.nan
+            continue
+        if zero_outside and (x[i] < breaks[0] or x[i] > breaks[last + 1]):
+            out[i] = 0.0
             continue
         k = int(np.floor((x[i] - breaks[0]) * inv_h))
         k = min(max(k, 0), last)
