@@ -58,6 +58,29 @@ def test_commands_equal_the_object_api():
     assert abs(-session.recorders[mid].values.min() / S2["max_midspan_deflection"] - 1.0) < 2e-3
 
 
+def test_exact_events_option_equals_the_object_api():
+    """``-exactEvents`` is ``CoupledAnalysis(exact_events=True)``: S2's sprung mass (massless
+    wheel) leaves the span at t = L/V = 0.9 s, where its wheel's velocity jumps onto the ground."""
+    n = int(round(1.0 / DT))
+    session = ops.Session()
+    s2_commands(session, ("-exactEvents",))
+    force = session.recorder("Contact", "force")
+    session.analyze(n, DT)
+    model = vtsi.Model()
+    bridge, train = s2_model(model, NE)
+    constraint = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train))
+    runs = []
+    for exact in (True, False):
+        rec = ContactRecorder(constraint)
+        analysis = CoupledAnalysis(model, constraint, "Newmark", DT, recorders=[rec], exact_events=exact)
+        analysis.static()
+        analysis.run(n)
+        runs.append(rec.values)
+        assert len(analysis._events(0.0, n)) == (1 if exact else 0)
+    np.testing.assert_allclose(session.recorders[force].values, runs[0], rtol=1e-12, atol=1e-9)
+    assert np.abs(runs[0] - runs[1]).max() > 1.0
+
+
 def test_contact_recorder_text_and_bspline_option(tmp_path):
     session = ops.Session()
     s2_commands(session, ("-bspline",))

@@ -88,14 +88,17 @@ class MovingLoadConstraint:
         return self.x0 + self.train.speed * np.asarray(t, dtype=float)[..., None]
 
     def _profile(self, x, nu):
-        """r (nu = 0) or dr/dx (nu = 1) at x; a plain callable r(x) gets a central difference."""
+        """r (nu = 0), dr/dx (1) or d²r/dx² (2) at x; a plain callable r(x) gets central differences."""
         try:
             return np.asarray(self.irregularity(x, nu=nu), dtype=float)
         except TypeError:
+            r = lambda z: np.asarray(self.irregularity(z), dtype=float)
             if nu == 0:
-                return np.asarray(self.irregularity(x), dtype=float)
-            h = 1e-4
-            return (np.asarray(self.irregularity(x + h), dtype=float) - np.asarray(self.irregularity(x - h), dtype=float)) / (2 * h)
+                return r(x)
+            h = 1e-4 if nu == 1 else 1e-3
+            if nu == 1:
+                return (r(x + h) - r(x - h)) / (2 * h)
+            return (r(x + h) - 2.0 * r(x) + r(x - h)) / (h * h)
 
     def irregularity_at(self, t, dt, nu=0):
         """``r̃`` (or r; ``nu = 1``: its rate dr̃/dt = V dr̃/dx) under the contact wheels at times

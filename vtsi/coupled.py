@@ -55,6 +55,13 @@ class CoupledAnalysis:
         (train dof) or 'contact_force', 'gap' (contact wheel index).
     divergence_limit : |u| [m] beyond which a step counts as diverged.
     gap_tol : position gap [m] above which a wheel counts as in flight (contact='lcp').
+    exact_events : kinks of the rail line ('hermite' rows: a span's end on a support next to rigid
+        ground or to another span's end). False (default): a wheel takes the kink at the end of
+        the step that contains it, a first-order error in the train's response (its dampers see
+        the wheel's velocity jump at the wrong time). True: that step keeps the wheel on its old
+        line, then its velocity jump (a perfectly inelastic impulse, as R1) is applied with a
+        timing correction and a consistent restart of its car: second order, no extra
+        factorisation (docs/theory/coupled_step.md §6).
 
     After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
     and ``gap`` (n_steps, n_c) [m] hold every step of the run; :meth:`contact_events` and
@@ -64,7 +71,7 @@ class CoupledAnalysis:
 
     def __init__(self, model, constraint, integrator="Newmark", dt=None, contact="bilateral",
                  gravity=GRAVITY, bridge_self_weight=False, recorders=(), divergence_limit=1e3,
-                 chunk_steps=2000, gap_tol=1e-9):
+                 chunk_steps=2000, gap_tol=1e-9, exact_events=False):
         if not isinstance(constraint, MovingLoadConstraint):
             raise ModelError(f"CoupledAnalysis: constraint must be a MovingLoadConstraint, got {type(constraint).__name__}")
         if contact not in CONTACT_STRATEGIES:
@@ -89,6 +96,9 @@ class CoupledAnalysis:
         self.gap = np.zeros((0, constraint.n_contact))
         self._lcp_work = lcp_workspace(constraint.n_contact)
         self.gap_tol = float(gap_tol)
+        if not isinstance(exact_events, (bool, np.bool_)):
+            raise AnalysisError(f"CoupledAnalysis: exact_events must be True or False, got {exact_events!r}")
+        self.exact_events = bool(exact_events)
         self.in_contact = np.ones(constraint.n_contact)
 
     # -- preparation ----------------------------------------------------------------------
@@ -104,8 +114,11 @@ class CoupledAnalysis:
         """``(N(x) u_sw)`` (nu = 0) or its rate (nu = 1) under the contact wheels at times ``t``
         (any shape) [m, m/s]: the deck's self-weight deflection, from which the rail is measured
         (the track is laid on the deflected deck, so the rail is straight at that state)."""
+        return self._sag_at(self.constraint.positions(t), nu)
+
+    def _sag_at(self, x, nu):
+        """:meth:`_rail_sag` at positions ``x`` (any shape) [m]."""
         con = self.constraint
-        x = con.positions(t)
         if self._sag is None or con.n_contact == 0:
             return np.zeros_like(x)
         cols, vals, slopes = con.track.rows(x.ravel(), con.knot(self.dt))
@@ -197,6 +210,8 @@ class CoupledAnalysis:
         self._sag = None
         if self.bridge_self_weight:
             self._sag = _pad_solve(factor(asm, asm.K, "bridge stiffness K"), self._bridge_constant_load(asm))
+        self._kinks = self._kink_positions()
+        self._cars = {}
         self._prepared = asm
         return asm
 
@@ -297,37 +312,63 @@ class CoupledAnalysis:
         work_t = np.zeros((3, n_t + 2 * kd_t))
         W, q, lam = np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c)
         times_all, force_all, gap_all = [self.time], [self.contact_force], [self.gap]
+        prev = self._previous_forces(width)
+        track_dofs, rec_index = self.position[track.free_index], self.position[feed.rec_index]
+
+        def steps(first, last, x0_c, r_part, rate_part):
+            """Run the chunk's steps first..last - 1 with the contact wheels at ``x0_c`` at t = 0 and
+            the rail data ``r_part``, ``rate_part`` of those steps; the loop's status, its step
+            counted in the chunk."""
+            bad = run_coupled_steps(
+                bank_b, bank_t, self.du, self.dv, self.ku, self.kv,
+                self.fac_b, self.kb_rows, self.cb_rows, self.has_damping,
+                self.fac_t, self.kt_rows, self.ct_rows, bool(train.n_dof and train.C.nnz),
+                table[first:last], load_ptr, load_dof, load_val, train.gravity_load,
+                self.flex, self.tflex, track.x_start, track.length, track.dofs, track_dofs,
+                x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
+                con.knot(self.dt), r_part, rate_part, t0 + first * self.dt, self.dt, self.stage_theta,
+                self.load_theta, self.load_weight, self.force_weight, self.contact == "lcp", self.gap_tol,
+                self.in_contact, feed.rec_slot, rec_index, out[0][first:last], t_slot, t_index, out[1][first:last],
+                out[2][first:last], out[3][first:last], self.divergence_limit, work_b, work_t, cols, vals, slopes,
+                W, q, lam, self._lcp_work, band_type(kd_b), band_type(kd_t), *prev,
+                self.group_ptr, self.group_wheel, self.ground_inv, self.wheel_response, self.response_range)
+            return bad if bad == -1 else (bad + first if bad >= 0 else bad - first)
+
         done = 0
         try:
             while done < n_steps:
                 n = min(self.chunk_steps, n_steps - done)
                 t0 = state.time
-                steps = t0 + self.dt * np.arange(n, dtype=float)
+                starts = t0 + self.dt * np.arange(n, dtype=float)
                 table = np.zeros((n, len(self.stage_theta), len(patterns) + 1))
                 for s in range(len(self.stage_theta)):
                     for theta, w in zip(self.load_theta[s], self.load_weight[s]):
                         if w != 0.0:
                             for p, pattern in enumerate(patterns):
-                                table[:, s, p] += w * pattern.factors(steps + theta * self.dt)
+                                table[:, s, p] += w * pattern.factors(starts + theta * self.dt)
                     table[:, s, -1] = 1.0
                 r_table, rate_table = (np.ascontiguousarray(np.stack(
-                    [con.irregularity_at(steps + th * self.dt, self.dt, nu) - self._rail_sag(steps + th * self.dt, nu)
+                    [con.irregularity_at(starts + th * self.dt, self.dt, nu) - self._rail_sag(starts + th * self.dt, nu)
                      for th in self.stage_theta], axis=1)) for nu in (0, 1))
-                out_b = np.zeros((n, len(feed.rec_index)))
-                out_t = np.zeros((n, len(t_index)))
-                out_force, out_gap = np.zeros((n, n_c)), np.zeros((n, n_c))
-                bad = run_coupled_steps(
-                    bank_b, bank_t, self.du, self.dv, self.ku, self.kv,
-                    self.fac_b, self.kb_rows, self.cb_rows, self.has_damping,
-                    self.fac_t, self.kt_rows, self.ct_rows, bool(train.n_dof and train.C.nnz),
-                    table, load_ptr, load_dof, load_val, train.gravity_load,
-                    self.flex, self.tflex, track.x_start, track.length, track.dofs, self.position[track.free_index],
-                    con.x0, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
-                    con.knot(self.dt), r_table, rate_table, t0, self.dt, self.stage_theta, self.load_theta, self.load_weight,
-                    self.force_weight, self.contact == "lcp", self.gap_tol, self.in_contact, feed.rec_slot, self.position[feed.rec_index], out_b, t_slot, t_index, out_t,
-                    out_force, out_gap, self.divergence_limit, work_b, work_t, cols, vals, slopes, W, q, lam,
-                    self._lcp_work, band_type(kd_b), band_type(kd_t), *self._previous_forces(width),
-                    self.group_ptr, self.group_wheel, self.ground_inv, self.wheel_response, self.response_range)
+                out = (np.zeros((n, len(feed.rec_index))), np.zeros((n, len(t_index))), np.zeros((n, n_c)),
+                       np.zeros((n, n_c)))
+                out_b, out_t, out_force, out_gap = out
+                events = self._events(t0, n)
+                first, bad = 0, -1
+                for k in sorted({e[0] for e in events}) + [n]:
+                    if k > first:
+                        bad = steps(first, k, con.x0, r_table[first:k], rate_table[first:k])
+                        if bad != -1 or k == n:
+                            break
+                    crossing = [e for e in events if e[0] == k and self.in_contact[e[2]] > 0.5]
+                    x0_c, r_k, rate_k = self._old_line(crossing, t0 + k * self.dt, r_table[k:k + 1],
+                                                       rate_table[k:k + 1])
+                    bad = steps(k, k + 1, x0_c, r_k, rate_k)
+                    if bad != -1:
+                        break
+                    for _, theta, i, x in crossing:
+                        self._cross(bank_b, bank_t, kd_b, kd_t, i, x, (1.0 - theta) * self.dt, prev)
+                    first = k + 1
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out_b[:good], asm, train=out_t[:good],
@@ -353,6 +394,118 @@ class CoupledAnalysis:
             self.contact_force = np.concatenate(force_all)
             self.gap = np.concatenate(gap_all)
         return state
+
+    # -- kinks of the rail line (span entry and exit), exact_events ------------------------
+    def _kink_positions(self):
+        """Positions [m] where the rail line kinks and a bilateral wheel's velocity jumps: the
+        track chain's ends and the interior element ends whose rotation dofs differ (two spans
+        on their own nodes), where the rail's uy is fixed (a support: the rows have no free
+        entry there, so the bridge takes no impulse). Only with ``exact_events`` and 'hermite'
+        rows ('bspline' smooths the kink)."""
+        con, track = self.constraint, self.constraint.track
+        if not self.exact_events or con.interpolation != "hermite" or con.n_contact == 0:
+            return np.zeros(0)
+        d = track.dofs
+        kinks = [track.x_begin] if d[0, 0] < 0 else []
+        kinks += [track.x_start[e + 1] for e in range(len(d) - 1)
+                  if d[e, 3] != d[e + 1, 1] and d[e, 2] < 0 and d[e + 1, 0] < 0]
+        if d[-1, 2] < 0:
+            kinks.append(track.x_end)
+        return np.array(kinks)
+
+    def _events(self, t0, n):
+        """Kink crossings in the steps (t0, t0 + n Δt]: sorted (step k, θ in (0, 1], wheel, x),
+        the crossing at t0 + (k + θ) Δt."""
+        if not len(self._kinks):
+            return []
+        te = (self._kinks[None, :] - self.constraint.x0[:, None]) / self.train.speed     # (n_c, n_kinks)
+        f = (te - t0) / self.dt
+        out = []
+        for i, j in zip(*np.nonzero((f > 1e-9) & (f <= n + 1e-9))):
+            k = int(np.ceil(f[i, j] - 1e-9)) - 1
+            out.append((k, min(max(f[i, j] - k, 0.0), 1.0), int(i), float(self._kinks[j])))
+        return sorted(out)
+
+    def _old_line(self, crossing, t_step, r_step, rate_step):
+        """Wheel start positions and rail data (self weight) of a step in which the wheels of
+        ``crossing`` stay on their old line to the step's end: each is moved back by the
+        V (1 - θ) Δt it travels past its kink (and a hair)."""
+        con, V = self.constraint, self.train.speed
+        x0_c, r_step, rate_step = con.x0.copy(), r_step.copy(), rate_step.copy()
+        for _, theta, i, x in crossing:
+            shift = (1.0 - theta) * self.dt * V + 1e-9 * max(1.0, abs(x))
+            x0_c[i] -= shift
+            if self._sag is not None:
+                xs = con.x0[i] + V * (t_step + self.stage_theta * self.dt)
+                r_step[0, :, i] += self._sag_at(xs, 0) - self._sag_at(xs - shift, 0)
+                rate_step[0, :, i] += self._sag_at(xs, 1) - self._sag_at(xs - shift, 1)
+        return x0_c, r_step, rate_step
+
+    def _car(self, i):
+        """Dense matrices of the car (block of the train's matrices) of contact wheel ``i``:
+        its train dofs, the local index of the wheel and of the car's other wheels and dofs, M,
+        C, K, the pseudo-inverses of M and M_oo (a massless wheel has a zero row)."""
+        if i not in self._cars:
+            train = self.train
+            label = csgraph.connected_components((abs(train.M) + abs(train.C) + abs(train.K)).tocsr(),
+                                                 directed=False)[1]
+            dofs = np.flatnonzero(label == label[train.wheel_dofs[i]])
+            wheels = np.flatnonzero(np.isin(dofs, train.wheel_dofs))
+            others = np.setdiff1d(np.arange(len(dofs)), wheels)
+            M, C, K = (m.tocsr()[dofs][:, dofs].toarray() for m in (train.M, train.C, train.K))
+            self._cars[i] = {"dofs": dofs, "j": int(np.flatnonzero(dofs == train.wheel_dofs[i])[0]), "w": wheels,
+                             "o": others, "M": M, "C": C, "K": K, "M_inv": np.linalg.pinv(M),
+                             "M_oo_inv": np.linalg.pinv(M[np.ix_(others, others)])}
+        return self._cars[i]
+
+    def _cross(self, bank_b, bank_t, kd_b, kd_t, i, x, tau, prev):
+        """Wheel ``i`` crossed the kink at ``x`` a time ``tau`` before the state in the banks,
+        which kept it on its old line. Onto the new line (docs/theory/coupled_step.md §6): its
+        position; its car's momentum from the dampers since the crossing, -C e_w Δv tau; its
+        velocity jump by a perfectly inelastic impulse along e_w (its car only: the bridge takes
+        none at a support; lumped car masses); consistent accelerations (the wheel's from the
+        new rail line, the rest of the car from its equations) and λ (HHT carries it). With
+        contact='lcp' a new line that falls away (an impulse that would pull) leaves the wheel
+        in flight instead."""
+        con, train, track, V = self.constraint, self.train, self.constraint.track, self.train.speed
+        n_b, n_t = len(self.active), train.n_dof
+        u_b, v_b, a_b = (bank_b[s, kd_b: kd_b + n_b] for s in range(3))
+        if self._sag is not None:
+            u_b = u_b - self._sag[self.active]
+        xp = x + V * tau + 1e-9 * max(1.0, abs(x))
+        row = track.hermite_row(xp)
+        wu = wv = wa = 0.0
+        if row is not None:
+            dofs, h0, h1, h2 = row
+            f = np.where(dofs >= 0, self.position[track.free_index[np.maximum(dofs, 0)]], -1)
+            ub, vb, ab = (np.where(f >= 0, vec[np.maximum(f, 0)], 0.0) for vec in (u_b, v_b, a_b))
+            wu, wv, wa = h0 @ ub, h0 @ vb + V * h1 @ ub, h0 @ ab + 2.0 * V * h1 @ vb + V * V * h2 @ ub
+        if con.irregularity is not None:
+            r = [float(np.ravel(con._profile(np.array([xp]), nu))[0]) for nu in range(3)]
+            wu, wv, wa = wu + r[0], wv + V * r[1], wa + V * V * r[2]
+        car = self._car(i)
+        d, j, o = car["dofs"], car["j"], car["o"]
+        u_t, v_t, a_t = (bank_t[s, kd_t: kd_t + n_t] for s in range(3))
+        if self.contact == "lcp" and wv < v_t[d[j]]:
+            return      # the new line falls away under the wheel: it flies (the LCP takes it from here)
+        u_c, v_c, a_c = u_t[d].copy(), v_t[d].copy(), a_t[d].copy()
+        u_c[j] = wu
+        v_c -= car["M_inv"] @ (car["C"][:, j] * ((wv - v_c[j]) * tau))
+        if car["M_inv"][j, j] > 0.0:
+            v_c += car["M_inv"][:, j] * ((wv - v_c[j]) / car["M_inv"][j, j])
+        v_c[j] = wv
+        a_c[j] = wa
+        p_c = train.gravity_load[d]
+        if len(o):
+            rhs = p_c[o] - (car["C"] @ v_c)[o] - (car["K"] @ u_c)[o] - car["M"][np.ix_(o, car["w"])] @ a_c[car["w"]]
+            a_c[o] = car["M_oo_inv"] @ rhs
+        u_t[d], v_t[d], a_t[d] = u_c, v_c, a_c
+        lam_prev, cols_prev, vals_prev = prev
+        lam_prev[i] = float(car["M"][j] @ a_c + car["C"][j] @ v_c + car["K"][j] @ u_c - p_c[j])
+        cols_prev[i, :], vals_prev[i, :] = -1, 0.0
+        if row is not None:
+            keep = row[0] >= 0
+            cols_prev[i, : keep.sum()], vals_prev[i, : keep.sum()] = row[0][keep], row[1][keep]
 
     # -- contact results ------------------------------------------------------------------
     def contact_events(self, interpolate=True):

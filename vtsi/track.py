@@ -78,6 +78,16 @@ class Track:
     def n_track(self):
         return len(self.free_index)
 
+    def hermite_row(self, x):
+        """``(dofs, values, slopes, curvatures)`` of the Hermite row at one position ``x`` [m]:
+        the host element's 4 track dofs (-1 fixed) and N, dN/dx, d²N/dx² there; None off the chain."""
+        e = host_element(float(x), self.x_start, self.length)
+        if e < 0:
+            return None
+        xi, length = (x - self.x_start[e]) / self.length[e], self.length[e]
+        return (self.dofs[e], np.array(hermite(xi, length)), np.array(hermite_slope(xi, length)),
+                np.array(hermite_curvature(xi, length)))
+
     def rows(self, x, knot=0.0):
         """Constraint rows of wheels at ``x (n_w,)``: ``(cols, vals, slopes)`` each
         ``(n_w, width)`` (cols -1 where unused; ``slopes`` = dN/dx [1/m]); ``knot`` > 0 smooths
@@ -125,6 +135,13 @@ def hermite_slope(xi, length):
     """d/dx of [H1, ℓ H2, H3, ℓ H4] at ξ [1/m, 1, 1/m, 1]."""
     x2 = xi * xi
     return ((6.0 * x2 - 6.0 * xi) / length, 1.0 - 4.0 * xi + 3.0 * x2, (6.0 * xi - 6.0 * x2) / length, 3.0 * x2 - 2.0 * xi)
+
+
+@njit(cache=True)
+def hermite_curvature(xi, length):
+    """d²/dx² of [H1, ℓ H2, H3, ℓ H4] at ξ [1/m², 1/m, 1/m², 1/m]."""
+    return ((12.0 * xi - 6.0) / length ** 2, (6.0 * xi - 4.0) / length, (6.0 - 12.0 * xi) / length ** 2,
+            (6.0 * xi - 2.0) / length)
 
 
 @njit(cache=True)

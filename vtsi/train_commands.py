@@ -168,7 +168,8 @@ class TrainCommands:
         self._irregularities[tag] = profile
 
     def movingLoadConstraint(self, *args):
-        """``movingLoadConstraint(tag, trainTag, trackTag, xHead0, ['-irregularity', t], ['-bspline'])``."""
+        """``movingLoadConstraint(tag, trainTag, trackTag, xHead0, ['-irregularity', t], ['-bspline'],
+        ['-exactEvents'])``."""
         a = _args("movingLoadConstraint", args)
         tag = a.int("constraint tag")
         if self._constraint is not None:
@@ -178,18 +179,20 @@ class TrainCommands:
             raise CommandError(f"movingLoadConstraint {tag}: train {train_tag} does not exist")
         if track_tag not in self._tracks:
             raise CommandError(f"movingLoadConstraint {tag}: track {track_tag} does not exist")
-        irregularity, interpolation = None, "hermite"
+        irregularity, interpolation, exact_events = None, "hermite", False
         while a.more():
-            opt = a.option(("-irregularity", "-bspline"))
+            opt = a.option(("-irregularity", "-bspline", "-exactEvents"))
             if opt == "-bspline":
                 interpolation = "bspline"
+            elif opt == "-exactEvents":
+                exact_events = True
             else:
                 t = a.int("irregularity tag")
                 if t not in self._irregularities:
                     raise CommandError(f"movingLoadConstraint {tag}: irregularity {t} does not exist")
                 irregularity = self._irregularities[t]
         self._constraint = dict(train=train_tag, track=track_tag, x_head0=x_head0,
-                                irregularity=irregularity, interpolation=interpolation)
+                                irregularity=irregularity, interpolation=interpolation, exact_events=exact_events)
         self._coupled = None
 
     def contact(self, *args):
@@ -223,7 +226,8 @@ class TrainCommands:
             subdomain = TrainSubdomain(self._trains[spec["train"]], spec["x_head0"])
             constraint = MovingLoadConstraint(Track(model, self._tracks[spec["track"]]), subdomain,
                                               spec["irregularity"], spec["interpolation"])
-            self._coupled = CoupledAnalysis(model, constraint, integ or "Newmark", dt or 1.0, contact=self._contact)
+            self._coupled = CoupledAnalysis(model, constraint, integ or "Newmark", dt or 1.0, contact=self._contact,
+                                            exact_events=spec["exact_events"])
             self._dead_load_done = False
         analysis = self._coupled
         if dt is not None and dt != analysis.dt:
