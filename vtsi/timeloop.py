@@ -31,13 +31,34 @@ def sparse_coefficients(coef):
 
 @njit(cache=True)
 def combine(dest, bank, slots, values, count, lo, hi):
-    """``dest[lo:hi] = Σ_q values[q] bank[slots[q], lo:hi]`` (one contiguous pass per term, so
-    that each pass vectorises)."""
+    """``dest[lo:hi] = Σ_q values[q] bank[slots[q], lo:hi]`` in one pass (up to 4 terms; more
+    terms add a pass each). Entry i is written after its terms are read, so with up to 4 terms
+    ``dest`` may be one of them. One pass instead of a pass per term: these short vectors (~100
+    entries) cost per pass, not per flop."""
+    if count == 0:
+        for i in range(lo, hi):
+            dest[i] = 0.0
+        return
+    r0, c0 = bank[slots[0]], values[0]
+    if count == 1:
+        for i in range(lo, hi):
+            dest[i] = c0 * r0[i]
+        return
+    r1, c1 = bank[slots[1]], values[1]
+    if count == 2:
+        for i in range(lo, hi):
+            dest[i] = c0 * r0[i] + c1 * r1[i]
+        return
+    r2, c2 = bank[slots[2]], values[2]
+    if count == 3:
+        for i in range(lo, hi):
+            dest[i] = c0 * r0[i] + c1 * r1[i] + c2 * r2[i]
+        return
+    r3, c3 = bank[slots[3]], values[3]
     for i in range(lo, hi):
-        dest[i] = 0.0
-    for q in range(count):
-        c = values[q]
-        row = bank[slots[q]]
+        dest[i] = c0 * r0[i] + c1 * r1[i] + c2 * r2[i] + c3 * r3[i]
+    for q in range(4, count):
+        c, row = values[q], bank[slots[q]]
         for i in range(lo, hi):
             dest[i] += c * row[i]
 
