@@ -496,14 +496,19 @@ def _s3_midspan(integrator, interpolation, dt):
     return analysis.time, mid.sink.values[:, 0]
 
 
-@pytest.fixture(scope="module")
-def s3_r1():
+def _s3_r1_solution(rtol, n_elements=None, approach=2.0):
+    """R1 of S3 on a 2 ms grid to R1_T_END: (solution, bridge, train)."""
     elimination = pytest.importorskip("vtsi.reference.elimination")
     model = vtsi.Model()
-    bridge, train, x_head0 = s3_model(model, approach=2.0)
+    bridge, train, x_head0 = s3_model(model, n_elements, approach=approach)
     con = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train, x_head0))
     t_eval = np.arange(int(round(R1_T_END / 2e-3)) + 1) * 2e-3
-    sol = elimination.solve(model, con, R1_T_END, t_eval, rtol=1e-8)
+    return elimination.solve(model, con, R1_T_END, t_eval, rtol=rtol), bridge, train
+
+
+@pytest.fixture(scope="module")
+def s3_r1():
+    sol, bridge, _ = _s3_r1_solution(1e-8)
     return sol.t, sol.node(bridge.midspan_nodes[0], 2)
 
 
@@ -634,13 +639,7 @@ def _s3_train_run(integrator, dt, n_elements, approach, exact_events, t_end=R1_T
 def s3_coarse_r1():
     """R1 (rtol 1e-10) of S3's car over the span meshed with 4 elements (its modes are resolved
     by steps of ~30 µs over the run), car 2.0003 m before the span."""
-    elimination = pytest.importorskip("vtsi.reference.elimination")
-    model = vtsi.Model()
-    bridge, train, x_head0 = s3_model(model, 4, approach=KINK_APPROACH)
-    sub = TrainSubdomain(train, x_head0)
-    con = MovingLoadConstraint(Track(model, bridge.elements), sub)
-    t_eval = np.arange(int(round(R1_T_END / 2e-3)) + 1) * 2e-3
-    sol = elimination.solve(model, con, R1_T_END, t_eval, rtol=1e-10)
+    sol, _, train = _s3_r1_solution(1e-10, 4, KINK_APPROACH)
     names = list(train.dof_names)
     return sol.t, sol.train_u[:, [names.index("car0.body_y"), names.index("car0.body_rz")]]
 
@@ -671,13 +670,8 @@ def test_kink_crossings_keep_the_car_second_order(s3_coarse_r1, name, integrator
 def s3_r1_full():
     """R1 (rtol 1e-10) of S3 (20 elements, car 2 m before the span): the whole bridge state on a
     2 ms grid, with the bridge's modes (for the modal split of the error)."""
-    elimination = pytest.importorskip("vtsi.reference.elimination")
     import scipy.linalg
-    model = vtsi.Model()
-    bridge, train, x_head0 = s3_model(model, approach=2.0)
-    con = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train, x_head0))
-    t_eval = np.arange(int(round(R1_T_END / 2e-3)) + 1) * 2e-3
-    sol = elimination.solve(model, con, R1_T_END, t_eval, rtol=1e-10)
+    sol, bridge, _ = _s3_r1_solution(1e-10)
     asm = sol.assembly
     M = asm.M.toarray()
     w2, phi = scipy.linalg.eigh(asm.K.toarray(), M)
