@@ -27,24 +27,20 @@ from numba import njit
 
 from vtsi.banded import ldl_solve
 from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
-from vtsi.timeloop import add_pattern_loads, combine, solve_stage, sparse_coefficients
+from vtsi.timeloop import add_pattern_loads, solve_stage, sparse_coefficients, update_stage
 from vtsi.track import constraint_rows, hermite, host_element
 
 
 @njit(cache=True)
 def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk, ck, sc, vc, cc,
                 su, vu, cu, sv, vv, cv, ua, va, band):
-    """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots."""
+    """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots
+    ``base..base + 2`` (slots 0..2 for the last stage: the step's result, in place)."""
     kd = len(band)
     n = k_rows.shape[0]
     lo, hi = kd, kd + n
     solve_stage(bank, rhs, xk, xc, fac, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band)
-    combine(bank[base], bank, su[s], vu[s], cu[s], lo, hi)
-    combine(bank[base + 1], bank, sv[s], vv[s], cv[s], lo, hi)
-    for i in range(lo, hi):
-        bank[base, i] += ua * rhs[i]
-        bank[base + 1, i] += va * rhs[i]
-        bank[base + 2, i] = rhs[i]
+    update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, xk, xc)
 
 
 @njit(cache=True)
@@ -228,7 +224,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     zq, zl = np.empty(n_c), np.empty(n_c)
     for step in range(n_steps):
         for s in range(n_stages):
-            base = 3 + 3 * s
+            base = 0 if s == n_stages - 1 else 3 + 3 * s     # the last stage writes the new state
             ua, va = du[s, A], dv[s, A]
             # 1. free responses
             rb[kdb: kdb + n_b] = 0.0
@@ -353,13 +349,9 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                 for a_ in range(cols.shape[1]):
                     cols_prev[i, a_] = cols[i, a_]
                     vals_prev[i, a_] = vals[i, a_]
-        last = 3 + 3 * (n_stages - 1)
         worst = 0.0
         for bank in (bank_b, bank_t):
             for i in range(bank.shape[1]):
-                bank[0, i] = bank[last, i]
-                bank[1, i] = bank[last + 1, i]
-                bank[2, i] = bank[last + 2, i]
                 xa = abs(bank[0, i])
                 if not xa <= worst:
                     worst = xa

@@ -85,14 +85,65 @@ def solve_stage(bank, rhs, xk, xc, fac, k_rows, c_rows, damped, s, sk, vk, ck, s
 
 
 @njit(cache=True)
+def _merge_row(k0, k1, k2, slot):
+    """Position (0..2) of bank row ``slot`` among the rows ``k0, k1, k2`` (-1 = free), taking a
+    free one if needed: ``(k0, k1, k2, position)``, position -1 if all three are taken."""
+    if k0 == slot or k0 < 0:
+        return slot, k1, k2, 0
+    if k1 == slot or k1 < 0:
+        return k0, slot, k2, 1
+    if k2 == slot or k2 < 0:
+        return k0, k1, slot, 2
+    return k0, k1, k2, -1
+
+
+@njit(cache=True)
 def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, tmp_u, tmp_v):
     """Stage update: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into the
-    slots ``out_base..out_base+2`` (built in ``tmp_u``/``tmp_v`` first, so the last stage may
-    overwrite slots 0..2 that it reads). Returns max |u| (inf if any entry is NaN)."""
-    combine(tmp_u, bank, su[s], vu[s], cu[s], lo, hi)
-    combine(tmp_v, bank, sv[s], vv[s], cv[s], lo, hi)
+    slots ``out_base..out_base+2``. Returns max |u| (inf if any entry is NaN).
+
+    One pass when u and v read at most three bank rows (Newmark, HHT, Bathe's first stage):
+    entry i is written after it is read, so the last stage may overwrite the slots 0..2 it
+    reads. Otherwise u and v are built in ``tmp_u``/``tmp_v`` first."""
+    k0, k1, k2 = -1, -1, -1
+    cu0 = cu1 = cu2 = cv0 = cv1 = cv2 = 0.0
+    fits = True
+    for q in range(cu[s]):
+        k0, k1, k2, p = _merge_row(k0, k1, k2, su[s, q])
+        fits = fits and p >= 0
+        if p == 0:
+            cu0 += vu[s, q]
+        elif p == 1:
+            cu1 += vu[s, q]
+        elif p == 2:
+            cu2 += vu[s, q]
+    for q in range(cv[s]):
+        k0, k1, k2, p = _merge_row(k0, k1, k2, sv[s, q])
+        fits = fits and p >= 0
+        if p == 0:
+            cv0 += vv[s, q]
+        elif p == 1:
+            cv1 += vv[s, q]
+        elif p == 2:
+            cv2 += vv[s, q]
     u_out, v_out, a_out = bank[out_base], bank[out_base + 1], bank[out_base + 2]
     worst = 0.0
+    if fits:
+        r0 = bank[max(k0, 0)]
+        r1 = bank[max(k1, 0)]
+        r2 = bank[max(k2, 0)]
+        for i in range(lo, hi):
+            x0, x1, x2, a = r0[i], r1[i], r2[i], rhs[i]
+            u = cu0 * x0 + cu1 * x1 + cu2 * x2 + ua * a
+            v_out[i] = cv0 * x0 + cv1 * x1 + cv2 * x2 + va * a
+            u_out[i] = u
+            a_out[i] = a
+            x = abs(u)
+            if not x <= worst:   # also true for NaN
+                worst = x if x == x else np.inf
+        return worst
+    combine(tmp_u, bank, su[s], vu[s], cu[s], lo, hi)
+    combine(tmp_v, bank, sv[s], vv[s], cv[s], lo, hi)
     for i in range(lo, hi):
         a = rhs[i]
         u = tmp_u[i] + ua * a
@@ -100,7 +151,7 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
         v_out[i] = tmp_v[i] + va * a
         a_out[i] = a
         x = abs(u)
-        if not x <= worst:   # also true for NaN
+        if not x <= worst:
             worst = x if x == x else np.inf
     return worst
 
