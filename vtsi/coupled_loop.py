@@ -77,17 +77,12 @@ def _contact_flexibility(W, idx, m, flex, tflex, va, cols, vals, on_bridge):
         for b in range(a + 1):
             j = idx[b]
             acc = tflex[i, j]
-            if on_bridge[i] and on_bridge[j]:
+            if on_bridge[i] and on_bridge[j]:   # unused entries (col -1) have value 0: no branches
                 for a_ in range(nw):
-                    ca = cols[i, a_]
-                    if ca < 0:
-                        break
+                    flex_row = flex[max(cols[i, a_], 0)]
                     row = 0.0
                     for b_ in range(nw):
-                        cb = cols[j, b_]
-                        if cb < 0:
-                            break
-                        row += flex[ca, cb] * vals[j, b_]
+                        row += flex_row[max(cols[j, b_], 0)] * vals[j, b_]
                     acc += vals[i, a_] * row
             W[a, b] = va * acc
             W[b, a] = va * acc
