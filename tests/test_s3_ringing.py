@@ -207,6 +207,25 @@ def test_bspline_spreads_each_entry_and_exit_impulse(runs, reference, name, dt):
         assert np.sum(diff[near, wheel]) * dt == pytest.approx(impulse, rel=0.1), (time, wheel)
 
 
+@pytest.mark.parametrize("integrator", ["Newmark", "Bathe", HHT(0.9)], ids=["Newmark", "Bathe", "HHT"])
+def test_exact_events_record_the_impulses(reference, integrator):
+    """With ``exact_events=True`` each kink's impulse is applied at its own time and recorded as
+    impulse/Δt in its step's λ (the convention of a landing): Σ (λ − λ_ref) Δt over ±6 ms
+    equals R1's impulse within 10 % or 3 N·s for every integrator, with the plain Hermite rows
+    (Bathe's default record misses them: the xfail below). 3 N·s: the window also sums the
+    unresolved high-frequency part of λ, R ≈ 1.2e-3 Q ≈ 0.37 kN over 12 ms ≈ 4 N·s at most.
+    Measured at 1 ms (R1: −38.2, −67.1, −20.9 N·s): Newmark −38.1, −68.3, −21.4; Bathe −37.0,
+    −68.4, −23.3; HHT(0.9) −37.9, −68.0, −21.2."""
+    if reference["impulses"] is None:
+        pytest.skip("needs R1's impulses")
+    dt = 1e-3
+    t, force, _ = _run(integrator, "hermite", dt, exact_events=True)
+    diff = force - _at(t, reference)
+    for time, wheel, impulse in reference["impulses"]:
+        near = np.abs(t - time) <= 6e-3
+        assert np.sum(diff[near, wheel]) * dt == pytest.approx(impulse, rel=0.1, abs=3.0), (time, wheel)
+
+
 @pytest.mark.xfail(strict=True, reason="Bathe records only its second stage's λ; the step's impulse is "
                    "Δt (λ_n + λ_γ + λ_n+1)/3, so an impulse that falls in the first stage is missing from the "
                    "record or has the wrong sign (measured at 1 ms: +39.9 N·s for −38.2, +65.8 for −67.1). "

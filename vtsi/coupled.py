@@ -367,7 +367,9 @@ class CoupledAnalysis:
                     if bad != -1:
                         break
                     for _, theta, i, x in crossing:
-                        self._cross(bank_b, bank_t, kd_b, kd_t, i, x, (1.0 - theta) * self.dt, prev)
+                        # recorded as its impulse spread over the step (as a landing, docs/theory/contact.md)
+                        out_force[k, i] += self._cross(bank_b, bank_t, kd_b, kd_t, i, x, (1.0 - theta) * self.dt,
+                                                       prev) / self.dt
                     first = k + 1
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
@@ -466,7 +468,7 @@ class CoupledAnalysis:
         none at a support; lumped car masses); consistent accelerations (the wheel's from the
         new rail line, the rest of the car from its equations) and λ (HHT carries it). With
         contact='lcp' a new line that falls away (an impulse that would pull) leaves the wheel
-        in flight instead."""
+        in flight instead. Returns the contact impulse [N·s] (compression positive)."""
         con, train, track, V = self.constraint, self.train, self.constraint.track, self.train.speed
         n_b, n_t = len(self.active), train.n_dof
         u_b, v_b, a_b = (bank_b[s, kd_b: kd_b + n_b] for s in range(3))
@@ -487,12 +489,14 @@ class CoupledAnalysis:
         d, j, o = car["dofs"], car["j"], car["o"]
         u_t, v_t, a_t = (bank_t[s, kd_t: kd_t + n_t] for s in range(3))
         if self.contact == "lcp" and wv < v_t[d[j]]:
-            return      # the new line falls away under the wheel: it flies (the LCP takes it from here)
+            return 0.0  # the new line falls away under the wheel: it flies (the LCP takes it from here)
         u_c, v_c, a_c = u_t[d].copy(), v_t[d].copy(), a_t[d].copy()
         u_c[j] = wu
         v_c -= car["M_inv"] @ (car["C"][:, j] * ((wv - v_c[j]) * tau))
+        impulse = 0.0
         if car["M_inv"][j, j] > 0.0:
-            v_c += car["M_inv"][:, j] * ((wv - v_c[j]) / car["M_inv"][j, j])
+            impulse = (wv - v_c[j]) / car["M_inv"][j, j]
+            v_c += car["M_inv"][:, j] * impulse
         v_c[j] = wv
         a_c[j] = wa
         p_c = train.gravity_load[d]
@@ -506,6 +510,7 @@ class CoupledAnalysis:
         if row is not None:
             keep = row[0] >= 0
             cols_prev[i, : keep.sum()], vals_prev[i, : keep.sum()] = row[0][keep], row[1][keep]
+        return impulse
 
     # -- contact results ------------------------------------------------------------------
     def contact_events(self, interpolate=True):
