@@ -61,7 +61,8 @@ class CoupledAnalysis:
         the wheel's velocity jump at the wrong time). True: that step keeps the wheel on its old
         line, then its velocity jump (a perfectly inelastic impulse, as R1) is applied with a
         timing correction and a consistent restart of its car: second order, no extra
-        factorisation (docs/theory/coupled_step.md §6).
+        factorisation; the impulse is recorded as impulse/Δt in that step's λ, and Newmark's
+        λ no longer rings after a kink (docs/theory/coupled_step.md §6).
 
     After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
     and ``gap`` (n_steps, n_c) [m] hold every step of the run; :meth:`contact_events` and
