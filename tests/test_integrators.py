@@ -606,3 +606,34 @@ def test_model_change_between_runs_is_seen():
     analysis.run(10)
     x = np.linalg.matrix_power(amplification(Newmark(), 2 * omega * dt, 0.0, dt), 10) @ x
     np.testing.assert_allclose([state.u[1], state.v[1], state.a[1]], x, rtol=1e-12, atol=1e-10)
+
+
+@pytest.mark.parametrize("name", ["Newmark", "Bathe"])
+def test_dofs_at_rest_are_left_out_and_read_zero(name):
+    """Components of the model with no load and no state stay exactly at rest, so the loop
+    leaves them out (vtsi.analysis.moving_dofs): a vertical load on a straight beam moves only
+    its bending dofs (the axial ones read 0, and the bending response is the same, to the last
+    bit, as with an axial load added); an axial load or an axial initial velocity brings the
+    axial dofs back in."""
+    t = np.linspace(0.0, 0.2, 21)
+    runs = {}
+    for extra in ("none", "axial load", "axial velocity"):
+        m = simply_supported_beam()
+        m.pattern(1, vtsi.timeseries.Path(np.sin(40.0 * t), time=t)).load(5, 0.0, -1e5, 0.0)
+        if extra == "axial load":
+            m.pattern(2, vtsi.timeseries.Path(np.sin(25.0 * t), time=t)).load(9, 1e6, 0.0, 0.0)
+        asm = m.build()
+        if extra == "axial velocity":
+            vtsi.domain_state(m).v[asm.full_dof(9, 1)] = 1e-3
+        rec = vtsi.recorders.NodeRecorder([5, 9], [1, 2], "disp")
+        analysis = vtsi.TransientAnalysis(m, name, 1e-3, recorders=[rec])
+        analysis.run(150)
+        axial = [asm.free_of_full[asm.full_dof(n, 1)] for n in range(2, 10)]
+        assert set(axial) <= set(analysis.active.tolist()) if extra != "none" else \
+            not set(axial) & set(analysis.active.tolist())
+        runs[extra] = rec.sink.values.copy()
+    assert np.all(runs["none"][:, [0, 2]] == 0.0)                 # ux of nodes 5 and 9
+    assert np.abs(runs["axial load"][:, 2]).max() > 1e-6
+    assert np.abs(runs["axial velocity"][:, 2]).max() > 1e-8          # v / ω_axial ~ 3.7e-7 m
+    for extra in ("axial load", "axial velocity"):
+        assert np.array_equal(runs[extra][:, [1, 3]], runs["none"][:, [1, 3]])

@@ -8,8 +8,17 @@ import logging
 import numpy as np
 import scipy.linalg
 import scipy.sparse.linalg as spla
+from scipy.sparse import csgraph
 
-from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, pad, solve_band
+from vtsi.banded import (
+    NotPositiveDefinite,
+    band_rows,
+    band_type,
+    half_bandwidth,
+    ldl_band,
+    pad,
+    solve_band,
+)
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.timeloop import run_linear_steps
@@ -38,17 +47,47 @@ def domain_state(model):
     return state
 
 
-def factor(assembly, matrix, what, cause=None):
-    """Banded Cholesky factor of a free-dof matrix; a failure names the dof at fault (``cause``:
-    the explanation that follows, by default "a mechanism or a dof with neither stiffness nor mass")."""
-    kd = half_bandwidth(assembly.K) if assembly.n_free > 1 else 0
-    kd = max(kd, half_bandwidth(assembly.M), half_bandwidth(assembly.C))
+def factor(assembly, matrix, what, cause=None, dofs=None):
+    """Banded Cholesky factor of a free-dof matrix, or of its rows and columns ``dofs`` (the
+    matrix given already restricted to them), with the half bandwidth of K, M and C there; a
+    failure names the dof at fault (``cause``: the explanation that follows, by default "a
+    mechanism or a dof with neither stiffness nor mass")."""
+    dofs = np.arange(assembly.n_free) if dofs is None else dofs
+    kd = max(half_bandwidth(m[dofs][:, dofs]) for m in (assembly.K, assembly.M, assembly.C))
     try:
         return ldl_band(matrix, kd)
     except NotPositiveDefinite as exc:
-        raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(exc.pivot)}: "
+        raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(dofs[exc.pivot])}: "
                             + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
                                         "mass (fix it or connect it)")) from None
+
+
+def factor_stage(assembly, active, kv, ku, what, cause=None):
+    """Banded factor of the effective matrix M + kv C + ku K on the moving dofs ``active``
+    (:func:`moving_dofs`). The dofs at rest are checked too: a dof with neither stiffness nor
+    mass is a modelling error even where nothing moves, and is named as everywhere else."""
+    full = (assembly.M + kv * assembly.C + ku * assembly.K).tocsr()
+    rest = np.setdiff1d(np.arange(assembly.n_free), active)
+    if len(rest):
+        factor(assembly, full[rest][:, rest], what, cause, dofs=rest)
+    return factor(assembly, full[active][:, active], what, cause, dofs=active)
+
+
+def moving_dofs(assembly, model, seeds=None):
+    """Free dofs a linear time loop must integrate: the connected components (couplings of K, M,
+    C) that hold a pattern load, a nonzero committed state or a ``seeds`` dof (boolean over the
+    free dofs). The others stay exactly at rest (zero load, zero state, so zero forever), e.g.
+    the axial dofs of a straight horizontal beam under vertical loads; their recorders read 0."""
+    label = getattr(assembly, "_component_labels", None)
+    if label is None:
+        graph = (abs(assembly.K) + abs(assembly.M) + abs(assembly.C)).tocsr()
+        label = assembly._component_labels = csgraph.connected_components(graph, directed=False)[1]
+    state = domain_state(model)
+    moving = np.zeros(assembly.n_free, dtype=bool) if seeds is None else np.array(seeds, dtype=bool)
+    moving[_pattern_loads(assembly, list(model.patterns.values()))[1]] = True
+    for vec in (state.u, state.v, state.a):
+        moving |= vec[assembly.full_of_free] != 0.0
+    return np.flatnonzero(np.isin(label, label[moving])).astype(np.int64)
 
 
 def _integer(who, what, value, low=None):
@@ -293,6 +332,10 @@ class TransientAnalysis:
     divergence_limit : a step whose largest |u| exceeds this (or is NaN) stops the run with
         a :class:`~vtsi.errors.DivergenceError` naming the step and the time.
     chunk_steps : steps per compiled call (recorders receive chunks of this size).
+
+    Only the dofs that can move are integrated (:func:`moving_dofs`, listed in ``active`` after
+    a run): a component of the model with no load and no state stays exactly at rest, e.g.
+    the axial dofs of a straight beam under vertical loads; its recorders read 0.
     """
 
     def __init__(self, model, integrator="Newmark", dt=None, recorders=(), divergence_limit=1e8,
@@ -325,21 +368,28 @@ class TransientAnalysis:
             self.dt, self._prepared_for = dt, None
 
     def _prepare(self):
-        """Factor the stage matrices (once per model version and dt) and pack the stages."""
+        """Factor the stage matrices (once per model version, dt and set of moving dofs, see
+        :func:`moving_dofs`) and pack the stages."""
         asm = self.model.build()
-        if self._prepared_for is asm:
+        active = moving_dofs(asm, self.model)
+        if self._prepared_for is asm and np.array_equal(active, self.active):
             return asm
+        self.active = active
+        self.position = np.full(asm.n_free, -1, dtype=np.int64)
+        self.position[active] = np.arange(len(active))
         integ, dt = self.integrator, self.dt
         limit = integ.stability_limit(dt)
         stages = integ.stages(dt)
         A = integ.n_slots
+        active = self.active
+        K, C = (m[active][:, active].tocsr() for m in (asm.K, asm.C))
+        self.has_damping = bool(np.any(C.data != 0.0))
         factors = []
         for s, st in enumerate(stages):
-            k_hat = asm.M + st.kv[A] * asm.C + st.ku[A] * asm.K
             what = f"effective matrix of {integ.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
             cause = (f"{integ.name} is explicit, so every free dof needs mass and that one has none "
                      "(give it mass, fix it, or use an implicit integrator: Newmark, HHT, Bathe)") if integ.explicit else None
-            factors.append(factor(asm, k_hat.tocsr(), what, cause))
+            factors.append(factor_stage(asm, active, st.kv[A], st.ku[A], what, cause))
         if limit is not None:
             omega_max = max_frequency(asm)
             if omega_max * dt > limit * (1.0 + 1e-12):
@@ -348,7 +398,7 @@ class TransientAnalysis:
                                     f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
         self.factors = np.ascontiguousarray(np.stack(factors))
         kd = self.factors.shape[2] - 1
-        self.k_rows, self.c_rows = band_rows(asm.K, kd), band_rows(asm.C, kd)
+        self.k_rows, self.c_rows = band_rows(K, kd), band_rows(C, kd)
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
         self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
         self.load_points = [st.load for st in stages]
@@ -375,26 +425,29 @@ class TransientAnalysis:
         state = domain_state(self.model)
         patterns = list(self.model.patterns.values())
         load_ptr, load_dof, load_val = _pattern_loads(asm, patterns)
+        load_dof = self.position[load_dof]
         n_slots = self.integrator.n_slots
         kd = self.factors.shape[2] - 1
-        bank = np.zeros((n_slots, asm.n_free + 2 * kd))
+        n = len(self.active)
+        full_dofs = asm.full_of_free[self.active]
+        bank = np.zeros((n_slots, n + 2 * kd))
         for slot, vec in enumerate((state.u, state.v, state.a)):
-            bank[slot, kd: kd + asm.n_free] = vec[asm.full_of_free]
+            bank[slot, kd: kd + n] = vec[full_dofs]
         feed = _RecorderFeed(asm, self.model, self.recorders,
                              {"analysis": "transient", "integrator": repr(self.integrator), "dt": self.dt})
-        work = np.zeros((3, asm.n_free + 2 * kd))
+        work = np.zeros((3, n + 2 * kd))
         done = 0
         try:
             while done < n_steps:
-                n = min(self.chunk_steps, n_steps - done)
+                chunk = min(self.chunk_steps, n_steps - done)
                 t0 = state.time
-                table = self._load_factors(patterns, t0, n)
-                out = np.zeros((n, len(feed.rec_index)))
+                table = self._load_factors(patterns, t0, chunk)
+                out = np.zeros((chunk, len(feed.rec_index)))
                 bad = run_linear_steps(bank, self.du, self.dv, self.ku, self.kv, self.factors,
-                                       self.k_rows, self.c_rows, asm.has_damping, table,
-                                       load_ptr, load_dof, load_val, feed.rec_slot, feed.rec_index,
+                                       self.k_rows, self.c_rows, self.has_damping, table,
+                                       load_ptr, load_dof, load_val, feed.rec_slot, self.position[feed.rec_index],
                                        out, self.divergence_limit, work, band_type(self.factors.shape[2] - 1))
-                good = n if bad < 0 else bad
+                good = chunk if bad < 0 else bad
                 times = t0 + self.dt * np.arange(1, good + 1)
                 feed.deliver(times, out[:good], asm)
                 if bad >= 0:
@@ -403,15 +456,15 @@ class TransientAnalysis:
                         f"transient analysis diverged at step {step}, t = {t0 + (bad + 1) * self.dt:.6g} s "
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, t0 + (bad + 1) * self.dt)
-                self._commit(state, bank[:, kd: kd + asm.n_free], asm, t0 + n * self.dt)
-                done += n
+                self._commit(state, bank[:, kd: kd + n], full_dofs, t0 + chunk * self.dt)
+                done += chunk
         finally:
             feed.close()
         return state
 
     @staticmethod
-    def _commit(state, bank, asm, time):
+    def _commit(state, bank, full_dofs, time):
         for slot, vec in enumerate((state.u, state.v, state.a)):
             vec[:] = 0.0
-            vec[asm.full_of_free] = bank[slot]
+            vec[full_dofs] = bank[slot]
         state.time = time

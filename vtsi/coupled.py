@@ -15,7 +15,15 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse import csgraph
 
-from vtsi.analysis import _integer, _pattern_loads, _RecorderFeed, domain_state, factor
+from vtsi.analysis import (
+    _integer,
+    _pattern_loads,
+    _RecorderFeed,
+    domain_state,
+    factor,
+    factor_stage,
+    moving_dofs,
+)
 from vtsi.banded import (
     NotPositiveDefinite,
     band_rows,
@@ -128,22 +136,11 @@ class CoupledAnalysis:
         return np.einsum("ij,ij->i", rows, sag).reshape(x.shape)
 
     def _moving_dofs(self, asm):
-        """Free bridge dofs the time loop integrates: the connected components (couplings of K,
-        M, C) that hold a track dof, a load or a nonzero committed state. The others stay at
-        rest (zero load, zero state), e.g. the axial dofs of a straight horizontal deck, and read
-        0 in the recorders."""
-        if getattr(self, "_components", (None,))[0] is not asm:
-            graph = (abs(asm.K) + abs(asm.M) + abs(asm.C)).tocsr()
-            self._components = (asm, csgraph.connected_components(graph, directed=False)[1])
-        label = self._components[1]
-        state = domain_state(self.model)
-        moving = np.zeros(asm.n_free, dtype=bool)
-        moving[self.constraint.track.free_index] = True
-        moving[_pattern_loads(asm, list(self.model.patterns.values()))[1]] = True
-        moving |= self._bridge_constant_load(asm) != 0.0
-        for vec in (state.u, state.v, state.a):
-            moving |= vec[asm.full_of_free] != 0.0
-        return np.flatnonzero(np.isin(label, label[moving])).astype(np.int64)
+        """Free bridge dofs the time loop integrates (:func:`vtsi.analysis.moving_dofs`): the
+        components holding a track dof, a load (the self weight too) or a nonzero state."""
+        seeds = self._bridge_constant_load(asm) != 0.0
+        seeds[self.constraint.track.free_index] = True
+        return moving_dofs(asm, self.model, seeds)
 
     def _prepare(self):
         asm = self.model.build()
@@ -153,22 +150,16 @@ class CoupledAnalysis:
         self.active = active
         self.position = np.full(asm.n_free, -1, dtype=np.int64)
         self.position[active] = np.arange(len(active))
-        K, M, C = (m[active][:, active].tocsr() for m in (asm.K, asm.M, asm.C))
+        K, C = (m[active][:, active].tocsr() for m in (asm.K, asm.C))
         self.has_damping = bool(np.any(C.data != 0.0))
         track_dofs = self.position[self.constraint.track.free_index]
         integ, dt, train = self.integrator, self.dt, self.train
         stages = integ.stages(dt)
         A = integ.n_slots
         fac_b, fac_t, flex, tflex, response = [], [], [], [], []
-        kd_b = max(half_bandwidth(K), half_bandwidth(M), half_bandwidth(C))
         kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
         for s, st in enumerate(stages):
-            try:
-                fb = ldl_band((M + st.kv[A] * C + st.ku[A] * K).tocsr(), kd_b)
-            except NotPositiveDefinite as exc:
-                raise AnalysisError(f"bridge effective matrix of {integ.name} stage {s + 1} is singular or not "
-                                    f"positive definite at {asm.dof_label(active[exc.pivot])}: the structure is a "
-                                    "mechanism or that dof has neither stiffness nor mass (fix it or connect it)") from None
+            fb = factor_stage(asm, active, st.kv[A], st.ku[A], f"bridge effective matrix of {integ.name} stage {s + 1}")
             fac_b.append(fb)
             flex.append(_inverse_columns(fb, track_dofs)[track_dofs])
             if train.n_dof:

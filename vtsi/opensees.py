@@ -384,8 +384,8 @@ class _CommandTransient(TransientAnalysis):
             out[:, members] = y * (fact * series_factor)
         return out
 
-    def _commit(self, state, bank, asm, time):
-        TransientAnalysis._commit(state, bank, asm, self._chunk_end if self._chunk_end is not None else time)
+    def _commit(self, state, bank, full_dofs, time):
+        TransientAnalysis._commit(state, bank, full_dofs, self._chunk_end if self._chunk_end is not None else time)
 
 
 class _OpenSeesTRBDF2:

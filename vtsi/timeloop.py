@@ -169,7 +169,8 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
     k_rows, c_rows : (n, 2 kd + 1) band rows of K and C; ``damped`` False skips C.
     load_factors : (n_steps, n_stages, n_patterns) stage load factors of the patterns.
     load_ptr, load_dof, load_val : CSR of the pattern load vectors (free dof indices).
-    rec_slot, rec_index : slot (0 u, 1 v, 2 a) and free dof read by each output column.
+    rec_slot, rec_index : slot (0 u, 1 v, 2 a) and dof (index into the bank; -1: a dof at rest,
+        read as 0) of each output column.
     work : (3, n + 2 kd) zeroed scratch vectors.
     band : ``band_type(kd)``, the half bandwidth as a type (the kernel is compiled for it).
     """
@@ -196,5 +197,5 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
         if not (worst <= limit and worst < np.inf):   # NaN and ±inf diverge even with limit = inf
             return step
         for r in range(rec_slot.shape[0]):
-            out[step, r] = bank[rec_slot[r], lo + rec_index[r]]
+            out[step, r] = bank[rec_slot[r], lo + rec_index[r]] if rec_index[r] >= 0 else 0.0
     return -1
