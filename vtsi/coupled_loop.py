@@ -27,7 +27,12 @@ from numba import njit
 
 from vtsi.banded import ldl_solve
 from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
-from vtsi.timeloop import add_pattern_loads, solve_stage, sparse_coefficients, update_stage
+from vtsi.timeloop import (
+    add_pattern_loads,
+    solve_stage,
+    sparse_coefficients,
+    update_stage,
+)
 from vtsi.track import constraint_rows, hermite, host_element
 
 

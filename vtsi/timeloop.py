@@ -98,6 +98,24 @@ def _merge_row(k0, k1, k2, slot):
 
 
 @njit(cache=True)
+def _merge_terms(k0, k1, k2, slots, values, count):
+    """The terms ``Σ values[q] X_slots[q]`` on the rows ``k0, k1, k2`` (taking free ones):
+    ``(k0, k1, k2, c0, c1, c2, fits)``, fits False if they need a fourth row."""
+    c0 = c1 = c2 = 0.0
+    fits = True
+    for q in range(count):
+        k0, k1, k2, p = _merge_row(k0, k1, k2, slots[q])
+        fits = fits and p >= 0
+        if p == 0:
+            c0 += values[q]
+        elif p == 1:
+            c1 += values[q]
+        elif p == 2:
+            c2 += values[q]
+    return k0, k1, k2, c0, c1, c2, fits
+
+
+@njit(cache=True)
 def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, tmp_u, tmp_v):
     """Stage update: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into the
     slots ``out_base..out_base+2``. Returns max |u| (inf if any entry is NaN).
@@ -105,30 +123,11 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
     One pass when u and v read at most three bank rows (Newmark, HHT, Bathe's first stage):
     entry i is written after it is read, so the last stage may overwrite the slots 0..2 it
     reads. Otherwise u and v are built in ``tmp_u``/``tmp_v`` first."""
-    k0, k1, k2 = -1, -1, -1
-    cu0 = cu1 = cu2 = cv0 = cv1 = cv2 = 0.0
-    fits = True
-    for q in range(cu[s]):
-        k0, k1, k2, p = _merge_row(k0, k1, k2, su[s, q])
-        fits = fits and p >= 0
-        if p == 0:
-            cu0 += vu[s, q]
-        elif p == 1:
-            cu1 += vu[s, q]
-        elif p == 2:
-            cu2 += vu[s, q]
-    for q in range(cv[s]):
-        k0, k1, k2, p = _merge_row(k0, k1, k2, sv[s, q])
-        fits = fits and p >= 0
-        if p == 0:
-            cv0 += vv[s, q]
-        elif p == 1:
-            cv1 += vv[s, q]
-        elif p == 2:
-            cv2 += vv[s, q]
+    k0, k1, k2, cu0, cu1, cu2, fits_u = _merge_terms(-1, -1, -1, su[s], vu[s], cu[s])
+    k0, k1, k2, cv0, cv1, cv2, fits_v = _merge_terms(k0, k1, k2, sv[s], vv[s], cv[s])
     u_out, v_out, a_out = bank[out_base], bank[out_base + 1], bank[out_base + 2]
     worst = 0.0
-    if fits:
+    if fits_u and fits_v:
         r0 = bank[max(k0, 0)]
         r1 = bank[max(k1, 0)]
         r2 = bank[max(k2, 0)]
