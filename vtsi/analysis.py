@@ -73,18 +73,21 @@ def factor_stage(assembly, active, kv, ku, what, cause=None):
     return factor(assembly, full[active][:, active], what, cause, dofs=active)
 
 
-def moving_dofs(assembly, model, seeds=None):
+def moving_dofs(assembly, model, seeds=None, loaded=None):
     """Free dofs a linear time loop must integrate: the connected components (couplings of K, M,
-    C) that hold a pattern load, a nonzero committed state or a ``seeds`` dof (boolean over the
-    free dofs). The others stay exactly at rest (zero load, zero state, so zero forever), e.g.
-    the axial dofs of a straight horizontal beam under vertical loads; their recorders read 0."""
+    C) that hold a pattern load (``loaded``: the loaded free dofs, if known), a nonzero committed
+    state or a ``seeds`` dof (boolean over the free dofs). The others stay exactly at rest (zero
+    load, zero state, so zero forever), e.g. the axial dofs of a straight horizontal beam under
+    vertical loads; their recorders read 0."""
     label = getattr(assembly, "_component_labels", None)
     if label is None:
         graph = (abs(assembly.K) + abs(assembly.M) + abs(assembly.C)).tocsr()
         label = assembly._component_labels = csgraph.connected_components(graph, directed=False)[1]
     state = domain_state(model)
     moving = np.zeros(assembly.n_free, dtype=bool) if seeds is None else np.array(seeds, dtype=bool)
-    moving[_pattern_loads(assembly, list(model.patterns.values()))[1]] = True
+    if loaded is None:
+        loaded = _pattern_loads(assembly, list(model.patterns.values()))[1]
+    moving[loaded] = True
     for vec in (state.u, state.v, state.a):
         moving |= vec[assembly.full_of_free] != 0.0
     return np.flatnonzero(np.isin(label, label[moving])).astype(np.int64)
@@ -367,11 +370,11 @@ class TransientAnalysis:
         if dt != self.dt:
             self.dt, self._prepared_for = dt, None
 
-    def _prepare(self):
+    def _prepare(self, loaded=None):
         """Factor the stage matrices (once per model version, dt and set of moving dofs, see
-        :func:`moving_dofs`) and pack the stages."""
+        :func:`moving_dofs`; ``loaded``: the loaded free dofs, if known) and pack the stages."""
         asm = self.model.build()
-        active = moving_dofs(asm, self.model)
+        active = moving_dofs(asm, self.model, loaded=loaded)
         if self._prepared_for is asm and np.array_equal(active, self.active):
             return asm
         self.active = active
@@ -421,10 +424,10 @@ class TransientAnalysis:
         if self.dt is None:
             raise AnalysisError("transient analysis: no time step set")
         n_steps = _integer("transient analysis", "number of steps", n_steps, 0)
-        asm = self._prepare()
-        state = domain_state(self.model)
         patterns = list(self.model.patterns.values())
-        load_ptr, load_dof, load_val = _pattern_loads(asm, patterns)
+        load_ptr, load_dof, load_val = _pattern_loads(self.model.build(), patterns)
+        asm = self._prepare(load_dof)
+        state = domain_state(self.model)
         load_dof = self.position[load_dof]
         n_slots = self.integrator.n_slots
         kd = self.factors.shape[2] - 1

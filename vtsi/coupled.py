@@ -135,16 +135,14 @@ class CoupledAnalysis:
         rows = vals if nu == 0 else con.train.speed * slopes
         return np.einsum("ij,ij->i", rows, sag).reshape(x.shape)
 
-    def _moving_dofs(self, asm):
-        """Free bridge dofs the time loop integrates (:func:`vtsi.analysis.moving_dofs`): the
-        components holding a track dof, a load (the self weight too) or a nonzero state."""
+    def _prepare(self, loaded=None):
+        """Factors, flexibilities and stage data of the bridge dofs the loop integrates
+        (:func:`vtsi.analysis.moving_dofs`: the components holding a track dof, a load — the
+        self weight too, ``loaded`` the patterns' loaded dofs if known — or a nonzero state)."""
+        asm = self.model.build()
         seeds = self._bridge_constant_load(asm) != 0.0
         seeds[self.constraint.track.free_index] = True
-        return moving_dofs(asm, self.model, seeds)
-
-    def _prepare(self):
-        asm = self.model.build()
-        active = self._moving_dofs(asm)
+        active = moving_dofs(asm, self.model, seeds, loaded)
         if self._prepared is asm and np.array_equal(active, self.active):
             return asm
         self.active = active
@@ -270,12 +268,12 @@ class CoupledAnalysis:
         """Advance ``n_steps`` steps from the committed states (call :meth:`static` first for a
         start from the dead-load equilibrium). Returns the domain state."""
         n_steps = _integer("CoupledAnalysis", "number of steps", n_steps, 0)
-        asm = self._prepare()
+        patterns = list(self.model.patterns.values())
+        load_ptr, load_dof, load_val = _pattern_loads(self.model.build(), patterns)
+        asm = self._prepare(load_dof)
         state = domain_state(self.model)
         train, con, track = self.train, self.constraint, self.constraint.track
         con.check_travel(state.time, state.time + n_steps * self.dt, self.dt)
-        patterns = list(self.model.patterns.values())
-        load_ptr, load_dof, load_val = _pattern_loads(asm, patterns)
         constant = self._bridge_constant_load(asm)
         nz = np.flatnonzero(constant)
         load_ptr = np.append(load_ptr, load_ptr[-1] + len(nz))
