@@ -15,7 +15,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 RUN = ROOT / "benchmarks" / "run.py"
 CONTRACT = {"scene", "steps", "vtsi_s", "vtsi_us_per_step", "peer", "peer_s", "peer_us_per_step",
             "speedup", "max_rel_diff", "cases"}
-METHODS = ["Newmark", "HHT(0.9)", "Bathe", "Newmark+bspline"]
+METHODS = ["Newmark", "HHT(0.9)", "Bathe", "Newmark+bspline", "Newmark+events"]
 
 
 def run(*args, timeout=600):
@@ -54,7 +54,7 @@ def test_s3_accuracy_ranks(s3):
     dts = sorted({dt for _, dt in rows})
     fine, coarse = dts[0], dts[-1]
     assert rows["Newmark", fine]["force_error"] > rows["Newmark", coarse]["force_error"] > 0.03
-    for method in ("Bathe", "Newmark+bspline"):
+    for method in ("Bathe", "Newmark+bspline", "Newmark+events"):
         assert rows[method, fine]["force_error"] < 0.01
     for method in METHODS:
         assert rows[method, fine]["deflection_error"] < rows[method, coarse]["deflection_error"]

@@ -8,8 +8,10 @@ equilibrium, and the run ends ``RUN_OUT`` = 50 ms after the rear wheel has left 
 (rounded up to a multiple of 4 ms so that every Δt samples the same instants).
 
 Methods: Newmark (average acceleration, 'hermite' constraint rows), HHT with α = 0.9 (OpenSees
-convention, ρ∞ = 0.82), Bathe (γ = 1/2, ρ∞ = 0, two stages per step) and Newmark with the
-'bspline' constraint (remedy (a) of DESIGN §4).
+convention, ρ∞ = 0.82), Bathe (γ = 1/2, ρ∞ = 0, two stages per step), Newmark with the
+'bspline' constraint (remedy (a) of DESIGN §4), and Newmark with 'hermite' rows and
+``exact_events=True`` (each span entry and exit taken at its own time,
+docs/theory/coupled_step.md §6).
 
 (i) Work-precision, at 300 km/h, Δt = 4 ms … 0.125 ms, against the reference R1
     (``vtsi.reference.elimination.solve``, constraint elimination integrated by solve_ivp,
@@ -63,15 +65,16 @@ FAIL = 0.05           # ringing / static wheel load above which a method fails
 R1_RTOL = 1e-10
 CLOCK = time.process_time
 MIN_TIMED = 0.02      # [s] a timed repetition runs the analysis as often as it takes to last this long
-METHODS = ("Newmark", "HHT(0.9)", "Bathe", "Newmark+bspline")
+METHODS = ("Newmark", "HHT(0.9)", "Bathe", "Newmark+bspline", "Newmark+events")
 
 
 def integrator_of(method):
-    """(integrator, interpolation) of a method name of :data:`METHODS`."""
+    """(integrator, interpolation, exact_events) of a method name of :data:`METHODS`."""
     from vtsi.integrators import HHT
 
-    return {"Newmark": ("Newmark", "hermite"), "HHT(0.9)": (HHT(0.9), "hermite"),
-            "Bathe": ("Bathe", "hermite"), "Newmark+bspline": ("Newmark", "bspline")}[method]
+    return {"Newmark": ("Newmark", "hermite", False), "HHT(0.9)": (HHT(0.9), "hermite", False),
+            "Bathe": ("Bathe", "hermite", False), "Newmark+bspline": ("Newmark", "bspline", False),
+            "Newmark+events": ("Newmark", "hermite", True)}[method]
 
 
 def build(speed_kmh, interpolation="hermite"):
@@ -108,9 +111,9 @@ class Runner:
     def __init__(self, method, speed_kmh, dt):
         from vtsi.coupled import CoupledAnalysis
 
-        integrator, interpolation = integrator_of(method)
+        integrator, interpolation, exact_events = integrator_of(method)
         self.model, self.bridge, self.train, self.constraint = build(speed_kmh, interpolation)
-        self.analysis = CoupledAnalysis(self.model, self.constraint, integrator, dt=dt)
+        self.analysis = CoupledAnalysis(self.model, self.constraint, integrator, dt=dt, exact_events=exact_events)
         self.t_end = scene_times(speed_kmh)[0]
         self.n_steps = int(round(self.t_end / dt))
         self.static_load = float(self.train.static_wheel_loads[0])
@@ -302,10 +305,12 @@ def stability_map(speeds, dts):
 
 
 # -- charts -----------------------------------------------------------------------------------
-COLORS = {"Newmark": "tab:red", "HHT(0.9)": "tab:orange", "Bathe": "tab:blue", "Newmark+bspline": "tab:green"}
-MARKERS = {"Newmark": "o", "HHT(0.9)": "s", "Bathe": "D", "Newmark+bspline": "^"}
+COLORS = {"Newmark": "tab:red", "HHT(0.9)": "tab:orange", "Bathe": "tab:blue", "Newmark+bspline": "tab:green",
+          "Newmark+events": "tab:purple"}
+MARKERS = {"Newmark": "o", "HHT(0.9)": "s", "Bathe": "D", "Newmark+bspline": "^", "Newmark+events": "v"}
 LABELS = {"Newmark": "Newmark (Hermite rows)", "HHT(0.9)": "HHT α = 0.9 (Hermite rows)",
-          "Bathe": "Bathe γ = 1/2 (Hermite rows)", "Newmark+bspline": "Newmark + B-spline rows"}
+          "Bathe": "Bathe γ = 1/2 (Hermite rows)", "Newmark+bspline": "Newmark + B-spline rows",
+          "Newmark+events": "Newmark, span ends at their time"}
 
 
 def chart_work_precision(rows, ref, path, repeats=3):
@@ -356,7 +361,9 @@ def chart_stability(stab, path):
     lo = max(min(values), 1e-5) if values else 1e-4
     hi = max(max(values), 10 * FAIL) if values else 1.0
     norm = LogNorm(vmin=lo, vmax=hi)
-    fig, axes = plt.subplots(2, 2, figsize=(10.5, 7.6), constrained_layout=True, sharex=True, sharey=True)
+    fig, axes = plt.subplots(2, 3, figsize=(15, 7.6), constrained_layout=True, sharex=True, sharey=True)
+    for ax in axes.ravel()[len(stab["methods"]):]:
+        ax.set_visible(False)
     image = None
     for ax, method in zip(axes.ravel(), stab["methods"]):
         grid = np.array([[np.nan if v is None else max(v, lo) for v in line] for line in stab["ringing"][method]])
@@ -377,7 +384,9 @@ def chart_stability(stab, path):
         ax.set_title(f"{LABELS[method]}: fails in {n_fail} of {len(speeds) * len(dts)} cells", fontsize=9)
         ax.set_xticks(range(len(speeds)), [f"{v:g}" for v in speeds])
         ax.set_yticks(range(len(dts)), [f"{1e3 * d:g}" for d in dts])
-    for ax in axes[1]:
+    for col in range(axes.shape[1]):     # the lowest visible panel of each column carries the speeds
+        ax = axes[1, col] if axes[1, col].get_visible() else axes[0, col]
+        ax.tick_params(labelbottom=True)
         ax.set_xlabel("train speed [km/h]")
     for ax in axes[:, 0]:
         ax.set_ylabel("Δt [ms]")
