@@ -3,46 +3,29 @@
 The contract tests (``tests/test_element_contract.py``) check the new type like the shipped
 ones; here it meets its closed forms and the example's printed comparison.
 """
-import importlib.util
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-
-import vtsi
 from vtsi.elements import ELEMENT_TYPES
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "custom_element.py"
+import vtsi
 
 
-def load_custom_element_example():
-    """Import ``examples/custom_element.py`` once per session (it registers ``timoshenkoBeam``)."""
-    name = "vtsi_example_custom_element"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, EXAMPLE)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
-
-
-example = load_custom_element_example()
-
-
-def test_registered_without_touching_the_core():
-    assert ELEMENT_TYPES["timoshenkoBeam"] is example.TimoshenkoBeam2d
-    assert example.TimoshenkoBeam2d.__module__ == "vtsi_example_custom_element"
+def test_registered_without_touching_the_core(custom_element):
+    assert ELEMENT_TYPES["timoshenkoBeam"] is custom_element.TimoshenkoBeam2d
+    assert custom_element.TimoshenkoBeam2d.__module__ == "vtsi_example_custom_element"
 
 
 @pytest.mark.parametrize("n_el", [1, 3])
 @pytest.mark.parametrize("depth", [0.1, 1.5])
-def test_cantilever_tip_deflection_with_shear(n_el, depth):
+def test_cantilever_tip_deflection_with_shear(custom_element, n_el, depth):
     """Tip load P: δ = PL³/3EI + PL/κGA (bending + shear), θ = PL²/2EI; the two-node
     Timoshenko stiffness is exact for end loads (Przemieniecki 1968, §5.6)."""
     L, P = 4.0, 2e5
-    s = example.rectangular_steel_section(depth)
+    s = custom_element.rectangular_steel_section(depth)
     m = vtsi.Model()
     for i in range(n_el + 1):
         m.node(i + 1, L * i / n_el, 0.0)
@@ -57,10 +40,10 @@ def test_cantilever_tip_deflection_with_shear(n_el, depth):
     assert m.state.u[asm.full_dof(n_el + 1, 3)] == pytest.approx(-P * L ** 2 / (2 * ei), rel=1e-10)
 
 
-def test_main_compares_the_beams(capsys):
+def test_main_compares_the_beams(custom_element, capsys):
     """Slender: Timoshenko and Euler-Bernoulli within 1 %; deep: Timoshenko clearly lower.
     Each FE value matches its closed form within 0.1 % (40 lumped-mass elements)."""
-    results = example.main()
+    results = custom_element.main()
     printed = capsys.readouterr().out
     slender, deep = results["slender"], results["deep"]
     assert slender["timoshenko"] == pytest.approx(slender["euler_bernoulli"], rel=1e-2)
@@ -77,9 +60,10 @@ def test_main_compares_the_beams(capsys):
                                              row["euler_bernoulli_exact"], row["timoshenko_exact"]], atol=1e-4)
 
 
-def test_runs_as_a_script():
-    done = subprocess.run([sys.executable, str(EXAMPLE)], capture_output=True, text=True, timeout=300,
-                          cwd=EXAMPLE.parent)
+def test_runs_as_a_script(custom_element):
+    script = Path(custom_element.__file__)
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300,
+                          cwd=script.parent)
     assert done.returncode == 0, done.stderr
     assert "Euler-Bernoulli" in done.stdout and "Timoshenko" in done.stdout
     assert [line.split()[0] for line in done.stdout.splitlines()[2:]] == ["slender", "deep"]

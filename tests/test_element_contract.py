@@ -2,35 +2,15 @@
 
 The tests are parametrised over ``vtsi.elements.ELEMENT_TYPES``; each type needs a sample in
 ``SAMPLES`` below, and a registered type without one fails (a new type cannot skip the contract).
-The user-defined type of ``examples/custom_element.py`` is registered here too, so the contract
-holds for types added outside the core.
+The user-defined type of ``examples/custom_element.py`` is registered too (tests/conftest.py),
+so the contract holds for types added outside the core.
 """
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
+from vtsi.elements import ELEMENT_TYPES, ElementType, register
 
 import vtsi
-from vtsi.elements import ELEMENT_TYPES, ElementType, register
 from vtsi.errors import ModelError
-
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "custom_element.py"
-
-
-def load_custom_element_example():
-    """Import ``examples/custom_element.py`` once per session (it registers ``timoshenkoBeam``)."""
-    name = "vtsi_example_custom_element"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, EXAMPLE)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
-
-
-load_custom_element_example()
 
 # Two nodes in a general orientation (neither horizontal nor vertical, not through the origin).
 P1, P2 = (0.3, -0.2), (2.1, 1.4)
