@@ -137,13 +137,8 @@ class StraightforwardCoupled:
             return self._run_sparse(u_b, v_b, a_b, u_t, v_t, a_t, n_steps, record_b)
         dt, g, V = self.dt, GAMMA, self.V
         n_b, wd = self.n_b, self.wd
-        u_b, v_b, a_b, u_t, v_t, a_t = (np.array(z, dtype=float) for z in (u_b, v_b, a_b, u_t, v_t, a_t))
-        record_b = np.asarray(record_b, dtype=np.int64)
-        lam_out = np.zeros((n_steps, self.n_c))
-        rec_out = np.zeros((n_steps, len(record_b)))
-        times = dt * np.arange(1, n_steps + 1)
-        X_all = self.x0[None, :] + V * times[:, None]
-        r_all, rdot_all = self._profile(X_all)
+        (u_b, v_b, a_b, u_t, v_t, a_t), record_b, lam_out, rec_out, X_all, r_all, rdot_all = \
+            self._start((u_b, v_b, a_b, u_t, v_t, a_t), n_steps, record_b)
         ext = np.zeros(n_b + 1)               # a bridge vector with the dump slot n_b (always 0)
         for k in range(n_steps):
             # 1. free responses
@@ -177,20 +172,23 @@ class StraightforwardCoupled:
             rec_out[k] = u_b[record_b]
         return lam_out, rec_out, (u_b, v_b, a_b, u_t, v_t, a_t)
 
-    def _profile(self, X_all):
+    def _start(self, state, n_steps, record_b):
+        """Copies of the state, the recorded dofs, the output arrays, and the wheel positions
+        and rail data r, ṙ of every step (outside the timed loop's per-step work)."""
+        state = [np.array(z, dtype=float) for z in state]
+        record_b = np.asarray(record_b, dtype=np.int64)
+        X_all = self.x0[None, :] + self.V * self.dt * np.arange(1, n_steps + 1)[:, None]
         if self.irregularity is None:
-            return np.zeros_like(X_all), np.zeros_like(X_all)
-        return self.irregularity(X_all), self.V * self.irregularity(X_all, nu=1)
+            r_all, rdot_all = np.zeros_like(X_all), np.zeros_like(X_all)
+        else:
+            r_all, rdot_all = self.irregularity(X_all), self.V * self.irregularity(X_all, nu=1)
+        return (state, record_b, np.zeros((n_steps, self.n_c)), np.zeros((n_steps, len(record_b))), X_all,
+                r_all, rdot_all)
 
     def _run_sparse(self, u_b, v_b, a_b, u_t, v_t, a_t, n_steps, record_b=()):
         dt, g, V = self.dt, GAMMA, self.V
-        u_b, v_b, a_b, u_t, v_t, a_t = (np.array(z, dtype=float) for z in (u_b, v_b, a_b, u_t, v_t, a_t))
-        record_b = np.asarray(record_b, dtype=np.int64)
-        lam_out = np.zeros((n_steps, self.n_c))
-        rec_out = np.zeros((n_steps, len(record_b)))
-        times = dt * np.arange(1, n_steps + 1)
-        X_all = self.x0[None, :] + V * times[:, None]
-        r_all, rdot_all = self._profile(X_all)
+        (u_b, v_b, a_b, u_t, v_t, a_t), record_b, lam_out, rec_out, X_all, r_all, rdot_all = \
+            self._start((u_b, v_b, a_b, u_t, v_t, a_t), n_steps, record_b)
         for k in range(n_steps):
             ab_h, ub_h, vb_h, at_h, ut_h, vt_h = self._free_response(u_b, v_b, a_b, u_t, v_t, a_t)
             X = None                              # K̂_b⁻¹ N_onᵀ, set when a wheel is on the bridge
