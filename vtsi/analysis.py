@@ -73,16 +73,25 @@ def factor_stage(assembly, active, kv, ku, what, cause=None):
     return factor(assembly, full[active][:, active], what, cause, dofs=active)
 
 
+def component_labels(M, C, K):
+    """Connected components of the couplings of M, C, K (their nonzeros): a label per dof."""
+    return csgraph.connected_components((abs(M) + abs(C) + abs(K)).tocsr(), directed=False)[1]
+
+
+def dofs_with(labels, seeds):
+    """The dofs (ascending) whose component (``labels``) holds a ``seeds`` dof (boolean per dof)."""
+    return np.flatnonzero(np.isin(labels, labels[seeds])).astype(np.int64)
+
+
 def moving_dofs(assembly, model, seeds=None, loaded=None):
     """Free dofs a linear time loop must integrate: the connected components (couplings of K, M,
     C) that hold a pattern load (``loaded``: the loaded free dofs, if known), a nonzero committed
     state or a ``seeds`` dof (boolean over the free dofs). The others stay exactly at rest (zero
     load, zero state, so zero forever), e.g. the axial dofs of a straight horizontal beam under
     vertical loads; their recorders read 0."""
-    label = getattr(assembly, "_component_labels", None)
-    if label is None:
-        graph = (abs(assembly.K) + abs(assembly.M) + abs(assembly.C)).tocsr()
-        label = assembly._component_labels = csgraph.connected_components(graph, directed=False)[1]
+    labels = getattr(assembly, "_component_labels", None)
+    if labels is None:
+        labels = assembly._component_labels = component_labels(assembly.M, assembly.C, assembly.K)
     state = domain_state(model)
     moving = np.zeros(assembly.n_free, dtype=bool) if seeds is None else np.array(seeds, dtype=bool)
     if loaded is None:
@@ -90,7 +99,7 @@ def moving_dofs(assembly, model, seeds=None, loaded=None):
     moving[loaded] = True
     for vec in (state.u, state.v, state.a):
         moving |= vec[assembly.full_of_free] != 0.0
-    return np.flatnonzero(np.isin(label, label[moving])).astype(np.int64)
+    return dofs_with(labels, moving)
 
 
 def _integer(who, what, value, low=None):

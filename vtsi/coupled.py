@@ -19,6 +19,7 @@ from vtsi.analysis import (
     _integer,
     _pattern_loads,
     _RecorderFeed,
+    component_labels,
     domain_state,
     factor,
     factor_stage,
@@ -439,8 +440,7 @@ class CoupledAnalysis:
         C, K, the pseudo-inverses of M and M_oo (a massless wheel has a zero row)."""
         if i not in self._cars:
             train = self.train
-            label = csgraph.connected_components((abs(train.M) + abs(train.C) + abs(train.K)).tocsr(),
-                                                 directed=False)[1]
+            label = component_labels(train.M, train.C, train.K)
             dofs = np.flatnonzero(label == label[train.wheel_dofs[i]])
             wheels = np.flatnonzero(np.isin(dofs, train.wheel_dofs))
             others = np.setdiff1d(np.arange(len(dofs)), wheels)

@@ -51,9 +51,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 from scipy.integrate import ode, solve_ivp
-from scipy.sparse.csgraph import connected_components
 from scipy.sparse.linalg import spsolve
 
+from vtsi.analysis import component_labels, dofs_with
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.errors import AnalysisError, ModelError
 from vtsi.models.cars import GRAVITY
@@ -374,13 +374,11 @@ def active_bridge_dofs(M, C, K, track_dofs, loads):
     """Free bridge dofs that can move: those connected (through the nonzeros of M, C, K) to a
     track dof or to a loaded dof. The others start at rest with no load and stay at zero
     (e.g. the axial dofs of a straight beam), so the reference solvers drop them."""
-    graph = (abs(M) + abs(C) + abs(K)).tocsr()
-    _, label = connected_components(graph, directed=False)
     seeds = np.zeros(M.shape[0], dtype=bool)
     seeds[np.asarray(track_dofs, dtype=np.int64)] = True
     for vec in loads:
         seeds |= np.asarray(vec) != 0
-    return np.flatnonzero(np.isin(label, np.unique(label[seeds]))).astype(np.int64)
+    return dofs_with(component_labels(M, C, K), seeds)
 
 
 class CoupledSystem:
