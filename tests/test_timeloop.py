@@ -1,0 +1,63 @@
+"""The compiled building blocks of the time loops (vtsi/timeloop.py): ``combine`` and
+``update_stage`` against numpy, for every number of terms, with the output written over one of
+the rows it reads (the last stage writes the new state in place)."""
+import numpy as np
+import pytest
+
+from vtsi.timeloop import combine, update_stage
+
+LO, HI = 2, 9
+
+
+def _bank(seed=0):
+    return np.random.default_rng(seed).normal(size=(9, 11))
+
+
+@pytest.mark.parametrize("count", range(7))
+def test_combine_is_the_weighted_sum(count):
+    bank = _bank(count)
+    slots = np.array([0, 3, 1, 5, 2, 4, 6][:count] + [0] * (7 - count))
+    values = np.linspace(-1.5, 2.0, 7)
+    dest = np.full(11, 7.0)
+    combine(dest, bank, slots, values, count, LO, HI)
+    expected = values[:count] @ bank[slots[:count]] if count else np.zeros(11)
+    np.testing.assert_allclose(dest[LO:HI], expected[LO:HI], rtol=1e-14, atol=1e-14)
+    assert np.all(dest[:LO] == 7.0) and np.all(dest[HI:] == 7.0)       # outside lo:hi untouched
+
+
+@pytest.mark.parametrize("slots_u, slots_v", [
+    ([0, 1, 2], [1, 2]),              # Newmark: three rows, one pass, in place
+    ([0, 1, 2, 3], [1, 4]),           # five rows: the two-pass path
+])
+@pytest.mark.parametrize("out_base", [0, 6])
+def test_update_stage(slots_u, slots_v, out_base):
+    """u = Σ du X + ua a, v = Σ dv X + va a, a into out_base..out_base+2 (out_base = 0: over the
+    rows it reads), and the largest |u|."""
+    bank = _bank(1)
+    before = bank.copy()
+    rhs = np.random.default_rng(2).normal(size=11)
+    width = 6
+    su, sv = np.zeros((1, width), dtype=np.int64), np.zeros((1, width), dtype=np.int64)
+    vu, vv = np.zeros((1, width)), np.zeros((1, width))
+    su[0, :len(slots_u)], vu[0, :len(slots_u)] = slots_u, np.arange(1, len(slots_u) + 1) * 0.5
+    sv[0, :len(slots_v)], vv[0, :len(slots_v)] = slots_v, -np.arange(1, len(slots_v) + 1) * 0.25
+    cu, cv = np.array([len(slots_u)]), np.array([len(slots_v)])
+    ua, va = 0.3, -0.7
+    worst = update_stage(bank, rhs, out_base, 0, su, vu, cu, sv, vv, cv, ua, va, LO, HI, np.zeros(11), np.zeros(11))
+    u = vu[0, :len(slots_u)] @ before[slots_u] + ua * rhs
+    v = vv[0, :len(slots_v)] @ before[slots_v] + va * rhs
+    np.testing.assert_allclose(bank[out_base, LO:HI], u[LO:HI], rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(bank[out_base + 1, LO:HI], v[LO:HI], rtol=1e-14, atol=1e-14)
+    np.testing.assert_array_equal(bank[out_base + 2, LO:HI], rhs[LO:HI])
+    assert worst == pytest.approx(np.abs(u[LO:HI]).max(), rel=1e-14)
+
+
+def test_update_stage_reports_nan_as_infinite():
+    bank = _bank(3)
+    rhs = np.zeros(11)
+    rhs[5] = np.nan
+    su = np.array([[0, 1, 2]])
+    vu = np.array([[1.0, 1.0, 1.0]])
+    worst = update_stage(bank, rhs, 6, 0, su, vu, np.array([3]), su, vu, np.array([3]), 1.0, 1.0, LO, HI,
+                         np.zeros(11), np.zeros(11))
+    assert worst == np.inf
