@@ -52,8 +52,12 @@ def factor(assembly, matrix, what, cause=None, dofs=None):
     matrix given already restricted to them), with the half bandwidth of K, M and C there; a
     failure names the dof at fault (``cause``: the explanation that follows, by default "a
     mechanism or a dof with neither stiffness nor mass")."""
-    dofs = np.arange(assembly.n_free) if dofs is None else dofs
-    kd = max(half_bandwidth(m[dofs][:, dofs]) for m in (assembly.K, assembly.M, assembly.C))
+    parts = (assembly.K, assembly.M, assembly.C)
+    if dofs is None:
+        dofs = np.arange(assembly.n_free)
+    else:
+        parts = (m[dofs][:, dofs] for m in parts)
+    kd = max(half_bandwidth(m) for m in parts)
     try:
         return ldl_band(matrix, kd)
     except NotPositiveDefinite as exc:
