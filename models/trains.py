@@ -8,12 +8,13 @@ offset in the car. At time t a wheel with offset o is at x = x_head0 + V t − o
 References
 ----------
 .. [1] EN 1991-2:2003, Actions on structures — Traffic loads on bridges, §6.4.6.1.1, Table 6.3 and
-   Fig. 6.12 (HSLM-A).
+   Fig. 6.12 (HSLM-A), Fig. 6.13 (HSLM-B).
 .. [2] Cantero, D. TTB-2D (github.com/DanielCanteroNTNU/TTB-2D), AVE S103 / ICE3 train files
    (after Goicolea 2014): bogie-centre spacing 17.375 m, car-end overhangs 3.7 m, nose 4.76 m.
 """
 from __future__ import annotations
 
+import copy
 import csv
 import json
 from importlib import resources
@@ -37,6 +38,10 @@ class Train:
     speed : float
         Constant speed V ≥ 0 [m/s], in +x.
     name : str
+    characteristic_length : float or None, keyword only
+        The regular spacing D [m] (> 0) of the train's repeated load groups (coach length), or None
+        when the train has none. Speed sweeps place resonance speeds at v = n0 D / i (n0 the
+        bridge frequency [Hz], i = 1, 2, …); the train's own geometry does not depend on it.
 
     Attributes
     ----------
@@ -44,6 +49,8 @@ class Train:
     car_offsets : ndarray, shape (n_cars,)
     speed : float
     name : str
+    characteristic_length : float or None
+        D [m], as given.
     n_dof : int
         Total number of dofs; car i owns the dofs ``dof_start[i]:dof_start[i + 1]``.
     dof_start : ndarray, shape (n_cars + 1,), int64
@@ -68,12 +75,13 @@ class Train:
         the rows of the Boolean matrix S.
     """
 
-    def __init__(self, cars, car_offsets, speed, name='train'):
+    def __init__(self, cars, car_offsets, speed, name='train', *, characteristic_length=None):
         self.cars = tuple(cars)
         self.car_offsets = _frozen(car_offsets, np.float64)
         self.speed = float(speed)
         self.name = str(name)
         where = f"train {self.name!r}"
+        self.characteristic_length = _check_characteristic_length(characteristic_length, where)
         if not self.cars or not all(isinstance(car, Car) for car in self.cars):
             raise ModelError(f"{where}: cars must be a non-empty sequence of Car")
         if self.car_offsets.shape != (len(self.cars),) or not np.all(np.isfinite(self.car_offsets)):
@@ -113,6 +121,16 @@ class Train:
         return (f"Train({self.name!r}, {len(self.cars)} cars, {self.n_wheels} wheels, {self.n_dof} dofs, "
                 f"V = {self.speed} m/s)")
 
+    def with_speed(self, speed):
+        """The same train at another constant speed [m/s] (a shallow copy: cars, offsets and
+        matrices are shared, read-only)."""
+        speed = float(speed)
+        if not (np.isfinite(speed) and speed >= 0):
+            raise ModelError(f"train {self.name!r}: speed must be finite and >= 0, got {speed!r}")
+        train = copy.copy(self)
+        train.speed = speed
+        return train
+
     @property
     def length(self) -> float:
         """Distance from the first to the last wheel [m]."""
@@ -137,16 +155,17 @@ class Train:
 
     @classmethod
     def uniform(cls, car, n_cars, car_length, speed, name=None):
-        """``n_cars`` copies of ``car``, one every ``car_length`` metres (offsets 0, L, 2L, …)."""
+        """``n_cars`` copies of ``car``, one every ``car_length`` metres (offsets 0, L, 2L, …);
+        ``car_length`` is the train's characteristic length."""
         if int(n_cars) != n_cars or n_cars < 1:
             raise ModelError(f"Train.uniform: n_cars must be a positive integer, got {n_cars!r}")
         if not (np.isfinite(car_length) and car_length > 0):
             raise ModelError(f"Train.uniform: car_length must be > 0, got {car_length!r}")
         return cls([car] * int(n_cars), np.arange(int(n_cars)) * float(car_length), speed,
-                   name=name or f"{int(n_cars)} x {car.name}")
+                   name=name or f"{int(n_cars)} x {car.name}", characteristic_length=float(car_length))
 
     @classmethod
-    def from_axle_table(cls, positions, loads, speed, name='axle table'):
+    def from_axle_table(cls, positions, loads, speed, name='axle table', *, characteristic_length=None):
         """A train of moving forces, one per axle.
 
         Parameters
@@ -158,6 +177,8 @@ class Train:
         speed : float
             [m/s]
         name : str
+        characteristic_length : float or None
+            Regular spacing D of the repeated load groups [m] (see :class:`Train`).
 
         Raises
         ------
@@ -166,15 +187,17 @@ class Train:
         """
         positions, loads = _check_axle_table(positions, loads, [f"row {i}" for i in range(np.size(positions))],
                                              'Train.from_axle_table')
-        return cls([moving_force(P) for P in loads], positions, speed, name=name)
+        return cls([moving_force(P) for P in loads], positions, speed, name=name,
+                   characteristic_length=characteristic_length)
 
     @classmethod
-    def from_csv(cls, path, speed, name=None):
+    def from_csv(cls, path, speed, name=None, *, characteristic_length=None):
         """A train of moving forces from a CSV table with a header and the columns ``position_m``
         (axle offset behind the head, m) and ``load_kN`` (axle load, kN).
 
         Other columns are ignored; the delimiter may be ',', ';' or a tab (spreadsheet exports);
-        blank lines are skipped. Errors name the file and line.
+        blank lines are skipped. Errors name the file and line. ``speed`` is in m/s;
+        ``characteristic_length`` [m] as in :class:`Train` (a CSV table carries none).
         """
         with open(path, newline='', encoding='utf-8-sig') as handle:
             text = handle.read()
@@ -202,7 +225,8 @@ class Train:
             raise ModelError(f"{path}: no axles below the header")
         values = np.array(values)
         positions, loads = _check_axle_table(values[:, 0], values[:, 1] * 1e3, labels, 'Train.from_csv')
-        return cls([moving_force(P) for P in loads], positions, speed, name=name or str(path))
+        return cls([moving_force(P) for P in loads], positions, speed, name=name or str(path),
+                   characteristic_length=characteristic_length)
 
 
 def _check_axle_table(positions, loads, labels, where):
@@ -222,6 +246,19 @@ def _check_axle_table(positions, loads, labels, where):
     return positions, loads
 
 
+def _check_characteristic_length(value, where):
+    if value is None:
+        return None
+    try:
+        D = float(value)
+    except (TypeError, ValueError):
+        D = float('nan')
+    if isinstance(value, bool) or not (np.isfinite(D) and D > 0):
+        raise ModelError(f"{where}: characteristic_length must be a finite length > 0 [m] or None, "
+                         f"got {value!r}")
+    return D
+
+
 # AVE S103 / ICE3 geometry (TTB-2D, after Goicolea 2014): distance from a bogie centre to the car end.
 _ICE3_OVERHANG = 7.4 / 2
 _ICE3_NOSE = 4.76
@@ -236,7 +273,9 @@ def ice3(n_cars=8, *, speed, name='ICE3'):
     3.7 m from a bogie centre to a coupled car end, 4.76 m from the nose to the nearest bogie
     centre. The end cars are then 25.835 m long and the others 24.775 m, the published ICE 3 car
     lengths, and 8 cars measure 200.32 m between the noses (not counting the nose couplers). The
-    head (offset 0) is the leading nose; the first wheel is 4.76 − 1.25 = 3.51 m behind it.
+    head (offset 0) is the leading nose; the first wheel is 4.76 − 1.25 = 3.51 m behind it. The
+    characteristic length is the coach length 24.775 m = 17.375 + 2 × 3.7 (the spacing of
+    consecutive cars' bogies).
 
     Parameters
     ----------
@@ -258,7 +297,34 @@ def ice3(n_cars=8, *, speed, name='ICE3'):
     front_overhang[0] = _ICE3_NOSE
     bogie_spacing, half_axle = car.wheel_offsets[2], car.wheel_offsets[1] / 2
     car_fronts = np.concatenate([[0.0], np.cumsum(front_overhang + bogie_spacing + _ICE3_OVERHANG)[:-1]])
-    return Train([car] * int(n_cars), car_fronts + front_overhang - half_axle, speed, name=name)
+    return Train([car] * int(n_cars), car_fronts + front_overhang - half_axle, speed, name=name,
+                 characteristic_length=bogie_spacing + 2 * _ICE3_OVERHANG)
+
+
+def ice3_axle_loads(n_cars=8, *, speed, name='ICE3 axle loads'):
+    """The ICE3 trainset of :func:`ice3` as moving forces, one per axle.
+
+    Each axle is a :func:`~vtsi.models.cars.moving_force` at the same offset as the corresponding
+    wheel of ``ice3(n_cars)``, carrying that train's static wheel load on rigid level ground
+    (``ice3(n_cars).static_wheel_loads``, 152 055 N per axle with the 'ICE3_coach' data and
+    g = 9.81 m/s²): the total load is the trainset's weight, n_cars × 62 000 kg × g.
+
+    Parameters
+    ----------
+    n_cars : int
+        ≥ 2.
+    speed : float
+        [m/s]
+    name : str
+
+    Returns
+    -------
+    Train
+        4 n_cars force-only cars, characteristic length 24.775 m (as :func:`ice3`).
+    """
+    cars = ice3(n_cars, speed=speed)
+    return Train.from_axle_table(cars.wheel_offsets, cars.static_wheel_loads, speed, name=name,
+                                 characteristic_length=cars.characteristic_length)
 
 
 def _hslm_table():
@@ -284,7 +350,7 @@ def hslm_a(number, speed):
     Returns
     -------
     Train
-        Force-only cars, one per axle, named 'HSLM-A<number>'.
+        Force-only cars, one per axle, named 'HSLM-A<number>'; characteristic length D.
 
     References
     ----------
@@ -300,4 +366,103 @@ def hslm_a(number, speed):
                             (centres[:, None] + [-d / 2, d / 2]).ravel()])
     back = 37.525 + (N + 2) * D - front[:6][::-1]  # mirror about the train's centre
     positions = np.concatenate([front, back])
-    return Train.from_axle_table(positions, np.full(positions.size, P * 1e3), speed, name=f"HSLM-{key}")
+    return Train.from_axle_table(positions, np.full(positions.size, P * 1e3), speed, name=f"HSLM-{key}",
+                                 characteristic_length=D)
+
+
+# EN 1991-2:2003 Figure 6.13 (HSLM-B): N and d as straight lines in the span L between the figure's
+# end points. NOT VERIFIED against the standard: see hslm_b's docstring and docs/trains.md before
+# relying on it; this table is the only place to correct.
+HSLM_B_SPAN_RANGE = (1.0, 7.0)
+"""Spans L [m] for which EN 1991-2 defines HSLM-B: L_min <= L < L_max."""
+_HSLM_B_N = (20.0, 10.0)     # N at L = 1 m and at L = 7 m (Figure 6.13; see hslm_b_parameters)
+_HSLM_B_D = (2.5, 3.5)       # d [m] at L = 1 m and at L = 7 m
+_HSLM_B_P = 170e3            # [N], EN 1991-2 §6.4.6.1.1(2)
+
+
+def hslm_b_parameters(span):
+    """N and d of HSLM-B for a span L (EN 1991-2 Figure 6.13, as read here).
+
+    N and d vary linearly in L between the figure's end points, N from 20 (L = 1 m) down to 10
+    (L = 7 m) and d from 2.5 m (L = 1 m) up to 3.5 m (L = 7 m). N is rounded to the nearest
+    integer, halves upwards (floor(N + 1/2)); d is not rounded.
+
+    Parameters
+    ----------
+    span : float
+        L [m], 1 <= L < 7.
+
+    Returns
+    -------
+    (int, float)
+        N, the number of forces, and d [m], their spacing.
+
+    Raises
+    ------
+    ModelError
+        For a span outside 1 m <= L < 7 m (HSLM-A covers L >= 7 m), naming the span.
+
+    Notes
+    -----
+    **Not checked against the printed figure here** (the standard is not in this project's
+    sources; docs/trains.md, "HSLM-B: source"). The end values 10/20 and 2.5/3.5 m are the
+    commonly quoted ranges; the MIDAS Civil default 'HSLM B' vehicle (N = 10, d = 3.5 m) pairs
+    them as here at the L = 7 m end. The direction follows the model's purpose: resonance at
+    v = n₀ d must fall within the speed range for the short spans' high n₀ (so d shrinks with L),
+    and the higher damping of short spans (Table 6.6) needs more forces to build resonance up
+    (so N grows as L shrinks). Check Figure 6.13 before design use.
+    """
+    lo, hi = HSLM_B_SPAN_RANGE
+    try:
+        L = float(span)
+    except (TypeError, ValueError):
+        L = float('nan')
+    if not (np.isfinite(L) and lo <= L < hi):
+        raise ModelError(f"hslm_b: span L = {span!r} m is outside the range of EN 1991-2 Figure 6.13, "
+                         f"{lo:g} m <= L < {hi:g} m (HSLM-A covers L >= {hi:g} m)")
+    s = (L - lo) / (hi - lo)
+    N = int(np.floor(_HSLM_B_N[0] + s * (_HSLM_B_N[1] - _HSLM_B_N[0]) + 0.5))
+    d = _HSLM_B_D[0] + s * (_HSLM_B_D[1] - _HSLM_B_D[0])
+    return N, d
+
+
+def hslm_b(span, speed):
+    """The HSLM-B high-speed load model of EN 1991-2 for a simply supported span L < 7 m.
+
+    N point forces of 170 kN at uniform spacing d (EN 1991-2 §6.4.6.1.1(2)), N and d functions of
+    the span L read from Figure 6.13 (:func:`hslm_b_parameters`: linear in L from N = 10,
+    d = 3.5 m at L = 1 m to N = 20, d = 2.5 m at L = 7 m; N rounded to the nearest integer, halves
+    up). Forces at offsets 0, d, …, (N − 1) d behind the head.
+
+    Parameters
+    ----------
+    span : float
+        L [m], 1 <= L < 7.
+    speed : float
+        [m/s]
+
+    Returns
+    -------
+    Train
+        N force-only cars named 'HSLM-B'; characteristic length d.
+
+    Raises
+    ------
+    ModelError
+        For a span outside 1 m <= L < 7 m, naming the span and the range.
+
+    Notes
+    -----
+    Source of the N(L), d(L) law: **not verified** against EN 1991-2 (see
+    :func:`hslm_b_parameters` and docs/trains.md). Searches of public stores (pages, docs, code)
+    for a statement of Figure 6.13's values found none; the only figures found were the MIDAS
+    Civil default HSLM-B vehicle, N = 10 and d = 3.5 m.
+
+    References
+    ----------
+    EN 1991-2:2003, §6.4.6.1.1(2) and Figure 6.13 (HSLM-B), Table 6.4 (HSLM-B for simply
+    supported spans L < 7 m).
+    """
+    N, d = hslm_b_parameters(span)
+    return Train.from_axle_table(d * np.arange(N), np.full(N, _HSLM_B_P), speed, name='HSLM-B',
+                                 characteristic_length=d)

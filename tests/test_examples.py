@@ -32,3 +32,26 @@ def test_readme_snippet_runs():
     exec(compile(snippet, "README.md", "exec"), namespace)
     assert namespace["midspan"].values.min() < 0.0
     assert np.all(namespace["forces"].values > 0.0)
+
+
+def test_readme_sweep_snippet_runs(tmp_path, monkeypatch):
+    """The README's sweep (570 passages on every core) as written, in a scratch directory."""
+    readme = (EXAMPLES.parent / "README.md").read_text()
+    snippet = next(block.split("```")[0] for block in readme.split("```python\n")[1:] if "Sweep(" in block)
+    monkeypatch.chdir(tmp_path)
+    namespace = {}
+    exec(compile(snippet, "README.md", "exec"), namespace)
+    results = namespace["sweep"].run("hslm.h5", resume=True)     # the file is complete: nothing reruns
+    assert results.n_done == 570
+    worst = results.critical("acceleration_absmax")
+    assert worst["train"].startswith("HSLM-A") and 140.0 <= worst["speed_kmh"] <= 420.0
+
+
+def test_sweep_example_writes_results_and_chart(tmp_path, capsys):
+    example = load("sweep_hslm")
+    results = example.main(str(tmp_path / "s"), trains=["HSLM-A1", "HSLM-A4"], speeds="300:340:20", workers=1,
+                           elements=4, dt=5e-3)
+    out = capsys.readouterr().out
+    assert "zeta = 1.30 %" in out and "EN 1990 A2 limit" in out
+    assert (tmp_path / "s.png").stat().st_size > 10_000
+    assert results.n_done == 6 and (tmp_path / "s.h5").exists()

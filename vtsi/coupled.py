@@ -72,6 +72,9 @@ class CoupledAnalysis:
         timing correction and a consistent restart of its car: second order, no extra
         factorisation; the impulse is recorded as impulse/Δt in that step's λ, and Newmark's
         λ no longer rings after a kink (docs/theory/coupled_step.md §6).
+    bridge_cache : a :class:`BridgeStageCache` shared by analyses of one bridge (a sweep's
+        passages): the bridge's factors and track flexibilities are computed once per model
+        version, integrator, Δt, track and set of moving dofs, whatever train crosses.
 
     After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
     and ``gap`` (n_steps, n_c) [m] hold every step of the run; :meth:`contact_events` and
@@ -81,7 +84,7 @@ class CoupledAnalysis:
 
     def __init__(self, model, constraint, integrator="Newmark", dt=None, contact="bilateral",
                  gravity=GRAVITY, bridge_self_weight=False, recorders=(), divergence_limit=1e3,
-                 chunk_steps=2000, gap_tol=1e-9, exact_events=False):
+                 chunk_steps=2000, gap_tol=1e-9, exact_events=False, bridge_cache=None):
         if not isinstance(constraint, MovingLoadConstraint):
             raise ModelError(f"CoupledAnalysis: constraint must be a MovingLoadConstraint, got {type(constraint).__name__}")
         if contact not in CONTACT_STRATEGIES:
@@ -110,6 +113,11 @@ class CoupledAnalysis:
             raise AnalysisError(f"CoupledAnalysis: exact_events must be True or False, got {exact_events!r}")
         self.exact_events = bool(exact_events)
         self.in_contact = np.ones(constraint.n_contact)
+        if bridge_cache is None:
+            bridge_cache = BridgeStageCache()
+        if not isinstance(bridge_cache, BridgeStageCache):
+            raise AnalysisError(f"CoupledAnalysis: bridge_cache must be a BridgeStageCache, got {type(bridge_cache).__name__}")
+        self.bridge_cache = bridge_cache
 
     # -- preparation ----------------------------------------------------------------------
     def _bridge_constant_load(self, asm):
@@ -146,21 +154,18 @@ class CoupledAnalysis:
         active = moving_dofs(asm, self.model, seeds, loaded)
         if self._prepared is asm and np.array_equal(active, self.active):
             return asm
-        self.active = active
-        self.position = np.full(asm.n_free, -1, dtype=np.int64)
-        self.position[active] = np.arange(len(active))
-        K, C = (m[active][:, active].tocsr() for m in (asm.K, asm.C))
-        self.has_damping = bool(np.any(C.data != 0.0))
-        track_dofs = self.position[self.constraint.track.free_index]
         integ, dt, train = self.integrator, self.dt, self.train
+        bridge = self.bridge_cache.get(asm, active, integ, dt, self.constraint.track)
+        if bridge is None:
+            bridge = self.bridge_cache.put(BridgeStages(asm, active, integ, dt, self.constraint.track,
+                                                        self._bridge_constant_load(asm) if self.bridge_self_weight else None))
+        self.active, self.position, self.has_damping = bridge.active, bridge.position, bridge.has_damping
+        self.fac_b, self.flex, self.kb_rows, self.cb_rows = bridge.fac_b, bridge.flex, bridge.kb_rows, bridge.cb_rows
         stages = integ.stages(dt)
         A = integ.n_slots
-        fac_b, fac_t, flex, tflex, response = [], [], [], [], []
+        fac_t, tflex, response = [], [], []
         kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
         for s, st in enumerate(stages):
-            fb = factor_stage(asm, active, st.kv[A], st.ku[A], f"bridge effective matrix of {integ.name} stage {s + 1}")
-            fac_b.append(fb)
-            flex.append(_inverse_columns(fb, track_dofs)[track_dofs])
             if train.n_dof:
                 kt_hat = (train.M + st.kv[A] * train.C + st.ku[A] * train.K).tocsr()
                 try:
@@ -177,13 +182,9 @@ class CoupledAnalysis:
                 tflex.append(np.zeros((0, 0)))
                 response.append(np.zeros((0, 0)))
             fac_t.append(ft)
-        self.fac_b = np.ascontiguousarray(np.stack(fac_b))
         self.fac_t = np.ascontiguousarray(np.stack(fac_t))
-        self.flex = np.ascontiguousarray(np.stack(flex))
         self.tflex = np.ascontiguousarray(np.stack(tflex))
         self.wheel_response, self.response_range = _wheel_responses(response)
-        kd_b = self.fac_b.shape[2] - 1
-        self.kb_rows, self.cb_rows = band_rows(K, kd_b), band_rows(C, kd_b)
         kd_t = self.fac_t.shape[2] - 1
         self.kt_rows = band_rows(train.K, kd_t) if train.n_dof else np.zeros((0, 1))
         self.ct_rows = band_rows(train.C, kd_t) if train.n_dof else np.zeros((0, 1))
@@ -198,13 +199,16 @@ class CoupledAnalysis:
         for s, st in enumerate(stages):
             for q, (theta, w) in enumerate(st.load):
                 self.load_theta[s, q], self.load_weight[s, q] = theta, w
-        self._sag = None
-        if self.bridge_self_weight:
-            self._sag = _pad_solve(factor(asm, asm.K, "bridge stiffness K"), self._bridge_constant_load(asm))
+        self._sag = bridge.sag
         self._kinks = self._kink_positions()
         self._cars = {}
         self._prepared = asm
         return asm
+
+    def prepare(self):
+        """Factor and precompute now (otherwise the first :meth:`static` or :meth:`run` does);
+        with a shared ``bridge_cache`` the bridge's part is then ready for every analysis."""
+        self._prepare()
 
     # -- dead load ------------------------------------------------------------------------
     def static(self):
@@ -260,9 +264,25 @@ class CoupledAnalysis:
             train.v[train.wheel_dofs] = train.speed * np.einsum("ij,ij->i", slopes, u_track) + rate
         train.a[:] = 0.0
         self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
-                             "contact_force": sol[n_b + n_t:].copy()}
+                             "train_v": train.v.copy(), "contact_force": sol[n_b + n_t:].copy()}
         self._prev = None
         return self.static_state
+
+    def start_from(self, static_state):
+        """Set the committed states to a dead-load state that :meth:`static` returned for this
+        model and train (a sweep computes one train's dead-load state once and starts each of
+        its passages from it: valid while the wheels start at the same positions, on rigid
+        ground, where the state does not depend on the speed)."""
+        state = domain_state(self.model)
+        train = self.train
+        if (static_state["bridge_u"].shape != state.u.shape or static_state["train_u"].shape != train.u.shape
+                or static_state["contact_force"].shape != (self.constraint.n_contact,)):
+            raise AnalysisError("CoupledAnalysis.start_from: the dead-load state is of another model or train")
+        state.time = static_state["time"]
+        state.u[:], state.v[:], state.a[:] = static_state["bridge_u"], 0.0, 0.0
+        train.u[:], train.v[:], train.a[:] = static_state["train_u"], static_state["train_v"], 0.0
+        self.static_state = static_state
+        self._prev = None
 
     # -- time stepping --------------------------------------------------------------------
     def run(self, n_steps):
@@ -544,6 +564,72 @@ class CoupledAnalysis:
         state.time = time
 
 
+class BridgeStages:
+    """The bridge's part of a coupled analysis' preparation, independent of the train: per
+    stage, the banded factor of the effective matrix on the moving dofs ``active`` and the
+    flexibility K̂_b⁻¹ on the track dofs; the band rows of K and C; the self-weight deflection
+    ``sag`` (None without self weight).
+
+    Attributes
+    ----------
+    assembly, active (n_a,) int64, position (n_free,) int64 (-1 at rest), has_damping,
+    fac_b (n_stages, n_a + kd, kd + 1), flex (n_stages, n_track, n_track) [m/N per unit
+    acceleration weight], kb_rows, cb_rows, sag (n_free,) [m] or None, key (what it was built for).
+    """
+
+    def __init__(self, assembly, active, integrator, dt, track, self_weight_load=None):
+        self.assembly, self.active = assembly, active
+        self.key = _stage_key(active, integrator, dt, track)
+        self.position = np.full(assembly.n_free, -1, dtype=np.int64)
+        self.position[active] = np.arange(len(active))
+        K, C = (m[active][:, active].tocsr() for m in (assembly.K, assembly.C))
+        self.has_damping = bool(np.any(C.data != 0.0))
+        track_dofs = self.position[track.free_index]
+        A = integrator.n_slots
+        fac_b, flex = [], []
+        for s, st in enumerate(integrator.stages(dt)):
+            fb = factor_stage(assembly, active, st.kv[A], st.ku[A],
+                              f"bridge effective matrix of {integrator.name} stage {s + 1}")
+            fac_b.append(fb)
+            flex.append(_inverse_columns(fb, track_dofs)[track_dofs])
+        self.fac_b = np.ascontiguousarray(np.stack(fac_b))
+        self.flex = np.ascontiguousarray(np.stack(flex))
+        kd_b = self.fac_b.shape[2] - 1
+        self.kb_rows, self.cb_rows = band_rows(K, kd_b), band_rows(C, kd_b)
+        self.sag = None
+        if self_weight_load is not None:
+            self.sag = _pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)
+
+
+class BridgeStageCache:
+    """:class:`BridgeStages` by what they were built for (model version — the assembly object —,
+    integrator, Δt, track and moving dofs). Analyses that share one cache factor the bridge once
+    (a sweep: once for all its passages). Keeps the entries of the latest assembly only, so a
+    changed model frees the old factors."""
+
+    def __init__(self):
+        self._entries = []
+
+    def __len__(self):
+        return len(self._entries)
+
+    def get(self, assembly, active, integrator, dt, track):
+        key = _stage_key(active, integrator, dt, track)
+        for entry in self._entries:
+            if entry.assembly is assembly and entry.key == key:
+                return entry
+        return None
+
+    def put(self, stages):
+        self._entries = [e for e in self._entries if e.assembly is stages.assembly] + [stages]
+        return stages
+
+
+def _stage_key(active, integrator, dt, track):
+    return (repr(integrator), float(dt), np.asarray(active).tobytes(), track.free_index.tobytes(),
+            track.dofs.tobytes(), track.x_start.tobytes(), track.length.tobytes())
+
+
 def _positive(what, value, finite=True):
     """``value`` as a float > 0 (and finite, unless ``finite=False``), or an AnalysisError naming it."""
     try:
@@ -575,6 +661,8 @@ def _wheel_groups(tflex, va):
     and per stage the inverse of each group's W block ``va S K̂_t⁻¹ Sᵀ`` (valid while none of the
     group's wheels is on the track; a zero block if it is not positive definite)."""
     n_stages, n_c = tflex.shape[0], tflex.shape[1]
+    if n_c == 0:     # a train of moving forces
+        return np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros((n_stages, 0, 0))
     _, label = csgraph.connected_components(sp.csr_matrix(np.any(tflex != 0.0, axis=0)), directed=False)
     group_wheel = np.argsort(label, kind="stable").astype(np.int64)
     group_ptr = np.concatenate([[0], np.cumsum(np.bincount(label))]).astype(np.int64)

@@ -14,7 +14,8 @@ effective matrices K̂ (acceleration form, see :mod:`vtsi.integrators.base`):
 4. correction: a = â + K̂⁻¹ Gᵀ λ (one more solve for the bridge; for the train the sum of
    the wheels' precomputed responses K̂_t⁻¹ Sᵀ, each within its car) and u, v updated.
 
-Force-only wheels (moving forces) load the bridge through their Hermite rows.
+Force-only wheels (moving forces) load the bridge through their Hermite rows; they come in the
+train's order, so only the run of them on the track is visited (none of the others costs a step).
 
 Why the velocity level: with the constraint imposed on positions (index 3), the trapezoidal
 rule keeps an undamped period-2Δt mode in the wheels' accelerations, and a moving constraint
@@ -174,6 +175,19 @@ def _contact_forces(W, q, lam, selected, va, flex, tflex, ground_inv, group_ptr,
 
 
 @njit(cache=True)
+def _first_at_most(decreasing, value):
+    """The first index i of the decreasing array with ``decreasing[i] <= value`` (its length if none)."""
+    lo, hi = 0, decreasing.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if decreasing[mid] <= value:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+@njit(cache=True)
 def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                       fac_b, kb_rows, cb_rows, damped_b, fac_t, kt_rows, ct_rows, damped_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
@@ -216,6 +230,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     sv, vv, cv = sparse_coefficients(dv)
     sk, vk, ck = sparse_coefficients(ku)
     sc, vc, cc = sparse_coefficients(kv)
+    x_begin, x_end = x_start[0], x_start[-1] + length[-1]
     x = np.empty(n_c)
     landing = np.zeros(n_c)
     on_bridge = np.zeros(n_c, dtype=np.bool_)
@@ -234,8 +249,11 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                 if w_q == 0.0:
                     continue
                 tq = t0 + (step + load_theta[s, q_]) * dt
-                for f in range(n_f):
+                # x0_f decreases (the train's order), so the forces on the track are a run of them
+                for f in range(_first_at_most(x0_f, x_end - speed * tq), n_f):
                     xf = x0_f[f] + speed * tq
+                    if xf < x_begin:
+                        break
                     e = host_element(xf, x_start, length)
                     if e < 0:
                         continue

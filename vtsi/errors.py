@@ -32,3 +32,13 @@ class DivergenceError(AnalysisError):
 
 class CommandError(VtsiError, ValueError):
     """A command of the OpenSees-style layer is unknown, unsupported or malformed."""
+
+
+class SweepError(VtsiError, ValueError):
+    """A sweep cannot run as asked: a bad input, a results file of another sweep or one that
+    cannot be written, or a case that failed (the message names the case)."""
+
+
+class PassageError(SweepError):
+    """A passage of a sweep failed while the sweep ran (e.g. it diverged): the message names
+    the case (train, speed, seed); the cases finished before it are kept in the results file."""

@@ -1,0 +1,336 @@
+"""Speed sweeps (vtsi.sweep): speed grids, equality with single analyses, flat memory, resume
+after SIGKILL, executors (process pool, dask LocalCluster), the results file and its xarray
+view, and every bad input."""
+import gc
+import json
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import tracemalloc
+
+import h5py
+import numpy as np
+import pytest
+
+import vtsi
+from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled import CoupledAnalysis
+from vtsi.errors import SweepError
+from vtsi.models.bridges import first_frequency, simply_supported_beam
+from vtsi.models.catalogue import catalogue_train
+from vtsi.passage import Output, PassageSettings, en_cutoff_hz, rayleigh_coefficients
+from vtsi.recorders import ContactRecorder, NodeRecorder
+from vtsi.sweep import Sweep, beam_bridge, en_speed_grid, resonance_speeds, speeds
+from vtsi.sweep_results import SweepResults
+from vtsi.track import Track
+from vtsi.train import TrainSubdomain
+
+L, F1, MU = 20.0, 5.0, 15000.0
+EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
+FAST = PassageSettings(dt=5e-3, damping=0.0125)
+
+
+def small_bridge(n=4):
+    return beam_bridge([L], EI, 1.0, MU, elements_per_span=n)
+
+
+# -- speeds ---------------------------------------------------------------------------------------
+def test_speed_range_includes_its_stop_and_lists_parse():
+    v = speeds("140:420:5")
+    assert len(v) == 57 and v[0] == 140 and v[-1] == 420
+    assert list(speeds("300, 200,250")) == [200, 250, 300]
+    assert list(speeds([160, 160.0, 170])) == [160, 170]
+    assert list(speeds("140:150:4")) == [140, 144, 148]
+
+
+@pytest.mark.parametrize("spec, words", [("420:140:5", "empty range"), ("140:420:0", "step"),
+                                         ("0,100", "> 0"), ("-5", "> 0"), ("a:b", "START:STOP:STEP"),
+                                         ("", "no speed"), ("1:2", "START:STOP:STEP")])
+def test_bad_speeds_name_the_value(spec, words):
+    with pytest.raises(SweepError, match=words):
+        speeds(spec)
+
+
+def test_en_grid_runs_to_1_2_line_speed_with_fine_steps_at_resonances():
+    """EN 1991-2 §6.4.6.2: up to 1.2 × the line speed, smaller steps near v = n₀ D / i."""
+    grid = en_speed_grid(300.0, [F1], [18.0, 27.0], step_kmh=10.0, fine_step_kmh=2.0, band=0.1)
+    assert grid[0] == 144.0 and grid[-1] == pytest.approx(360.0)
+    res = resonance_speeds([F1], [18.0, 27.0])
+    assert res == pytest.approx(sorted({round(3.6 * F1 * D / i, 9) for D in (18.0, 27.0) for i in (1, 2, 3, 4)}))
+    inside = [v for v in res if 144.0 <= v <= 360.0]
+    assert inside, "the test needs resonances in range"
+    for v in inside:
+        assert np.any(np.isclose(grid, v)), v                     # the resonance itself
+        near = grid[(grid > v * 0.9) & (grid < v * 1.1)]
+        assert np.max(np.diff(near)) <= 2.0 + 1e-9                # fine steps around it
+    far = [v for v in grid if all(abs(v - r) > 0.1 * r for r in res)]
+    assert np.all(np.isin(np.arange(144.0, 360.0, 10.0), grid))   # the coarse grid is kept
+    assert len(far) < len(grid)
+
+
+# -- one sweep equals separate analyses ---------------------------------------------------------
+def _single_passage(name, speed_kmh, settings, n_elements, outputs):
+    """The case as a user would compute it by hand: a fresh model, Rayleigh, one analysis."""
+    model = vtsi.Model()
+    beam = simply_supported_beam(model, L, n_elements, EI, 1.0, MU)
+    f = np.sqrt(vtsi.eigen(model, 12)[0]) / (2 * np.pi)
+    bending = [fi for fi in f if min(abs(fi - F1 * k * k) for k in (1, 2, 3)) < 0.05 * fi][:3]
+    model.rayleigh(*rayleigh_coefficients(settings.damping, bending[0], en_cutoff_hz(bending)))
+    train = catalogue_train(name, speed_kmh / 3.6, fidelity=settings.cars)
+    approach = 0.0 if train.n_dof == 0 else 25.0
+    sub = TrainSubdomain(train, -approach + float(train.wheel_offsets[0]))
+    tie = MovingLoadConstraint(Track(model, beam.elements), sub, None, settings.interpolation)
+    recs = [NodeRecorder(beam.nodes, [2], "disp", envelope=True, history=False),
+            NodeRecorder(beam.nodes, [2], "accel", envelope=True, history=False)]
+    if train.n_dof:
+        recs.append(ContactRecorder(tie, envelope=True, history=False))
+    analysis = CoupledAnalysis(model, tie, settings.integrator, dt=settings.dt, recorders=recs)
+    analysis.static()
+    n = int(np.ceil(((L + approach + train.length) / train.speed + 1.5 / bending[0]) / settings.dt - 1e-9))
+    analysis.run(n)
+    return n, recs
+
+
+@pytest.mark.parametrize("name, cars", [("HSLM-A3", "force"), ("ICE3", "full")])
+def test_sweep_equals_single_analyses_case_by_case(name, cars):
+    settings = PassageSettings(dt=5e-3, damping=0.0125, cars=cars)
+    sweep = Sweep(small_bridge(), [name], "200,340", settings)
+    res = sweep.run(None, workers=1, progress=False)
+    for v in (200.0, 340.0):
+        n, recs = _single_passage(name, v, settings, 4, sweep.outputs)
+        case = res.case(name, v)
+        assert case["attrs"]["n_steps"] == n
+        for rec, out in zip(recs, ("deflection", "acceleration", "contact_force")):
+            env = rec.envelope
+            expected = np.array([env.min, env.max, env.absmax])
+            scale = np.max(np.abs(expected))
+            assert np.max(np.abs(case[out]["envelope"][:3] - expected)) <= 1e-12 * scale, out
+
+
+def test_the_bridge_is_factored_once_per_sweep():
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A9"], "150,250,350", FAST)
+    sweep.run(None, workers=1, progress=False)
+    assert len(sweep.runner.cache) == 1
+    factors = sweep.runner.cache._entries[0].fac_b
+    sweep.runner.run("HSLM-A2", 300.0)
+    assert len(sweep.runner.cache) == 1 and sweep.runner.cache._entries[0].fac_b is factors
+
+
+def test_memory_stays_flat_over_500_passages():
+    """Nothing is kept per passage: after a warm-up (numpy's small-buffer caches fill), 400 more
+    passages leave the traced memory where it was (garbage collected at both ends)."""
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "300", PassageSettings(dt=0.02, damping=0.0125))
+    runner = sweep.runner
+    speeds_ = np.linspace(200.0, 400.0, 500)
+    for v in speeds_[:50]:
+        runner.run("HSLM-A1", v)
+    tracemalloc.start()
+    try:
+        for v in speeds_[50:100]:
+            runner.run("HSLM-A1", v)
+        gc.collect()
+        early, _ = tracemalloc.get_traced_memory()
+        for v in speeds_[100:]:
+            runner.run("HSLM-A1", v)
+        gc.collect()
+        late, _ = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert late - early < 64 * 1024, f"memory grew by {(late - early) / 1024:.0f} KiB over 400 passages"
+
+
+# -- the results file ---------------------------------------------------------------------------
+def test_results_file_layout_units_and_envelopes(tmp_path):
+    path = tmp_path / "s.h5"
+    outputs = [Output("deflection", "disp"), Output("acceleration", "accel"),
+               Output("midspan", "accel", nodes="midspan", history=True)]
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A4"], "200:300:50", FAST, outputs=outputs)
+    res = sweep.run(path, workers=1, progress=False)
+    with h5py.File(path, "r") as f:
+        assert f.attrs["format"] == "vtsi-sweep" and f.attrs["vtsi_version"] == vtsi.__version__
+        identity = json.loads(f.attrs["identity"])
+        assert identity["settings"]["dt"] == 5e-3 and identity["trains"] == ["HSLM-A1", "HSLM-A4"]
+        assert f["envelopes/acceleration_absmax"].attrs["units"] == "m/s^2"
+        assert f["envelopes/deflection_min"].shape == (2, 3, 1)
+        assert f["outputs/acceleration"].attrs["units"] == "m/s^2"
+        assert list(f["outputs/acceleration"].attrs["rows"])[:3] == ["min", "max", "absmax"]
+        nodes = f["outputs/acceleration/columns"][()]
+        np.testing.assert_array_equal(nodes, sweep.runner.deck_nodes)
+        case = f["cases/HSLM-A4/250kmh/smooth"]
+        assert case.attrs["speed_kmh"] == 250.0 and case.attrs["train"] == "HSLM-A4"
+        env = case["acceleration"][()]
+        assert f["envelopes/acceleration_absmax"][1, 1, 0] == env[2].max()
+        assert f["envelopes/acceleration_absmax_where"][1, 1, 0] == nodes[np.argmax(env[2])]
+        hist = case["midspan_values"][()]
+        assert hist.shape == (case.attrs["n_steps"], 1) and case["midspan_time"].shape == (case.attrs["n_steps"],)
+        assert np.max(np.abs(hist)) == pytest.approx(case["midspan"][2, 0])
+    reread = SweepResults(path).case("HSLM-A4", 250.0)
+    np.testing.assert_array_equal(reread["acceleration"]["columns"], nodes)
+    assert reread["midspan"]["values"].shape == hist.shape
+    crit = res.critical("acceleration_absmax")
+    table = res.envelope("acceleration_absmax")
+    assert crit["value"] == np.nanmax(table)
+    assert crit["train"] in ("HSLM-A1", "HSLM-A4") and crit["units"] == "m/s^2"
+    text = res.summary()
+    assert "acceleration_absmax" in text and crit["train"] in text and "6 of 6 cases" in text
+
+
+def test_xarray_view_of_the_envelopes(tmp_path):
+    import xarray    # a test extra: its absence fails the test
+    res = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200,300", FAST).run(tmp_path / "x.h5", workers=1,
+                                                                              progress=False)
+    ds = res.to_xarray()
+    assert isinstance(ds, xarray.Dataset)
+    assert ds["acceleration_absmax"].dims == ("train", "speed_kmh", "seed")
+    assert ds["acceleration_absmax"].attrs["units"] == "m/s^2"
+    assert float(ds["acceleration_absmax"].sel(train="HSLM-A2", speed_kmh=300.0, seed=-1)) == \
+        res.envelope("acceleration_absmax")[1, 1, 0]
+    reread = SweepResults(tmp_path / "x.h5").to_xarray()
+    assert reread.identical(ds)
+
+
+# -- executors ---------------------------------------------------------------------------------
+def test_process_pool_equals_serial(tmp_path):
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A5"], "160:400:60", FAST)
+    serial = sweep.run(tmp_path / "a.h5", workers=1, progress=False)
+    pooled = sweep.run(tmp_path / "b.h5", workers=2, progress=False, cases_per_task=2)
+    for q in serial.quantities:
+        np.testing.assert_array_equal(serial.envelope(q), pooled.envelope(q))
+
+
+def test_dask_local_cluster_executor(tmp_path):
+    import distributed    # a test extra: its absence fails the test
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200:320:40", FAST)
+    serial = sweep.run(None, workers=1, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        res = sweep.run(tmp_path / "d.h5", executor=client.get_executor(), workers=2, progress=False,
+                        cases_per_task=2)
+    for q in serial.quantities:
+        np.testing.assert_array_equal(serial.envelope(q), res.envelope(q))
+
+
+# -- resume ------------------------------------------------------------------------------------
+SCRIPT = """
+import sys, numpy as np
+from vtsi.sweep import Sweep, beam_bridge
+from vtsi.passage import PassageSettings
+L, F1, MU = 20.0, 5.0, 15000.0
+EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
+sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["HSLM-A1", "HSLM-A2", "HSLM-A3"],
+              "140:420:10", PassageSettings(dt=2e-3, damping=0.0125))
+sweep.run(sys.argv[1], workers=1, progress=False, resume=True, cases_per_task=3)
+"""
+
+
+def _done(path):
+    try:
+        with h5py.File(path, "r") as f:
+            n = []
+            f["cases"].visititems(lambda name, obj: n.append(name) if "train" in obj.attrs else None)
+            return len(n)
+    except (OSError, KeyError):
+        return 0
+
+
+def test_resume_after_sigkill_equals_an_uninterrupted_run(tmp_path):
+    script = tmp_path / "sweep.py"
+    script.write_text(textwrap.dedent(SCRIPT))
+    killed, whole = tmp_path / "killed.h5", tmp_path / "whole.h5"
+    proc = subprocess.Popen([sys.executable, str(script), str(killed)], cwd=tmp_path)
+    try:
+        deadline = time.time() + 120
+        while _done(killed) < 9 and time.time() < deadline and proc.poll() is None:
+            time.sleep(0.02)
+        assert proc.poll() is None, "the sweep ended before it could be killed"
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    done = _done(killed)                                  # the file is readable after the kill
+    assert 9 <= done < 87
+    subprocess.run([sys.executable, str(script), str(killed)], cwd=tmp_path, check=True, timeout=300)
+    subprocess.run([sys.executable, str(script), str(whole)], cwd=tmp_path, check=True, timeout=300)
+    assert not (tmp_path / "killed.h5.partial").exists()
+    a, b = SweepResults(killed), SweepResults(whole)
+    assert a.n_done == b.n_done == 87
+    for train in a.trains:
+        for v in a.speeds_kmh:
+            ca, cb = a.case(train, v), b.case(train, v)
+            for out in ("deflection", "acceleration"):
+                np.testing.assert_array_equal(ca[out]["envelope"], cb[out]["envelope"])
+
+
+def test_resume_skips_finished_cases(tmp_path):
+    path = tmp_path / "r.h5"
+    Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST).run(path, workers=1, progress=False)
+    with h5py.File(path, "a") as f:        # forget one case, as a killed run would
+        del f["cases/HSLM-A1/300kmh"]
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST)
+    calls = []
+    run = sweep.runner.run
+    sweep.runner.run = lambda *a: calls.append(a) or run(*a)
+    res = sweep.run(path, workers=1, progress=False, resume=True)
+    assert calls == [("HSLM-A1", 300.0, -1)] and res.n_done == 2
+
+
+# -- bad inputs ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("trains, spec, words", [(["HSLM-A11"], "200", "HSLM-A11"),
+                                                 (["HSLM-A1"], "300:200:10", "empty range"),
+                                                 (["HSLM-A1"], "0", "> 0"),
+                                                 ([], "200", "no train"),
+                                                 (["HSLM-A1", "HSLM-A1"], "200", "twice")])
+def test_bad_sweep_inputs_raise_before_anything_is_written(tmp_path, trains, spec, words):
+    with pytest.raises(SweepError, match=words):
+        Sweep(small_bridge(), trains, spec, FAST).run(tmp_path / "bad.h5")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_bridge_without_track_and_bad_settings():
+    bridge = small_bridge()
+    bridge.track_elements = []
+    with pytest.raises(SweepError, match="no track"):
+        Sweep(bridge, ["HSLM-A1"], "200", FAST)
+    with pytest.raises(vtsi.ModelError, match="dt"):
+        PassageSettings(dt=0.0)
+    with pytest.raises(vtsi.ModelError, match="cars"):
+        PassageSettings(cars="bogie")
+    with pytest.raises(SweepError, match="full"):
+        Sweep(small_bridge(), ["HSLM-A1"], "200", PassageSettings(cars="full"))
+
+
+def test_unwritable_path_and_existing_files(tmp_path):
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
+    with pytest.raises(SweepError, match="cannot write"):
+        sweep.run(tmp_path / "no" / "such" / "dir.h5", workers=1)
+    path = tmp_path / "s.h5"
+    sweep.run(path, workers=1, progress=False)
+    with pytest.raises(SweepError, match="exists"):
+        sweep.run(path, workers=1)
+    other = Sweep(small_bridge(), ["HSLM-A1"], "200", PassageSettings(dt=4e-3, damping=0.0125))
+    with pytest.raises(SweepError, match="different sweep.*dt"):
+        other.run(path, workers=1, resume=True)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.h5"]
+    assert other.run(path, workers=1, overwrite=True, progress=False).identity["settings"]["dt"] == 4e-3
+
+
+def test_a_failing_case_is_named_and_the_finished_ones_are_kept(tmp_path):
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200", FAST)
+    run = sweep.runner.run
+
+    def failing(train, speed, seed=-1):
+        if train == "HSLM-A2":
+            raise vtsi.DivergenceError("diverged at step 3, t = 0.015 s", 3, 0.015)
+        return run(train, speed, seed)
+    sweep.runner.run = failing
+    with pytest.raises(SweepError, match=r"HSLM-A2/200kmh.*step 3"):
+        sweep.run(tmp_path / "f.h5", workers=1, progress=False, cases_per_task=1)
+    assert SweepResults(tmp_path / "f.h5").n_done == 1
+
+
+def test_bridge_frequency_from_the_model():
+    sweep = Sweep(small_bridge(8), ["HSLM-A1"], "200", FAST)
+    assert sweep.runner.frequencies[0] == pytest.approx(first_frequency(L, EI, 1.0, MU), rel=1e-4)

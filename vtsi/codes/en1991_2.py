@@ -1,0 +1,48 @@
+"""EN 1991-2:2003 (traffic loads on bridges), §6.4.6: rules for the dynamic analysis of railway
+bridges.
+
+Units: spans L [m]; damping ratios as fractions (0.01 for 1 %), not percent.
+"""
+import numpy as np
+
+from vtsi.errors import ModelError
+
+# Table 6.6, lower limits of the damping ratio ζ [%] for span L [m]: (value for L >= 20 m, slope
+# per metre below 20 m).
+DAMPING_TABLE_6_6 = {
+    "steel": (0.5, 0.125), "composite": (0.5, 0.125),
+    "prestressed_concrete": (1.0, 0.07),
+    "filler_beam": (1.5, 0.07), "reinforced_concrete": (1.5, 0.07),
+}
+ADDITIONAL_DAMPING_SPANS = (0.0, 30.0)   # [m] range of Eq. 6.13 (Figure 6.15)
+
+
+def damping_lower_bound(kind, span):
+    """EN 1991-2 Table 6.6: the lower bound of the damping ratio [-] of a ``kind`` bridge
+    ('steel', 'composite', 'prestressed_concrete', 'filler_beam', 'reinforced_concrete') of span
+    ``span`` [m]: ζ = ζ₂₀ + slope·(20 − L) [%] for L < 20 m, ζ₂₀ for L >= 20 m."""
+    if kind not in DAMPING_TABLE_6_6:
+        raise ModelError(f"EN 1991-2 Table 6.6: unknown bridge type {kind!r}; valid: {', '.join(DAMPING_TABLE_6_6)}")
+    L = _span(span, "Table 6.6")
+    base, slope = DAMPING_TABLE_6_6[kind]
+    return (base + slope * max(20.0 - L, 0.0)) / 100.0
+
+
+def additional_damping(span):
+    """EN 1991-2 Eq. 6.13: the additional damping Δζ [-] that a moving-force analysis (no
+    vehicle-bridge interaction) may add for span ``span`` [m], valid for L < 30 m:
+    Δζ = (0.0187 L − 0.00064 L²) / (1 − 0.0441 L − 0.0044 L² + 0.000255 L³) [%]."""
+    L = _span(span, "Eq. 6.13")
+    if not L < ADDITIONAL_DAMPING_SPANS[1]:
+        raise ModelError(f"EN 1991-2 Eq. 6.13: the additional damping is defined for spans below 30 m, got {L:g} m")
+    return (0.0187 * L - 0.00064 * L ** 2) / (1.0 - 0.0441 * L - 0.0044 * L ** 2 + 0.000255 * L ** 3) / 100.0
+
+
+def _span(span, clause):
+    try:
+        L = float(span)
+    except (TypeError, ValueError):
+        raise ModelError(f"EN 1991-2 {clause}: span must be a number [m], got {span!r}") from None
+    if not (np.isfinite(L) and L > 0):
+        raise ModelError(f"EN 1991-2 {clause}: span must be > 0 m, got {span!r}")
+    return L

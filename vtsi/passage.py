@@ -1,0 +1,424 @@
+"""One train passage over a bridge: the unit of work of a sweep (:mod:`vtsi.sweep`).
+
+A :class:`PassageRunner` holds a bridge model with its track, factored once (a
+:class:`~vtsi.coupled.BridgeStageCache` shared by every passage) and runs
+:class:`~vtsi.coupled.CoupledAnalysis` passages on it, each from the bridge's rest state
+(or its self-weight state), without rebuilding or re-factoring anything: per passage it makes
+only the train (at the case's speed), its constraint, the recorders and the compiled run.
+
+A passage (docs/sweeps.md):
+
+* at t = 0 the train's first wheel is ``approach`` metres before the track's first point, every
+  wheel on rigid ground in its dead-load equilibrium (computed once per train and reused at
+  every speed: on rigid level ground it does not depend on the speed);
+* it runs until the last wheel has left the track, plus a free-vibration window (default
+  ``FREE_VIBRATION_PERIODS`` periods of the bridge's first vertical mode: the largest free
+  vibration follows the exit within one period, as every mode then decays);
+* the irregular rail (optional) is a seeded sample of a spectrum, faded in over the
+  ``TAPER`` metres ahead of the first wheel, so that the train starts at rest on a level rail.
+
+Units: SI (m, s, N, kg); speeds in m/s here (the sweep takes km/h at its surface).
+"""
+import copy
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from functools import partial
+
+import numpy as np
+
+from vtsi.analysis import domain_state, eigen
+from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
+from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
+from vtsi.errors import ModelError, VtsiError
+from vtsi.integrators import make_integrator
+from vtsi.models.catalogue import FIDELITIES, catalogue_train
+from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
+from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
+from vtsi.track import Track
+from vtsi.train import TrainSubdomain
+
+FREE_VIBRATION_PERIODS = 1.5
+TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
+CAR_APPROACH = 25.0     # [m] default approach of trains of cars (covers the taper)
+PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
+IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range(1, 7))
+
+# Output responses: node responses (NodeRecorder names) and the vehicle responses.
+NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2"}
+VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
+PLACES = ("deck", "midspan")
+
+
+@dataclass(frozen=True)
+class Output:
+    """A response a sweep keeps for every passage: its envelope (min, max, absmax and their
+    times, per column) and, with ``history=True``, its time history.
+
+    Parameters
+    ----------
+    name : str
+        The name in results (e.g. 'deflection').
+    response : str
+        Node responses 'disp' [m], 'vel' [m/s], 'accel' [m/s²] (vertical, dof uy), or
+        'contact_force' [N, compression positive] (one column per contact wheel), or
+        'car_body_accel' [m/s²] (the body bounce of every car). The vehicle responses need a
+        train of cars (fidelity 'full'); a train of moving forces skips them.
+    nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
+        span's middle) or a tuple of node tags.
+    history : keep the time history too.
+    """
+
+    name: str
+    response: str
+    nodes: object = "deck"
+    history: bool = False
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise ModelError(f"output {self.name!r}: the name must be an identifier (letters, digits, _)")
+        if self.response not in NODE_RESPONSES and self.response not in VEHICLE_RESPONSES:
+            raise ModelError(f"output {self.name!r}: unknown response {self.response!r}; valid: "
+                             f"{', '.join(list(NODE_RESPONSES) + list(VEHICLE_RESPONSES))}")
+        if isinstance(self.nodes, str):
+            if self.nodes not in PLACES:
+                raise ModelError(f"output {self.name!r}: nodes must be 'deck', 'midspan' or node tags, got {self.nodes!r}")
+        else:
+            object.__setattr__(self, "nodes", tuple(int(n) for n in self.nodes))
+
+    @property
+    def units(self):
+        return NODE_RESPONSES.get(self.response) or VEHICLE_RESPONSES[self.response]
+
+    @property
+    def vehicle(self):
+        return self.response in VEHICLE_RESPONSES
+
+
+DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel"),
+                   Output("contact_force", "contact_force"), Output("car_body_acceleration", "car_body_accel"))
+
+
+@dataclass(frozen=True)
+class PassageSettings:
+    """How each passage of a sweep is computed (all stored in the results file).
+
+    Parameters
+    ----------
+    dt : time step [s].
+    integrator : a registered name ('Newmark', 'HHT', 'Bathe', …) or an integrator instance
+        such as ``vtsi.integrators.HHT(0.9)`` (implicit; stored in results by its repr).
+    cars : fidelity of the trains: 'force' (moving axle loads) or 'full' (the catalogue's
+        multibody cars; a train without them is refused).
+    contact : 'bilateral' or 'lcp' (contact loss).
+    interpolation : 'hermite' or 'bspline' (the ringing remedy (a)).
+    exact_events : take span entries and exits at their own time (see CoupledAnalysis).
+    damping : None (the bridge as built) or a damping ratio ζ [-] given to the bridge by
+        Rayleigh damping through the two frequencies ``damping_hz`` (default: the first
+        vertical frequency n₀ and the EN 1991-2 cut-off max(30 Hz, 1.5 n₀, n₃)): modes between
+        them get less than ζ, modes outside more.
+    damping_hz : (f_a, f_b) [Hz] or None.
+    irregularity : None (smooth rail) or 'german-low', 'german-high', 'fra-1' … 'fra-6'; each
+        case's seed selects the sample.
+    approach : distance of the first wheel before the track at t = 0 [m]; None: 0 for moving
+        forces, CAR_APPROACH for cars.
+    free_vibration : time after the last wheel leaves the track [s]; None:
+        FREE_VIBRATION_PERIODS periods of the first vertical mode.
+    bridge_self_weight : include the deck's self weight (results are then totals).
+    """
+
+    dt: float = 1e-3
+    integrator: str = "Newmark"
+    cars: str = "force"
+    contact: str = "bilateral"
+    interpolation: str = "hermite"
+    exact_events: bool = False
+    damping: object = None
+    damping_hz: object = None
+    irregularity: object = None
+    approach: object = None
+    free_vibration: object = None
+    bridge_self_weight: bool = False
+
+    def __post_init__(self):
+        def positive(name, allow_none=False, allow_zero=False):
+            value = getattr(self, name)
+            if value is None and allow_none:
+                return
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise ModelError(f"sweep settings: {name} must be a number, got {value!r}") from None
+            if not (math.isfinite(value) and (value >= 0 if allow_zero else value > 0)):
+                raise ModelError(f"sweep settings: {name} must be {'>=' if allow_zero else '>'} 0 and finite, got {value}")
+            object.__setattr__(self, name, value)
+
+        positive("dt")
+        positive("approach", allow_none=True, allow_zero=True)
+        positive("free_vibration", allow_none=True, allow_zero=True)
+        positive("damping", allow_none=True, allow_zero=True)
+        if self.damping is not None and not self.damping < 1.0:
+            raise ModelError(f"sweep settings: damping is a ratio (0.01 for 1 %), got {self.damping}")
+        if self.damping_hz is not None:
+            try:
+                pair = tuple(float(f) for f in self.damping_hz)
+            except (TypeError, ValueError):
+                pair = ()
+            if len(pair) != 2 or not all(math.isfinite(f) and f > 0 for f in pair) or pair[0] == pair[1]:
+                raise ModelError(f"sweep settings: damping_hz must be two different frequencies > 0 [Hz], "
+                                 f"got {self.damping_hz!r}")
+            object.__setattr__(self, "damping_hz", pair)
+        for name, valid in (("cars", FIDELITIES), ("contact", CONTACT_STRATEGIES), ("interpolation", INTERPOLATIONS)):
+            if getattr(self, name) not in valid:
+                raise ModelError(f"sweep settings: unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")
+        if self.irregularity is not None and self.irregularity not in IRREGULARITIES:
+            raise ModelError(f"sweep settings: unknown irregularity {self.irregularity!r}; valid: "
+                             f"{', '.join(IRREGULARITIES)} (or None for a smooth rail)")
+        try:
+            integrator = make_integrator(self.integrator)
+        except VtsiError as exc:
+            raise ModelError(f"sweep settings: {exc}") from None
+        if integrator.explicit:
+            raise ModelError(f"sweep settings: {integrator.name} is explicit; a passage needs an implicit integrator "
+                             "(Newmark, HHT, Bathe)")
+
+    def as_dict(self):
+        """The settings as JSON-able values (the integrator by its repr)."""
+        out = asdict(self)
+        out["integrator"] = self.integrator if isinstance(self.integrator, str) else repr(self.integrator)
+        return out
+
+
+
+@dataclass
+class CaseResult:
+    """What one passage gives a sweep.
+
+    ``envelopes[name]`` (6, n_columns): min, max, absmax and the times of each [units, s];
+    ``columns[name]``: what the columns are (node tags, contact-wheel or car indices);
+    ``histories[name]``: (time (n,), values (n, n_columns)) of the outputs kept as histories.
+    """
+
+    train: str
+    speed_kmh: float
+    seed: int
+    n_steps: int
+    seconds: float
+    envelopes: dict = field(default_factory=dict)
+    columns: dict = field(default_factory=dict)
+    histories: dict = field(default_factory=dict)
+
+
+def _psd(name):
+    if name.startswith("german-"):
+        return partial(german_psd, level=name.split("-")[1])
+    return partial(fra_psd, fra_class=int(name.split("-")[1]))
+
+
+def vertical_frequencies(model, n=3):
+    """The first ``n`` vertical (bending) natural frequencies [Hz] and mode shapes of a model:
+    the modes whose mass-weighted uy motion exceeds their ux motion (a beam's axial modes are
+    skipped)."""
+    asm = model.build()
+    k = min(asm.n_free, max(3 * n, 12))
+    omega2, shapes = eigen(model, k)
+    M = asm.M_full
+    ux = np.zeros(asm.n_full)
+    ux[0::asm.ndf] = 1.0
+    uy = np.zeros(asm.n_full)
+    uy[1::asm.ndf] = 1.0
+    keep = [j for j in range(k) if (shapes[:, j] * uy) @ M @ (shapes[:, j] * uy)
+            > (shapes[:, j] * ux) @ M @ (shapes[:, j] * ux)]
+    if len(keep) < n and k < asm.n_free:
+        omega2, shapes = eigen(model, asm.n_free)
+        keep = [j for j in range(asm.n_free) if (shapes[:, j] * uy) @ M @ (shapes[:, j] * uy)
+                > (shapes[:, j] * ux) @ M @ (shapes[:, j] * ux)]
+    keep = keep[:n]
+    return np.sqrt(np.maximum(omega2[keep], 0.0)) / (2 * np.pi), shapes[:, keep]
+
+
+def en_cutoff_hz(frequencies):
+    """EN 1990 A2.4.4.2.1: frequencies up to max(30 Hz, 1.5 n₀, n₃) count [Hz]."""
+    f = np.asarray(frequencies, dtype=float)
+    return float(max(30.0, 1.5 * f[0], f[2] if len(f) > 2 else 0.0))
+
+
+def rayleigh_coefficients(zeta, f_a, f_b):
+    """α [1/s], β [s] of C = α M + β K with damping ratio ``zeta`` at f_a and f_b [Hz]."""
+    w_a, w_b = 2 * np.pi * f_a, 2 * np.pi * f_b
+    return 2 * zeta * w_a * w_b / (w_a + w_b), 2 * zeta / (w_a + w_b)
+
+
+class PassageRunner:
+    """A bridge model with its track, ready to run passages (see the module docstring).
+
+    Parameters
+    ----------
+    model : vtsi.Model (the bridge; copied, the caller's model is left as it is).
+    track_elements : tags of the track's elements (the chain the wheels run along).
+    settings : PassageSettings.
+    outputs : sequence of Output.
+
+    Attributes
+    ----------
+    frequencies : (3,) first vertical frequencies [Hz] (with the sweep's damping applied: the
+        undamped ones of the model).
+    deck_nodes, midspan_nodes : node tags along the track (x order) and at each span's middle.
+    span_lengths : [m] between the track's supports (nodes where uy is fixed).
+    """
+
+    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS):
+        self.model = copy.deepcopy(model)
+        self.settings = settings
+        self.outputs = tuple(outputs)
+        names = [o.name for o in self.outputs]
+        if len(set(names)) != len(names):
+            raise ModelError(f"sweep outputs: names must differ, got {names}")
+        self.track = Track(self.model, list(track_elements))
+        self.deck_nodes, self.midspan_nodes, self.span_lengths = self._deck()
+        for o in self.outputs:
+            missing = [n for n in self.output_nodes(o.nodes) if n not in self.model.nodes]
+            if missing and not o.vehicle:
+                raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
+        self.frequencies, _ = vertical_frequencies(self.model, 3)
+        if settings.damping is not None:
+            f_a, f_b = settings.damping_hz or (self.frequencies[0], en_cutoff_hz(self.frequencies))
+            self.model.rayleigh(*rayleigh_coefficients(settings.damping, f_a, f_b))
+        self.cache = BridgeStageCache()
+        self._dead_load = {}
+        self._profiles = {}
+        self._trains = {}
+
+    # -- the bridge -------------------------------------------------------------------------
+    def _deck(self):
+        asm = self.model.build()
+        nodes = set()
+        for tag in self.track.elements:
+            b, i = asm.element_location[tag]
+            nodes.update(asm.blocks[b][0].nodes[i])
+        x = {n: float(self.model.nodes[n][0]) for n in nodes}
+        deck = sorted(nodes, key=x.get)
+        fixed = [n for n in deck if self.model.fixities.get(n, (0, 0, 0))[1]]
+        if len(fixed) < 2:
+            fixed = [deck[0], deck[-1]]
+        spans = [x[b] - x[a] for a, b in zip(fixed[:-1], fixed[1:])]
+        middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in zip(fixed[:-1], fixed[1:])]
+        return deck, middle, spans
+
+    def first_span(self):
+        return float(self.span_lengths[0])
+
+    # -- one passage --------------------------------------------------------------------------
+    def train(self, name, speed):
+        """The catalogue train ``name`` at ``speed`` [m/s] in this sweep's fidelity (built once
+        per name, then copied at each speed)."""
+        if name not in self._trains:
+            self._trains[name] = catalogue_train(name, speed, fidelity=self.settings.cars, span=self.first_span())
+        return self._trains[name].with_speed(speed)
+
+    def approach(self, train):
+        s = self.settings
+        if s.approach is not None:
+            return s.approach
+        return 0.0 if train.n_dof == 0 else CAR_APPROACH
+
+    def n_steps(self, train):
+        """Steps of a passage: to the last wheel leaving the track, plus the free vibration."""
+        s = self.settings
+        travel = self.track.x_end - self.track.x_begin + self.approach(train) + train.length
+        free = s.free_vibration if s.free_vibration is not None else FREE_VIBRATION_PERIODS / self.frequencies[0]
+        return int(math.ceil((travel / train.speed + free) / s.dt - 1e-9))
+
+    def _irregularity(self, seed, x_first, x_last, start):
+        """The seed's profile over [x_first, x_last], faded in over TAPER metres from ``start``
+        (the first wheel's position at t = 0); cached per seed and grown when a case needs more."""
+        cached = self._profiles.get(seed)
+        if cached is None or cached[0] > x_first or cached[1] < x_last:
+            lo = min(x_first, cached[0]) if cached else x_first
+            hi = max(x_last, cached[1]) if cached else x_last
+            x = np.arange(lo - 1.0, hi + 1.0 + PROFILE_STEP, PROFILE_STEP)
+            # n_waves from a fixed length, so that a seed's profile does not depend on the range
+            r = sample_profile(_psd(self.settings.irregularity), x, n_waves=4000, rng=seed)
+            cached = self._profiles[seed] = (lo, hi, x, r)
+        _, _, x, r = cached
+        ramp = np.clip((x - start) / TAPER, 0.0, 1.0)
+        return Irregularity(x, r * 0.5 * (1.0 - np.cos(np.pi * ramp)))
+
+    def run(self, train_name, speed_kmh, seed=-1):
+        """Run one passage of the catalogue train ``train_name`` at ``speed_kmh`` [km/h] (rail
+        sample ``seed``, -1 for a smooth rail) and return its :class:`CaseResult`."""
+        clock = time.perf_counter()
+        s = self.settings
+        if not (math.isfinite(speed_kmh) and speed_kmh > 0):
+            raise ModelError(f"sweep: speed must be > 0 km/h, got {speed_kmh}")
+        train = self.train(train_name, speed_kmh / 3.6)
+        approach = self.approach(train)
+        x_head0 = self.track.x_begin - approach + float(train.wheel_offsets[0])
+        n_steps = self.n_steps(train)
+        irregularity = None
+        if s.irregularity is not None and train.n_dof:
+            if seed < 0:
+                raise ModelError(f"sweep: an irregular rail ({s.irregularity}) needs seeds >= 0, got {seed}")
+            x_first = x_head0 - float(train.wheel_offsets[-1]) - 5.0
+            x_last = x_head0 + train.speed * (n_steps + 2) * s.dt + 5.0
+            irregularity = self._irregularity(seed, x_first, x_last, self.track.x_begin - approach)
+        sub = TrainSubdomain(train, x_head0)
+        tie = MovingLoadConstraint(self.track, sub, irregularity, s.interpolation)
+        recorders = self._recorders(sub, tie)
+        state = domain_state(self.model)
+        state.time = 0.0
+        state.u[:], state.v[:], state.a[:] = 0.0, 0.0, 0.0
+        analysis = CoupledAnalysis(self.model, tie, s.integrator, dt=s.dt, contact=s.contact,
+                                   bridge_self_weight=s.bridge_self_weight, recorders=[r for _, r in recorders],
+                                   exact_events=s.exact_events, bridge_cache=self.cache, chunk_steps=4000)
+        key = (train.name, approach)
+        if key in self._dead_load:
+            analysis.start_from(self._dead_load[key])
+        else:
+            static = analysis.static()
+            if np.all(sub.wheel_x0(np.arange(train.n_wheels)) <= self.track.x_begin):
+                self._dead_load[key] = static   # all wheels on rigid ground: the same at every speed
+        analysis.run(n_steps)
+        result = CaseResult(train_name, float(speed_kmh), int(seed), n_steps, 0.0)
+        for output, rec in recorders:
+            env = rec.envelope
+            result.envelopes[output.name] = np.array([env.min, env.max, env.absmax, env.time_of_min,
+                                                      env.time_of_max, env.time_of_absmax])
+            result.columns[output.name] = self._columns(output, sub)
+            if output.history:
+                result.histories[output.name] = (np.asarray(rec.time).copy(), np.asarray(rec.values).copy())
+        result.seconds = time.perf_counter() - clock
+        return result
+
+    def output_nodes(self, nodes):
+        """Node tags of an output's ``nodes`` ('deck', 'midspan' or tags)."""
+        if nodes == "deck":
+            return list(self.deck_nodes)
+        if nodes == "midspan":
+            return list(self.midspan_nodes)
+        return list(nodes)
+
+    def _columns(self, output, sub):
+        if output.response == "contact_force":
+            return np.arange(len(sub.contact_wheels))
+        if output.response == "car_body_accel":
+            return np.array([i for i, car in enumerate(sub.train.cars) if "body_y" in car.dof_names])
+        return np.array(self.output_nodes(output.nodes), dtype=np.int64)
+
+    def _recorders(self, sub, tie):
+        out = []
+        for o in self.outputs:
+            kwargs = dict(envelope=True, history=o.history)
+            if o.response in NODE_RESPONSES:
+                rec = NodeRecorder(self.output_nodes(o.nodes), [2], o.response, **kwargs)
+            elif sub.train.n_dof == 0:
+                continue      # a train of moving forces has no contact forces or car bodies
+            elif o.response == "contact_force":
+                rec = ContactRecorder(tie, response="force", **kwargs)
+            else:
+                dofs = [f"car{i}.body_y" for i in self._columns(o, sub)]
+                if not dofs:
+                    continue
+                rec = TrainRecorder(sub, dofs, "accel", **kwargs)
+            out.append((o, rec))
+        return out

@@ -1,0 +1,308 @@
+"""Speed sweeps: every train of a list at every speed of a range (and every rail sample), on any
+``concurrent.futures.Executor``, into one resumable HDF5 results file (docs/sweeps.md).
+
+    sweep = Sweep(bridge, ["HSLM-A1", "HSLM-A2", "ICE3"], speeds("140:420:5"),
+                  PassageSettings(dt=2e-3, damping=0.012))
+    results = sweep.run("hslm.h5")            # all cores; workers=1: serial; executor=...: any
+    print(results.summary())
+
+The bridge is built and factored once per sweep (in the calling process, before any passage
+is dispatched); each task carries that prepared bridge to its worker, and each passage starts
+from the bridge's rest state (:class:`~vtsi.passage.PassageRunner`). Cases are grouped into
+tasks of about ``TASK_STEPS`` time steps, so that dispatching a task costs well under 5 % of
+running it. Results are written by the calling process as each task completes, atomically
+(:mod:`vtsi.sweep_results`): a sweep killed at any moment loses only the tasks that were
+running, and ``resume=True`` runs only what is missing.
+
+Speeds are km/h at this surface (``speeds``, ``en_speed_grid``); the passages run in m/s.
+"""
+import hashlib
+import json
+import math
+import os
+import sys
+from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled import CoupledAnalysis
+from vtsi.errors import PassageError, SweepError, VtsiError
+from vtsi.models.bridges import continuous_beam
+from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageRunner, PassageSettings
+from vtsi.sweep_results import ResultsWriter, case_key
+from vtsi.train import TrainSubdomain
+
+TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
+EN_START_KMH = 144.0        # 40 m/s, EN 1991-2 §6.4.6.2(1)
+
+
+# -- speeds ------------------------------------------------------------------------------------
+def speeds(spec):
+    """Speeds [km/h] from ``'START:STOP:STEP'`` (STOP included when it falls on the grid),
+    ``'v1,v2,...'``, a number or a sequence of numbers. Every speed must be > 0."""
+    if isinstance(spec, str):
+        text = spec.strip()
+        try:
+            parts = [float(p) for p in text.split(":")] if ":" in text else None
+            values = None if parts else np.array([float(p) for p in text.replace(";", ",").split(",") if p.strip()])
+        except ValueError:
+            parts, values = [], None
+        if parts is not None and len(parts) != 3 or values is None and parts is None:
+            raise SweepError(f"speeds {spec!r}: expected START:STOP:STEP or a comma-separated list [km/h]")
+        if parts:
+            start, stop, step = parts
+            if not step > 0:
+                raise SweepError(f"speeds {spec!r}: the step must be > 0 km/h, got {step:g}")
+            if stop < start:
+                raise SweepError(f"speeds {spec!r}: empty range (stop {stop:g} < start {start:g} km/h)")
+            values = start + step * np.arange(int(math.floor((stop - start) / step + 1e-9)) + 1)
+    else:
+        try:
+            values = np.atleast_1d(np.asarray(spec, dtype=float)).ravel()
+        except (TypeError, ValueError):
+            raise SweepError(f"speeds: expected numbers [km/h], got {spec!r}") from None
+    if values.size == 0:
+        raise SweepError(f"speeds {spec!r}: no speed")
+    bad = values[~(np.isfinite(values) & (values > 0))]
+    if bad.size:
+        raise SweepError(f"speeds: every speed must be > 0 km/h and finite, got {bad[0]:g}")
+    return np.unique(np.round(values, 9))
+
+
+def resonance_speeds(frequencies_hz, lengths_m, orders=(1, 2, 3, 4)):
+    """v = n·D/i [km/h] for every frequency n [Hz], characteristic length D [m] and i in ``orders``
+    (EN 1991-2 §6.4.6.2: λ = D/i, v = n₀ λ)."""
+    f = np.atleast_1d(np.asarray(frequencies_hz, dtype=float))
+    D = np.atleast_1d(np.asarray([d for d in lengths_m if d], dtype=float))
+    if D.size == 0:
+        return np.zeros(0)
+    i = np.asarray(orders, dtype=float)
+    return np.unique((f[:, None, None] * D[None, :, None] / i[None, None, :]).ravel() * 3.6)
+
+
+def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=EN_START_KMH, step_kmh=10.0,
+                  fine_step_kmh=2.0, band=0.1):
+    """The EN 1991-2 §6.4.6.2 speed series [km/h]: from ``start_kmh`` (40 m/s) up to 1.2 × the
+    line speed in steps of ``step_kmh``, plus steps of ``fine_step_kmh`` within ± ``band`` (a
+    fraction) of every resonance speed v = n·D/i (:func:`resonance_speeds`) in that range.
+    The end points are included."""
+    v_max = 1.2 * float(line_speed_kmh)
+    if not (math.isfinite(v_max) and v_max > 0):
+        raise SweepError(f"EN speed grid: the line speed must be > 0 km/h, got {line_speed_kmh!r}")
+    if not (0 < start_kmh <= v_max):
+        raise SweepError(f"EN speed grid: start {start_kmh:g} km/h must be in (0, {v_max:g}] (1.2 x the line speed)")
+    if not (step_kmh > 0 and fine_step_kmh > 0 and band >= 0):
+        raise SweepError("EN speed grid: steps must be > 0 km/h and band >= 0")
+    grid = [np.arange(start_kmh, v_max + 1e-9, step_kmh), [v_max]]
+    for v in resonance_speeds(frequencies_hz, lengths_m):
+        lo, hi = max(start_kmh, v * (1 - band)), min(v_max, v * (1 + band))
+        if lo <= hi:
+            grid.append(np.arange(lo, hi + 1e-9, fine_step_kmh))
+            grid.append([v] if lo <= v <= hi else [])
+    return np.unique(np.round(np.concatenate(grid), 6))
+
+
+# -- the bridge --------------------------------------------------------------------------------
+@dataclass
+class SweepBridge:
+    """A bridge model for a sweep: the model, the tags of its track elements and a description
+    (JSON-able dict, stored in the results; e.g. the beam's data or the script's path)."""
+
+    model: object
+    track_elements: list
+    description: dict
+
+
+def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0):
+    """A continuous Euler-Bernoulli beam over ``spans`` [m] (pin, then rollers) as a sweep
+    bridge; its track is the beam. E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only)."""
+    import vtsi
+    model = vtsi.Model()
+    beam = continuous_beam(model, spans, elements_per_span, E, I, mu, A=A)
+    return SweepBridge(model, list(beam.elements),
+                       {"kind": "beam", "spans_m": [float(s) for s in spans], "E_Pa": float(E), "I_m4": float(I),
+                        "mu_kg_m": float(mu), "elements_per_span": int(elements_per_span), "A_m2": float(A)})
+
+
+def _fingerprint(runner):
+    """A hash of what the passages see of the bridge: its matrices and its track."""
+    asm = runner.model.build()
+    digest = hashlib.sha256()
+    for matrix in (asm.K, asm.M, asm.C):
+        m = matrix.tocsr()
+        for part in (m.indptr, m.indices, np.round(m.data, 9)):
+            digest.update(np.ascontiguousarray(part).tobytes())
+    for part in (runner.track.x_start, runner.track.length, runner.track.dofs):
+        digest.update(np.ascontiguousarray(part).tobytes())
+    return digest.hexdigest()
+
+
+# -- the sweep ---------------------------------------------------------------------------------
+def _run_task(runner, cases):
+    """A worker's task: the passages of ``cases`` ((train, speed_kmh, seed), ...)."""
+    out = []
+    for train, speed, seed in cases:
+        try:
+            out.append(runner.run(train, speed, seed))
+        except VtsiError as exc:
+            raise PassageError(f"case {case_key(train, speed, seed)}: {type(exc).__name__}: {exc}") from None
+    return out
+
+
+class Sweep:
+    """Every train of ``trains`` at every speed of ``speeds_kmh`` (and every rail sample of
+    ``seeds``) over ``bridge``.
+
+    Parameters
+    ----------
+    bridge : SweepBridge (:func:`beam_bridge`, or a model with its track elements).
+    trains : catalogue names ('HSLM-A1' … 'HSLM-A10', 'HSLM-B', 'ICE3') or axle-table CSV paths
+        (:mod:`vtsi.models.catalogue`).
+    speeds_kmh : speeds [km/h]: anything :func:`speeds` takes, or :func:`en_speed_grid`'s output.
+    settings : PassageSettings (Δt, integrator, fidelity, contact, damping, irregularity …).
+    outputs : the responses kept per passage (:class:`~vtsi.passage.Output`); default: deck
+        deflection and acceleration at every deck node, and with cars the contact forces and
+        car-body accelerations.
+    seeds : rail samples (ints >= 0) for an irregular rail; ignored (one smooth case, seed -1)
+        without irregularity.
+
+    Every input is checked here, before anything runs or any file is written.
+    """
+
+    def __init__(self, bridge, trains, speeds_kmh, settings=None, outputs=DEFAULT_OUTPUTS, seeds=(0,)):
+        settings = PassageSettings() if settings is None else settings
+        if not isinstance(settings, PassageSettings):
+            raise SweepError(f"sweep: settings must be PassageSettings, got {type(settings).__name__}")
+        if not isinstance(bridge, SweepBridge):
+            raise SweepError(f"sweep: bridge must be a SweepBridge (vtsi.sweep.beam_bridge, or a model with its "
+                             f"track elements), got {type(bridge).__name__}")
+        if not bridge.track_elements:
+            raise SweepError("sweep: the bridge has no track (no track elements)")
+        if isinstance(trains, str):
+            trains = [t for t in trains.split(",") if t.strip()]
+        self.trains = [str(t).strip() for t in trains]
+        if not self.trains:
+            raise SweepError("sweep: no train")
+        if len(set(self.trains)) != len(self.trains):
+            raise SweepError(f"sweep: a train is listed twice: {self.trains}")
+        self.speeds_kmh = speeds(speeds_kmh)
+        if settings.irregularity is None:
+            self.seeds = [-1]
+        else:
+            try:
+                self.seeds = sorted({int(s) for s in seeds})
+            except (TypeError, ValueError):
+                raise SweepError(f"sweep: seeds must be integers >= 0, got {seeds!r}") from None
+            if not self.seeds or min(self.seeds) < 0:
+                raise SweepError(f"sweep: an irregular rail needs seeds >= 0, got {seeds!r}")
+        self.settings, self.bridge = settings, bridge
+        for o in outputs:
+            if not isinstance(o, Output):
+                raise SweepError(f"sweep: outputs must be vtsi.passage.Output, got {o!r}")
+        try:
+            self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs)
+            for name in self.trains:             # every name, fidelity and span is checked now
+                self.runner.train(name, float(self.speeds_kmh[0]) / 3.6)
+        except VtsiError as exc:
+            raise SweepError(f"sweep: {exc}") from None
+        self.outputs = self.runner.outputs
+
+    @property
+    def cases(self):
+        """Every case (train, speed [km/h], seed), trains outermost."""
+        return [(t, float(v), s) for t in self.trains for v in self.speeds_kmh for s in self.seeds]
+
+    def identity(self):
+        """What makes two sweeps the same (stored in the results file; a resumed sweep must match)."""
+        return {"bridge": self.bridge.description, "bridge_fingerprint": _fingerprint(self.runner),
+                "settings": self.settings.as_dict(),
+                "outputs": [{"name": o.name, "response": o.response, "nodes": o.nodes, "history": o.history}
+                            for o in self.outputs],
+                "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
+
+    def prepare(self):
+        """Factor the bridge once (into the runner's cache) before passages are dispatched."""
+        train = self.runner.train(self.trains[0], float(self.speeds_kmh[0]) / 3.6)
+        sub = TrainSubdomain(train, self.runner.track.x_begin - 1.0 - train.length)
+        s = self.settings
+        tie = MovingLoadConstraint(self.runner.track, sub, None, s.interpolation)
+        CoupledAnalysis(self.runner.model, tie, s.integrator, dt=s.dt, contact=s.contact,
+                        bridge_self_weight=s.bridge_self_weight, bridge_cache=self.runner.cache).prepare()
+
+    def task_size(self, cases, workers):
+        """Cases per task: about TASK_STEPS steps, and at least one task per worker."""
+        if not cases:
+            return 1
+        steps = np.mean([self.runner.n_steps(self.runner.train(t, v / 3.6)) for t, v, _ in cases[:: max(1, len(cases) // 20)]])
+        return int(max(1, min(math.ceil(TASK_STEPS / max(steps, 1.0)), math.ceil(len(cases) / workers))))
+
+    def run(self, path=None, *, workers=None, executor=None, progress=None, resume=False, overwrite=False,
+            cases_per_task=None):
+        """Run the sweep; returns :class:`~vtsi.sweep_results.SweepResults`.
+
+        Parameters
+        ----------
+        path : results file (HDF5); None keeps the results in memory.
+        workers : processes of the default pool (None: every core); 1 runs in this process.
+        executor : any ``concurrent.futures.Executor`` (e.g. a dask.distributed ``Client``'s
+            ``get_executor()``); then ``workers`` only sizes the tasks (default: every core).
+        progress : show a progress bar (tqdm: cases done, rate, time left); None: when stderr
+            is a terminal.
+        resume : continue the sweep in an existing ``path`` (its finished cases are skipped;
+            a file of a different sweep is refused).
+        overwrite : replace an existing ``path``.
+        cases_per_task : override the task size.
+        """
+        if workers is not None and (int(workers) != workers or workers < 1):
+            raise SweepError(f"sweep: workers must be an integer >= 1, got {workers!r}")
+        if executor is not None and not isinstance(executor, Executor):
+            raise SweepError(f"sweep: executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
+        n_workers = int(workers or os.cpu_count() or 1)
+        writer = ResultsWriter(path, self.identity(), self.runner, resume=resume, overwrite=overwrite)
+        try:
+            done = writer.done()
+            todo = [c for c in self.cases if case_key(*c) not in done]
+            if todo:
+                self.prepare()
+                size = cases_per_task or self.task_size(todo, n_workers)
+                tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
+                bar = _progress_bar(len(self.cases), len(self.cases) - len(todo), progress)
+                try:
+                    if executor is None and n_workers == 1:
+                        for task in tasks:
+                            results = _run_task(self.runner, task)
+                            writer.write(results)
+                            bar.update(len(results))
+                    elif executor is None:
+                        with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks))) as pool:
+                            self._dispatch(pool, tasks, writer, bar)
+                    else:
+                        self._dispatch(executor, tasks, writer, bar)
+                finally:
+                    bar.close()
+        finally:
+            writer.close()
+        return writer.results()
+
+    def _dispatch(self, executor, tasks, writer, bar):
+        pending = {executor.submit(_run_task, self.runner, task) for task in tasks}
+        try:
+            while pending:
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for future in finished:
+                    results = future.result()
+                    writer.write(results)
+                    bar.update(len(results))
+        except BaseException:
+            for future in pending:
+                future.cancel()
+            raise
+
+
+def _progress_bar(total, initial, show):
+    if show is None:
+        show = sys.stderr.isatty()
+    return tqdm(total=total, initial=initial, unit="case", disable=not show, desc="sweep", smoothing=0.1)

@@ -1,0 +1,342 @@
+"""The results file of a sweep (HDF5, one file per sweep) and its reader.
+
+Layout (docs/sweeps.md)::
+
+    /                      attrs: format 'vtsi-sweep', format_version, vtsi_version, created,
+                           identity (JSON: bridge, settings, outputs, trains, speeds, seeds)
+    /train, /speed_kmh, /seed          the envelope tables' coordinates (seed -1: smooth rail)
+    /bridge/               frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m
+    /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
+                           columns per case (NaN: not run yet, or not produced by that train);
+                           <q>_where (the column: node tag, contact wheel or car), <q>_time [s];
+                           attrs units, output, statistic, dims
+    /outputs/<name>        attrs response, units, kind of column ('node', 'contact wheel', 'car'),
+                           rows (of an envelope); columns: the node tags of a node output
+    /cases/<train>/<speed>kmh/<seed>   one group per case; attrs train, speed_kmh, seed,
+                           n_steps, seconds; per output a dataset <name> (6, n_columns), its
+                           envelope (rows min, max, absmax, time_of_min, time_of_max,
+                           time_of_absmax); <name>_columns for a vehicle output (wheel or car
+                           indices); with a history <name>_time (n,) [s] and <name>_values (n,
+                           n_columns)
+
+Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements and contact
+forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
+deflection: y is positive up).
+
+Writing is atomic per batch: the file is copied, the batch written to the copy, and the copy
+renamed over the file (``os.replace``), so the file on disk is always a complete, readable
+results file, whenever the writing process is killed.
+"""
+import datetime
+import json
+import os
+import shutil
+
+import h5py
+import numpy as np
+
+from vtsi.errors import SweepError
+
+FORMAT, FORMAT_VERSION = "vtsi-sweep", 1
+ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
+STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",),
+              "contact_force": ("min", "max"), "car_body_accel": ("absmax",)}
+COLUMN_KIND = {"contact_force": "contact wheel", "car_body_accel": "car"}
+UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "contact_force": "N", "car_body_accel": "m/s^2"}
+
+
+def case_key(train, speed_kmh, seed):
+    """The case's group path under /cases: '<train>/<speed>kmh/<seed>' ('smooth' for seed -1)."""
+    return f"{str(train).replace('/', '|')}/{float(speed_kmh):.6g}kmh/{'smooth' if seed < 0 else f'seed{int(seed)}'}"
+
+
+def quantities(outputs):
+    """``[(quantity, output, statistic, units)]`` of the envelope tables of ``outputs`` (dicts or
+    Output objects)."""
+    out = []
+    for o in outputs:
+        name, response = (o["name"], o["response"]) if isinstance(o, dict) else (o.name, o.response)
+        units = UNITS[response]
+        for stat in STATISTICS[response]:
+            out.append((f"{name}_{stat}", name, stat, units))
+    return out
+
+
+def _first_difference(a, b, prefix=""):
+    if isinstance(a, dict) and isinstance(b, dict):
+        for key in sorted(set(a) | set(b)):
+            if key not in a or key not in b:
+                return f"{prefix}{key}"
+            diff = _first_difference(a[key], b[key], f"{prefix}{key}.")
+            if diff:
+                return diff
+        return None
+    if a != b:
+        return f"{prefix.rstrip('.')} ({json.dumps(a)[:60]} here, {json.dumps(b)[:60]} in the file)"
+    return None
+
+
+class ResultsWriter:
+    """Creates (or reopens, to resume) a sweep's results file and writes batches of cases."""
+
+    def __init__(self, path, identity, runner, resume=False, overwrite=False):
+        from vtsi import __version__
+        self.path = None if path is None else os.fspath(path)
+        self.identity = json.loads(json.dumps(identity))
+        self._memory = None
+        if self.path is not None and os.path.exists(self.path) and not overwrite:
+            if not resume:
+                raise SweepError(f"results file {self.path} exists; resume=True (--resume) continues its sweep, "
+                                       "overwrite=True (--overwrite) replaces it")
+            self._check(self.path)
+            return
+        if self.path is not None and os.path.isdir(self.path):
+            raise SweepError(f"results file {self.path} is a directory")
+        handle, tmp = self._open_new()
+        try:
+            with handle as f:
+                f.attrs.update({"format": FORMAT, "format_version": FORMAT_VERSION, "vtsi_version": __version__,
+                                "created": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+                                "identity": json.dumps(self.identity, sort_keys=True)})
+                ident = self.identity
+                f.create_dataset("train", data=np.array(ident["trains"], dtype=h5py.string_dtype()))
+                f.create_dataset("speed_kmh", data=np.array(ident["speeds_kmh"], dtype=float)).attrs["units"] = "km/h"
+                f.create_dataset("seed", data=np.array(ident["seeds"], dtype=np.int64)).attrs["note"] = "-1: smooth rail"
+                b = f.create_group("bridge")
+                b["frequencies_hz"] = runner.frequencies
+                b["deck_nodes"] = np.asarray(runner.deck_nodes, dtype=np.int64)
+                b["deck_x_m"] = np.array([runner.model.nodes[n][0] for n in runner.deck_nodes])
+                b["midspan_nodes"] = np.asarray(runner.midspan_nodes, dtype=np.int64)
+                b["span_lengths_m"] = np.asarray(runner.span_lengths, dtype=float)
+                shape = (len(ident["trains"]), len(ident["speeds_kmh"]), len(ident["seeds"]))
+                env = f.create_group("envelopes")
+                for q, output, stat, units in quantities(ident["outputs"]):
+                    ds = env.create_dataset(q, shape=shape, dtype=float, fillvalue=np.nan)
+                    ds.attrs.update({"units": units, "output": output, "statistic": stat,
+                                     "dims": ["train", "speed_kmh", "seed"]})
+                    env.create_dataset(q + "_where", shape=shape, dtype=np.int64, fillvalue=-1)
+                    env.create_dataset(q + "_time", shape=shape, dtype=float, fillvalue=np.nan).attrs["units"] = "s"
+                outs = f.create_group("outputs")
+                for o in ident["outputs"]:
+                    g = outs.create_group(o["name"])
+                    g.attrs.update({"response": o["response"], "units": UNITS[o["response"]],
+                                    "kind": COLUMN_KIND.get(o["response"], "node"), "rows": list(ENVELOPE_ROWS),
+                                    "history": bool(o["history"])})
+                    if o["response"] not in COLUMN_KIND:
+                        g["columns"] = np.asarray(runner.output_nodes(o["nodes"]), dtype=np.int64)
+                f.create_group("cases")
+                if self.path is None:
+                    self._memory = f
+            if tmp is not None:
+                os.replace(tmp, self.path)
+        except BaseException:
+            if tmp is not None and os.path.exists(tmp):
+                os.remove(tmp)
+            raise
+
+    def _open_new(self):
+        if self.path is None:
+            f = h5py.File(f"vtsi-sweep-{id(self)}", "w", driver="core", backing_store=False)
+            return _KeepOpen(f), None
+        tmp = self.path + ".partial"
+        try:
+            return h5py.File(tmp, "w"), tmp
+        except OSError as exc:
+            raise SweepError(f"results file {self.path}: cannot write there ({exc.strerror or exc})") from None
+
+    def _check(self, path):
+        try:
+            with h5py.File(path, "r") as f:
+                fmt, stored = f.attrs.get("format"), f.attrs.get("identity")
+        except OSError as exc:
+            raise SweepError(f"results file {path}: not a readable HDF5 file ({exc})") from None
+        if fmt != FORMAT or stored is None:
+            raise SweepError(f"results file {path} is not a vtsi sweep results file")
+        diff = _first_difference(self.identity, json.loads(stored))
+        if diff:
+            raise SweepError(f"results file {path} holds a different sweep (it differs in {diff}); "
+                                   "use another file, or overwrite=True (--overwrite)")
+
+    def done(self):
+        """Keys of the cases already in the file."""
+        keys = set()
+        with self._read() as f:
+            f["cases"].visititems(lambda name, obj: keys.add(name) if "train" in obj.attrs else None)
+        return keys
+
+    def _read(self):
+        return _KeepOpen(self._memory) if self._memory is not None else h5py.File(self.path, "r")
+
+    def write(self, results):
+        """Add a batch of :class:`~vtsi.passage.CaseResult` (atomically, see the module docstring)."""
+        if not results:
+            return
+        if self._memory is not None:
+            self._write(self._memory, results)
+            return
+        tmp = self.path + ".partial"
+        shutil.copyfile(self.path, tmp)
+        with h5py.File(tmp, "a") as f:
+            self._write(f, results)
+        os.replace(tmp, self.path)
+
+    def _write(self, f, results):
+        ident = self.identity
+        trains, speeds, seeds = ident["trains"], np.array(ident["speeds_kmh"]), ident["seeds"]
+        table = quantities(ident["outputs"])
+        vehicle = {o["name"] for o in ident["outputs"] if o["response"] in COLUMN_KIND}
+        env_group = f["envelopes"]
+        tables = {q: [env_group[q][()], env_group[q + "_where"][()], env_group[q + "_time"][()]] for q, *_ in table}
+        for r in results:
+            g = f["cases"].create_group(case_key(r.train, r.speed_kmh, r.seed))
+            g.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "n_steps": r.n_steps,
+                            "seconds": r.seconds})
+            index = (trains.index(r.train), int(np.argmin(np.abs(speeds - r.speed_kmh))), seeds.index(r.seed))
+            for name, env in r.envelopes.items():
+                g[name] = env
+                if name in vehicle:
+                    g[name + "_columns"] = r.columns[name]
+                if name in r.histories:
+                    time, values = r.histories[name]
+                    g[name + "_time"] = time
+                    g.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+            for q, name, stat, _ in table:
+                if name not in r.envelopes:
+                    continue
+                env, row = r.envelopes[name], ENVELOPE_ROWS.index(stat)
+                j = int(np.argmin(env[row]) if stat == "min" else np.argmax(env[row]))
+                values, where, when = tables[q]
+                values[index], where[index], when[index] = env[row, j], int(r.columns[name][j]), env[row + 3, j]
+        for q, (values, where, when) in tables.items():
+            env_group[q][...] = values
+            env_group[q + "_where"][...] = where
+            env_group[q + "_time"][...] = when
+
+    def close(self):
+        pass
+
+    def results(self):
+        return SweepResults(self._memory if self._memory is not None else self.path)
+
+
+class _KeepOpen:
+    """A context manager that leaves an (in-memory) h5py file open."""
+
+    def __init__(self, f):
+        self.f = f
+
+    def __enter__(self):
+        return self.f
+
+    def __exit__(self, *exc):
+        return False
+
+
+class SweepResults:
+    """A sweep's results (from its file, or the in-memory file of a sweep run without one).
+
+    Attributes
+    ----------
+    trains : list of str; speeds_kmh : (n_speed,) [km/h]; seeds : list of int (-1: smooth)
+    identity : dict (bridge, settings, outputs, trains, speeds, seeds)
+    quantities : dict quantity -> units
+    frequencies_hz : the bridge's first vertical frequencies [Hz]
+    """
+
+    def __init__(self, source):
+        self._file = source if isinstance(source, h5py.File) else None
+        self.path = None if self._file is not None else os.fspath(source)
+        with self._open() as f:
+            if f.attrs.get("format") != FORMAT:
+                raise SweepError(f"{self.path}: not a vtsi sweep results file")
+            self.identity = json.loads(f.attrs["identity"])
+            self.vtsi_version = str(f.attrs["vtsi_version"])
+            self.trains = [t.decode() if isinstance(t, bytes) else str(t) for t in f["train"][()]]
+            self.speeds_kmh = f["speed_kmh"][()]
+            self.seeds = [int(s) for s in f["seed"][()]]
+            self.frequencies_hz = f["bridge/frequencies_hz"][()]
+            self.quantities = {q: units for q, _, _, units in quantities(self.identity["outputs"])}
+            self._tables = {q: (f["envelopes"][q][()], f["envelopes"][q + "_where"][()], f["envelopes"][q + "_time"][()])
+                            for q in self.quantities}
+            self.n_done = 0
+            f["cases"].visititems(lambda name, obj: setattr(self, "n_done", self.n_done + 1)
+                                  if "train" in obj.attrs else None)
+
+    def _open(self):
+        return _KeepOpen(self._file) if self._file is not None else h5py.File(self.path, "r")
+
+    @property
+    def n_cases(self):
+        return len(self.trains) * len(self.speeds_kmh) * len(self.seeds)
+
+    def envelope(self, quantity):
+        """``(n_train, n_speed, n_seed)`` values of ``quantity`` (NaN where not computed)."""
+        if quantity not in self._tables:
+            raise SweepError(f"sweep results: unknown quantity {quantity!r}; valid: {', '.join(self._tables)}")
+        return self._tables[quantity][0].copy()
+
+    def critical(self, quantity):
+        """The governing case of ``quantity`` (its largest value; smallest for a 'min'): a dict
+        with value, units, train, speed_kmh, seed, where (node tag / wheel / car), time [s];
+        None when no case produced it."""
+        values, where, when = self._tables[quantity] if quantity in self._tables else (None, None, None)
+        if values is None:
+            raise SweepError(f"sweep results: unknown quantity {quantity!r}; valid: {', '.join(self._tables)}")
+        if np.all(np.isnan(values)):
+            return None
+        idx = np.unravel_index(np.nanargmin(values) if quantity.endswith("_min") else np.nanargmax(values), values.shape)
+        return {"quantity": quantity, "value": float(values[idx]), "units": self.quantities[quantity],
+                "train": self.trains[idx[0]], "speed_kmh": float(self.speeds_kmh[idx[1]]), "seed": self.seeds[idx[2]],
+                "where": int(where[idx]), "time": float(when[idx])}
+
+    def case(self, train, speed_kmh, seed=-1):
+        """One case: ``{output: {'envelope': (6, n), 'columns': (n,)[, 'time': (m,), 'values':
+        (m, n)]}}`` (envelope rows: min, max, absmax and their times) plus 'attrs'."""
+        key = case_key(train, speed_kmh, seed)
+        with self._open() as f:
+            if key not in f["cases"]:
+                raise SweepError(f"sweep results: no case {key}")
+            g = f["cases"][key]
+            out = {"attrs": dict(g.attrs)}
+            for o in self.identity["outputs"]:
+                name = o["name"]
+                if name not in g:
+                    continue
+                columns = g[name + "_columns"] if name + "_columns" in g else f["outputs"][name]["columns"]
+                out[name] = {"envelope": g[name][()], "columns": columns[()]}
+                if name + "_time" in g:
+                    out[name]["time"], out[name]["values"] = g[name + "_time"][()], g[name + "_values"][()]
+        return out
+
+    def summary(self):
+        """A text table: per quantity its extreme, the governing train, speed, place and time."""
+        where_kind = {o["name"]: COLUMN_KIND.get(o["response"], "node") for o in self.identity["outputs"]}
+        rows = [("quantity", "value", "units", "train", "speed km/h", "seed", "where", "t [s]")]
+        for q in self.quantities:
+            c = self.critical(q)
+            if c is None:
+                continue
+            output = q.rsplit("_", 1)[0]
+            rows.append((q, f"{c['value']:.5g}", c["units"], c["train"], f"{c['speed_kmh']:g}",
+                         "smooth" if c["seed"] < 0 else str(c["seed"]), f"{where_kind[output]} {c['where']}",
+                         f"{c['time']:.3f}"))
+        widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
+        lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
+        lines.insert(1, "  ".join("-" * w for w in widths))
+        head = f"{self.n_done} of {self.n_cases} cases"
+        return head + "\n" + "\n".join(lines)
+
+    def to_xarray(self):
+        """The envelope tables as an ``xarray.Dataset`` (dims train, speed_kmh, seed; units in
+        each variable's attrs; ``<q>_where`` and ``<q>_time`` beside each quantity)."""
+        import xarray
+        coords = {"train": self.trains, "speed_kmh": self.speeds_kmh, "seed": self.seeds}
+        dims = ("train", "speed_kmh", "seed")
+        data = {}
+        for q, units in self.quantities.items():
+            values, where, when = self._tables[q]
+            data[q] = xarray.Variable(dims, values, {"units": units})
+            data[q + "_where"] = xarray.Variable(dims, where)
+            data[q + "_time"] = xarray.Variable(dims, when, {"units": "s"})
+        return xarray.Dataset(data, coords=coords, attrs={"vtsi_version": self.vtsi_version,
+                                                          "identity": json.dumps(self.identity)})
