@@ -1,35 +1,351 @@
-"""``python -m vtsi model.tcl [args...]`` (and the ``vtsi`` console script): run an OpenSees
-Tcl script with vtsi's command layer (:mod:`vtsi.tcl`).
+"""The ``vtsi`` command (also ``python -m vtsi``); docs/cli.md.
 
-Exit status: the script's ``exit`` code, 0 when it ends normally, 1 when a command fails (the
-message, with the Tcl traceback, goes to standard error), 2 for a bad command line.
+    vtsi run SCRIPT.tcl [args ...]      run an OpenSees Tcl script with vtsi's command layer
+    vtsi SCRIPT.tcl [args ...]          the same (the original form)
+    vtsi sweep BRIDGE --trains ... --speeds ...   a speed sweep into an HDF5 results file
+    vtsi trains                         the train catalogue
+
+Exit status of ``run``: the script's ``exit`` code, 0 when it ends normally, 1 when a command
+fails (the message, with the Tcl traceback, goes to standard error), 2 for a bad command line.
+Exit status of ``sweep``: 0 done; 2 a bad command line or input (one line on standard error,
+nothing written); 1 a passage failed while the sweep ran (the finished cases stay in the
+results file); 130 interrupted (the finished cases stay in the results file; ``--resume``).
 """
 import argparse
+import contextlib
+import os
 import sys
+
+COMMANDS = ("run", "sweep", "trains")
+DEFAULT_OUT = "sweep.h5"
+EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 1, 2, 130
+
+SWEEP_EPILOG = """\
+BRIDGE is a description file (.toml; .yaml/.yml with PyYAML) naming a built-in bridge, e.g.
+  [bridge]
+  kind = "beam"
+  spans_m = [20.0]
+  E_Pa = 3.5e10
+  I_m4 = 1.9          # or f1_Hz = 5.0
+  mu_kg_m = 15000.0
+  elements_per_span = 10
+  [analysis]          # optional defaults of the options below
+  damping = 0.0125
+  dt_s = 0.002
+or an OpenSees model script (.tcl, or .py using 'import vtsi.opensees as ops') that builds
+the bridge and defines its track ('track 1 -eleRange 1 40'). Scripts must be in SI units
+(N, kg, m, s, Pa): a model lighter than 500 kg/m along its track is refused.
+
+TRAINS: catalogue names (see 'vtsi trains'; 'A1' for 'HSLM-A1'), 'HSLM-A' for all of
+HSLM-A1 .. HSLM-A10, or axle-table CSV files (columns position_m, load_kN).
+SPEEDS [km/h]: START:STOP:STEP (STOP included when on the grid), v1,v2,..., or en:LINE_SPEED
+for the EN 1991-2 6.4.6.2 series (144 km/h to 1.2 x LINE_SPEED in 10 km/h steps, 2 km/h
+steps within +-10 % of every resonance speed n D / i of the bridge and trains).
+
+Prints the table of envelope maxima with the governing train and speed per quantity.
+Exit status: 0 done; 2 bad command line or input (nothing written); 1 a passage failed
+during the run (finished cases stay in the file); 130 interrupted (--resume continues)."""
+
+
+class _UsageError(Exception):
+    """A bad value on the sweep's command line (reported like the API's errors, exit 2)."""
 
 
 def main(argv=None):
     """Entry point; ``argv`` defaults to ``sys.argv[1:]``. Returns the exit status."""
+    argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
+    parser = _parser()
+    if argv and argv[0] == "run":
+        return _run(parser, argv[1:])
+    if argv and not argv[0].startswith("-") and argv[0] not in COMMANDS:
+        return _run(parser, argv)                 # the original form: vtsi SCRIPT.tcl [args]
+    ns = parser.parse_args(argv)                  # -h, --version, sweep, trains
+    if ns.command is None:
+        parser.error("a command (run, sweep, trains) or a Tcl script is required")
+    return ns.func(ns)
+
+
+def _parser():
     import vtsi
+
+    parser = argparse.ArgumentParser(
+        prog="vtsi", usage="vtsi [-h] [--version] {run,sweep,trains} ...\n       vtsi SCRIPT.tcl [args ...]",
+        description="vtsi: trains crossing railway bridges (vehicle-track-structure interaction). "
+                    "'vtsi SCRIPT.tcl [args]' is 'vtsi run SCRIPT.tcl [args]'. Details: docs/cli.md.")
+    parser.add_argument("--version", action="version", version=f"vtsi {vtsi.__version__}")
+    sub = parser.add_subparsers(dest="command", title="commands", metavar="{run,sweep,trains}")
+
+    run = sub.add_parser("run", prog="vtsi run",
+                         help="run an OpenSees-style Tcl model script (its $argv: the arguments after it)",
+                         usage="vtsi run [-h] SCRIPT.tcl [args ...]",
+                         description="Run an OpenSees-style Tcl model script with vtsi; the arguments after the "
+                                     "script are its $argv. Exit status: the script's 'exit' code, 0 when it ends "
+                                     "normally, 1 when a command fails, 2 for a bad command line.")
+    run.add_argument("script", help="Tcl script to run (e.g. model.tcl)")
+    run.add_argument("args", nargs="*", default=[], help="the script's $argv")
+    parser.run_parser = run
+
+    sweep = sub.add_parser("sweep", prog="vtsi sweep",
+                           help="run every train at every speed over a bridge into an HDF5 results file",
+                           description="Run a speed sweep: every train at every speed (and every rail sample) over "
+                                       "BRIDGE, in parallel, into a resumable HDF5 results file; print the table of "
+                                       "envelope maxima.",
+                           epilog=SWEEP_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sweep.add_argument("bridge", metavar="BRIDGE", help="bridge file: .toml/.yaml description or .tcl/.py model "
+                                                       "script (SI units)")
+    sweep.add_argument("--trains", required=True, metavar="T1,T2,...",
+                       help="trains: catalogue names, HSLM-A (= HSLM-A1..A10) or axle CSV files, comma-separated")
+    sweep.add_argument("--speeds", required=True, metavar="SPEEDS",
+                       help="speeds [km/h]: START:STOP:STEP, v1,v2,..., or en:LINE_SPEED (EN 1991-2 series)")
+    sweep.add_argument("--out", metavar="FILE.h5", default=DEFAULT_OUT,
+                       help=f"results file (default: {DEFAULT_OUT} in the current directory)")
+    mode = sweep.add_mutually_exclusive_group()
+    mode.add_argument("--resume", action="store_true",
+                      help="continue the sweep in an existing results file (a file of another sweep is refused)")
+    mode.add_argument("--overwrite", action="store_true", help="replace an existing results file")
+    sweep.add_argument("--workers", type=_positive_int, metavar="N", help="processes (default: every core; 1: serial)")
+    sweep.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
+    settings = sweep.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
+    settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001)")
+    settings.add_argument("--integrator", metavar="NAME", help="Newmark (default), HHT or Bathe")
+    settings.add_argument("--cars", choices=("force", "full"),
+                          help="trains as moving axle forces (default) or multibody cars (catalogue trains with cars)")
+    settings.add_argument("--contact", choices=("bilateral", "lcp"), help="bilateral (default) or lcp (contact loss)")
+    settings.add_argument("--interpolation", choices=("hermite", "bspline"),
+                          help="rail shape functions: hermite (default) or bspline")
+    settings.add_argument("--damping", type=float, metavar="ZETA",
+                          help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh, through n0 and the EN cut-off); "
+                               "default: the bridge as built (a beam: undamped)")
+    settings.add_argument("--irregularity", metavar="NAME",
+                          help=f"rail irregularity spectrum: {', '.join(_irregularities())} (default: smooth rail)")
+    settings.add_argument("--seeds", metavar="S1,S2,...",
+                          help="rail samples with --irregularity: 0,1,2 or FIRST:LAST (default 0)")
+    sweep.add_argument("--quiet", action="store_true", help="no progress bar (shown on standard error when a terminal)")
+    sweep.set_defaults(func=_sweep)
+
+    trains = sub.add_parser("trains", prog="vtsi trains",
+                            help="list the train catalogue: name, fidelities, description",
+                            description="List the train catalogue (names for 'vtsi sweep --trains').")
+    trains.set_defaults(func=_trains)
+    return parser
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
+    return value
+
+
+def _irregularities():
+    from vtsi.passage import IRREGULARITIES
+    return IRREGULARITIES
+
+
+# -- vtsi run ----------------------------------------------------------------------------------
+def _run(parser, argv):
     from vtsi.errors import VtsiError
     from vtsi.tcl import run_file
 
-    parser = argparse.ArgumentParser(prog="vtsi", usage="vtsi [-h] [--version] script.tcl [args ...]",
-                                     description="Run an OpenSees-style Tcl model script with vtsi; the "
-                                                 "arguments after the script are its $argv.")
-    parser.add_argument("script", help="Tcl script to run (e.g. model.tcl)")
-    parser.add_argument("--version", action="version", version=f"vtsi {vtsi.__version__}")
-    argv = sys.argv[1:] if argv is None else list(argv)
     split = 1 if argv and not argv[0].startswith("-") else len(argv)
-    ns = parser.parse_args(argv[:split])
+    ns = parser.run_parser.parse_args(argv[:split])
     try:
         interp = run_file(ns.script, argv=argv[split:])
     except (VtsiError, OSError) as exc:
         sys.stdout.flush()
         notes = "\n".join(getattr(exc, "__notes__", ()))
         print(f"vtsi: {ns.script}: {type(exc).__name__}: {exc}" + (f"\n{notes}" if notes else ""), file=sys.stderr)
-        return 1
+        return EXIT_FAILED
     return interp.exit_code or 0
+
+
+# -- vtsi trains -------------------------------------------------------------------------------
+def _trains(ns):
+    from vtsi.models.catalogue import describe, fidelities, train_names
+
+    rows = [("name", "fidelities", "description")]
+    for name in train_names():
+        text = describe(name)
+        rows.append((name, ",".join(fidelities(name)), text[len(name) + 2:] if text.startswith(name + ": ") else text))
+    widths = [max(len(r[j]) for r in rows) for j in range(2)]
+    for r in rows:
+        print(f"{r[0].ljust(widths[0])}  {r[1].ljust(widths[1])}  {r[2]}")
+    print("\nIn 'vtsi sweep --trains': names ignore case, 'A1' stands for 'HSLM-A1', 'HSLM-A' for HSLM-A1 .. "
+          "HSLM-A10;\na path to a .csv axle table (columns position_m, load_kN) is a train of moving forces.")
+    return 0
+
+
+# -- vtsi sweep --------------------------------------------------------------------------------
+def _sweep(ns):
+    """Check everything, then run; see the module docstring for the exit statuses."""
+    from vtsi.errors import VtsiError
+
+    out = os.path.abspath(ns.out)
+    try:
+        sweep = _prepare_sweep(ns, out)
+    except (VtsiError, OSError, _UsageError) as exc:
+        return _fail(exc, EXIT_USAGE)
+    except KeyboardInterrupt:
+        return _fail("interrupted", EXIT_INTERRUPTED)
+    return _run_sweep(sweep, ns, out)
+
+
+def _prepare_sweep(ns, out):
+    from vtsi.bridge_file import read_bridge_file
+    from vtsi.passage import PassageRunner, PassageSettings
+    from vtsi.sweep import Sweep, en_speed_grid, speeds
+    from vtsi.sweep_results import ResultsWriter
+
+    trains = _train_list(ns.trains)
+    spec = ns.speeds.strip()
+    en_line = None
+    if spec.lower().startswith("en:"):
+        try:
+            en_line = float(spec[3:])
+        except ValueError:
+            raise _UsageError(f"--speeds {spec!r}: expected en:LINE_SPEED_KMH, e.g. en:300") from None
+    else:
+        speeds(spec)                                   # fail fast, before the bridge is built
+    _check_out_path(out, ns)
+    with _stdout_to_stderr():                          # stdout carries only the results table
+        source = read_bridge_file(ns.bridge, ns.track)
+    values = dict(source.settings)
+    for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping", "irregularity"):
+        if getattr(ns, name) is not None:
+            values[name] = getattr(ns, name)
+    settings = PassageSettings(**values)
+    seeds = source.seeds or (0,)
+    if ns.seeds is not None:
+        if settings.irregularity is None:
+            raise _UsageError("--seeds: rail samples need an irregular rail (--irregularity NAME)")
+        seeds = _seed_list(ns.seeds)
+    if en_line is not None:
+        runner = PassageRunner(source.bridge.model, source.bridge.track_elements, settings, outputs=())
+        lengths = [runner.train(t, 40.0).characteristic_length for t in trains]
+        spec = en_speed_grid(en_line, runner.frequencies, lengths)
+    sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
+    sweep.prepare()                                    # integrator, contact ...: refused before any file is written
+    if os.path.exists(out) and not ns.overwrite:
+        ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume)   # refuses, or checks the file to resume
+    return sweep
+
+
+def _train_list(text):
+    from vtsi.models.catalogue import train_names
+
+    names = train_names()
+    canonical = {n.upper(): n for n in names}
+    out = []
+    for item in (t.strip() for t in text.split(",")):
+        if not item:
+            continue
+        key = item.upper()
+        if key == "HSLM-A":
+            out.extend(n for n in names if n.upper().startswith("HSLM-A"))
+        else:
+            out.append(canonical.get(key) or canonical.get(f"HSLM-{key}") or item)
+    if not out:
+        raise _UsageError(f"--trains {text!r}: no train")
+    return out
+
+
+def _seed_list(text):
+    try:
+        if ":" in text:
+            first, last = (int(p) for p in text.split(":"))
+            seeds = list(range(first, last + 1))
+        else:
+            seeds = [int(p) for p in text.split(",") if p.strip()]
+    except ValueError:
+        raise _UsageError(f"--seeds {text!r}: expected integers >= 0: 0,1,2 or FIRST:LAST") from None
+    if not seeds or min(seeds) < 0:
+        raise _UsageError(f"--seeds {text!r}: expected integers >= 0: 0,1,2 or FIRST:LAST")
+    return seeds
+
+
+def _check_out_path(out, ns):
+    """Refuse, before anything is computed, a results file that cannot be written or that
+    exists without --resume/--overwrite (the sweep would refuse it too, after building)."""
+    from vtsi.errors import SweepError
+
+    if os.path.isdir(out):
+        raise SweepError(f"results file {out} is a directory")
+    if os.path.exists(out) and not (ns.resume or ns.overwrite):
+        raise SweepError(f"results file {out} exists; --resume continues its sweep, --overwrite replaces it")
+    parent = os.path.dirname(out)
+    if not os.path.isdir(parent):
+        raise SweepError(f"results file {out}: the directory {parent} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise SweepError(f"results file {out}: cannot write in {parent}")
+
+
+def _run_sweep(sweep, ns, out):
+    from vtsi.errors import VtsiError
+    from vtsi.sweep_results import SweepResults
+
+    partial = out + ".partial"
+    fresh = ns.overwrite or not os.path.exists(out)
+    stale_partial = os.path.exists(partial)
+    try:
+        results = sweep.run(out, workers=ns.workers, progress=False if ns.quiet else None, resume=ns.resume,
+                            overwrite=ns.overwrite)
+    except (VtsiError, OSError, KeyboardInterrupt) as exc:
+        if not stale_partial and os.path.exists(partial):
+            os.remove(partial)
+        done = 0
+        if os.path.exists(out):
+            try:
+                done = SweepResults(out).n_done
+            except (VtsiError, OSError):
+                done = -1
+            if fresh and done == 0:
+                os.remove(out)                          # nothing computed: leave nothing behind
+        kept = f" ({done} of {len(sweep.cases)} cases are in {out}" if done > 0 else ""
+        if isinstance(exc, KeyboardInterrupt):
+            return _fail("interrupted" + (kept + "; --resume runs the rest)" if kept else ""), EXIT_INTERRUPTED)
+        return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED)
+    print(results.summary())
+    if not ns.quiet:
+        print(f"vtsi sweep: results in {out}", file=sys.stderr)
+    return 0
+
+
+def _message(exc):
+    """The error as one line, without the API's own 'sweep: ' prefix."""
+    text = " ".join(line.strip() for line in str(exc).splitlines() if line.strip())
+    if isinstance(exc, OSError) and exc.filename and exc.strerror:
+        text = f"{exc.filename}: {exc.strerror}"
+    return text[len("sweep: "):] if text.startswith("sweep: ") else text
+
+
+def _fail(exc, status):
+    sys.stdout.flush()
+    print(f"vtsi sweep: {exc if isinstance(exc, str) else _message(exc)}", file=sys.stderr)
+    return status
+
+
+@contextlib.contextmanager
+def _stdout_to_stderr():
+    """Send what a bridge script prints (Python's print and Tcl's puts, which writes to file
+    descriptor 1) to standard error while it runs."""
+    sys.stdout.flush()
+    saved = None
+    try:
+        fd = sys.__stdout__.fileno()
+        saved = os.dup(fd)
+        os.dup2(sys.__stderr__.fileno(), fd)
+    except (AttributeError, OSError, ValueError):
+        saved = None
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
+    finally:
+        if saved is not None:
+            os.dup2(saved, fd)
+            os.close(saved)
 
 
 if __name__ == "__main__":

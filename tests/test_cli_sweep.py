@@ -1,0 +1,383 @@
+"""The ``vtsi`` command line: subcommands, ``vtsi sweep`` (bridge files, options, exit statuses,
+nothing written on bad input), ``vtsi trains`` and the bridge-file loader (vtsi.bridge_file).
+
+Every sweep here is tiny (a 20 m beam of 4 elements, Δt = 0.01-0.02 s, 1-3 speeds) so that each
+run takes well under 2 s."""
+import dataclasses
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vtsi.__main__ import main
+from vtsi.bridge_file import ANALYSIS_KEYS, BRIDGE_KINDS, load_bridge, mass_per_metre, read_bridge_file
+from vtsi.errors import ModelError
+from vtsi.passage import PassageRunner, PassageSettings, vertical_frequencies
+from vtsi.sweep import en_speed_grid
+from vtsi.sweep_results import SweepResults
+
+E, I, MU, L = 3.5e10, 1.9, 15000.0, 20.0
+
+BEAM_TOML = f"""\
+# a 20 m simply supported beam, 4 elements
+[bridge]
+kind = "beam"
+spans_m = [{L}]
+E_Pa = {E}
+I_m4 = {I}
+mu_kg_m = {MU}
+elements_per_span = 4
+[analysis]
+damping = 0.0125
+dt_s = 0.01
+"""
+
+BEAM_TCL = f"""\
+# the same beam as BEAM_TOML, as an OpenSees Tcl script
+model basic -ndm 2 -ndf 3
+for {{set i 0}} {{$i <= 4}} {{incr i}} {{ node [expr {{$i + 1}}] [expr {{$i * {L / 4}}}] 0.0 }}
+fix 1 1 1 0
+fix 5 0 1 0
+geomTransf Linear 1
+for {{set i 1}} {{$i <= 4}} {{incr i}} {{
+    element elasticBeamColumn $i $i [expr {{$i + 1}}] 1.0 {E} {I} 1 -mass {MU} -cMass
+}}
+timeSeries Linear 1
+pattern Plain 1 1 {{ load 3 0.0 -1.0e6 0.0 }}
+track 1 -eleRange 1 4
+puts "built the beam"
+"""
+
+BEAM_PY = f"""\
+# the same beam as BEAM_TOML, as an OpenSeesPy script on vtsi's commands
+import vtsi.opensees as ops
+ops.wipe()
+ops.model('basic', '-ndm', 2, '-ndf', 3)
+for i in range(5):
+    ops.node(i + 1, {L / 4} * i, 0.0)
+ops.fix(1, 1, 1, 0)
+ops.fix(5, 0, 1, 0)
+ops.geomTransf('Linear', 1)
+for i in range(1, 5):
+    ops.element('elasticBeamColumn', i, i, i + 1, 1.0, {E}, {I}, 1, '-mass', MASS, '-cMass')
+TRACKS
+print('built the beam')
+"""
+
+FAST = ["--trains", "HSLM-A1", "--speeds", "200:300:50", "--workers", "1", "--quiet"]
+
+
+def py_script(tmp_path, name="beam.py", mass=MU, tracks="ops.track(1, '-eleRange', 1, 4)"):
+    path = tmp_path / name
+    path.write_text(BEAM_PY.replace("MASS", repr(mass)).replace("TRACKS", tracks))
+    return path
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def table_rows(text):
+    """The summary table's rows as {quantity: [value, units, train, speed, seed, where..., t]}."""
+    lines = text.strip().splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("quantity"))
+    return {line.split()[0]: line.split()[1:] for line in lines[start + 2:]}
+
+
+def sweep(tmp_path, bridge, *args, out="out.h5"):
+    return main(["sweep", str(bridge), *args, "--out", str(tmp_path / out)])
+
+
+# -- the subcommands -----------------------------------------------------------------------------
+def test_help_lists_the_subcommands(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["--help"])
+    assert info.value.code == 0
+    out = capsys.readouterr().out
+    for command in ("run", "sweep", "trains", "SCRIPT.tcl"):
+        assert command in out
+    with pytest.raises(SystemExit) as info:
+        main(["sweep", "--help"])
+    out = capsys.readouterr().out
+    assert info.value.code == 0 and "--trains" in out and "SI units" in out and "en:LINE_SPEED" in out
+
+
+def test_no_command_is_a_usage_error(capsys):
+    with pytest.raises(SystemExit) as info:
+        main([])
+    assert info.value.code == 2 and "vtsi: error" in capsys.readouterr().err
+
+
+def test_trains_lists_the_catalogue(capsys):
+    assert main(["trains"]) == 0
+    rows = {line.split()[0]: line for line in capsys.readouterr().out.splitlines() if line.strip()}
+    assert "HSLM-A1" in rows and "ICE3" in rows and "HSLM-B" in rows
+    assert rows["ICE3"].split()[1] == "force,full" and "D = 24.775 m" in rows["ICE3"]
+    assert rows["HSLM-A1"].split()[1] == "force" and "kN" in rows["HSLM-A1"]
+
+
+def test_run_subcommand_and_the_original_form(tmp_path, capfd):
+    pytest.importorskip("tkinter")
+    script = write(tmp_path, "args.tcl", 'puts "args [llength $argv] $argv"\nexit 3\n')
+    assert main(["run", str(script), "x", "-y"]) == 3
+    assert "args 2 x -y" in capfd.readouterr().out          # Tcl's puts writes to file descriptor 1
+    assert main([str(script), "x", "-y"]) == 3
+    assert "args 2 x -y" in capfd.readouterr().out
+    assert main(["run", str(tmp_path / "missing.tcl")]) == 1
+
+
+# -- vtsi sweep ------------------------------------------------------------------------------------
+def test_sweep_subprocess_prints_the_critical_case(tmp_path):
+    """A real ``python -m vtsi sweep`` in a fresh directory: default results file, the table."""
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    proc = subprocess.run([sys.executable, "-m", "vtsi", "sweep", "bridge.toml", "--trains", "HSLM-A1",
+                           "--speeds", "200:300:50", "--dt", "0.01", "--workers", "1"],
+                          capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert bridge.exists() and (tmp_path / "sweep.h5").exists()
+    assert not (tmp_path / "sweep.h5.partial").exists()
+    results = SweepResults(tmp_path / "sweep.h5")
+    assert results.n_done == 3 and list(results.speeds_kmh) == [200.0, 250.0, 300.0]
+    rows = table_rows(proc.stdout)
+    assert proc.stdout.startswith("3 of 3 cases")
+    for quantity in ("deflection_min", "acceleration_absmax"):
+        critical = results.critical(quantity)
+        value, units, train, speed = rows[quantity][:4]
+        assert train == "HSLM-A1" and float(speed) == critical["speed_kmh"]
+        assert math.isclose(float(value), critical["value"], rel_tol=1e-4)
+    assert "Traceback" not in proc.stderr
+
+
+def test_sweep_toml_in_process(tmp_path, capsys):
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    assert sweep(tmp_path, bridge, *FAST) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("3 of 3 cases") and "HSLM-A1" in table_rows(out)["deflection_min"]
+    results = SweepResults(tmp_path / "out.h5")
+    ident = results.identity
+    assert ident["bridge"] == {"kind": "beam", "spans_m": [L], "E_Pa": E, "I_m4": I, "mu_kg_m": MU,
+                               "elements_per_span": 4, "A_m2": 1.0}
+    assert ident["settings"]["dt"] == 0.01 and ident["settings"]["damping"] == 0.0125   # from [analysis]
+    # resume: nothing left to run, the same table; overwrite with other options: they win over [analysis]
+    assert sweep(tmp_path, bridge, *FAST, "--resume") == 0
+    assert capsys.readouterr().out == out
+    options = ["--dt", "0.02", "--damping", "0.02", "--integrator", "HHT"]
+    assert sweep(tmp_path, bridge, *FAST, "--overwrite", *options) == 0
+    settings = SweepResults(tmp_path / "out.h5").identity["settings"]
+    assert settings["dt"] == 0.02 and settings["damping"] == 0.02 and settings["integrator"] == "HHT"
+
+
+def test_script_bridges_equal_the_described_beam(tmp_path, capsys):
+    """The same beam as a TOML description, an OpenSeesPy script and a Tcl script: the same
+    envelopes; a script's prints go to stderr, its load pattern is dropped."""
+    toml = write(tmp_path, "bridge.toml", BEAM_TOML)
+    script = py_script(tmp_path)
+    args = ["--trains", "HSLM-A1,ICE3", "--speeds", "250,300", "--dt", "0.01", "--damping", "0.0125", "--workers", "1",
+            "--quiet"]
+    assert sweep(tmp_path, toml, *args, out="toml.h5") == 0
+    assert sweep(tmp_path, script, *args, out="py.h5") == 0
+    captured = capsys.readouterr()
+    assert "built the beam" not in captured.out and "built the beam" in captured.err
+    reference, from_py = SweepResults(tmp_path / "toml.h5"), SweepResults(tmp_path / "py.h5")
+    bridge = from_py.identity["bridge"]
+    assert bridge["kind"] == "script" and bridge["path"] == str(script) and bridge["track"] == 1
+    assert len(bridge["sha256"]) == 64
+    for q in reference.quantities:
+        np.testing.assert_allclose(from_py.envelope(q), reference.envelope(q), rtol=1e-9, atol=1e-15)
+    pytest.importorskip("tkinter")
+    tcl = write(tmp_path, "beam.tcl", BEAM_TCL)
+    assert sweep(tmp_path, tcl, *args, out="tcl.h5") == 0
+    assert "built the beam" not in capsys.readouterr().out
+    from_tcl = SweepResults(tmp_path / "tcl.h5")
+    assert from_tcl.identity["bridge"]["kind"] == "script"
+    for q in reference.quantities:
+        np.testing.assert_allclose(from_tcl.envelope(q), reference.envelope(q), rtol=1e-9, atol=1e-15)
+
+
+def test_track_choice(tmp_path, capsys):
+    two = "ops.track(1, '-eleRange', 1, 4)\nops.track(2, '-ele', 1, 2)"
+    script = py_script(tmp_path, tracks=two)
+    assert sweep(tmp_path, script, *FAST) == 2
+    assert "defines tracks 1, 2; choose one (--track TAG)" in capsys.readouterr().err
+    assert load_bridge(script, track=2).track_elements == [1, 2]
+    assert sweep(tmp_path, script, *FAST, "--track", "1") == 0
+    assert SweepResults(tmp_path / "out.h5").identity["bridge"]["track"] == 1
+
+
+def test_hslm_a_shorthand_and_catalogue_spelling(tmp_path, capsys):
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    assert sweep(tmp_path, bridge, "--trains", "hslm-a,ice3", "--speeds", "300", "--dt", "0.02", "--workers", "1",
+                 "--quiet") == 0
+    assert SweepResults(tmp_path / "out.h5").trains == [f"HSLM-A{k}" for k in range(1, 11)] + ["ICE3"]
+
+
+def test_en_speed_grid(tmp_path, capsys):
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    assert sweep(tmp_path, bridge, "--trains", "A1", "--speeds", "en:300", "--dt", "0.02", "--workers", "1",
+                 "--quiet") == 0
+    results = SweepResults(tmp_path / "out.h5")
+    np.testing.assert_allclose(results.speeds_kmh, en_speed_grid(300.0, results.frequencies_hz, [18.0]))
+    assert results.speeds_kmh[0] == 144.0 and results.speeds_kmh[-1] == 360.0
+
+
+def test_csv_train(tmp_path, capsys):
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    axles = write(tmp_path, "axles.csv", "position_m,load_kN\n0.0,200.0\n3.0,200.0\n")
+    assert sweep(tmp_path, bridge, "--trains", str(axles), "--speeds", "200", "--workers", "1", "--quiet") == 0
+    assert table_rows(capsys.readouterr().out)["deflection_min"][2] == str(axles)
+
+
+def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypatch):
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    run = PassageRunner.run
+
+    def failing(self, train, speed_kmh, seed=-1):
+        if speed_kmh == 250.0:
+            raise ModelError("no good at 250")
+        return run(self, train, speed_kmh, seed)
+
+    monkeypatch.setattr(PassageRunner, "run", failing)
+    assert sweep(tmp_path, bridge, *FAST) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vtsi sweep: case HSLM-A1/250kmh/smooth: ModelError: no good at 250")
+    assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
+
+
+# -- bad input: exit 2, one line, nothing written ------------------------------------------------
+def _other_sweep(tmp_path):
+    """An existing results file of another sweep (other speeds)."""
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    assert main(["sweep", str(bridge), "--trains", "HSLM-A1", "--speeds", "300", "--workers", "1", "--quiet",
+                 "--out", str(tmp_path / "out.h5")]) == 0
+
+
+BAD = {
+    "unknown train": (["--trains", "HSLM-X9", "--speeds", "200"], None, "unknown train 'HSLM-X9'"),
+    "empty speed range": (["--trains", "A1", "--speeds", "420:140:5"], None, "empty range"),
+    "speed zero": (["--trains", "A1", "--speeds=0,100"], None, "must be > 0 km/h"),
+    "negative speed": (["--trains", "A1", "--speeds=-100:200:50"], None, "must be > 0 km/h"),
+    "bad speeds": (["--trains", "A1", "--speeds", "fast"], None, "START:STOP:STEP"),
+    "bad EN line speed": (["--trains", "A1", "--speeds", "en:fast"], None, "en:LINE_SPEED_KMH"),
+    "no train": (["--trains", ",", "--speeds", "200"], None, "no train"),
+    "missing bridge file": (["--trains", "A1", "--speeds", "200"], "missing.toml", "no such file"),
+    "unknown bridge type": (["--trains", "A1", "--speeds", "200"], "bridge.txt", "unknown type '.txt'"),
+    "script without a track": (["--trains", "A1", "--speeds", "200"], "notrack.py", "defines no track"),
+    "script in t/m": (["--trains", "A1", "--speeds", "200"], "tonnes.py", "1000 times too small"),
+    "script failing": (["--trains", "A1", "--speeds", "200"], "failing.py", "failing.py, line 2: NameError"),
+    "script without vtsi's commands": (["--trains", "A1", "--speeds", "200"], "empty.py", "import vtsi.opensees"),
+    "unknown key": (["--trains", "A1", "--speeds", "200"], "typo.toml", "unknown key 'I_m5' in [bridge]"),
+    "unknown analysis key": (["--trains", "A1", "--speeds", "200"], "typo2.toml", "unknown key 'dt' in [analysis]"),
+    "bad analysis value": (["--trains", "A1", "--speeds", "200"], "typo3.toml", "[analysis] sweep settings: dt"),
+    "track of a beam": (["--trains", "A1", "--speeds", "200", "--track", "1"], None, "is for model scripts"),
+    "unwritable output path": (["--trains", "A1", "--speeds", "200", "--out", "/nonexistent/x.h5"], None,
+                               "/nonexistent does not exist"),
+    "unknown integrator": (["--trains", "A1", "--speeds", "200", "--integrator", "Euler"], None, "unknown integrator"),
+    "unknown irregularity": (["--trains", "A1", "--speeds", "200", "--irregularity", "bumpy"], None,
+                             "unknown irregularity 'bumpy'"),
+    "seeds on a smooth rail": (["--trains", "A1", "--speeds", "200", "--seeds", "0,1"], None, "--irregularity"),
+    "bad seeds": (["--trains", "A1", "--speeds", "200", "--irregularity", "german-low", "--seeds", "-1"], None,
+                  "integers >= 0"),
+    "no cars": (["--trains", "A1", "--speeds", "200", "--cars", "full"], None, "has no fidelity 'full'"),
+    "another sweep with --resume": (["--trains", "A1", "--speeds", "200", "--resume"], _other_sweep,
+                                    "holds a different sweep"),
+    "an existing file": (["--trains", "A1", "--speeds", "300"], _other_sweep, "exists; --resume continues"),
+}
+
+BAD_FILES = {
+    "notrack.py": lambda p: py_script(p, "notrack.py", tracks=""),
+    "tonnes.py": lambda p: py_script(p, "tonnes.py", mass=15.0),
+    "failing.py": lambda p: write(p, "failing.py", "import vtsi.opensees as ops\nops.model(basic)\n"),
+    "empty.py": lambda p: write(p, "empty.py", "x = 1\n"),
+    "typo.toml": lambda p: write(p, "typo.toml", BEAM_TOML.replace("I_m4", "I_m5")),
+    "typo2.toml": lambda p: write(p, "typo2.toml", BEAM_TOML.replace("dt_s", "dt")),
+    "typo3.toml": lambda p: write(p, "typo3.toml", BEAM_TOML.replace("dt_s = 0.01", "dt_s = -1.0")),
+    "bridge.txt": lambda p: write(p, "bridge.txt", BEAM_TOML),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, capsys):
+    args, setup, message = BAD[case]
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    if callable(setup):
+        setup(tmp_path)
+    elif setup in BAD_FILES:
+        bridge = BAD_FILES[setup](tmp_path)
+    elif setup is not None:
+        bridge = tmp_path / setup
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    capsys.readouterr()
+    out = ["--out", str(tmp_path / "out.h5")] if "--out" not in args else []
+    status = main(["sweep", str(bridge), *args, *out, "--workers", "1", "--quiet"])
+    captured = capsys.readouterr()
+    err = [line for line in captured.err.strip().splitlines() if line != "built the beam"]   # the script's print
+    assert status == 2, captured.err
+    assert len(err) == 1 and err[0].startswith("vtsi sweep: ") and message in err[0], err
+    assert captured.out == ""
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before      # nothing written or changed
+
+
+@pytest.mark.parametrize("args", [["--workers", "0"], ["--resume", "--overwrite"], ["--cars", "half"], []])
+def test_usage_errors_exit_2(args, tmp_path, capsys):
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    needed = ["--trains", "A1", "--speeds", "200"] if args else ["--trains", "A1"]
+    with pytest.raises(SystemExit) as info:
+        main(["sweep", str(bridge), *needed, *args, "--out", str(tmp_path / "out.h5")])
+    assert info.value.code == 2 and "vtsi sweep: error" in capsys.readouterr().err
+    assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
+
+
+# -- the bridge-file loader ------------------------------------------------------------------------
+def test_f1_gives_the_frequency(tmp_path):
+    text = BEAM_TOML.replace(f"I_m4 = {I}", "f1_Hz = 5.0").replace("elements_per_span = 4", "elements_per_span = 20")
+    bridge = load_bridge(write(tmp_path, "f1.toml", text))
+    assert bridge.description["f1_Hz"] == 5.0
+    f, _ = vertical_frequencies(bridge.model, 1)
+    assert abs(f[0] / 5.0 - 1) < 1e-4
+    both = BEAM_TOML.replace("mu_kg_m", "f1_Hz = 5.0\nmu_kg_m")
+    with pytest.raises(ModelError, match="either I_m4 or f1_Hz"):
+        load_bridge(write(tmp_path, "both.toml", both))
+
+
+def test_yaml_description_equals_toml(tmp_path):
+    pytest.importorskip("yaml")
+    yaml_text = ("bridge:\n  kind: beam\n  spans_m: [20.0]\n  E_Pa: 3.5e+10\n  I_m4: 1.9\n  mu_kg_m: 15000.0\n"
+                 "  elements_per_span: 4\nanalysis:\n  damping: 0.0125\n  dt_s: 0.01\n")
+    a = read_bridge_file(write(tmp_path, "b.yaml", yaml_text))
+    b = read_bridge_file(write(tmp_path, "b.toml", BEAM_TOML))
+    assert a.bridge.description == b.bridge.description and a.settings == b.settings == {"damping": 0.0125, "dt": 0.01}
+
+
+def test_script_kind_in_a_description(tmp_path):
+    """A description may point at a script (path relative to it) and carry [analysis] defaults."""
+    (tmp_path / "models").mkdir()
+    py_script(tmp_path / "models")
+    text = '[bridge]\nkind = "script"\npath = "models/beam.py"\ntrack = 1\n[analysis]\ndt_s = 0.02\nseeds = [0, 1]\n'
+    source = read_bridge_file(write(tmp_path, "s.toml", text))
+    assert source.bridge.description["path"] == str(tmp_path / "models" / "beam.py")
+    assert source.settings == {"dt": 0.02} and source.seeds == (0, 1)
+    assert mass_per_metre(source.bridge) == pytest.approx(MU)
+
+
+def test_analysis_keys_cover_the_passage_settings():
+    assert set(ANALYSIS_KEYS.values()) == {f.name for f in dataclasses.fields(PassageSettings)}
+    assert set(BRIDGE_KINDS) >= {"beam", "script"}
+
+
+def test_mass_check_can_be_switched_off(tmp_path):
+    script = py_script(tmp_path, "model.py", mass=15.0)
+    with pytest.raises(ModelError, match="15 kg/m along its track"):
+        load_bridge(script)
+    assert mass_per_metre(load_bridge(script, min_mass_per_metre=0)) == pytest.approx(15.0)
+
+
+def test_cli_doc_exists():
+    text = (Path(__file__).parent.parent / "docs" / "cli.md").read_text()
+    for word in ("vtsi sweep", "vtsi trains", "vtsi run", "--resume", "Exit status", "SI"):
+        assert word in text

@@ -1,0 +1,378 @@
+"""A bridge for a sweep from a file (``vtsi sweep BRIDGE``, docs/cli.md).
+
+Two kinds of file:
+
+- a **description** of a built-in bridge, TOML (``.toml``; Python >= 3.11, or the ``tomli``
+  package on 3.10) or YAML (``.yaml``/``.yml``, when PyYAML is installed), with a ``[bridge]``
+  table naming its ``kind`` (:data:`BRIDGE_KINDS`) and an optional ``[analysis]`` table of
+  defaults for the sweep's settings (:data:`ANALYSIS_KEYS`; the command line overrides them)::
+
+      [bridge]
+      kind = "beam"            # continuous Euler-Bernoulli beam, pin then rollers
+      spans_m = [20.0]
+      E_Pa = 3.5e10
+      I_m4 = 1.9               # or f1_Hz = 5.0: I from the first span's first frequency
+      mu_kg_m = 15000.0
+      elements_per_span = 10
+      [analysis]
+      damping = 0.0125
+      dt_s = 0.002
+
+  Units are in the key names; an unknown key or table is an error naming it.
+
+- an OpenSees **model script**, Tcl (``.tcl``, :func:`vtsi.tcl.run_file`) or OpenSeesPy
+  (``.py``, run with ``import vtsi.opensees as ops`` pointing at a fresh session), that builds
+  the bridge and defines its track with vtsi's ``track`` command (exactly one, or pick one with
+  ``track=TAG``). The script's load patterns are dropped (a sweep's loads are its trains); its
+  trains, constraints, recorders and analyses are not used. The script must be in SI units
+  (N, kg, m, s, Pa): a model in kN, t, m has the right frequencies but masses and stiffnesses
+  1000 times too small for the trains' loads in N. A model lighter than
+  :data:`MIN_MASS_PER_METRE` along its track is refused as such (no railway deck is that light).
+
+Every problem raises :class:`~vtsi.errors.ModelError` naming the file and the key, tag or line.
+"""
+import hashlib
+import math
+import os
+import re
+import runpy
+import sys
+import traceback
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from vtsi.errors import ModelError, VtsiError
+from vtsi.passage import PassageSettings
+from vtsi.sweep import SweepBridge, beam_bridge
+from vtsi.track import Track
+
+MIN_MASS_PER_METRE = 500.0
+"""[kg/m] The lightest mass per metre of track accepted (the whole model's vertical mass over the
+track's length). Railway decks weigh more than 1000 kg/m; a model written in t/m shows 1000
+times less (15 'kg/m' for a 15 t/m deck)."""
+
+ANALYSIS_KEYS = {
+    "dt_s": "dt", "integrator": "integrator", "cars": "cars", "contact": "contact",
+    "interpolation": "interpolation", "damping": "damping", "damping_hz": "damping_hz",
+    "irregularity": "irregularity", "approach_m": "approach", "free_vibration_s": "free_vibration",
+    "exact_events": "exact_events", "bridge_self_weight": "bridge_self_weight",
+}
+"""Keys of the ``[analysis]`` table -> :class:`~vtsi.passage.PassageSettings` fields (see there
+for their meaning and units), besides ``seeds`` (rail samples, a list of ints >= 0)."""
+
+SCRIPT_SUFFIXES = (".tcl", ".py")
+DESCRIPTION_SUFFIXES = (".toml", ".yaml", ".yml")
+
+
+@dataclass(frozen=True)
+class BridgeKind:
+    """A kind of bridge a description file can name: ``build(table, base_dir)`` gets the
+    ``[bridge]`` table (with ``kind`` removed; every key checked against ``required`` and
+    ``optional``) and the description file's directory, and returns a SweepBridge."""
+
+    name: str
+    build: Callable
+    required: tuple
+    optional: tuple
+    summary: str
+
+
+BRIDGE_KINDS = {}
+"""Registered bridge kinds, by name (:func:`bridge_kind`)."""
+
+
+def bridge_kind(name, required, optional, summary):
+    """Register ``build(table, base_dir) -> SweepBridge`` as the bridge kind ``name``."""
+    def register(build):
+        if name in BRIDGE_KINDS:
+            raise ModelError(f"bridge kind {name!r} is already registered")
+        BRIDGE_KINDS[name] = BridgeKind(name, build, tuple(required), tuple(optional), summary)
+        return build
+    return register
+
+
+@dataclass
+class BridgeFile:
+    """What a bridge file gives a sweep: the bridge, and (description files only) the
+    ``[analysis]`` defaults as PassageSettings keywords, and the rail samples."""
+
+    path: str
+    bridge: SweepBridge
+    settings: dict = field(default_factory=dict)
+    seeds: object = None
+
+
+def load_bridge(path, track=None, min_mass_per_metre=MIN_MASS_PER_METRE):
+    """The bridge of ``path`` (a description file or a model script, see the module docstring)
+    as a :class:`~vtsi.sweep.SweepBridge`. ``track``: the tag of the script's track when it
+    defines several. ``min_mass_per_metre`` [kg/m]: see :data:`MIN_MASS_PER_METRE` (0 accepts
+    any mass, e.g. for a scale model)."""
+    return read_bridge_file(path, track, min_mass_per_metre).bridge
+
+
+def read_bridge_file(path, track=None, min_mass_per_metre=MIN_MASS_PER_METRE):
+    """Like :func:`load_bridge`, with the file's ``[analysis]`` defaults (a :class:`BridgeFile`)."""
+    path = os.path.abspath(os.fspath(path))
+    suffix = os.path.splitext(path)[1].lower()
+    if suffix not in SCRIPT_SUFFIXES + DESCRIPTION_SUFFIXES:
+        raise ModelError(f"bridge file {path}: unknown type {suffix or '(no suffix)'!r}; expected a description "
+                         f"({', '.join(DESCRIPTION_SUFFIXES)}) or a model script ({', '.join(SCRIPT_SUFFIXES)})")
+    if not os.path.isfile(path):
+        raise ModelError(f"bridge file {path}: no such file")
+    if suffix in SCRIPT_SUFFIXES:
+        result = BridgeFile(path, script_bridge(path, track))
+    else:
+        result = _description(path, suffix, track)
+    _check_mass(result.bridge, path, min_mass_per_metre)
+    return result
+
+
+# -- description files -----------------------------------------------------------------------
+def _read_table(path, suffix):
+    if suffix == ".toml":
+        try:
+            import tomllib
+        except ImportError:          # Python 3.10
+            try:
+                import tomli as tomllib
+            except ImportError:
+                raise ModelError(f"bridge file {path}: reading TOML needs Python >= 3.11 or the tomli package "
+                                 "(pip install tomli)") from None
+        try:
+            with open(path, "rb") as f:
+                return tomllib.load(f)
+        except tomllib.TOMLDecodeError as exc:
+            raise ModelError(f"bridge file {path}: not valid TOML ({exc})") from None
+    try:
+        import yaml
+    except ImportError:
+        raise ModelError(f"bridge file {path}: reading YAML needs PyYAML (pip install pyyaml); or write the "
+                         "bridge as TOML") from None
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = yaml.safe_load(f)
+    except yaml.YAMLError as exc:
+        raise ModelError(f"bridge file {path}: not valid YAML ({' '.join(str(exc).split())})") from None
+    if not isinstance(data, dict):
+        raise ModelError(f"bridge file {path}: expected a mapping with a 'bridge' table, got {type(data).__name__}")
+    return data
+
+
+def _description(path, suffix, track):
+    data = _read_table(path, suffix)
+    unknown = [k for k in data if k not in ("bridge", "analysis")]
+    if unknown:
+        raise ModelError(f"bridge file {path}: unknown table {unknown[0]!r}; valid: bridge, analysis")
+    table = data.get("bridge")
+    if not isinstance(table, dict):
+        raise ModelError(f"bridge file {path}: no [bridge] table")
+    table = dict(table)
+    kind = table.pop("kind", None)
+    if kind not in BRIDGE_KINDS:
+        raise ModelError(f"bridge file {path}: [bridge] kind must be one of {', '.join(map(repr, BRIDGE_KINDS))}, "
+                         f"got {kind!r}")
+    spec = BRIDGE_KINDS[kind]
+    for key in table:
+        if key not in spec.required + spec.optional:
+            raise ModelError(f"bridge file {path}: unknown key {key!r} in [bridge] (kind {kind!r}); valid: "
+                             f"{', '.join(spec.required + spec.optional)}")
+    missing = [k for k in spec.required if k not in table]
+    if missing:
+        raise ModelError(f"bridge file {path}: [bridge] (kind {kind!r}) needs {missing[0]!r}")
+    if track is not None:
+        table["track"] = track
+    try:
+        bridge = spec.build(table, os.path.dirname(path))
+    except ModelError as exc:
+        raise ModelError(f"bridge file {path}: [bridge] {exc}") from None
+    settings, seeds = _analysis(path, data.get("analysis", {}))
+    return BridgeFile(path, bridge, settings, seeds)
+
+
+def _analysis(path, table):
+    if not isinstance(table, dict):
+        raise ModelError(f"bridge file {path}: [analysis] must be a table")
+    settings, seeds = {}, None
+    for key, value in table.items():
+        if key == "seeds":
+            if not (isinstance(value, list) and value and all(_is_int(s) and s >= 0 for s in value)):
+                raise ModelError(f"bridge file {path}: [analysis] seeds must be a list of integers >= 0, got {value!r}")
+            seeds = tuple(value)
+        elif key in ("exact_events", "bridge_self_weight") and not isinstance(value, bool):
+            raise ModelError(f"bridge file {path}: [analysis] {key} must be true or false, got {value!r}")
+        elif key in ANALYSIS_KEYS:
+            settings[ANALYSIS_KEYS[key]] = value
+        else:
+            raise ModelError(f"bridge file {path}: unknown key {key!r} in [analysis]; valid: "
+                             f"{', '.join(list(ANALYSIS_KEYS) + ['seeds'])}")
+    try:
+        PassageSettings(**settings)
+    except VtsiError as exc:
+        raise ModelError(f"bridge file {path}: [analysis] {exc}") from None
+    return settings, seeds
+
+
+def _is_int(x):
+    return isinstance(x, int) and not isinstance(x, bool)
+
+
+def _number(table, key, positive=True):
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or (positive and not value > 0):
+        raise ModelError(f"{key} must be a {'positive ' if positive else ''}number, got {value!r}")
+    return float(value)
+
+
+@bridge_kind("beam", required=("spans_m", "E_Pa", "mu_kg_m"), optional=("I_m4", "f1_Hz", "elements_per_span", "A_m2"),
+             summary="continuous Euler-Bernoulli beam over spans_m, pin then rollers")
+def _beam(table, base_dir):
+    """A continuous beam (:func:`vtsi.sweep.beam_bridge`). ``I_m4`` or ``f1_Hz``: the first
+    span's first frequency as a simply supported span, f1 = (π/L)² √(EI/μ) / 2π, gives
+    EI = μ (2 f1 L² / π)²."""
+    if "track" in table:
+        raise ModelError(f"a beam has one track; --track (track = {table['track']!r}) is for model scripts")
+    spans = table["spans_m"]
+    spans = spans if isinstance(spans, list) else [spans]
+    if not spans or any(isinstance(s, bool) or not isinstance(s, (int, float)) or not s > 0 for s in spans):
+        raise ModelError(f"spans_m must be a list of positive numbers [m], got {table['spans_m']!r}")
+    E, mu = _number(table, "E_Pa"), _number(table, "mu_kg_m")
+    if ("I_m4" in table) == ("f1_Hz" in table):
+        raise ModelError("give either I_m4 or f1_Hz (the first span's first bending frequency)")
+    if "I_m4" in table:
+        I = _number(table, "I_m4")
+    else:
+        L = float(spans[0])
+        I = mu * (2.0 * _number(table, "f1_Hz") * L ** 2 / math.pi) ** 2 / E
+    n = table.get("elements_per_span", 10)
+    if not _is_int(n) or n < 2 or n % 2:
+        raise ModelError(f"elements_per_span must be an even integer >= 2, got {n!r}")
+    A = _number(table, "A_m2") if "A_m2" in table else 1.0
+    bridge = beam_bridge([float(s) for s in spans], E, I, mu, elements_per_span=n, A=A)
+    if "f1_Hz" in table:
+        bridge.description["f1_Hz"] = float(table["f1_Hz"])
+    return bridge
+
+
+@bridge_kind("script", required=("path",), optional=("track",),
+             summary="an OpenSees model script (.tcl or .py; path relative to this file)")
+def _script(table, base_dir):
+    path = table["path"]
+    if not isinstance(path, str) or os.path.splitext(path)[1].lower() not in SCRIPT_SUFFIXES:
+        raise ModelError(f"path must name a {' or '.join(SCRIPT_SUFFIXES)} script, got {path!r}")
+    path = os.path.join(base_dir, os.path.expanduser(path))
+    if not os.path.isfile(path):
+        raise ModelError(f"path: {path}: no such file")
+    return script_bridge(path, table.get("track"))
+
+
+# -- model scripts ---------------------------------------------------------------------------
+def script_bridge(path, track=None):
+    """Run the model script ``path`` (.tcl or .py) with vtsi's command layer in a fresh session
+    and return its model and track as a SweepBridge (description: kind 'script', the absolute
+    path, the file's sha256 and the track tag). The script's load patterns are dropped."""
+    from vtsi import opensees
+
+    path = os.path.abspath(os.fspath(path))
+    with open(path, "rb") as f:
+        sha256 = hashlib.sha256(f.read()).hexdigest()
+    session = opensees.Session()
+    if path.lower().endswith(".tcl"):
+        _run_tcl(path, session)
+    else:
+        _run_python(path, session)
+    model = session.domain
+    if model is None or not model.nodes:
+        hint = (" (an OpenSeesPy script must use vtsi's commands: import vtsi.opensees as ops)"
+                if path.lower().endswith(".py") else "")
+        raise ModelError(f"bridge script {path}: defines no model (or ends with wipe){hint}")
+    tracks = dict(getattr(session, "_tracks", {}))
+    if not tracks:
+        raise ModelError(f"bridge script {path}: defines no track; add one, e.g. 'track 1 -eleRange FIRST LAST' "
+                         "(Tcl) or ops.track(1, '-eleRange', FIRST, LAST) (docs/commands.md)")
+    if track is None:
+        if len(tracks) > 1:
+            raise ModelError(f"bridge script {path}: defines tracks {', '.join(map(str, sorted(tracks)))}; "
+                             "choose one (--track TAG)")
+        track = next(iter(tracks))
+    if not _is_int(track) or track not in tracks:
+        raise ModelError(f"bridge script {path}: no track {track!r}; it defines "
+                         f"{', '.join(map(str, sorted(tracks)))}")
+    for tag in list(model.patterns):
+        model.remove_pattern(tag)
+    try:
+        Track(model, tracks[track])
+    except ModelError as exc:
+        raise ModelError(f"bridge script {path}: track {track}: {exc}") from None
+    return SweepBridge(model, list(tracks[track]),
+                       {"kind": "script", "path": path, "sha256": sha256, "track": int(track)})
+
+
+def _run_tcl(path, session):
+    try:
+        from vtsi.tcl import Interpreter
+        interp = Interpreter(session)
+    except ImportError as exc:
+        raise ModelError(f"bridge script {path}: Tcl scripts need tkinter ({exc})") from None
+    try:
+        code = interp.source(path)
+    except Exception as exc:      # the user's script: any error, re-raised naming the script and line
+        notes = "\n".join(getattr(exc, "__notes__", ()))
+        line = _tcl_line(notes or str(exc), path)
+        raise ModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
+    if code:
+        raise ModelError(f"bridge script {path}: exited with status {code}")
+
+
+def _tcl_line(text, path):
+    lines = [m.group(2) for m in re.finditer(r'\(file "([^"]*)" line (\d+)\)', text)
+             if os.path.abspath(m.group(1)) == path]
+    return f", line {lines[-1]}" if lines else ""
+
+
+def _run_python(path, session):
+    from vtsi import opensees
+
+    old_session = opensees.set_session(session)
+    old_argv, old_path = sys.argv, list(sys.path)
+    sys.argv = [path]
+    sys.path.insert(0, os.path.dirname(path))
+    try:
+        runpy.run_path(path, run_name="__main__")
+    except SystemExit as exc:
+        if exc.code not in (None, 0):
+            raise ModelError(f"bridge script {path}: exited with status {exc.code}") from None
+    except Exception as exc:      # the user's script: any error, re-raised naming the script and line
+        frames = [f for f in traceback.extract_tb(exc.__traceback__) if os.path.abspath(f.filename) == path]
+        line = f", line {frames[-1].lineno}" if frames else ""
+        raise ModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
+    finally:
+        opensees.set_session(old_session)
+        sys.argv, sys.path[:] = old_argv, old_path
+
+
+def _first_line(exc):
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else ""
+
+
+# -- the SI check ----------------------------------------------------------------------------
+def mass_per_metre(bridge):
+    """The model's whole vertical (uy) mass divided by its track's length [kg/m]."""
+    asm = bridge.model.build()
+    uy = np.zeros(asm.n_full)
+    uy[1::asm.ndf] = 1.0
+    track = Track(bridge.model, bridge.track_elements)
+    return float(uy @ (asm.M_full @ uy)) / (track.x_end - track.x_begin)
+
+
+def _check_mass(bridge, path, minimum):
+    if not minimum:
+        return
+    mu = mass_per_metre(bridge)
+    if not mu >= minimum:
+        raise ModelError(f"bridge file {path}: the model's mass is {mu:.4g} kg/m along its track, below "
+                         f"{minimum:g} kg/m (no railway deck is that light); vtsi is SI (N, kg, m, Pa): "
+                         "a model in kN, t, m gives masses 1000 times too small")
