@@ -334,3 +334,34 @@ def test_a_failing_case_is_named_and_the_finished_ones_are_kept(tmp_path):
 def test_bridge_frequency_from_the_model():
     sweep = Sweep(small_bridge(8), ["HSLM-A1"], "200", FAST)
     assert sweep.runner.frequencies[0] == pytest.approx(first_frequency(L, EI, 1.0, MU), rel=1e-4)
+
+
+def test_irregular_rail_seeds_with_cars():
+    """An irregular rail: one case per seed, each seed its own sample (different contact forces),
+    the same seed the same result in another sweep; the cars start at rest on the faded-in rail."""
+    settings = PassageSettings(dt=5e-3, damping=0.0125, cars="full", irregularity="german-high")
+    make = lambda seeds: Sweep(small_bridge(), ["ICE3"], "250", settings, seeds=seeds)
+    res = make([3, 7]).run(None, workers=1, progress=False)
+    assert res.seeds == [3, 7]
+    low = res.envelope("contact_force_min")[0, 0]
+    assert np.all(np.isfinite(low)) and low[0] != low[1]
+    assert np.all(low > 0) and np.all(res.envelope("contact_force_max")[0, 0] > 152055.0)
+    again = make([7]).run(None, workers=1, progress=False)
+    assert again.envelope("contact_force_min")[0, 0, 0] == low[1]
+    body = res.envelope("car_body_acceleration_absmax")[0, 0]
+    assert np.all(body > 0) and np.all(body < 2.0)
+
+
+def test_integrators_and_contact_strategies_are_settings():
+    from vtsi.integrators import HHT
+    bridge = small_bridge()
+    base = Sweep(bridge, ["ICE3"], "300", PassageSettings(dt=5e-3, cars="full")).run(None, workers=1, progress=False)
+    for settings in (PassageSettings(dt=5e-3, cars="full", integrator=HHT(0.9)),
+                     PassageSettings(dt=5e-3, cars="full", integrator="Bathe", interpolation="bspline"),
+                     PassageSettings(dt=5e-3, cars="full", contact="lcp")):
+        res = Sweep(bridge, ["ICE3"], "300", settings).run(None, workers=1, progress=False)
+        a, b = res.envelope("deflection_min")[0, 0, 0], base.envelope("deflection_min")[0, 0, 0]
+        assert a == pytest.approx(b, rel=0.03), settings
+    assert json.loads(json.dumps(res.identity))["settings"]["contact"] == "lcp"
+    with pytest.raises(vtsi.ModelError, match="unknown integrator"):
+        PassageSettings(integrator="Euler")

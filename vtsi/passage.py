@@ -9,8 +9,8 @@ only the train (at the case's speed), its constraint, the recorders and the comp
 A passage (docs/sweeps.md):
 
 * at t = 0 the train's first wheel is ``approach`` metres before the track's first point, every
-  wheel on rigid ground in its dead-load equilibrium (computed once per train and reused at
-  every speed: on rigid level ground it does not depend on the speed);
+  wheel on rigid ground in its dead-load equilibrium (computed once per train and rail sample,
+  and reused at every speed: on rigid ground it does not depend on the speed);
 * it runs until the last wheel has left the track, plus a free-vibration window (default
   ``FREE_VIBRATION_PERIODS`` periods of the bridge's first vertical mode: the largest free
   vibration follows the exit within one period, as every mode then decays);
@@ -371,7 +371,7 @@ class PassageRunner:
         analysis = CoupledAnalysis(self.model, tie, s.integrator, dt=s.dt, contact=s.contact,
                                    bridge_self_weight=s.bridge_self_weight, recorders=[r for _, r in recorders],
                                    exact_events=s.exact_events, bridge_cache=self.cache, chunk_steps=4000)
-        key = (train.name, approach)
+        key = (train.name, approach, seed if irregularity is not None else -1)
         if key in self._dead_load:
             analysis.start_from(self._dead_load[key])
         else:

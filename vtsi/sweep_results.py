@@ -31,6 +31,7 @@ import datetime
 import json
 import os
 import shutil
+import uuid
 
 import h5py
 import numpy as np
@@ -136,7 +137,7 @@ class ResultsWriter:
 
     def _open_new(self):
         if self.path is None:
-            f = h5py.File(f"vtsi-sweep-{id(self)}", "w", driver="core", backing_store=False)
+            f = h5py.File(f"vtsi-sweep-{uuid.uuid4().hex}.h5", "w", driver="core", backing_store=False)
             return _KeepOpen(f), None
         tmp = self.path + ".partial"
         try:

@@ -31,11 +31,15 @@ def damping_lower_bound(kind, span):
 def additional_damping(span):
     """EN 1991-2 Eq. 6.13: the additional damping Δζ [-] that a moving-force analysis (no
     vehicle-bridge interaction) may add for span ``span`` [m], valid for L < 30 m:
-    Δζ = (0.0187 L − 0.00064 L²) / (1 − 0.0441 L − 0.0044 L² + 0.000255 L³) [%]."""
+    Δζ = (0.0187 L − 0.00064 L²) / (1 − 0.0441 L − 0.0044 L² + 0.000255 L³) [%]
+    (largest, about 0.65 %, near L = 15 m). The numerator vanishes at L = 29.2 m; the slightly
+    negative values of the formula between there and 30 m are returned as 0 (no additional
+    damping)."""
     L = _span(span, "Eq. 6.13")
     if not L < ADDITIONAL_DAMPING_SPANS[1]:
         raise ModelError(f"EN 1991-2 Eq. 6.13: the additional damping is defined for spans below 30 m, got {L:g} m")
-    return (0.0187 * L - 0.00064 * L ** 2) / (1.0 - 0.0441 * L - 0.0044 * L ** 2 + 0.000255 * L ** 3) / 100.0
+    value = (0.0187 * L - 0.00064 * L ** 2) / (1.0 - 0.0441 * L - 0.0044 * L ** 2 + 0.000255 * L ** 3) / 100.0
+    return max(value, 0.0)
 
 
 def _span(span, clause):
