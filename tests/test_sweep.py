@@ -365,3 +365,12 @@ def test_integrators_and_contact_strategies_are_settings():
     assert json.loads(json.dumps(res.identity))["settings"]["contact"] == "lcp"
     with pytest.raises(vtsi.ModelError, match="unknown integrator"):
         PassageSettings(integrator="Euler")
+
+
+def test_progress_bar_shows_cases_rate_and_time_left_only_when_asked(capsys):
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200:300:50", FAST)
+    sweep.run(None, workers=1)                      # stderr is not a terminal here: quiet
+    assert capsys.readouterr().err == ""
+    sweep.run(None, workers=1, progress=True, cases_per_task=1)
+    err = capsys.readouterr().err
+    assert "3/3" in err and "case/s" in err and "<" in err      # done/total [elapsed<left, rate]

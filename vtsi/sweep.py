@@ -17,12 +17,14 @@ running, and ``resume=True`` runs only what is missing.
 Speeds are km/h at this surface (``speeds``, ``en_speed_grid``); the passages run in m/s.
 """
 import hashlib
-import json
 import math
+import multiprocessing
 import os
 import sys
+import threading
 from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -133,7 +135,7 @@ def _fingerprint(runner):
     digest = hashlib.sha256()
     for matrix in (asm.K, asm.M, asm.C):
         m = matrix.tocsr()
-        for part in (m.indptr, m.indices, np.round(m.data, 9)):
+        for part in (m.indptr, m.indices, m.data):
             digest.update(np.ascontiguousarray(part).tobytes())
     for part in (runner.track.x_start, runner.track.length, runner.track.dofs):
         digest.update(np.ascontiguousarray(part).tobytes())
@@ -269,37 +271,47 @@ class Sweep:
                 self.prepare()
                 size = cases_per_task or self.task_size(todo, n_workers)
                 tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
-                bar = _progress_bar(len(self.cases), len(self.cases) - len(todo), progress)
-                try:
-                    if executor is None and n_workers == 1:
+                bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
+                if executor is None and n_workers == 1:
+                    with bar() as shown:
                         for task in tasks:
                             results = _run_task(self.runner, task)
                             writer.write(results)
-                            bar.update(len(results))
-                    elif executor is None:
-                        with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks))) as pool:
-                            self._dispatch(pool, tasks, writer, bar)
-                    else:
-                        self._dispatch(executor, tasks, writer, bar)
-                finally:
-                    bar.close()
+                            shown.update(len(results))
+                elif executor is None:
+                    with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=_pool_context()) as pool:
+                        self._dispatch(pool, tasks, writer, bar)
+                else:
+                    self._dispatch(executor, tasks, writer, bar)
         finally:
             writer.close()
         return writer.results()
 
     def _dispatch(self, executor, tasks, writer, bar):
+        """Submit every task (the pool's processes start now, before the progress bar's thread
+        exists), then write each task's results as it completes."""
         pending = {executor.submit(_run_task, self.runner, task) for task in tasks}
         try:
-            while pending:
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for future in finished:
-                    results = future.result()
-                    writer.write(results)
-                    bar.update(len(results))
+            with bar() as shown:
+                while pending:
+                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for future in finished:
+                        results = future.result()
+                        writer.write(results)
+                        shown.update(len(results))
         except BaseException:
             for future in pending:
                 future.cancel()
             raise
+
+
+def _pool_context():
+    """Processes forked from this one (they inherit its compiled kernels and start at once) when
+    no other thread runs here (forking a threaded process is unsafe); a fork server otherwise."""
+    methods = multiprocessing.get_all_start_methods()
+    if "fork" in methods and threading.active_count() == 1:
+        return multiprocessing.get_context("fork")
+    return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
 def _progress_bar(total, initial, show):
