@@ -278,8 +278,9 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
             if w_prev != 0.0:
                 for i in range(n_c):
                     rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]
-            _free_stage(bank_t, base, fac_t, kt_rows, ct_rows, damped_t, rt, xkt, xct, s,
-                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_t)
+            if n_t > 0:
+                _free_stage(bank_t, base, fac_t, kt_rows, ct_rows, damped_t, rt, xkt, xct, s,
+                            sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_t)
             if n_c == 0:
                 continue
             # 2. rows, free gap and contact flexibility
