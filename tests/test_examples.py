@@ -3,6 +3,7 @@ import importlib.util
 import pathlib
 
 import numpy as np
+import pytest
 
 EXAMPLES = pathlib.Path(__file__).resolve().parent.parent / "examples"
 
@@ -55,3 +56,13 @@ def test_sweep_example_writes_results_and_chart(tmp_path, capsys):
     assert "zeta = 1.30 %" in out and "EN 1990 A2 limit" in out
     assert (tmp_path / "s.png").stat().st_size > 10_000
     assert results.n_done == 6 and (tmp_path / "s.h5").exists()
+
+
+def test_example_bridge_file_is_the_s4_bridge():
+    """examples/bridge_20m.toml (the README's `vtsi sweep` command): 20 m, 15 t/m, f1 = 5 Hz."""
+    from vtsi.bridge_file import read_bridge_file
+    from vtsi.passage import vertical_frequencies
+    loaded = read_bridge_file(EXAMPLES / "bridge_20m.toml")
+    f = vertical_frequencies(loaded.bridge.model, 3)[0]
+    assert f[0] == pytest.approx(5.0, rel=1e-4) and loaded.bridge.description["spans_m"] == [20.0]
+    assert loaded.settings["damping"] == 0.013 and loaded.settings["dt"] == 0.002
