@@ -38,3 +38,13 @@ def test_eq_6_13_additional_damping():
 def test_out_of_range_is_refused(call, words):
     with pytest.raises(ModelError, match=words):
         call()
+
+
+def test_en_1990_a2_acceleration_cutoff():
+    """A2.4.4.2.1: max(30 Hz, 1.5 n0, n3)."""
+    from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+    assert acceleration_cutoff_hz([5.0, 20.0, 45.0]) == 45.0          # n3 governs
+    assert acceleration_cutoff_hz([4.0, 10.0, 20.0]) == 30.0          # 30 Hz governs
+    assert acceleration_cutoff_hz([25.0, 60.0, 35.0]) == 37.5         # 1.5 n0 governs
+    with pytest.raises(ModelError, match="three"):
+        acceleration_cutoff_hz([5.0, 20.0])

@@ -20,7 +20,8 @@ from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import SweepError
 from vtsi.models.bridges import first_frequency, simply_supported_beam
 from vtsi.models.catalogue import catalogue_train
-from vtsi.passage import Output, PassageSettings, en_cutoff_hz, rayleigh_coefficients
+from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+from vtsi.passage import Output, PassageSettings, rayleigh_coefficients
 from vtsi.recorders import ContactRecorder, NodeRecorder
 from vtsi.sweep import Sweep, beam_bridge, en_speed_grid, resonance_speeds, speeds
 from vtsi.sweep_results import SweepResults
@@ -77,7 +78,7 @@ def _single_passage(name, speed_kmh, settings, n_elements, outputs):
     beam = simply_supported_beam(model, L, n_elements, EI, 1.0, MU)
     f = np.sqrt(vtsi.eigen(model, 12)[0]) / (2 * np.pi)
     bending = [fi for fi in f if min(abs(fi - F1 * k * k) for k in (1, 2, 3)) < 0.05 * fi][:3]
-    model.rayleigh(*rayleigh_coefficients(settings.damping, bending[0], en_cutoff_hz(bending)))
+    model.rayleigh(*rayleigh_coefficients(settings.damping, bending[0], acceleration_cutoff_hz(bending)))
     train = catalogue_train(name, speed_kmh / 3.6, fidelity=settings.cars)
     approach = 0.0 if train.n_dof == 0 else 25.0
     sub = TrainSubdomain(train, -approach + float(train.wheel_offsets[0]))

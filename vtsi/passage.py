@@ -28,6 +28,7 @@ from functools import partial
 import numpy as np
 
 from vtsi.analysis import domain_state, eigen
+from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
 from vtsi.errors import ModelError, VtsiError
@@ -220,27 +221,15 @@ def vertical_frequencies(model, n=3):
     the modes whose mass-weighted uy motion exceeds their ux motion (a beam's axial modes are
     skipped)."""
     asm = model.build()
-    k = min(asm.n_free, max(3 * n, 12))
-    omega2, shapes = eigen(model, k)
     M = asm.M_full
-    ux = np.zeros(asm.n_full)
-    ux[0::asm.ndf] = 1.0
-    uy = np.zeros(asm.n_full)
-    uy[1::asm.ndf] = 1.0
-    keep = [j for j in range(k) if (shapes[:, j] * uy) @ M @ (shapes[:, j] * uy)
-            > (shapes[:, j] * ux) @ M @ (shapes[:, j] * ux)]
-    if len(keep) < n and k < asm.n_free:
-        omega2, shapes = eigen(model, asm.n_free)
-        keep = [j for j in range(asm.n_free) if (shapes[:, j] * uy) @ M @ (shapes[:, j] * uy)
-                > (shapes[:, j] * ux) @ M @ (shapes[:, j] * ux)]
-    keep = keep[:n]
+    on = lambda dof: np.arange(asm.n_full) % asm.ndf == dof
+    for k in (min(asm.n_free, max(3 * n, 12)), asm.n_free):
+        omega2, shapes = eigen(model, k)
+        motion = lambda mask: np.einsum("ij,ij->j", shapes * mask[:, None], M @ (shapes * mask[:, None]))
+        keep = np.flatnonzero(motion(on(1)) > motion(on(0)))[:n]
+        if len(keep) == n:
+            break
     return np.sqrt(np.maximum(omega2[keep], 0.0)) / (2 * np.pi), shapes[:, keep]
-
-
-def en_cutoff_hz(frequencies):
-    """EN 1990 A2.4.4.2.1: frequencies up to max(30 Hz, 1.5 n₀, n₃) count [Hz]."""
-    f = np.asarray(frequencies, dtype=float)
-    return float(max(30.0, 1.5 * f[0], f[2] if len(f) > 2 else 0.0))
 
 
 def rayleigh_coefficients(zeta, f_a, f_b):
@@ -282,7 +271,7 @@ class PassageRunner:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
         self.frequencies, _ = vertical_frequencies(self.model, 3)
         if settings.damping is not None:
-            f_a, f_b = settings.damping_hz or (self.frequencies[0], en_cutoff_hz(self.frequencies))
+            f_a, f_b = settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies))
             self.model.rayleigh(*rayleigh_coefficients(settings.damping, f_a, f_b))
         self.cache = BridgeStageCache()
         self._dead_load = {}
