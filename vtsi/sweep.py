@@ -314,7 +314,14 @@ def _pool_context():
     return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
+class _ProgressBar(tqdm):
+    """tqdm without its monitor thread (a thread in this process would keep a later process
+    pool from forking, see :func:`_pool_context`)."""
+
+    monitor_interval = 0
+
+
 def _progress_bar(total, initial, show):
     if show is None:
         show = sys.stderr.isatty()
-    return tqdm(total=total, initial=initial, unit="case", disable=not show, desc="sweep", smoothing=0.1)
+    return _ProgressBar(total=total, initial=initial, unit="case", disable=not show, desc="sweep", smoothing=0.1)
