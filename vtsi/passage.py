@@ -36,6 +36,7 @@ from vtsi.integrators import make_integrator
 from vtsi.models.catalogue import FIDELITIES, catalogue_train
 from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
+from vtsi.recorders.modal import ModalNodeRecorder
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
@@ -46,9 +47,9 @@ PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
 IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range(1, 7))
 
 # Output responses: node responses (NodeRecorder names) and the vehicle responses.
-NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2"}
+NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
-PLACES = ("deck", "midspan")
+PLACES = ("deck", "midspan", "supports")
 
 
 @dataclass(frozen=True)
@@ -61,19 +62,24 @@ class Output:
     name : str
         The name in results (e.g. 'deflection').
     response : str
-        Node responses 'disp' [m], 'vel' [m/s], 'accel' [m/s²] (vertical, dof uy), or
-        'contact_force' [N, compression positive] (one column per contact wheel), or
-        'car_body_accel' [m/s²] (the body bounce of every car). The vehicle responses need a
-        train of cars (fidelity 'full'); a train of moving forces skips them.
+        Node responses 'disp' [m], 'vel' [m/s], 'accel' [m/s²] (vertical, dof uy) and
+        'rotation' [rad] (dof rz, counter-clockwise positive), or 'contact_force' [N, compression
+        positive] (one column per contact wheel), or 'car_body_accel' [m/s²] (the body bounce of
+        every car). The vehicle responses need a train of cars (fidelity 'full'); a train of
+        moving forces skips them.
     nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
-        span's middle) or a tuple of node tags.
+        span's middle), 'supports' (the track's nodes with uy fixed) or a tuple of node tags.
     history : keep the time history too.
+    cutoff : None (the FE model's full response), 'en' (the EN 1990 A2.4.4.2.1 cut-off
+        max(30 Hz, 1.5 n₀, n₃)) or a frequency [Hz]: the node response in the modes up to it
+        only (modal projection, :class:`~vtsi.recorders.modal.ModalNodeRecorder`).
     """
 
     name: str
     response: str
     nodes: object = "deck"
     history: bool = False
+    cutoff: object = None
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name.isidentifier():
@@ -86,6 +92,18 @@ class Output:
                 raise ModelError(f"output {self.name!r}: nodes must be 'deck', 'midspan' or node tags, got {self.nodes!r}")
         else:
             object.__setattr__(self, "nodes", tuple(int(n) for n in self.nodes))
+        if self.cutoff is not None:
+            if self.response not in NODE_RESPONSES:
+                raise ModelError(f"output {self.name!r}: a cut-off applies to node responses, not {self.response!r}")
+            if self.cutoff != "en":
+                try:
+                    value = float(self.cutoff)
+                except (TypeError, ValueError):
+                    value = float("nan")
+                if not (math.isfinite(value) and value > 0):
+                    raise ModelError(f"output {self.name!r}: cutoff must be 'en' or a frequency > 0 [Hz], "
+                                     f"got {self.cutoff!r}")
+                object.__setattr__(self, "cutoff", value)
 
     @property
     def units(self):
@@ -96,7 +114,8 @@ class Output:
         return self.response in VEHICLE_RESPONSES
 
 
-DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel"),
+DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel", cutoff="en"),
+                   Output("end_rotation", "rotation", nodes="supports"),
                    Output("contact_force", "contact_force"), Output("car_body_acceleration", "car_body_accel"))
 
 
@@ -277,6 +296,7 @@ class PassageRunner:
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}
+        self._modes = {}
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
@@ -288,11 +308,32 @@ class PassageRunner:
         x = {n: float(self.model.nodes[n][0]) for n in nodes}
         deck = sorted(nodes, key=x.get)
         fixed = [n for n in deck if self.model.fixities.get(n, (0, 0, 0))[1]]
+        self.support_nodes = list(fixed)
         if len(fixed) < 2:
             fixed = [deck[0], deck[-1]]
         spans = [x[b] - x[a] for a, b in zip(fixed[:-1], fixed[1:])]
         middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in zip(fixed[:-1], fixed[1:])]
         return deck, middle, spans
+
+    def cutoff_hz(self, cutoff):
+        """The cut-off [Hz] of an output's ``cutoff`` ('en' or a frequency)."""
+        return acceleration_cutoff_hz(self.frequencies) if cutoff == "en" else float(cutoff)
+
+    def modes_up_to(self, cutoff):
+        """``(cutoff [Hz], shapes (n_full, n))``: every mode of the bridge up to the cut-off
+        (mass-normalised; at least one), computed once per cut-off."""
+        f_max = self.cutoff_hz(cutoff)
+        if f_max not in self._modes:
+            n_free = self.model.build().n_free
+            k = min(n_free, 8)
+            while True:
+                omega2, shapes = eigen(self.model, k)
+                f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
+                if f[-1] > f_max or k == n_free:
+                    break
+                k = min(n_free, 2 * k)
+            self._modes[f_max] = shapes[:, : max(1, int(np.sum(f <= f_max)))]
+        return f_max, self._modes[f_max]
 
     def first_span(self):
         return float(self.span_lengths[0])
@@ -385,6 +426,8 @@ class PassageRunner:
             return list(self.deck_nodes)
         if nodes == "midspan":
             return list(self.midspan_nodes)
+        if nodes == "supports":
+            return list(self.support_nodes)
         return list(nodes)
 
     def _columns(self, output, sub):
@@ -399,7 +442,13 @@ class PassageRunner:
         for o in self.outputs:
             kwargs = dict(envelope=True, history=o.history)
             if o.response in NODE_RESPONSES:
-                rec = NodeRecorder(self.output_nodes(o.nodes), [2], o.response, **kwargs)
+                dof, response = (3, "disp") if o.response == "rotation" else (2, o.response)
+                nodes = self.output_nodes(o.nodes)
+                if o.cutoff is None:
+                    rec = NodeRecorder(nodes, [dof], response, **kwargs)
+                else:
+                    cutoff, shapes = self.modes_up_to(o.cutoff)
+                    rec = ModalNodeRecorder(nodes, dof, response, shapes, f"modes up to {cutoff:.4g} Hz", **kwargs)
             elif sub.train.n_dof == 0:
                 continue      # a train of moving forces has no contact forces or car bodies
             elif o.response == "contact_force":

@@ -221,7 +221,8 @@ class Sweep:
         """What makes two sweeps the same (stored in the results file; a resumed sweep must match)."""
         return {"bridge": self.bridge.description, "bridge_fingerprint": _fingerprint(self.runner),
                 "settings": self.settings.as_dict(),
-                "outputs": [{"name": o.name, "response": o.response, "nodes": o.nodes, "history": o.history}
+                "outputs": [{"name": o.name, "response": o.response, "nodes": o.nodes, "history": o.history,
+                             "cutoff_hz": None if o.cutoff is None else self.runner.cutoff_hz(o.cutoff)}
                             for o in self.outputs],
                 "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
 

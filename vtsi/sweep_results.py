@@ -40,10 +40,10 @@ from vtsi.errors import SweepError
 
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 1
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
-STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",),
+STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "contact_force": ("min", "max"), "car_body_accel": ("absmax",)}
 COLUMN_KIND = {"contact_force": "contact wheel", "car_body_accel": "car"}
-UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "contact_force": "N", "car_body_accel": "m/s^2"}
+UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "contact_force": "N", "car_body_accel": "m/s^2"}
 
 
 def case_key(train, speed_kmh, seed):
