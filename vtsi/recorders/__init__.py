@@ -4,9 +4,10 @@ goes (memory, HDF5, OpenSees text) and envelopes. See :mod:`.base` for the contr
 from .base import Recorder
 from .element import ElementRecorder
 from .envelope import Envelope
+from .modal import ModalNodeRecorder
 from .node import NodeRecorder, ReactionRecorder
 from .sinks import HDF5Sink, MemorySink, Sink, TextSink
 from .vehicle import ContactRecorder, TrainRecorder
 
-__all__ = ["Recorder", "NodeRecorder", "ReactionRecorder", "ElementRecorder", "Envelope",
+__all__ = ["Recorder", "NodeRecorder", "ReactionRecorder", "ElementRecorder", "ModalNodeRecorder", "Envelope",
            "Sink", "MemorySink", "HDF5Sink", "TextSink", "TrainRecorder", "ContactRecorder"]
