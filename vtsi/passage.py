@@ -32,6 +32,7 @@ from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
 from vtsi.errors import ModelError, VtsiError
+from vtsi.influence import InfluenceLines
 from vtsi.integrators import make_integrator
 from vtsi.models.catalogue import FIDELITIES, catalogue_train
 from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
@@ -334,6 +335,21 @@ class PassageRunner:
                 k = min(n_free, 2 * k)
             self._modes[f_max] = shapes[:, : max(1, int(np.sum(f <= f_max)))]
         return f_max, self._modes[f_max]
+
+    def static_envelopes(self, output, train_names):
+        """Static min and max (n_trains, 2, n_columns) of a displacement or rotation output under
+        each train's static axle loads (:mod:`vtsi.influence`), and under Load Model 71 (2,
+        n_columns) (α = 1): what dynamic increments and the LM71 comparison are measured
+        against. None for other outputs."""
+        if output.response not in ("disp", "rotation") or output.cutoff is not None:
+            return None
+        dof = 3 if output.response == "rotation" else 2
+        lines = InfluenceLines(self.model, self.track, [(n, dof) for n in self.output_nodes(output.nodes)])
+        trains = []
+        for name in train_names:
+            train = self.train(name, 1.0)
+            trains.append(lines.train_envelope(train.wheel_offsets, train.static_wheel_loads))
+        return np.stack(trains), lines.lm71_envelope()
 
     def first_span(self):
         return float(self.span_lengths[0])

@@ -10,6 +10,11 @@ Layout (docs/sweeps.md)::
                            columns per case (NaN: not run yet, or not produced by that train);
                            <q>_where (the column: node tag, contact wheel or car), <q>_time [s];
                            attrs units, output, statistic, dims
+    /static/<name>         for displacement and rotation outputs: trains (n_train, 2, n_columns)
+                           and lm71 (2, n_columns), static min and max under each train's static
+                           axle loads and under Load Model 71 (α = 1) (vtsi.influence)
+    /trains/<train>        axle_offsets_m, static_wheel_loads_N [N], contact_wheels; attrs
+                           n_cars, n_dof, length_m, characteristic_length_m
     /outputs/<name>        attrs response, units, kind of column ('node', 'contact wheel', 'car'),
                            rows (of an envelope); columns: the node tags of a node output
     /cases/<train>/<speed>kmh/<seed>   one group per case; attrs train, speed_kmh, seed,
@@ -125,6 +130,25 @@ class ResultsWriter:
                                     "history": bool(o["history"])})
                     if o["response"] not in COLUMN_KIND:
                         g["columns"] = np.asarray(runner.output_nodes(o["nodes"]), dtype=np.int64)
+                static = f.create_group("static")
+                static.attrs["note"] = ("static responses (influence lines): per train its static axle loads, "
+                                        "and Load Model 71 (alpha = 1); rows min, max")
+                for o in runner.outputs:
+                    env = runner.static_envelopes(o, ident["trains"])
+                    if env is not None:
+                        g = static.create_group(o.name)
+                        g["trains"], g["lm71"] = env
+                        g.attrs["units"] = UNITS[o.response]
+                trains = f.create_group("trains")
+                for name in ident["trains"]:
+                    train = runner.train(name, 1.0)
+                    g = trains.create_group(name.replace("/", "|"))
+                    g["axle_offsets_m"] = train.wheel_offsets
+                    g["static_wheel_loads_N"] = train.static_wheel_loads
+                    g["contact_wheels"] = np.flatnonzero(~train.force_wheels)
+                    g.attrs.update({"name": train.name, "n_cars": len(train.cars), "n_dof": train.n_dof,
+                                    "length_m": train.length,
+                                    "characteristic_length_m": train.characteristic_length or np.nan})
                 f.create_group("cases")
                 if self.path is None:
                     self._memory = f
