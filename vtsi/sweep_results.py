@@ -333,6 +333,52 @@ class SweepResults:
                     out[name]["time"], out[name]["values"] = g[name + "_time"][()], g[name + "_values"][()]
         return out
 
+    def column_envelopes(self, output):
+        """Every case's envelope of ``output``: (n_train, n_speed, n_seed, 6, n_columns) (NaN
+        where a case is missing or did not produce it; rows as in :data:`ENVELOPE_ROWS`) and the
+        columns (node tags; wheel or car indices: the columns of the train with most)."""
+        names = [o["name"] for o in self.identity["outputs"]]
+        if output not in names:
+            raise SweepError(f"sweep results: unknown output {output!r}; valid: {', '.join(names)}")
+        found, columns = {}, None
+        with self._open() as f:
+            if output in f["outputs"] and "columns" in f["outputs"][output]:
+                columns = f["outputs"][output]["columns"][()]
+            for i, train in enumerate(self.trains):
+                for j, v in enumerate(self.speeds_kmh):
+                    for k, seed in enumerate(self.seeds):
+                        key = case_key(train, v, seed)
+                        if key in f["cases"] and output in f["cases"][key]:
+                            g = f["cases"][key]
+                            found[i, j, k] = g[output][()]
+                            if output + "_columns" in g and (columns is None or len(g[output + "_columns"]) > len(columns)):
+                                columns = g[output + "_columns"][()]
+        width = 0 if columns is None else len(columns)
+        out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds), len(ENVELOPE_ROWS), width), np.nan)
+        for index, env in found.items():
+            out[index][:, : env.shape[1]] = env
+        return out, (np.zeros(0, dtype=np.int64) if columns is None else columns)
+
+    def static(self, output):
+        """Static envelopes of ``output`` (rows min, max): ``(trains (n_train, 2, n_columns),
+        lm71 (2, n_columns))`` or None (vtsi.influence; only displacement and rotation outputs)."""
+        with self._open() as f:
+            if "static" not in f or output not in f["static"]:
+                return None
+            return f["static"][output]["trains"][()], f["static"][output]["lm71"][()]
+
+    def train_data(self, train):
+        """The stored axle data of ``train``: dict with axle_offsets_m, static_wheel_loads_N,
+        contact_wheels and the attributes."""
+        with self._open() as f:
+            g = f["trains"][train.replace("/", "|")]
+            return {**{k: g[k][()] for k in g}, **dict(g.attrs)}
+
+    def bridge(self):
+        """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m."""
+        with self._open() as f:
+            return {k: f["bridge"][k][()] for k in f["bridge"]}
+
     def summary(self):
         """A text table: per quantity its extreme, the governing train, speed, place and time."""
         where_kind = {o["name"]: COLUMN_KIND.get(o["response"], "node") for o in self.identity["outputs"]}

@@ -17,3 +17,25 @@ def acceleration_cutoff_hz(frequencies):
         raise ModelError(f"EN 1990 A2.4.4.2.1: the cut-off needs the first three vertical frequencies > 0 [Hz], "
                          f"got {f.tolist()}")
     return float(max(30.0, 1.5 * f[0], f[2]))
+
+
+# A2.4.4.2.1(4)P: peak deck acceleration limits [m/s²] by track form.
+DECK_ACCELERATION_LIMITS = {"ballasted": 3.5, "direct_fastening": 5.0}
+# A2.4.4.3.1, Table A2.9: vertical car-body acceleration b_v [m/s²] by level of comfort.
+COMFORT_LIMITS = {"very_good": 1.0, "good": 1.3, "acceptable": 2.0}
+# A2.4.4.2.3(1): total vertical deflection under the classified rail traffic actions ≤ L / 600.
+DEFLECTION_SPAN_RATIO = 600.0
+
+
+def deck_acceleration_limit(track):
+    """A2.4.4.2.1(4)P: γ_bt = 3.5 m/s² (ballasted track) or γ_df = 5 m/s² (direct fastening)."""
+    if track not in DECK_ACCELERATION_LIMITS:
+        raise ModelError(f"EN 1990 A2.4.4.2.1: unknown track form {track!r}; valid: {', '.join(DECK_ACCELERATION_LIMITS)}")
+    return DECK_ACCELERATION_LIMITS[track]
+
+
+def comfort_limit(level):
+    """Table A2.9: b_v = 1.0 (very good), 1.3 (good), 2.0 (acceptable) m/s²."""
+    if level not in COMFORT_LIMITS:
+        raise ModelError(f"EN 1990 A2 Table A2.9: unknown level of comfort {level!r}; valid: {', '.join(COMFORT_LIMITS)}")
+    return COMFORT_LIMITS[level]

@@ -50,3 +50,41 @@ def _span(span, clause):
     if not (np.isfinite(L) and L > 0):
         raise ModelError(f"EN 1991-2 {clause}: span must be > 0 m, got {span!r}")
     return L
+
+
+# Table 6.2, case 5.2: L_Φ = k × mean span of a continuous beam of n spans.
+CONTINUOUS_K = {2: 1.2, 3: 1.3, 4: 1.4}
+CONTINUOUS_K_MANY = 1.5
+
+
+def determinant_length(spans):
+    """L_Φ [m], EN 1991-2 Table 6.2: the span of a simply supported deck (case 5.1); k times the
+    mean span of a continuous deck of n spans (case 5.2: k = 1.2, 1.3, 1.4, 1.5 for n = 2, 3, 4,
+    ≥ 5)."""
+    spans = [_span(s, "Table 6.2") for s in np.atleast_1d(spans)]
+    if len(spans) == 1:
+        return spans[0]
+    return CONTINUOUS_K.get(len(spans), CONTINUOUS_K_MANY) * float(np.mean(spans))
+
+
+def dynamic_factor(L_phi, maintenance="careful"):
+    """Φ₂ (carefully maintained track) or Φ₃ (standard maintenance), EN 1991-2 §6.4.5.2:
+    Φ₂ = 1.44 / (√L_Φ − 0.2) + 0.82 in [1.00, 1.67]; Φ₃ = 2.16 / (√L_Φ − 0.2) + 0.73 in [1.00, 2.00]."""
+    L = _span(L_phi, "6.4.5.2")
+    if maintenance == "careful":
+        return float(np.clip(1.44 / (np.sqrt(L) - 0.2) + 0.82, 1.0, 1.67))
+    if maintenance == "standard":
+        return float(np.clip(2.16 / (np.sqrt(L) - 0.2) + 0.73, 1.0, 2.0))
+    raise ModelError(f"EN 1991-2 6.4.5.2: track maintenance must be 'careful' (Φ2) or 'standard' (Φ3), got {maintenance!r}")
+
+
+def track_irregularity_increment(L_phi, n0, speed):
+    """φ'' of EN 1991-2 Annex C(3) [-]: α/100 [56 e^(−(L_Φ/10)²) + 50 (L_Φ n₀/80 − 1) e^(−(L_Φ/20)²)],
+    at least 0, with α = v/22 for v ≤ 22 m/s and 1 above (L_Φ [m], n₀ [Hz], v [m/s]). The dynamic
+    analysis adds φ''/2 for carefully maintained track, φ'' for standard maintenance."""
+    L = _span(L_phi, "Annex C")
+    if not (np.isfinite(n0) and n0 > 0 and np.isfinite(speed) and speed > 0):
+        raise ModelError(f"EN 1991-2 Annex C: n0 [Hz] and speed [m/s] must be > 0, got {n0!r}, {speed!r}")
+    a = min(speed / 22.0, 1.0)
+    value = a / 100.0 * (56.0 * np.exp(-(L / 10.0) ** 2) + 50.0 * (L * n0 / 80.0 - 1.0) * np.exp(-(L / 20.0) ** 2))
+    return float(max(value, 0.0))

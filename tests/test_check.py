@@ -1,0 +1,93 @@
+"""The design check (vtsi.check) against hand calculations and closed forms."""
+import numpy as np
+import pytest
+
+import vtsi
+from vtsi.check import CheckSettings, check, stored_check
+from vtsi.codes.en1991_2 import dynamic_factor, track_irregularity_increment
+from vtsi.errors import ModelError
+from vtsi.passage import Output, PassageSettings
+from vtsi.reference.fryba import daf
+from vtsi.sweep import Sweep, beam_bridge
+
+L, F1, MU = 20.0, 5.0, 15000.0
+EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
+
+
+@pytest.fixture(scope="module")
+def hslm(tmp_path_factory):
+    path = tmp_path_factory.mktemp("check") / "hslm.h5"
+    sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=10), ["HSLM-A1", "HSLM-A4", "HSLM-A8"],
+                  "200:420:20", PassageSettings(dt=2e-3, damping=0.013))
+    return path, sweep.run(path, workers=1, progress=False)
+
+
+def test_governing_case_found_independently_from_the_cases(hslm):
+    path, res = hslm
+    result = check(res)
+    row = result.row("deck_acceleration")
+    best = max(((float(np.max(res.case(t, v)["acceleration"]["envelope"][2])), t, v)
+                for t in res.trains for v in res.speeds_kmh))
+    assert (row.value, row.train, row.speed_kmh) == best
+    assert row.limit == 3.5 and row.status == ("fail" if best[0] > 3.5 else "pass")
+    assert row.utilisation == pytest.approx(best[0] / 3.5)
+    assert check(res, CheckSettings(track="direct_fastening")).row("deck_acceleration").limit == 5.0
+
+
+def test_lm71_rows_by_hand(hslm):
+    """deflection_lm71: Φ₂ α × LM71's static mid-span deflection (closed form) against L/600;
+    dynamic_vs_lm71 from the stored static values and φ'_dyn."""
+    path, res = hslm
+    result = check(res, CheckSettings(alpha=1.21))
+    c, q = L / 2 - 3.2, 80e3
+    il = lambda a: a * (3 * L ** 2 - 4 * a ** 2) / (48 * EI)
+    lm71 = 2 * q / (48 * EI) * (1.5 * L ** 2 * c ** 2 - c ** 4) + 250e3 * 2 * (il(L / 2 - 2.4) + il(L / 2 - 0.8))
+    Phi = 1.44 / (np.sqrt(L) - 0.2) + 0.82
+    row = result.row("deflection_lm71")
+    assert row.value == pytest.approx(Phi * 1.21 * lm71, rel=1e-5) and row.limit == pytest.approx(L / 600)
+    trains, _ = res.static("deflection")
+    mid = 5                                                  # node 6 of 11: column 5
+    phi_dyn = np.array([max(res.case(t, v)["deflection"]["envelope"][0, mid] / trains[i, 0, mid]
+                            for v in res.speeds_kmh) - 1 for i, t in enumerate(res.trains)])
+    assert result.row("dynamic_increment").value == pytest.approx(phi_dyn.max(), rel=1e-12)
+    phi2 = track_irregularity_increment(L, res.frequencies_hz[0], 420 / 3.6)
+    ratio = (1 + phi_dyn + phi2 / 2) * np.abs(trains[:, 0, mid]) / (dynamic_factor(L) * 1.21 * lm71)
+    assert result.row("dynamic_vs_lm71").value == pytest.approx(ratio.max(), rel=1e-5)
+
+
+def test_dynamic_increment_of_one_force_is_frybas(tmp_path):
+    """One moving force, undamped, α = V / (2 f₁ L) = 0.5: φ'_dyn = DAF − 1 of Frýba's series
+    (1.7054 − 1, reference/README.md S1) within 0.5 %."""
+    axle = tmp_path / "one.csv"
+    axle.write_text("position_m,load_kN\n0,100\n")
+    V = 0.5 * 2 * F1 * L
+    sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=20), [str(axle)], [V * 3.6],
+                  PassageSettings(dt=2e-4, free_vibration=0.3), outputs=[Output("deflection", "disp")])
+    row = check(sweep.run(None, workers=1, progress=False)).row("dynamic_increment")
+    assert row.value == pytest.approx(daf(0.5) - 1.0, rel=5e-3)
+
+
+def test_interaction_rows_and_the_stored_table(tmp_path):
+    path = tmp_path / "ice3.h5"
+    sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["ICE3"], "250,300",
+                  PassageSettings(dt=5e-3, damping=0.01, cars="full", interpolation="bspline"))
+    res = sweep.run(path, workers=1, progress=False)
+    result = check(res, CheckSettings(comfort="very_good", unloading_limit=0.9))
+    body = result.row("car_body_acceleration")
+    assert body.limit == 1.0 and body.value == pytest.approx(np.nanmax(res.envelope("car_body_acceleration_absmax")))
+    unloading = result.row("wheel_unloading")
+    Q = res.train_data("ICE3")["static_wheel_loads_N"]
+    assert unloading.value == pytest.approx(1 - np.nanmin(res.envelope("contact_force_min")) / Q[0], rel=1e-9)
+    assert result.row("contact_loss").value == float(np.sum(res.envelope("contact_force_min") <= 0))
+    result.store(path)
+    again = stored_check(path)
+    assert again.text() == result.text() and again.settings == result.settings
+    assert not (tmp_path / "ice3.h5.partial").exists()
+
+
+@pytest.mark.parametrize("kwargs, words", [({"track": "slab"}, "slab"), ({"comfort": "superb"}, "superb"),
+                                           ({"maintenance": "none"}, "none"), ({"alpha": "x"}, "alpha"),
+                                           ({"unloading_limit": -1}, "unloading_limit")])
+def test_bad_check_settings(kwargs, words):
+    with pytest.raises(ModelError, match=words):
+        CheckSettings(**kwargs)

@@ -1,0 +1,362 @@
+"""The EN 1990 A2 / EN 1991-2 dynamic design check of a sweep's results (docs/check.md).
+
+A check reads a sweep's results file and evaluates each criterion against its limit; it runs no
+analysis. The rules and limits come from :mod:`vtsi.codes` (one place, with their clauses); what
+each row means:
+
+=====================  ===========================================================  ==========
+criterion              value                                                        clause
+=====================  ===========================================================  ==========
+deck_acceleration      max |a| of the deck, frequencies up to max(30 Hz, 1.5 n₀,    EN 1990
+                       n₃) (an output with ``cutoff='en'``), ≤ 3.5 m/s² ballasted,   A2.4.4.2.1
+                       5 m/s² direct fastening
+dynamic_increment      φ'_dyn = max |y_dyn / y_stat| − 1 of the deflection of each   EN 1991-2
+                       span's middle, y_stat the static deflection under the same    6.4.6.5(3)
+                       train (info)
+dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71), the    EN 1991-2
+                       largest over trains and spans: > 1 means the dynamic          6.4.6.5(3),
+                       analysis, not Φ × LM71, governs the design (info)             Annex C
+deflection_lm71        Φ α × the static deflection under LM71 ≤ L/600 per span       EN 1990
+                                                                                     A2.4.4.2.3(1)
+end_rotation           max |θ| at the supports under the trains (info)              —
+car_body_acceleration  max |a| of the car bodies ≤ b_v (Table A2.9)                 EN 1990
+                                                                                     A2.4.4.3.1
+wheel_unloading        max ΔQ/Q = 1 − λ_min / Q (Q the static wheel load) ≤ the     project
+                       project's limit (0.6 by default: not an EN 1990 clause)      criterion
+contact_loss           passages in which a wheel lifts (λ ≤ 0) = 0                   —
+=====================  ===========================================================  ==========
+
+Each row names the governing train, speed, rail sample and place (node tag, wheel or car), with
+the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'fail' or 'info'
+(no limit; 'info' rows carry their reading in ``note``). Rows whose outputs the sweep did not
+keep are left out.
+"""
+import datetime
+import json
+import os
+import shutil
+from dataclasses import asdict, dataclass, field
+
+import h5py
+import numpy as np
+
+from vtsi.codes import en1990_a2, en1991_2
+from vtsi.errors import ModelError, SweepError
+from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
+
+MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
+
+
+@dataclass(frozen=True)
+class CheckSettings:
+    """What the check needs beyond the results (all stored with the check).
+
+    track : 'ballasted' or 'direct_fastening' (deck acceleration limit).
+    comfort : 'very_good', 'good' or 'acceptable' (Table A2.9).
+    maintenance : 'careful' (Φ₂, φ''/2) or 'standard' (Φ₃, φ'').
+    alpha : classification factor α of LM71 [-].
+    unloading_limit : ΔQ/Q limit [-] (a project criterion).
+    """
+
+    track: str = "ballasted"
+    comfort: str = "good"
+    maintenance: str = "careful"
+    alpha: float = 1.0
+    unloading_limit: float = 0.6
+
+    def __post_init__(self):
+        en1990_a2.deck_acceleration_limit(self.track)
+        en1990_a2.comfort_limit(self.comfort)
+        en1991_2.dynamic_factor(10.0, self.maintenance)
+        for name in ("alpha", "unloading_limit"):
+            value = getattr(self, name)
+            try:
+                ok = np.isfinite(float(value)) and float(value) > 0
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise ModelError(f"check settings: {name} must be a number > 0, got {value!r}")
+            object.__setattr__(self, name, float(value))
+
+
+@dataclass
+class CheckRow:
+    """One criterion's outcome (see the module docstring)."""
+
+    criterion: str
+    clause: str
+    value: float
+    units: str
+    limit: float = np.nan
+    utilisation: float = np.nan
+    status: str = "info"
+    train: str = ""
+    speed_kmh: float = np.nan
+    seed: int = -1
+    where: str = ""
+    note: str = ""
+
+
+@dataclass
+class CheckResult:
+    """The rows of a check, with its settings."""
+
+    settings: CheckSettings
+    rows: list = field(default_factory=list)
+
+    @property
+    def passed(self):
+        """True when no row fails."""
+        return all(r.status != "fail" for r in self.rows)
+
+    def row(self, criterion):
+        for r in self.rows:
+            if r.criterion == criterion:
+                return r
+        raise KeyError(criterion)
+
+    def text(self):
+        """The table as text (one line per criterion)."""
+        head = ("criterion", "value", "limit", "util.", "status", "governing case", "where", "clause")
+        lines = [head]
+        for r in self.rows:
+            case = r.train + ("" if np.isnan(r.speed_kmh) else f" {r.speed_kmh:g} km/h")
+            if r.train and r.seed >= 0:
+                case += f" seed {r.seed}"
+            lines.append((r.criterion, f"{r.value:.4g} {r.units}", "" if np.isnan(r.limit) else f"{r.limit:.4g}",
+                          "" if np.isnan(r.utilisation) else f"{r.utilisation:.2f}", r.status.upper(), case,
+                          r.where, r.clause))
+        widths = [max(len(line[j]) for line in lines) for j in range(len(head))]
+        out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
+        out.insert(1, "  ".join("-" * w for w in widths))
+        verdict = "PASS: every criterion is within its limit" if self.passed else \
+            "FAIL: " + ", ".join(r.criterion for r in self.rows if r.status == "fail")
+        notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
+        return "\n".join(out + ["", verdict] + (["notes:"] + notes if notes else []))
+
+    def store(self, path):
+        """Write the table into the sweep's results file (/checks: one row per criterion, the
+        settings in its attributes), atomically as the sweep writes (copy, write, rename)."""
+        path = os.fspath(path)
+        tmp = path + ".partial"
+        shutil.copyfile(path, tmp)
+        try:
+            with h5py.File(tmp, "a") as f:
+                if "checks" in f:
+                    del f["checks"]
+                g = f.create_group("checks")
+                g.attrs["settings"] = json.dumps(asdict(self.settings))
+                g.attrs["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+                g.attrs["passed"] = self.passed
+                for name in CheckRow.__dataclass_fields__:
+                    values = [getattr(r, name) for r in self.rows]
+                    if values and isinstance(values[0], str):
+                        g.create_dataset(name, data=np.array(values, dtype=h5py.string_dtype()))
+                    else:
+                        g.create_dataset(name, data=np.array(values, dtype=float if name != "seed" else np.int64))
+            os.replace(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+
+
+def stored_check(path):
+    """The check stored in a results file (:meth:`CheckResult.store`), or None."""
+    with h5py.File(path, "r") as f:
+        if "checks" not in f:
+            return None
+        g = f["checks"]
+        settings = CheckSettings(**json.loads(g.attrs["settings"]))
+        n = len(g["criterion"])
+        rows = []
+        for i in range(n):
+            values = {}
+            for name in CheckRow.__dataclass_fields__:
+                v = g[name][i]
+                values[name] = v.decode() if isinstance(v, bytes) else (int(v) if name == "seed" else
+                                                                         (str(v) if isinstance(v, str) else float(v)))
+            rows.append(CheckRow(**values))
+    return CheckResult(settings, rows)
+
+
+def check(results, settings=None):
+    """Evaluate every criterion on ``results`` (a :class:`SweepResults` or a results file path)."""
+    settings = CheckSettings() if settings is None else settings
+    if not isinstance(results, SweepResults):
+        results = SweepResults(results)
+    if results.n_done == 0:
+        raise SweepError("check: the results file holds no finished case")
+    outputs = {o["name"]: o for o in results.identity["outputs"]}
+    bridge = results.bridge()
+    out = CheckResult(settings)
+    for rule in (_deck_acceleration, _dynamic_increment, _deflection_lm71, _end_rotation, _car_body,
+                 _wheel_unloading):
+        out.rows.extend(rule(results, outputs, bridge, settings))
+    return out
+
+
+# -- the criteria ----------------------------------------------------------------------------------
+def _governing(results, values, pick):
+    """(train, speed, seed, index) of the extreme of ``values`` (n_train, n_speed, n_seed, ...)."""
+    idx = np.unravel_index(pick(values), values.shape)
+    return results.trains[idx[0]], float(results.speeds_kmh[idx[1]]), results.seeds[idx[2]], idx
+
+
+def _outputs_of(outputs, response, cutoff=None):
+    return [name for name, o in outputs.items() if o["response"] == response
+            and (cutoff is None or (o.get("cutoff_hz") is not None) == cutoff)]
+
+
+def _deck_acceleration(results, outputs, bridge, settings):
+    filtered = _outputs_of(outputs, "accel", cutoff=True)
+    name = (filtered or _outputs_of(outputs, "accel"))[:1]
+    if not name:
+        return []
+    name = name[0]
+    env, columns = results.column_envelopes(name)
+    peak = env[..., ABSMAX, :]
+    if np.all(np.isnan(peak)):
+        return []
+    train, speed, seed, idx = _governing(results, peak, np.nanargmax)
+    limit = en1990_a2.deck_acceleration_limit(settings.track)
+    value = float(peak[idx])
+    cutoff = outputs[name].get("cutoff_hz")
+    note = (f"frequencies up to {cutoff:.4g} Hz (modal projection)" if cutoff else
+            "the FE model's full response: no EN cut-off output was kept")
+    return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
+                     "pass" if value <= limit else "fail", train, speed, seed, f"node {int(columns[idx[-1]])}",
+                     f"{settings.track.replace('_', ' ')} track; {note}")]
+
+
+def _span_columns(columns, bridge):
+    """For each span: the output column of its middle node (or -1)."""
+    return [int(np.flatnonzero(columns == m)[0]) if np.any(columns == m) else -1 for m in bridge["midspan_nodes"]]
+
+
+def _dynamic_increment(results, outputs, bridge, settings):
+    rows = []
+    for name in _outputs_of(outputs, "disp", cutoff=False):
+        static = results.static(name)
+        if static is None:
+            continue
+        env, columns = results.column_envelopes(name)
+        spans = [c for c in _span_columns(columns, bridge) if c >= 0]
+        if not spans:
+            continue
+        stat_train, stat_lm71 = static
+        dyn = env[..., MIN, :][..., spans]                       # (n_train, n_speed, n_seed, n_spans), downward < 0
+        stat = stat_train[:, MIN, :][:, spans]                   # (n_train, n_spans)
+        ratio = dyn / stat[:, None, None, :]
+        if np.all(np.isnan(ratio)):
+            continue
+        train, speed, seed, idx = _governing(results, ratio, np.nanargmax)
+        phi_dyn = float(ratio[idx]) - 1.0
+        rows.append(CheckRow("dynamic_increment", "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
+                             speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
+                             note=f"phi'_dyn of the mid-span deflection ({name}) against the static deflection "
+                                  "under the same train"))
+        L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
+        Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
+        v_max = float(np.max(results.speeds_kmh)) / 3.6
+        phi2 = en1991_2.track_irregularity_increment(L_phi, float(bridge["frequencies_hz"][0]), v_max)
+        share = 0.5 if settings.maintenance == "careful" else 1.0
+        per_train = np.nanmax(ratio, axis=(1, 2)) - 1.0              # φ'_dyn per train and span
+        design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
+        lm71 = Phi * settings.alpha * np.abs(stat_lm71[MIN, spans])
+        r = design / lm71[None, :]
+        if np.all(np.isnan(r)):
+            continue
+        i, j = np.unravel_index(np.nanargmax(r), r.shape)
+        value = float(r[i, j])
+        governs = "the dynamic analysis governs" if value > 1.0 else "Phi x LM71 covers the dynamic effects"
+        rows.append(CheckRow("dynamic_vs_lm71", "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
+                             results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
+                             f"(1 + phi'dyn + {share:g} phi'') y_train / (Phi alpha y_LM71) = {value:.3f}: {governs} "
+                             f"(L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, alpha = {settings.alpha:g})"))
+    return rows
+
+
+def _deflection_lm71(results, outputs, bridge, settings):
+    for name in _outputs_of(outputs, "disp", cutoff=False):
+        static = results.static(name)
+        if static is None:
+            continue
+        _, columns = results.column_envelopes(name)
+        deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
+        spans, x0 = bridge["span_lengths_m"], min(deck_x.values())
+        L_phi = en1991_2.determinant_length(spans)
+        Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
+        edges = x0 + np.concatenate([[0.0], np.cumsum(spans)])
+        worst = None
+        for c, node in enumerate(columns):
+            if int(node) not in deck_x:
+                continue
+            k = int(np.clip(np.searchsorted(edges, deck_x[int(node)], side="right") - 1, 0, len(spans) - 1))
+            value = Phi * settings.alpha * abs(static[1][MIN, c])
+            limit = spans[k] / en1990_a2.DEFLECTION_SPAN_RATIO
+            if worst is None or value / limit > worst[0] / worst[1]:
+                worst = (value, limit, int(node), k)
+        if worst is None:
+            return []
+        value, limit, node, k = worst
+        return [CheckRow("deflection_lm71", "EN 1990 A2.4.4.2.3(1)", value, "m", limit, value / limit,
+                         "pass" if value <= limit else "fail", "LM71", np.nan, -1, f"node {node} (span {k + 1})",
+                         f"Phi = {Phi:.3f} x alpha = {settings.alpha:g} x LM71 static; limit L/600")]
+    return []
+
+
+def _end_rotation(results, outputs, bridge, settings):
+    for name in _outputs_of(outputs, "rotation"):
+        env, columns = results.column_envelopes(name)
+        peak = np.maximum(np.abs(env[..., MIN, :]), np.abs(env[..., MAX, :]))
+        if np.all(np.isnan(peak)):
+            continue
+        train, speed, seed, idx = _governing(results, peak, np.nanargmax)
+        return [CheckRow("end_rotation", "-", float(peak[idx]), "rad", train=train, speed_kmh=speed, seed=seed,
+                         where=f"node {int(columns[idx[-1]])}",
+                         note="largest end rotation of the deck under the trains (no limit checked)")]
+    return []
+
+
+def _car_body(results, outputs, bridge, settings):
+    for name in _outputs_of(outputs, "car_body_accel"):
+        env, columns = results.column_envelopes(name)
+        peak = env[..., ABSMAX, :]
+        if peak.size == 0 or np.all(np.isnan(peak)):
+            continue
+        train, speed, seed, idx = _governing(results, peak, np.nanargmax)
+        limit = en1990_a2.comfort_limit(settings.comfort)
+        value = float(peak[idx])
+        return [CheckRow("car_body_acceleration", "EN 1990 A2.4.4.3.1, Table A2.9", value, "m/s^2", limit,
+                         value / limit, "pass" if value <= limit else "fail", train, speed, seed,
+                         f"car {int(columns[idx[-1]])}", f"level of comfort '{settings.comfort.replace('_', ' ')}'")]
+    return []
+
+
+def _wheel_unloading(results, outputs, bridge, settings):
+    for name in _outputs_of(outputs, "contact_force"):
+        env, columns = results.column_envelopes(name)
+        low = env[..., MIN, :]
+        if low.size == 0 or np.all(np.isnan(low)):
+            continue
+        Q = np.full((len(results.trains), low.shape[-1]), np.nan)
+        for i, train in enumerate(results.trains):
+            data = results.train_data(train)
+            static = data["static_wheel_loads_N"][data["contact_wheels"]]
+            Q[i, : len(static)] = static
+        unloading = 1.0 - low / Q[:, None, None, :]
+        train, speed, seed, idx = _governing(results, unloading, np.nanargmax)
+        value, limit = float(unloading[idx]), settings.unloading_limit
+        lifts = int(np.sum(np.nanmin(low, axis=-1) <= 0.0))
+        rows = [CheckRow("wheel_unloading", "project criterion", value, "-", limit, value / limit,
+                         "pass" if value <= limit else "fail", train, speed, seed, f"wheel {int(columns[idx[-1]])}",
+                         "Delta Q / Q = 1 - min contact force / static wheel load; the limit is the project's "
+                         "(not an EN 1990 A2 clause); with 'hermite' rows the contact force holds the impulses "
+                         "where the rail kinks at the supports (rigid ground next to the deck)")]
+        loss = CheckRow("contact_loss", "-", float(lifts), "passages", 0.0, np.nan, "pass" if lifts == 0 else "fail",
+                        note="passages in which a wheel's contact force reaches zero (it lifts)")
+        if lifts:
+            t, v, s, i2 = _governing(results, -np.nanmin(low, axis=-1), np.nanargmax)
+            loss.train, loss.speed_kmh, loss.seed = t, v, s
+        return rows + [loss]
+    return []
