@@ -387,3 +387,19 @@ def test_progress_bar_shows_cases_rate_and_time_left_only_when_asked(capsys):
     sweep.run(None, workers=1, progress=True, cases_per_task=1)
     err = capsys.readouterr().err
     assert "3/3" in err and "case/s" in err and "<" in err      # done/total [elapsed<left, rate]
+
+
+def test_histories_of_chosen_cases_are_added_to_the_file(tmp_path):
+    path = tmp_path / "h.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200,300", FAST)
+    res = sweep.run(path, workers=1, progress=False)
+    res = sweep.record_histories(path, [("HSLM-A2", 300.0, -1)])
+    assert res.histories() == ["HSLM-A2/300kmh/smooth"]
+    h = res.history("HSLM-A2", 300.0)
+    t, a, nodes = h["deck_acceleration"]
+    np.testing.assert_array_equal(nodes, sweep.runner.deck_nodes)
+    assert t.shape == (h["attrs"]["n_steps"],) and a.shape == (len(t), len(nodes))
+    assert np.max(np.abs(a), axis=0) == pytest.approx(res.case("HSLM-A2", 300.0)["acceleration"]["envelope"][2])
+    assert h["attrs"]["x_head0"] == 0.0
+    with h5py.File(path, "r") as f:
+        assert f["bridge/mode_shapes_uy"].shape == (5, 3)

@@ -115,6 +115,10 @@ class Output:
         return self.response in VEHICLE_RESPONSES
 
 
+HISTORY_OUTPUTS = (Output("deck_displacement", "disp", history=True),
+                   Output("deck_acceleration", "accel", cutoff="en", history=True),
+                   Output("contact_force", "contact_force", history=True))
+
 DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel", cutoff="en"),
                    Output("end_rotation", "rotation", nodes="supports"),
                    Output("contact_force", "contact_force"), Output("car_body_acceleration", "car_body_accel"))
@@ -217,7 +221,8 @@ class CaseResult:
 
     ``envelopes[name]`` (6, n_columns): min, max, absmax and the times of each [units, s];
     ``columns[name]``: what the columns are (node tags, contact-wheel or car indices);
-    ``histories[name]``: (time (n,), values (n, n_columns)) of the outputs kept as histories.
+    ``histories[name]``: (time (n,), values (n, n_columns)) of the outputs kept as histories;
+    ``x_head0`` [m]: the train's head at t = 0 (wheel i is at x_head0 + V t − offset_i).
     """
 
     train: str
@@ -225,6 +230,7 @@ class CaseResult:
     seed: int
     n_steps: int
     seconds: float
+    x_head0: float = 0.0
     envelopes: dict = field(default_factory=dict)
     columns: dict = field(default_factory=dict)
     histories: dict = field(default_factory=dict)
@@ -289,7 +295,7 @@ class PassageRunner:
             missing = [n for n in self.output_nodes(o.nodes) if n not in self.model.nodes]
             if missing and not o.vehicle:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
-        self.frequencies, _ = vertical_frequencies(self.model, 3)
+        self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3)
         if settings.damping is not None:
             f_a, f_b = settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies))
             self.model.rayleigh(*rayleigh_coefficients(settings.damping, f_a, f_b))
@@ -390,9 +396,10 @@ class PassageRunner:
         ramp = np.clip((x - start) / TAPER, 0.0, 1.0)
         return Irregularity(x, r * 0.5 * (1.0 - np.cos(np.pi * ramp)))
 
-    def run(self, train_name, speed_kmh, seed=-1):
+    def run(self, train_name, speed_kmh, seed=-1, outputs=None):
         """Run one passage of the catalogue train ``train_name`` at ``speed_kmh`` [km/h] (rail
-        sample ``seed``, -1 for a smooth rail) and return its :class:`CaseResult`."""
+        sample ``seed``, -1 for a smooth rail) and return its :class:`CaseResult`; ``outputs``
+        replaces the runner's (e.g. histories of a governing case)."""
         clock = time.perf_counter()
         s = self.settings
         if not (math.isfinite(speed_kmh) and speed_kmh > 0):
@@ -410,7 +417,7 @@ class PassageRunner:
             irregularity = self._irregularity(seed, x_first, x_last, self.track.x_begin - approach)
         sub = TrainSubdomain(train, x_head0)
         tie = MovingLoadConstraint(self.track, sub, irregularity, s.interpolation)
-        recorders = self._recorders(sub, tie)
+        recorders = self._recorders(sub, tie, self.outputs if outputs is None else outputs)
         state = domain_state(self.model)
         state.time = 0.0
         state.u[:], state.v[:], state.a[:] = 0.0, 0.0, 0.0
@@ -425,7 +432,7 @@ class PassageRunner:
             if np.all(sub.wheel_x0(np.arange(train.n_wheels)) <= self.track.x_begin):
                 self._dead_load[key] = static   # all wheels on rigid ground: the same at every speed
         analysis.run(n_steps)
-        result = CaseResult(train_name, float(speed_kmh), int(seed), n_steps, 0.0)
+        result = CaseResult(train_name, float(speed_kmh), int(seed), n_steps, 0.0, x_head0)
         for output, rec in recorders:
             env = rec.envelope
             result.envelopes[output.name] = np.array([env.min, env.max, env.absmax, env.time_of_min,
@@ -453,9 +460,9 @@ class PassageRunner:
             return np.array([i for i, car in enumerate(sub.train.cars) if "body_y" in car.dof_names])
         return np.array(self.output_nodes(output.nodes), dtype=np.int64)
 
-    def _recorders(self, sub, tie):
+    def _recorders(self, sub, tie, outputs):
         out = []
-        for o in self.outputs:
+        for o in outputs:
             kwargs = dict(envelope=True, history=o.history)
             if o.response in NODE_RESPONSES:
                 dof, response = (3, "disp") if o.response == "rotation" else (2, o.response)

@@ -33,7 +33,7 @@ from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import PassageError, SweepError, VtsiError
 from vtsi.models.bridges import continuous_beam
-from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageRunner, PassageSettings
+from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
 from vtsi.sweep_results import ResultsWriter, case_key
 from vtsi.train import TrainSubdomain
 
@@ -286,6 +286,20 @@ class Sweep:
                     self._dispatch(executor, tasks, writer, bar)
         finally:
             writer.close()
+        return writer.results()
+
+    def record_histories(self, path, cases, outputs=HISTORY_OUTPUTS):
+        """Run ``cases`` ((train, speed_kmh, seed), e.g. the governing ones a check names) again
+        in this process, keeping the time histories of ``outputs`` (default: the deck's
+        displacement and EN-filtered acceleration at every deck node, and the contact forces),
+        and add them to the results file ``path`` of this sweep (/histories). Returns the
+        results."""
+        writer = ResultsWriter(path, self.identity(), self.runner, resume=True)
+        self.prepare()
+        try:
+            writer.write_histories([self.runner.run(t, float(v), int(s), outputs=outputs) for t, v, s in cases])
+        except VtsiError as exc:
+            raise PassageError(f"record_histories: {exc}") from None
         return writer.results()
 
     def _dispatch(self, executor, tasks, writer, bar):

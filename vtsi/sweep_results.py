@@ -114,6 +114,8 @@ class ResultsWriter:
                 b["deck_x_m"] = np.array([runner.model.nodes[n][0] for n in runner.deck_nodes])
                 b["midspan_nodes"] = np.asarray(runner.midspan_nodes, dtype=np.int64)
                 b["span_lengths_m"] = np.asarray(runner.span_lengths, dtype=float)
+                asm = runner.model.build()
+                b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.deck_nodes]]
                 shape = (len(ident["trains"]), len(ident["speeds_kmh"]), len(ident["seeds"]))
                 env = f.create_group("envelopes")
                 for q, output, stat, units in quantities(ident["outputs"]):
@@ -237,11 +239,43 @@ class ResultsWriter:
             env_group[q + "_where"][...] = where
             env_group[q + "_time"][...] = when
 
+    def write_histories(self, results):
+        """Add the time histories of re-run cases (:meth:`vtsi.sweep.Sweep.record_histories`)
+        under /histories/<case>: per output ``<name>_time``, ``<name>_values``, ``<name>_columns``;
+        attrs train, speed_kmh, seed, x_head0 [m]. Atomic as :meth:`write`."""
+        def put(f):
+            for r in results:
+                key = case_key(r.train, r.speed_kmh, r.seed)
+                if "histories" in f and key in f["histories"]:
+                    del f["histories"][key]
+                g = f.require_group("histories").create_group(key)
+                g.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
+                                "n_steps": r.n_steps})
+                for name, (time, values) in r.histories.items():
+                    g[name + "_time"] = time
+                    g.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+                    g[name + "_columns"] = r.columns[name]
+        if self._memory is not None:
+            put(self._memory)
+            return
+        tmp = self.path + ".partial"
+        shutil.copyfile(self.path, tmp)
+        with h5py.File(tmp, "a") as f:
+            put(f)
+        os.replace(tmp, self.path)
+
     def close(self):
         pass
 
     def results(self):
         return SweepResults(self._memory if self._memory is not None else self.path)
+
+
+def _group_keys(group):
+    """Paths of the groups below ``group`` that carry a case (attribute 'train')."""
+    keys = []
+    group.visititems(lambda name, obj: keys.append(name) if isinstance(obj, h5py.Group) and "train" in obj.attrs else None)
+    return keys
 
 
 class _KeepOpen:
@@ -378,6 +412,23 @@ class SweepResults:
         """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
+
+    def histories(self):
+        """Keys of the cases with recorded time histories (/histories)."""
+        with self._open() as f:
+            return [] if "histories" not in f else [k for k in _group_keys(f["histories"])]
+
+    def history(self, train, speed_kmh, seed=-1):
+        """A case's recorded histories: ``{output: (time, values, columns)}`` plus 'attrs'."""
+        key = case_key(train, speed_kmh, seed)
+        with self._open() as f:
+            if "histories" not in f or key not in f["histories"]:
+                raise SweepError(f"sweep results: no histories of case {key} (Sweep.record_histories)")
+            g = f["histories"][key]
+            names = sorted({k.rsplit("_", 1)[0] for k in g})
+            out = {n: (g[n + "_time"][()], g[n + "_values"][()], g[n + "_columns"][()]) for n in names}
+            out["attrs"] = dict(g.attrs)
+        return out
 
     def summary(self):
         """A text table: per quantity its extreme, the governing train, speed, place and time."""
