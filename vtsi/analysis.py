@@ -21,7 +21,7 @@ from vtsi.banded import (
 )
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
-from vtsi.timeloop import run_linear_steps
+from vtsi.timeloop import run_linear_steps, stage_operators
 from vtsi.timeseries import Path, interpolate_rows
 
 log = logging.getLogger(__name__)
@@ -399,7 +399,6 @@ class TransientAnalysis:
         A = integ.n_slots
         active = self.active
         K, C = (m[active][:, active].tocsr() for m in (asm.K, asm.C))
-        self.has_damping = bool(np.any(C.data != 0.0))
         factors = []
         for s, st in enumerate(stages):
             what = f"effective matrix of {integ.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
@@ -414,9 +413,9 @@ class TransientAnalysis:
                                     f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
         self.factors = np.ascontiguousarray(np.stack(factors))
         kd = self.factors.shape[2] - 1
-        self.k_rows, self.c_rows = band_rows(K, kd), band_rows(C, kd)
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
-        self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
+        self.du, self.dv = pack("du"), pack("dv")
+        self.ops, self.op_slots = stage_operators(band_rows(K, kd), band_rows(C, kd), pack("ku"), pack("kv"))
         self.load_points = [st.load for st in stages]
         self._prepared_for = asm
         return asm
@@ -459,8 +458,7 @@ class TransientAnalysis:
                 t0 = state.time
                 table = self._load_factors(patterns, t0, chunk)
                 out = np.zeros((chunk, len(feed.rec_index)))
-                bad = run_linear_steps(bank, self.du, self.dv, self.ku, self.kv, self.factors,
-                                       self.k_rows, self.c_rows, self.has_damping, table,
+                bad = run_linear_steps(bank, self.du, self.dv, self.factors, self.ops, self.op_slots, table,
                                        load_ptr, load_dof, load_val, feed.rec_slot, self.position[feed.rec_index],
                                        out, self.divergence_limit, work, band_type(self.factors.shape[2] - 1))
                 good = chunk if bad < 0 else bad

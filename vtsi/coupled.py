@@ -35,6 +35,7 @@ from vtsi.banded import (
 )
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
+from vtsi.timeloop import stage_operators
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.lcp import lcp_workspace
@@ -159,8 +160,8 @@ class CoupledAnalysis:
         if bridge is None:
             bridge = self.bridge_cache.put(BridgeStages(asm, active, integ, dt, self.constraint.track,
                                                         self._bridge_constant_load(asm) if self.bridge_self_weight else None))
-        self.active, self.position, self.has_damping = bridge.active, bridge.position, bridge.has_damping
-        self.fac_b, self.flex, self.kb_rows, self.cb_rows = bridge.fac_b, bridge.flex, bridge.kb_rows, bridge.cb_rows
+        self.active, self.position = bridge.active, bridge.position
+        self.fac_b, self.flex, self.ops_b, self.slots_b = bridge.fac_b, bridge.flex, bridge.ops, bridge.slots
         stages = integ.stages(dt)
         A = integ.n_slots
         fac_t, tflex, response = [], [], []
@@ -186,10 +187,10 @@ class CoupledAnalysis:
         self.tflex = np.ascontiguousarray(np.stack(tflex))
         self.wheel_response, self.response_range = _wheel_responses(response)
         kd_t = self.fac_t.shape[2] - 1
-        self.kt_rows = band_rows(train.K, kd_t) if train.n_dof else np.zeros((0, 1))
-        self.ct_rows = band_rows(train.C, kd_t) if train.n_dof else np.zeros((0, 1))
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
-        self.du, self.dv, self.ku, self.kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
+        self.du, self.dv, ku, kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
+        rows = (band_rows(train.K, kd_t), band_rows(train.C, kd_t)) if train.n_dof else (np.zeros((0, 1)),) * 2
+        self.ops_t, self.slots_t = stage_operators(*rows, ku, kv)
         self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.tflex, self.dv[:, A])
         self.stage_theta = np.array([st.theta for st in stages])
         self.force_weight = np.array([st.force_weight for st in stages])
@@ -331,9 +332,8 @@ class CoupledAnalysis:
             the rail data ``r_part``, ``rate_part`` of those steps; the loop's status, its step
             counted in the chunk."""
             bad = run_coupled_steps(
-                bank_b, bank_t, self.du, self.dv, self.ku, self.kv,
-                self.fac_b, self.kb_rows, self.cb_rows, self.has_damping,
-                self.fac_t, self.kt_rows, self.ct_rows, bool(train.n_dof and train.C.nnz),
+                bank_b, bank_t, self.du, self.dv,
+                self.fac_b, self.ops_b, self.slots_b, self.fac_t, self.ops_t, self.slots_t,
                 table[first:last], load_ptr, load_dof, load_val, train.gravity_load,
                 self.flex, self.tflex, track.x_start, track.length, track.dofs, track_dofs,
                 x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
@@ -572,9 +572,10 @@ class BridgeStages:
 
     Attributes
     ----------
-    assembly, active (n_a,) int64, position (n_free,) int64 (-1 at rest), has_damping,
+    assembly, active (n_a,) int64, position (n_free,) int64 (-1 at rest),
     fac_b (n_stages, n_a + kd, kd + 1), flex (n_stages, n_track, n_track) [m/N per unit
-    acceleration weight], kb_rows, cb_rows, sag (n_free,) [m] or None, key (what it was built for).
+    acceleration weight], ops, slots (the stages' known parts, :func:`vtsi.timeloop.stage_operators`),
+    sag (n_free,) [m] or None, key (what it was built for).
     """
 
     def __init__(self, assembly, active, integrator, dt, track, self_weight_load=None):
@@ -583,7 +584,6 @@ class BridgeStages:
         self.position = np.full(assembly.n_free, -1, dtype=np.int64)
         self.position[active] = np.arange(len(active))
         K, C = (m[active][:, active].tocsr() for m in (assembly.K, assembly.C))
-        self.has_damping = bool(np.any(C.data != 0.0))
         track_dofs = self.position[track.free_index]
         A = integrator.n_slots
         fac_b, flex = [], []
@@ -595,7 +595,8 @@ class BridgeStages:
         self.fac_b = np.ascontiguousarray(np.stack(fac_b))
         self.flex = np.ascontiguousarray(np.stack(flex))
         kd_b = self.fac_b.shape[2] - 1
-        self.kb_rows, self.cb_rows = band_rows(K, kd_b), band_rows(C, kd_b)
+        pack = lambda name: np.stack([getattr(st, name) for st in integrator.stages(dt)])
+        self.ops, self.slots = stage_operators(band_rows(K, kd_b), band_rows(C, kd_b), pack("ku"), pack("kv"))
         self.sag = None
         if self_weight_load is not None:
             self.sag = _pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)

@@ -38,14 +38,12 @@ from vtsi.track import constraint_rows, hermite, host_element
 
 
 @njit(cache=True)
-def _free_stage(bank, base, fac, k_rows, c_rows, damped, rhs, xk, xc, s, sk, vk, ck, sc, vc, cc,
-                su, vu, cu, sv, vv, cv, ua, va, band):
+def _free_stage(bank, base, fac, ops, op_slots, rhs, xk, xc, s, su, vu, cu, sv, vv, cv, ua, va, band):
     """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots
     ``base..base + 2`` (slots 0..2 for the last stage: the step's result, in place)."""
     kd = len(band)
-    n = k_rows.shape[0]
-    lo, hi = kd, kd + n
-    solve_stage(bank, rhs, xk, xc, fac, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band)
+    lo, hi = kd, kd + ops.shape[2]
+    solve_stage(bank, rhs, fac, ops, op_slots, s, band)
     update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, xk, xc)
 
 
@@ -188,8 +186,8 @@ def _first_at_most(decreasing, value):
 
 
 @njit(cache=True)
-def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
-                      fac_b, kb_rows, cb_rows, damped_b, fac_t, kt_rows, ct_rows, damped_t,
+def run_coupled_steps(bank_b, bank_t, du, dv,
+                      fac_b, ops_b, slots_b, fac_t, ops_t, slots_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
@@ -201,7 +199,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
-    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); flex (n_stages,
+    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); ops_*, slots_* the
+    stages' known parts (:func:`vtsi.timeloop.stage_operators`); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
     load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
     (band_b, band_t: the half bandwidths of the bridge and train factors as types, see vtsi.banded).
@@ -220,16 +219,14 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
     n_steps = out_b.shape[0]
     n_stages, width = du.shape
     A = width - 1
-    n_b = kb_rows.shape[0]
-    n_t = kt_rows.shape[0]
+    n_b = ops_b.shape[2]
+    n_t = ops_t.shape[2]
     n_c = x0_c.shape[0]
     n_f = x0_f.shape[0]
     rb, xkb, xcb = work_b[0], work_b[1], work_b[2]
     rt, xkt, xct = work_t[0], work_t[1], work_t[2]
     su, vu, cu = sparse_coefficients(du)
     sv, vv, cv = sparse_coefficients(dv)
-    sk, vk, ck = sparse_coefficients(ku)
-    sc, vc, cc = sparse_coefficients(kv)
     x_begin, x_end = x_start[0], x_start[-1] + length[-1]
     x = np.empty(n_c)
     landing = np.zeros(n_c)
@@ -270,8 +267,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                         if c_ < 0:
                             break
                         rb[kdb + track_free[c_]] -= w_prev * lam_prev[i] * vals_prev[i, a_]
-            _free_stage(bank_b, base, fac_b, kb_rows, cb_rows, damped_b, rb, xkb, xcb, s,
-                        sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_b)
+            _free_stage(bank_b, base, fac_b, ops_b, slots_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
                 rt[kdt + i] = p_train[i]
@@ -279,8 +275,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv, ku, kv,
                 for i in range(n_c):
                     rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]
             if n_t > 0:
-                _free_stage(bank_t, base, fac_t, kt_rows, ct_rows, damped_t, rt, xkt, xct, s,
-                            sk, vk, ck, sc, vc, cc, su, vu, cu, sv, vv, cv, ua, va, band_t)
+                _free_stage(bank_t, base, fac_t, ops_t, slots_t, rt, xkt, xct, s, su, vu, cu, sv, vv, cv, ua, va,
+                            band_t)
             if n_c == 0:
                 continue
             # 2. rows, free gap and contact flexibility

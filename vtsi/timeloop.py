@@ -9,7 +9,7 @@ non-finite or exceeds ``limit`` in absolute value, or -1.
 import numpy as np
 from numba import njit
 
-from vtsi.banded import band_matvec_add, ldl_solve
+from vtsi.banded import ldl_solve
 
 
 @njit(cache=True)
@@ -72,15 +72,51 @@ def add_pattern_loads(rhs, factors, load_ptr, load_dof, load_val, offset):
                 rhs[offset + load_dof[k]] += f * load_val[k]
 
 
+def stage_operators(k_rows, c_rows, ku, kv):
+    """The known part of each stage's equation as band matrices: ``B_j = ku[s, j] K + kv[s, j] C``
+    for every bank slot j the stage reads (ku, kv (n_stages, n_slots + 1), see
+    :mod:`vtsi.integrators.base`), so that the stage's right-hand side is ``P − Σ_j B_j X_j`` in
+    one pass (:func:`stage_rhs`; one pass instead of a combination and a band product for K and
+    another for C: these short vectors cost per pass, not per flop).
+
+    Returns ``ops (n_stages, n_terms, n, 2 kd + 1)`` and ``slots (n_stages, n_terms)`` int64
+    (-1 pads a stage with fewer terms)."""
+    n_stages, width = ku.shape
+    terms = [[j for j in range(width - 1) if ku[s, j] != 0.0 or (kv[s, j] != 0.0 and np.any(c_rows))]
+             for s in range(n_stages)]
+    n_terms = max(1, max(len(t) for t in terms))
+    ops = np.zeros((n_stages, n_terms) + k_rows.shape)
+    slots = np.full((n_stages, n_terms), -1, dtype=np.int64)
+    for s, t in enumerate(terms):
+        for q, j in enumerate(t):
+            ops[s, q] = ku[s, j] * k_rows + kv[s, j] * c_rows
+            slots[s, q] = j
+    return np.ascontiguousarray(ops), slots
+
+
 @njit(cache=True)
-def solve_stage(bank, rhs, xk, xc, fac, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band):
-    """The stage's acceleration: ``rhs`` (holding the loads) minus ``K ũ`` and ``C ṽ`` of the
-    known part, solved with the stage factor in place."""
-    combine(xk, bank, sk[s], vk[s], ck[s], lo, hi)
-    band_matvec_add(rhs, k_rows, xk, -1.0, band)
-    if damped:
-        combine(xc, bank, sc[s], vc[s], cc[s], lo, hi)
-        band_matvec_add(rhs, c_rows, xc, -1.0, band)
+def stage_rhs(rhs, bank, ops, slots, s, band):
+    """``rhs -= Σ_q ops[s, q] bank[slots[s, q]]`` (band products, padded vectors)."""
+    kd = len(band)
+    n = ops.shape[2]
+    for i in range(n):
+        acc = 0.0
+        for q in range(slots.shape[1]):
+            j = slots[s, q]
+            if j < 0:
+                break
+            row = bank[j]
+            op = ops[s, q, i]
+            for k in range(2 * kd + 1):
+                acc += op[k] * row[i + k]
+        rhs[kd + i] -= acc
+
+
+@njit(cache=True)
+def solve_stage(bank, rhs, fac, ops, slots, s, band):
+    """The stage's acceleration: ``rhs`` (holding the loads) minus the known part (see
+    :func:`stage_operators`), solved with the stage factor in place."""
+    stage_rhs(rhs, bank, ops, slots, s, band)
     ldl_solve(fac[s], rhs, band)
 
 
@@ -127,6 +163,7 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
     k0, k1, k2, cv0, cv1, cv2, fits_v = _merge_terms(k0, k1, k2, sv[s], vv[s], cv[s])
     u_out, v_out, a_out = bank[out_base], bank[out_base + 1], bank[out_base + 2]
     worst = 0.0
+    bad = 0.0     # u · 0 summed: NaN if any u is NaN or infinite (no branch in the loop)
     if fits_u and fits_v:
         r0 = bank[max(k0, 0)]
         r1 = bank[max(k1, 0)]
@@ -137,10 +174,9 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
             v_out[i] = cv0 * x0 + cv1 * x1 + cv2 * x2 + va * a
             u_out[i] = u
             a_out[i] = a
-            x = abs(u)
-            if not x <= worst:   # also true for NaN
-                worst = x if x == x else np.inf
-        return worst
+            worst = max(worst, abs(u))
+            bad += u * 0.0
+        return worst if bad == 0.0 else np.inf
     combine(tmp_u, bank, su[s], vu[s], cu[s], lo, hi)
     combine(tmp_v, bank, sv[s], vv[s], cv[s], lo, hi)
     for i in range(lo, hi):
@@ -149,23 +185,22 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
         u_out[i] = u
         v_out[i] = tmp_v[i] + va * a
         a_out[i] = a
-        x = abs(u)
-        if not x <= worst:
-            worst = x if x == x else np.inf
-    return worst
+        worst = max(worst, abs(u))
+        bad += u * 0.0
+    return worst if bad == 0.0 else np.inf
 
 
 @njit(cache=True)
-def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
+def run_linear_steps(bank, du, dv, factors, ops, op_slots,
                      load_factors, load_ptr, load_dof, load_val,
                      rec_slot, rec_index, out, limit, work, band):
     """Advance ``out.shape[0]`` steps in place.
 
     bank : (n_slots, n + 2 kd) padded state bank; slots 0..2 = u, v, a at the chunk start
         (the last stage writes the new state there; stage s < last writes 3 + 3 s ...).
-    du, dv, ku, kv : (n_stages, n_slots + 1) stage coefficients.
+    du, dv : (n_stages, n_slots + 1) stage coefficients of the update.
     factors : (n_stages, n + kd, kd + 1) banded Cholesky factors of the stage matrices.
-    k_rows, c_rows : (n, 2 kd + 1) band rows of K and C; ``damped`` False skips C.
+    ops, op_slots : the stages' known parts (:func:`stage_operators` of K, C, ku, kv).
     load_factors : (n_steps, n_stages, n_patterns) stage load factors of the patterns.
     load_ptr, load_dof, load_val : CSR of the pattern load vectors (free dof indices).
     rec_slot, rec_index : slot (0 u, 1 v, 2 a) and dof (index into the bank; -1: a dof at rest,
@@ -177,19 +212,17 @@ def run_linear_steps(bank, du, dv, ku, kv, factors, k_rows, c_rows, damped,
     n_steps = out.shape[0]
     n_stages, width = du.shape
     A = width - 1
-    n = k_rows.shape[0]
+    n = ops.shape[2]
     lo, hi = kd, kd + n
     rhs, xk, xc = work[0], work[1], work[2]
     su, vu, cu = sparse_coefficients(du)
     sv, vv, cv = sparse_coefficients(dv)
-    sk, vk, ck = sparse_coefficients(ku)
-    sc, vc, cc = sparse_coefficients(kv)
     for step in range(n_steps):
         worst = 0.0
         for s in range(n_stages):
             rhs[lo:hi] = 0.0
             add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
-            solve_stage(bank, rhs, xk, xc, factors, k_rows, c_rows, damped, s, sk, vk, ck, sc, vc, cc, lo, hi, band)
+            solve_stage(bank, rhs, factors, ops, op_slots, s, band)
             out_base = 0 if s == n_stages - 1 else 3 + 3 * s
             worst = update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi,
                                  xk, xc)
