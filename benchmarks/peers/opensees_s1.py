@@ -99,6 +99,37 @@ def nodal_force_histories(node_x, P, V, times):
     return F
 
 
+def build_beam(ops, node_x, E, Iz, mu, area=1.0, rayleigh=None):
+    """A fresh OpenSees model (``wipe``) of a simply supported beam: nodes 1..n at ``node_x`` (y = 0),
+    node 1 pinned (fix 1 1 0), node n roller (fix 0 1 0), geomTransf Linear 1, elasticBeamColumn
+    elements 1..n-1 with consistent mass (``-mass mu -cMass``); ``rayleigh = (alpha_m, beta_k)``
+    adds ``rayleigh alpha_m beta_k 0 0``. Units SI (Pa, m^4, kg/m, m^2)."""
+    n_nodes = len(node_x)
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i, x in enumerate(node_x):
+        ops.node(i + 1, float(x), 0.0)
+    ops.fix(1, 1, 1, 0)
+    ops.fix(n_nodes, 0, 1, 0)
+    ops.geomTransf("Linear", 1)
+    for e in range(n_nodes - 1):
+        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, area, E, Iz, 1, "-mass", mu, "-cMass")
+    if rayleigh is not None:
+        ops.rayleigh(float(rayleigh[0]), float(rayleigh[1]), 0.0, 0.0)
+
+
+def linear_newmark_analysis(ops, gamma=0.5, beta=0.25):
+    """The analysis of a linear model, its fastest in OpenSees: constraints Plain, numberer Plain
+    (nodes numbered along the beam: the band is already minimal), system BandSPD, algorithm Linear
+    -factorOnce (the effective stiffness is constant), integrator Newmark, analysis Transient."""
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandSPD")
+    ops.algorithm("Linear", "-factorOnce")
+    ops.integrator("Newmark", gamma, beta)
+    ops.analysis("Transient")
+
+
 def run(n_elements, dt=1e-3, style="step", n_steps=None):
     """Run S1 in OpenSeesPy.
 
@@ -124,16 +155,7 @@ def run(n_elements, dt=1e-3, style="step", n_steps=None):
     F = nodal_force_histories(node_x, P, V, times)
 
     # ---- model building (not timed) ------------------------------------------------
-    ops.wipe()
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    for i, x in enumerate(node_x):
-        ops.node(i + 1, float(x), 0.0)
-    ops.fix(1, 1, 1, 0)
-    ops.fix(n_nodes, 0, 1, 0)
-    ops.geomTransf("Linear", 1)
-    for e in range(n_elements):
-        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, AREA, E, IZ, 1,
-                    "-mass", MU, "-cMass")
+    build_beam(ops, node_x, E, IZ, MU, AREA)
     for i in range(1, n_nodes - 1):                # interior nodes only
         tag = i + 1
         ops.timeSeries("Path", tag, "-dt", dt, "-values", *F[i].tolist())
@@ -147,12 +169,7 @@ def run(n_elements, dt=1e-3, style="step", n_steps=None):
         rec_tag = ops.recorder("Node", "-file", rec_path, "-time", "-precision", 16,
                                "-node", mid, "-dof", 2, "disp")
 
-    ops.constraints("Plain")
-    ops.numberer("Plain")
-    ops.system("BandSPD")
-    ops.algorithm("Linear", "-factorOnce")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    linear_newmark_analysis(ops)
 
     # ---- time loop (timed) ---------------------------------------------------------
     if style == "step":
