@@ -1,0 +1,845 @@
+"""The report of a sweep and its check: one self-contained HTML file and the same content as
+Markdown with PNG charts (docs/report.md).
+
+    from vtsi.report import write_report
+    paths = write_report("hslm.h5", "report/")     # report/report.html, report/report.md, report/img/*.png
+
+A report lays out what the check found (DESIGN §9): it reads everything from the results file
+(:class:`~vtsi.sweep_results.SweepResults` and the check stored there,
+:func:`~vtsi.check.stored_check`), runs no passage and evaluates no criterion. The only numbers it
+derives are plotting quantities from stored values: the peak over rail samples of each train's
+envelope, DAF = y_dyn / y_stat (the stored dynamic mid-span deflection over the stored static one
+under the same train), the resonance speeds v = n₀ D / i (EN 1991-2 §6.4.6.2) marked on the
+acceleration chart, and the times at which a train is on the deck in a history chart.
+
+Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
+
+===========  ======================================================================================
+summary      the verdict (PASS / FAIL), the sweep's extent, one line per criterion with its
+             governing case
+checks       the check's table: criterion, value, limit, utilisation, status, governing train,
+             speed [km/h], place, clause; every number also as ``data-value`` (its ``repr``, the
+             stored float exactly) in the HTML; the rows' notes and the check's settings
+bridge       its description, spans, deck, first vertical frequencies [Hz], damping, a chart of
+             the first mode shapes along the deck
+trains       name, axles, total static load [kN], length [m], characteristic length D [m],
+             fidelity
+settings     the passages' settings, the acceleration cut-off, the vtsi version, the results file
+envelopes    charts against speed [km/h], one line per train: peak deck acceleration [m/s²] with
+             the check's limit and the resonance speeds; largest deflection [mm]; DAF
+histories    per governing case recorded with :meth:`~vtsi.sweep.Sweep.record_histories`: the
+             mid-span acceleration [m/s²] and deflection [mm], and the contact forces [kN] if
+             present, against time [s]
+scene        (optional) a 3-D scene image rendered elsewhere (:mod:`vtsi.scene3d`)
+===========  ======================================================================================
+
+Every train has one colour in every chart and in the trains table. The HTML embeds its charts as
+base64 PNGs and its style sheet inline: it loads nothing and needs no JavaScript. Charts are drawn
+with matplotlib (the extra ``plot``) through its object API (no pyplot state).
+"""
+import base64
+import datetime
+import html
+import io
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from vtsi import __version__
+from vtsi.check import stored_check
+from vtsi.errors import SweepError
+from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS
+from vtsi.sweep import resonance_speeds
+from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key
+
+SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
+RESONANCE_ORDERS = (1, 2, 3)          # v = n0 D / i marked on the acceleration chart
+MODES_SHOWN = 3
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+MIN = ENVELOPE_ROWS.index("min")
+
+# Distinct colours, one per train (tab10, then ten more that stay apart from them); past twenty
+# trains the colours repeat with dashed lines.
+PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+           "#bcbd22", "#17becf", "#000000", "#b8860b", "#4b0082", "#00a087", "#ff1493", "#556b2f",
+           "#8b0000", "#4682b4", "#a0522d", "#708090")
+LIMIT_COLOUR = "#c0392b"
+UNIT_TEXT = {"m/s^2": "m/s²", "-": "", "rad": "rad", "m": "m", "passages": "passages"}
+CHART_STYLE = {"font.size": 11, "axes.titlesize": 12, "axes.labelsize": 11, "legend.fontsize": 9,
+               "xtick.labelsize": 10, "ytick.labelsize": 10, "axes.grid": True, "grid.alpha": 0.3,
+               "axes.spines.top": False, "axes.spines.right": False, "savefig.dpi": 110,
+               "font.family": "DejaVu Sans"}
+
+
+# -- the content: blocks rendered both as HTML and as Markdown -------------------------------------
+@dataclass
+class Cell:
+    """A table cell: its text and the HTML attributes it carries (e.g. data-value)."""
+
+    text: str
+    attrs: dict = field(default_factory=dict)
+    cls: str = ""
+
+
+@dataclass
+class Table:
+    head: list
+    rows: list                               # lists of Cell (or str)
+    row_attrs: list = None                   # per row: dict of HTML attributes
+    table_id: str = ""
+    cls: str = ""
+
+
+@dataclass
+class Paragraph:
+    text: str
+    cls: str = ""
+
+
+@dataclass
+class Items:
+    items: list
+    cls: str = ""
+
+
+@dataclass
+class Chart:
+    """A PNG figure: ``name`` is its file name stem under img/ (and its data-chart attribute)."""
+
+    name: str
+    png: bytes
+    caption: str
+    alt: str
+
+
+@dataclass
+class Heading:
+    text: str
+
+
+@dataclass
+class Section:
+    id: str
+    title: str
+    blocks: list
+
+
+# -- the report ------------------------------------------------------------------------------------
+def write_report(results_path, out_dir, *, title=None, scene_png=None):
+    """Write the report of the sweep and check stored in ``results_path``.
+
+    Parameters
+    ----------
+    results_path : a sweep's results file (HDF5) holding a check (:meth:`CheckResult.store`).
+    out_dir : directory (made if missing) of report.html, report.md and img/*.png; those files
+        are overwritten, any other file there is left alone.
+    title : the report's title (default: "Dynamic analysis: <file name>").
+    scene_png : optional path of a 3-D scene image (PNG) rendered elsewhere; embedded in the
+        "3-D scene" section.
+
+    Returns
+    -------
+    dict with ``html`` (Path), ``markdown`` (Path) and ``images`` (list of Path, the PNGs).
+
+    Raises
+    ------
+    SweepError : the file is missing, not a results file, or holds no check.
+    """
+    path = Path(results_path)
+    if not path.is_file():
+        raise SweepError(f"report: results file {path} not found")
+    try:
+        results = SweepResults(os.fspath(path))
+        checked = stored_check(os.fspath(path))
+    except OSError as exc:
+        raise SweepError(f"report: results file {path} is not a readable HDF5 file ({exc})") from None
+    if checked is None:
+        raise SweepError(f"report: results file {path} holds no check; run the check first "
+                         "(vtsi.check.check(results).store(path))")
+    scene = None
+    if scene_png is not None:
+        scene = Path(scene_png)
+        if not scene.is_file() or scene.read_bytes()[:8] != PNG_MAGIC:
+            raise SweepError(f"report: scene image {scene} is not a PNG file")
+    title = title or f"Dynamic analysis: {path.name}"
+    report = _Report(results, checked, path.resolve())
+    sections = report.sections(scene)
+
+    out = Path(out_dir)
+    img = out / "img"
+    img.mkdir(parents=True, exist_ok=True)
+    images = []
+    for chart in _charts(sections):
+        target = img / f"{chart.name}.png"
+        target.write_bytes(chart.png)
+        images.append(target)
+    meta = (f"Results file {path.resolve()} · sweep by vtsi {results.vtsi_version} · report by vtsi "
+            f"{__version__} on {datetime.date.today().isoformat()}")
+    html_path, md_path = out / "report.html", out / "report.md"
+    html_path.write_text(_html(title, meta, sections), encoding="utf-8")
+    md_path.write_text(_markdown(title, meta, sections), encoding="utf-8")
+    return {"html": html_path, "markdown": md_path, "images": images}
+
+
+class _Report:
+    """The sections of one report, from a results file and its check."""
+
+    def __init__(self, results, checked, path):
+        self.results, self.checked, self.path = results, checked, path
+        self.bridge = results.bridge()
+        self.outputs = {o["name"]: o for o in results.identity["outputs"]}
+        self.settings = results.identity["settings"]
+        self.colours = {t: PALETTE[i % len(PALETTE)] for i, t in enumerate(results.trains)}
+        self.styles = {t: "-" if i < len(PALETTE) else "--" for i, t in enumerate(results.trains)}
+        self.trains = {t: results.train_data(t) for t in results.trains}
+        self.rows = checked.rows
+
+    def sections(self, scene):
+        out = [self.summary(), self.checks(), self.bridge_section(), self.trains_section(),
+               self.settings_section(), self.envelopes(), self.histories()]
+        if scene is not None:
+            out.append(Section("scene", "3-D scene", [
+                Chart("scene", scene.read_bytes(), f"The passage as a 3-D scene ({scene.name}).", "3-D scene")]))
+        return out
+
+    # -- helpers ------------------------------------------------------------------------------
+    def row(self, criterion):
+        return next((r for r in self.rows if r.criterion == criterion), None)
+
+    def governing_cases(self):
+        """The distinct (train, speed, seed) the check names, with the criteria each governs."""
+        cases = {}
+        for r in self.rows:
+            if r.train and r.train in self.results.trains and not math.isnan(r.speed_kmh):
+                cases.setdefault((r.train, float(r.speed_kmh), int(r.seed)), []).append(r.criterion)
+        return cases
+
+    def case_text(self, train, speed, seed):
+        text = f"{train} at {_fmt_speed(speed)} km/h"
+        return text + (f", rail sample {seed}" if seed >= 0 else "")
+
+    def output(self, response, cutoff=None):
+        """The first output of ``response`` (with a cut-off first when ``cutoff``): as the check
+        picks it."""
+        names = [n for n, o in self.outputs.items() if o["response"] == response]
+        if cutoff:
+            names = [n for n in names if self.outputs[n].get("cutoff_hz") is not None] or names
+        elif cutoff is False:
+            names = [n for n in names if self.outputs[n].get("cutoff_hz") is None]
+        return names[0] if names else None
+
+    # -- sections -----------------------------------------------------------------------------
+    def summary(self):
+        res, passed = self.results, self.checked.passed
+        failing = [_label(r.criterion) for r in self.rows if r.status == "fail"]
+        verdict = ("PASS: every criterion is within its limit" if passed else
+                   f"FAIL: {len(failing)} of {sum(r.status != 'info' for r in self.rows)} criteria with a limit "
+                   f"fail{'s' * (len(failing) == 1)}: {', '.join(failing)}")
+        v = res.speeds_kmh
+        seeds = "smooth rail" if res.seeds == [-1] else f"{len(res.seeds)} rail samples"
+        extent = (f"{_plural(len(res.trains), 'train')} × {_plural(len(v), 'speed')} "
+                  f"({_fmt_speed(v.min())}–{_fmt_speed(v.max())} km/h) "
+                  f"× {seeds}: {res.n_done} of {res.n_cases} passages in the file.")
+        blocks = [Paragraph(verdict, "verdict " + ("pass" if passed else "fail")), Paragraph(extent)]
+        if res.n_done < res.n_cases:
+            blocks.append(Paragraph(f"The sweep is incomplete ({res.n_cases - res.n_done} passages missing): "
+                                    "the check covers the passages in the file only.", "warning"))
+        lines = []
+        for r in self.rows:
+            value = f"{_num(r.value)} {_units(r.units)}".strip()
+            if not math.isnan(r.limit):
+                value += f" (limit {_num(r.limit)} {_units(r.units)}".rstrip()
+                value += f", utilisation {_num(r.utilisation)})" if not math.isnan(r.utilisation) else ")"
+            where = []
+            if r.train:
+                where.append(self.case_text(r.train, r.speed_kmh, r.seed) if not math.isnan(r.speed_kmh) else r.train)
+            if r.where:
+                where.append(r.where)
+            lines.append(f"{r.status.upper()} {_label(r.criterion)}: {value}"
+                         + (f" — {', '.join(where)}" if where else ""))
+        blocks += [Heading("Governing cases"), Items(lines, "governing")]
+        return Section("summary", "Summary", blocks)
+
+    def checks(self):
+        head = ["criterion", "value", "limit", "utilisation", "status", "governing train", "speed km/h",
+                "place", "clause"]
+        rows, attrs = [], []
+        for r in self.rows:
+            units = _units(r.units)
+            rows.append([
+                Cell(_label(r.criterion), {"data-field": "criterion"}),
+                Cell(f"{_num(r.value)} {units}".strip(), {"data-field": "value", "data-value": repr(float(r.value)),
+                                                          "data-units": r.units}, "num"),
+                Cell(f"{_num(r.limit)} {units}".strip() if not math.isnan(r.limit) else "—",
+                     {"data-field": "limit", "data-value": repr(float(r.limit))}, "num"),
+                Cell(_num(r.utilisation), {"data-field": "utilisation", "data-value": repr(float(r.utilisation))},
+                     "num"),
+                Cell(r.status.upper(), {"data-field": "status"}, "status " + r.status),
+                Cell(r.train + (f" (rail sample {r.seed})" if r.train and r.seed >= 0 else "") or "—",
+                     {"data-field": "train", "data-seed": str(int(r.seed))}),
+                Cell(_fmt_speed(r.speed_kmh), {"data-field": "speed_kmh", "data-value": repr(float(r.speed_kmh))},
+                     "num"),
+                Cell(r.where or "—", {"data-field": "where"}),
+                Cell(r.clause, {"data-field": "clause"}),
+            ])
+            attrs.append({"data-criterion": r.criterion, "data-status": r.status})
+        s = self.checked.settings
+        blocks = [Table(head, rows, attrs, "check-table", "checks"),
+                  Paragraph(f"Check settings: {s.track.replace('_', ' ')} track, comfort level "
+                            f"'{s.comfort.replace('_', ' ')}', {s.maintenance} maintenance, α = {s.alpha:g}, "
+                            f"wheel unloading limit ΔQ/Q = {s.unloading_limit:g} (a project criterion).")]
+        notes = [f"{_label(r.criterion)}: {r.note}" for r in self.rows if r.note]
+        if notes:
+            blocks += [Heading("Notes"), Items(notes, "notes")]
+        return Section("checks", "Checks", blocks)
+
+    def bridge_section(self):
+        b, desc = self.bridge, self.results.identity["bridge"]
+        spans = np.asarray(b["span_lengths_m"], dtype=float)
+        freqs = np.asarray(b["frequencies_hz"], dtype=float)
+        keys = sorted(desc, key=lambda k: k != "kind")        # spans_m: the 'spans' row below
+        rows = [[_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
+        x = np.asarray(b["deck_x_m"], dtype=float)
+        rows += [["spans", " + ".join(f"{s:g}" for s in spans) + f" m ({len(spans)} span{'s' * (len(spans) > 1)})"],
+                 ["deck", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes "
+                          f"(x = {x.min():g} … {x.max():g} m)"],
+                 ["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
+                 ["first vertical frequencies", ", ".join(f"{f:#.4g}" for f in freqs) + " Hz"],
+                 ["damping", _damping_text(self.settings)]]
+        blocks = [Table(["property", "value"], rows, cls="properties")]
+        if "mode_shapes_uy" in b and np.size(b["mode_shapes_uy"]):
+            blocks.append(Chart("mode_shapes", _mode_shapes_png(b), "The first vertical mode shapes along the deck "
+                                "(nodal values, normalised to a largest value of 1; a cubic spline between the "
+                                "nodes); triangles: the supports.", "mode shapes"))
+        else:
+            blocks.append(Paragraph("The results file holds no mode shapes."))
+        return Section("bridge", "Bridge", blocks)
+
+    def trains_section(self):
+        cars = self.settings.get("cars")
+        rows, attrs = [], []
+        for t in self.results.trains:
+            d = self.trains[t]
+            loads = np.asarray(d["static_wheel_loads_N"], dtype=float)
+            D = float(d.get("characteristic_length_m", np.nan))
+            fidelity = "axle loads (moving forces)" if cars == "force" else \
+                f"{int(d['n_cars'])} cars, {int(d['n_dof'])} DOF ({cars})"
+            rows.append([Cell("", {"style": f"background:{self.colours[t]}"}, "swatch"), Cell(t),
+                         Cell(str(len(d["axle_offsets_m"])), cls="num"), Cell(f"{loads.sum() / 1e3:.5g}", cls="num"),
+                         Cell(f"{float(d['length_m']):.5g}", cls="num"), Cell(_num(D), cls="num"), Cell(fidelity)])
+            attrs.append({"data-train": t})
+        head = ["", "train", "axles", "total static load kN", "length m", "D m", "fidelity"]
+        return Section("trains", "Trains", [
+            Table(head, rows, attrs, "train-table", "trains"),
+            Paragraph("Length: from the first to the last axle. D: the characteristic length (coach length) "
+                      "of EN 1991-2 §6.4.6.2, used for the resonance speeds v = n₀ D / i.")])
+
+    def settings_section(self):
+        s, res = self.settings, self.results
+        cutoffs = [f"{n}: {o['cutoff_hz']:.4g} Hz" for n, o in self.outputs.items() if o.get("cutoff_hz") is not None]
+        irregularity = s.get("irregularity")
+        rows = [["time step dt", f"{s['dt']:g} s"],
+                ["integrator", str(s["integrator"])],
+                ["cars (fidelity)", str(s["cars"])],
+                ["contact", str(s["contact"])],
+                ["interpolation", str(s["interpolation"])],
+                ["exact events", "yes" if s.get("exact_events") else "no"],
+                ["damping", _damping_text(s)],
+                ["rail", "smooth" if irregularity is None else
+                 f"irregular, {irregularity}, samples {', '.join(str(k) for k in res.seeds)}"],
+                ["approach", "default" if s.get("approach") is None else f"{s['approach']:g} m"],
+                ["free vibration", f"default ({FREE_VIBRATION_PERIODS:g} periods of n₀)"
+                 if s.get("free_vibration") is None else f"{s['free_vibration']:g} s"],
+                ["bridge self weight", "included" if s.get("bridge_self_weight") else "not included"],
+                ["acceleration cut-off", "; ".join(cutoffs) if cutoffs else "none (the FE model's full response)"],
+                ["outputs", ", ".join(f"{n} ({o['response']})" for n, o in self.outputs.items())],
+                ["speeds", f"{len(res.speeds_kmh)} speeds, {_fmt_speed(res.speeds_kmh.min())}–"
+                           f"{_fmt_speed(res.speeds_kmh.max())} km/h"],
+                ["vtsi version", f"{res.vtsi_version} (sweep), {__version__} (report)"],
+                ["results file", str(self.path)]]
+        return Section("settings", "Settings", [Table(["setting", "value"], rows, cls="properties")])
+
+    def envelopes(self):
+        blocks = []
+        accel = self.output("accel", cutoff=True)
+        if accel is not None:
+            blocks.append(Chart("acceleration", self.acceleration_png(accel),
+                                f"Peak deck acceleration ({accel}, the largest over its nodes"
+                                f"{' and rail samples' if len(self.results.seeds) > 1 else ''}) against speed. "
+                                "Dashed red: the check's limit. Dotted verticals: the resonance speeds "
+                                "v = n₀ D / i (i = 1, 2, 3) of each train, labelled 'train D/i'. "
+                                "Star: the governing case.", "peak deck acceleration against speed"))
+        disp = self.output("disp", cutoff=False)
+        if disp is not None:
+            blocks.append(Chart("deflection", self.deflection_png(disp),
+                                f"Largest downward deflection of the deck ({disp}) against speed.",
+                                "largest deflection against speed"))
+            daf = self.daf_png(disp)
+            if daf is not None:
+                blocks.append(Chart("daf", daf, "DAF = y_dyn / y_stat: the largest dynamic mid-span deflection "
+                                    "over the static deflection under the same train (the check's φ'_dyn + 1). "
+                                    "Star: the governing case.", "dynamic amplification against speed"))
+        if not blocks:
+            blocks.append(Paragraph("The sweep kept no deck acceleration or deflection output."))
+        return Section("envelopes", "Envelopes", blocks)
+
+    def histories(self):
+        recorded = set(self.results.histories())
+        blocks, shown = [], set()
+        for (train, speed, seed), criteria in self.governing_cases().items():
+            key = case_key(train, speed, seed)
+            text = self.case_text(train, speed, seed)
+            if key not in recorded:
+                blocks.append(Paragraph(f"{text} (governs {', '.join(_label(c) for c in criteria)}): no time "
+                                        "histories recorded (Sweep.record_histories)."))
+                continue
+            shown.add(key)
+            png = self.history_png(train, speed, seed)
+            blocks.append(Chart(f"history_{len(shown)}", png,
+                                f"{text}, governing {', '.join(_label(c) for c in criteria)}: "
+                                "mid-span response against time; shaded: axles on the deck.",
+                                f"time histories of {text}"))
+        if not self.governing_cases():
+            blocks.append(Paragraph("The check names no governing passage."))
+        elif not shown:
+            blocks.insert(0, Paragraph("No time histories of the governing cases are recorded in the results file: "
+                                       "Sweep.record_histories(path, cases) adds them."))
+        others = sorted(recorded - shown)
+        if others:
+            blocks.append(Paragraph("Other cases with recorded histories (not shown): " + ", ".join(others) + "."))
+        return Section("histories", "Time histories", blocks)
+
+    # -- charts -------------------------------------------------------------------------------
+    def _per_train(self, values, pick):
+        """``{train: (speeds, values)}`` of ``values`` (n_train, n_speed, n_seed, ...) reduced by
+        ``pick`` over every axis after speed, trains without any value left out."""
+        out = {}
+        for i, t in enumerate(self.results.trains):
+            v = values[i].reshape(len(self.results.speeds_kmh), -1)
+            ok = ~np.all(np.isnan(v), axis=1)
+            if ok.any():
+                out[t] = (self.results.speeds_kmh[ok], pick(v[ok], axis=1))
+        return out
+
+    def _lines(self, ax, curves):
+        for t, (v, y) in curves.items():
+            ax.plot(v, y, self.styles[t], color=self.colours[t], lw=1.6, marker="o", ms=2.5, label=t)
+
+    def _speed_axis(self, ax):
+        """The same speed axis [km/h] on every chart against speed."""
+        lo, hi = float(self.results.speeds_kmh.min()), float(self.results.speeds_kmh.max())
+        pad = 0.015 * (hi - lo) if hi > lo else 0.05 * hi
+        ax.set_xlim(lo - pad, hi + pad)
+        ax.set_xlabel("speed [km/h]")
+
+    def _governing_star(self, ax, row, y):
+        if row is not None and row.train in self.results.trains and not math.isnan(row.speed_kmh):
+            ax.plot([row.speed_kmh], [y], "*", color=self.colours[row.train], mec="black", ms=15, zorder=5,
+                    label=f"governing: {row.train}, {_fmt_speed(row.speed_kmh)} km/h")
+
+    def acceleration_png(self, name):
+        res = self.results
+        curves = self._per_train(res.envelope(f"{name}_absmax"), np.nanmax)
+        row = self.row("deck_acceleration")
+        with _figure((11, 5.6)) as (fig, ax):
+            self._lines(ax, curves)
+            if row is not None and not math.isnan(row.limit):
+                ax.axhline(row.limit, color=LIMIT_COLOUR, ls="--", lw=2,
+                           label=f"limit {_num(row.limit)} m/s²")
+                self._governing_star(ax, row, row.value)
+            top = max([np.nanmax(y) for _, y in curves.values()] + [row.limit if row is not None else 0.0])
+            if top > 0:
+                ax.set_ylim(0, 1.22 * top)
+            lo, hi = float(res.speeds_kmh.min()), float(res.speeds_kmh.max())
+            n0 = float(self.bridge["frequencies_hz"][0])
+            marks = []
+            for t in curves:
+                D = float(self.trains[t].get("characteristic_length_m", np.nan))
+                for i in RESONANCE_ORDERS if np.isfinite(D) else ():
+                    v = float(resonance_speeds([n0], [D], orders=(i,))[0])
+                    if lo <= v <= hi:
+                        marks.append((v, t, i))
+            tier, last = 0, -np.inf
+            for v, t, i in sorted(marks):         # labels closer than 1.6 % of the range step down
+                tier = (tier + 1) % 3 if v - last < 0.016 * (hi - lo) else 0
+                last = v
+                ax.axvline(v, color=self.colours[t], ls=":", lw=1.2, alpha=0.9)
+                ax.text(v, 1.0 - 0.155 * tier, f"{t} D/{i}", transform=ax.get_xaxis_transform(), rotation=90,
+                        ha="center", va="top", fontsize=7.5, color=self.colours[t],
+                        bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 0.6})
+            self._speed_axis(ax)
+            ax.set_ylabel("peak deck acceleration [m/s²]")
+            ax.set_title(f"Peak deck acceleration (n₀ = {n0:#.4g} Hz)")
+            _legend(ax)
+            return _png(fig)
+
+    def deflection_png(self, name):
+        curves = self._per_train(self.results.envelope(f"{name}_min"), np.nanmin)
+        curves = {t: (v, -1e3 * y) for t, (v, y) in curves.items()}
+        with _figure((11, 4.6)) as (fig, ax):
+            self._lines(ax, curves)
+            ax.set_ylim(bottom=0)
+            self._speed_axis(ax)
+            ax.set_ylabel("largest downward deflection [mm]")
+            ax.set_title("Largest deck deflection")
+            _legend(ax)
+            return _png(fig)
+
+    def daf_png(self, name):
+        static = self.results.static(name)
+        if static is None:
+            return None
+        env, columns = self.results.column_envelopes(name)
+        spans = [int(np.flatnonzero(columns == m)[0]) for m in self.bridge["midspan_nodes"] if np.any(columns == m)]
+        if not spans:
+            return None
+        ratio = env[..., MIN, :][..., spans] / static[0][:, MIN, :][:, spans][:, None, None, :]
+        curves = self._per_train(ratio, np.nanmax)
+        row = self.row("dynamic_increment")
+        with _figure((11, 4.6)) as (fig, ax):
+            self._lines(ax, curves)
+            ax.axhline(1.0, color="black", lw=0.8)
+            if row is not None:
+                self._governing_star(ax, row, row.value + 1.0)
+            ax.set_ylim(top=1.06 * max([np.nanmax(y) for _, y in curves.values()] + [1.0]))
+            self._speed_axis(ax)
+            ax.set_ylabel("DAF = y_dyn / y_stat [-]")
+            ax.set_title("Dynamic amplification of the mid-span deflection")
+            _legend(ax)
+            return _png(fig)
+
+    def _history_nodes(self, kind, train, speed, seed):
+        """The nodes drawn in a history panel: ``[(node, label, governing)]``, each span's middle
+        and the node at which this case governs a criterion of that response (deck acceleration,
+        dynamic increment); without one, the first span's middle is drawn in the train's colour."""
+        criterion = {"accel": "deck_acceleration", "disp": "dynamic_increment"}[kind]
+        row = self.row(criterion)
+        node = None
+        if row is not None and (row.train, row.speed_kmh, row.seed) == (train, speed, seed) and \
+                row.where.startswith("node "):
+            node = int(row.where.split()[1])
+        mid = [int(n) for n in self.bridge["midspan_nodes"]]
+        out = []
+        for j, n in enumerate(mid):
+            label = f"span {j + 1} middle, node {n}" if len(mid) > 1 else f"mid-span, node {n}"
+            out.append((n, label + (f"\ngoverns {_label(criterion)}" if n == node else ""),
+                        n == node or (node is None and j == 0)))
+        if node is not None and node not in mid:
+            out.append((node, f"node {node}\ngoverns {_label(criterion)}", True))
+        return out
+
+    def history_png(self, train, speed, seed):
+        h = self.results.history(train, speed, seed)
+        responses = {o.name: o.response for o in HISTORY_OUTPUTS}
+        responses.update({n: o["response"] for n, o in self.outputs.items()})
+        kinds = {}
+        for name in h:
+            if name != "attrs" and responses.get(name) in ("accel", "disp", "contact_force"):
+                kinds.setdefault(responses[name], name)
+        panels = [k for k in ("accel", "disp", "contact_force") if k in kinds]
+        colour = self.colours[train]
+        data = self.trains[train]
+        x = np.asarray(self.bridge["deck_x_m"], dtype=float)
+        offsets = np.asarray(data["axle_offsets_m"], dtype=float)
+        V, x0 = speed / 3.6, float(h["attrs"].get("x_head0", 0.0))
+        on = ((x.min() - x0 + offsets.min()) / V, (x.max() - x0 + offsets.max()) / V)
+        with _figure((11, 2.9 * max(len(panels), 1) + 0.6), n_rows=max(len(panels), 1)) as (fig, axes):
+            axes = np.atleast_1d(axes)
+            for ax, kind in zip(axes, panels):
+                time, values, columns = h[kinds[kind]]
+                ax.axvspan(*on, color="#f2f2f2", zorder=0)
+                if kind in ("accel", "disp"):
+                    scale = 1.0 if kind == "accel" else 1e3
+                    for node, label, governing in self._history_nodes(kind, train, speed, seed):
+                        c = np.flatnonzero(np.asarray(columns) == node)
+                        if c.size:
+                            ax.plot(time, scale * values[:, c[0]], color=colour if governing else "#7a7a7a",
+                                    lw=1.3 if governing else 0.9, ls="-" if governing else "--", label=label,
+                                    zorder=3 if governing else 2)
+                    if kind == "accel":
+                        row = self.row("deck_acceleration")
+                        if row is not None and not math.isnan(row.limit):
+                            for sign in (1, -1):
+                                ax.axhline(sign * row.limit, color=LIMIT_COLOUR, ls="--", lw=1.5,
+                                           label=f"±limit {_num(row.limit)} m/s²" if sign > 0 else None)
+                        ax.set_ylabel("acceleration [m/s²]")
+                    else:
+                        ax.set_ylabel("deflection [mm]\n(positive up)")
+                else:
+                    forces = values / 1e3
+                    worst = int(np.argmin(np.nanmin(forces, axis=0))) if forces.size else 0
+                    for j in range(forces.shape[1]):
+                        if j != worst:
+                            ax.plot(time, forces[:, j], color=colour, lw=0.5, alpha=0.35)
+                    if forces.size:
+                        ax.plot(time, forces[:, worst], color="black", lw=1.2,
+                                label=f"wheel {int(columns[worst])} (lowest)")
+                    if forces.size and np.nanmin(forces) < 0.5 * np.nanmedian(forces):
+                        ax.axhline(0.0, color=LIMIT_COLOUR, lw=1, ls="--", label="lift-off (0 kN)")
+                    ax.set_ylabel("contact force [kN]\n(compression +)")
+                _legend(ax)
+            axes[-1].set_xlabel("time [s]")
+            axes[0].set_title(self.case_text(train, speed, seed))
+            if not panels:
+                axes[0].text(0.5, 0.5, "no acceleration, deflection or contact force history",
+                             transform=axes[0].transAxes, ha="center")
+            return _png(fig)
+
+
+def _mode_shapes_png(bridge):
+    x = np.asarray(bridge["deck_x_m"], dtype=float)
+    shapes = np.asarray(bridge["mode_shapes_uy"], dtype=float)
+    freqs = np.asarray(bridge["frequencies_hz"], dtype=float)
+    order = np.argsort(x)
+    x, shapes = x[order], shapes[order]
+    fine = np.linspace(x[0], x[-1], 400)
+    supports = x[0] + np.concatenate([[0.0], np.cumsum(bridge["span_lengths_m"])])
+    with _figure((11, 3.8)) as (fig, ax):
+        for k in range(min(MODES_SHOWN, shapes.shape[1])):
+            phi = shapes[:, k]
+            peak = phi[np.argmax(np.abs(phi))]
+            phi = phi / peak if peak else phi
+            colour = ("#1f3b73", "#c0392b", "#27ae60")[k % 3]
+            smooth = CubicSpline(x, phi)(fine) if np.all(np.diff(x) > 0) else np.interp(fine, x, phi)
+            ax.plot(fine, smooth, color=colour, lw=1.8,
+                    label=f"mode {k + 1}: {freqs[k]:#.4g} Hz" if k < len(freqs) else f"mode {k + 1}")
+            ax.plot(x, phi, "o", color=colour, ms=3)
+        ax.axhline(0, color="black", lw=0.8)
+        ax.plot(supports, np.zeros_like(supports), "^", color="black", ms=11, clip_on=False, label="supports")
+        ax.set_ylim(-1.25, 1.25)
+        ax.set_xlabel("x along the deck [m]")
+        ax.set_ylabel("vertical mode shape [-]")
+        ax.set_title("First vertical mode shapes")
+        _legend(ax)
+        return _png(fig)
+
+
+# -- matplotlib ------------------------------------------------------------------------------------
+class _figure:
+    """A matplotlib Figure (object API, Agg) under the report's style: ``with _figure(size) as
+    (fig, ax)``. The axes keep fixed margins in inches (the legends go in the right margin), so
+    that the speed axes of the charts line up on the page."""
+
+    MARGINS = {"left": 1.0, "right": 2.55, "bottom": 0.65, "top": 0.45, "gap": 0.35}      # [in]
+
+    def __init__(self, size, n_rows=1):
+        try:
+            import matplotlib
+            from matplotlib.figure import Figure
+        except ImportError as exc:
+            raise ImportError("report: the charts need matplotlib (pip install vtsi[plot])") from exc
+        self._context = matplotlib.rc_context(CHART_STYLE)
+        self._figure, self.size, self.n_rows = Figure, size, n_rows
+
+    def __enter__(self):
+        self._context.__enter__()
+        (w, h), m = self.size, self.MARGINS
+        fig = self._figure(figsize=(w, h))
+        panel = (h - m["bottom"] - m["top"] - (self.n_rows - 1) * m["gap"]) / self.n_rows
+        fig.subplots_adjust(left=m["left"] / w, right=1 - m["right"] / w, bottom=m["bottom"] / h, top=1 - m["top"] / h,
+                            hspace=m["gap"] / panel)
+        axes = fig.subplots(self.n_rows, 1, sharex=True, squeeze=True)
+        return fig, axes
+
+    def __exit__(self, *exc):
+        return self._context.__exit__(*exc)
+
+
+def _png(fig):
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", metadata={"Software": None})
+    return buffer.getvalue()
+
+
+def _legend(ax):
+    handles, labels = ax.get_legend_handles_labels()
+    ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, borderaxespad=0.0)
+
+
+def _mix(colour, white):
+    """``colour`` (hex) mixed with a fraction ``white`` of white."""
+    rgb = np.array([int(colour[i: i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    return "#" + "".join(f"{int(round(c + (255 - c) * white)):02x}" for c in rgb)
+
+
+# -- text ------------------------------------------------------------------------------------------
+def _num(value, digits=4):
+    """A number with ``digits`` significant digits ('—' for NaN)."""
+    value = float(value)
+    return "—" if math.isnan(value) else f"{value:.{digits}g}"
+
+
+def _fmt_speed(value):
+    return "—" if math.isnan(float(value)) else f"{float(value):g}"
+
+
+def _units(units):
+    return UNIT_TEXT.get(units, units)
+
+
+def _label(criterion):
+    return criterion.replace("_", " ").replace("lm71", "LM71")
+
+
+def _plural(n, word):
+    return f"{n} {word}{'s' * (n != 1)}"
+
+
+def _damping_text(settings):
+    zeta = settings.get("damping")
+    if zeta is None:
+        return "the bridge as built (no Rayleigh damping added)"
+    pair = settings.get("damping_hz")
+    where = (f"{pair[0]:.4g} and {pair[1]:.4g} Hz" if pair else "n₀ and the EN cut-off")
+    return f"ζ = {100 * zeta:.3g} % (Rayleigh, through {where})"
+
+
+KEY_UNITS = (("_kg_m", "kg/m"), ("_Pa", "Pa"), ("_m4", "m⁴"), ("_m2", "m²"), ("_m", "m"), ("_hz", "Hz"))
+
+
+def _key_text(key):
+    for suffix, units in KEY_UNITS:
+        if key.endswith(suffix):
+            return f"{key[: -len(suffix)].replace('_', ' ')} [{units}]"
+    return key.replace("_", " ")
+
+
+def _value_text(value):
+    if isinstance(value, bool) or value is None:
+        return str(value)
+    if isinstance(value, (int, float)):
+        return f"{value:.6g}"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_value_text(v) for v in value)
+    return str(value)
+
+
+def _charts(sections):
+    return [b for s in sections for b in s.blocks if isinstance(b, Chart)]
+
+
+# -- HTML ------------------------------------------------------------------------------------------
+CSS = """
+:root { --ink: #1d2330; --muted: #5b6475; --line: #d9dde5; --pass: #1e7b34; --fail: #b3261e; --info: #3b5b92; }
+* { box-sizing: border-box; }
+body { margin: 0; font: 15px/1.5 "DejaVu Sans", "Segoe UI", Helvetica, Arial, sans-serif; color: var(--ink);
+       background: #f4f5f8; }
+header { background: #1f2a44; color: #fff; padding: 22px 36px 14px; }
+header h1 { margin: 0 0 4px; font-size: 24px; font-weight: 600; }
+header .meta { margin: 0 0 10px; color: #c9d1e3; font-size: 13px; word-break: break-all; }
+nav a { color: #fff; margin-right: 16px; font-size: 14px; text-decoration: none; border-bottom: 1px dotted #9fb0d6; }
+main { max-width: 1280px; margin: 0 auto; padding: 8px 28px 40px; }
+section { background: #fff; border: 1px solid var(--line); border-radius: 6px; padding: 14px 24px 18px;
+          margin: 18px 0; }
+h2 { margin: 4px 0 12px; font-size: 20px; border-bottom: 2px solid var(--line); padding-bottom: 4px; }
+h3 { margin: 14px 0 6px; font-size: 16px; }
+table { border-collapse: collapse; width: 100%; font-size: 14px; margin: 6px 0 10px; }
+th, td { border-bottom: 1px solid var(--line); padding: 5px 8px; text-align: left; vertical-align: top; }
+th { background: #eef1f6; font-weight: 600; white-space: nowrap; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+table.properties { width: auto; min-width: 50%; }
+table.properties td:first-child { color: var(--muted); white-space: nowrap; padding-right: 24px; }
+td.swatch { width: 18px; padding: 0; border: 3px solid #fff; }
+td.status { font-weight: 700; text-align: center; }
+td.status.pass { color: var(--pass); } td.status.fail { color: #fff; background: var(--fail); }
+td.status.info { color: var(--info); }
+tr[data-status="fail"] td { background: #fdf0ef; } tr[data-status="fail"] td.status { background: var(--fail); }
+p.verdict { font-size: 19px; font-weight: 700; padding: 8px 14px; border-radius: 4px; margin: 4px 0 10px; }
+p.verdict.pass { background: #e5f4e8; color: var(--pass); border-left: 6px solid var(--pass); }
+p.verdict.fail { background: #fbe9e7; color: var(--fail); border-left: 6px solid var(--fail); }
+p.warning { background: #fff6db; border-left: 6px solid #d9a400; padding: 6px 12px; }
+ul { margin: 4px 0 10px; padding-left: 22px; } ul.governing li, ul.notes li { margin: 2px 0; }
+ul.notes { color: var(--muted); font-size: 14px; }
+figure { margin: 12px 0 18px; } figure img { max-width: 100%; height: auto; display: block; }
+figcaption { color: var(--muted); font-size: 13.5px; margin-top: 4px; }
+@media print { body { background: #fff; } section { break-inside: avoid; border: none; }
+               header { color: #000; background: none; } }
+"""
+
+
+def _attrs(attrs):
+    return "".join(f' {k}="{html.escape(str(v), quote=True)}"' for k, v in (attrs or {}).items())
+
+
+def _html_block(block):
+    if isinstance(block, Paragraph):
+        return f"<p{_attrs({'class': block.cls} if block.cls else None)}>{html.escape(block.text)}</p>"
+    if isinstance(block, Heading):
+        return f"<h3>{html.escape(block.text)}</h3>"
+    if isinstance(block, Items):
+        items = "".join(f"<li>{html.escape(i)}</li>" for i in block.items)
+        return f"<ul{_attrs({'class': block.cls} if block.cls else None)}>{items}</ul>"
+    if isinstance(block, Chart):
+        data = base64.b64encode(block.png).decode("ascii")
+        return (f'<figure><img src="data:image/png;base64,{data}" alt="{html.escape(block.alt)}" '
+                f'data-chart="{html.escape(block.name)}">'
+                f"<figcaption>{html.escape(block.caption)}</figcaption></figure>")
+    if isinstance(block, Table):
+        attrs = {}
+        if block.table_id:
+            attrs["id"] = block.table_id
+        if block.cls:
+            attrs["class"] = block.cls
+        head = "".join(f"<th>{html.escape(h)}</th>" for h in block.head)
+        body = []
+        for i, row in enumerate(block.rows):
+            cells = []
+            for cell in row:
+                cell = cell if isinstance(cell, Cell) else Cell(str(cell))
+                a = dict(cell.attrs)
+                if cell.cls:
+                    a["class"] = cell.cls
+                cells.append(f"<td{_attrs(a)}>{html.escape(cell.text)}</td>")
+            body.append(f"<tr{_attrs(block.row_attrs[i] if block.row_attrs else None)}>{''.join(cells)}</tr>")
+        return f"<table{_attrs(attrs)}><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+    raise TypeError(f"report: unknown block {type(block).__name__}")
+
+
+def _html(title, meta, sections):
+    nav = " ".join(f'<a href="#{s.id}">{html.escape(s.title)}</a>' for s in sections)
+    body = "\n".join(f'<section id="{s.id}">\n<h2>{html.escape(s.title)}</h2>\n'
+                     + "\n".join(_html_block(b) for b in s.blocks) + "\n</section>" for s in sections)
+    return (f'<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+            f'<meta name="viewport" content="width=device-width, initial-scale=1">\n'
+            f"<title>{html.escape(title)}</title>\n<style>{CSS}</style>\n</head>\n<body>\n"
+            f'<header><h1>{html.escape(title)}</h1><p class="meta">{html.escape(meta)}</p><nav>{nav}</nav></header>\n'
+            f"<main>\n{body}\n</main>\n</body>\n</html>\n")
+
+
+# -- Markdown --------------------------------------------------------------------------------------
+def _md_escape(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def _md_block(block):
+    if isinstance(block, Paragraph):
+        return f"**{block.text}**" if "verdict" in block.cls else (f"> {block.text}" if block.cls == "warning"
+                                                                   else block.text)
+    if isinstance(block, Heading):
+        return f"### {block.text}"
+    if isinstance(block, Items):
+        return "\n".join(f"- {i}" for i in block.items)
+    if isinstance(block, Chart):
+        return f"![{block.alt}](img/{block.name}.png)\n\n*{block.caption}*"
+    if isinstance(block, Table):
+        keep = [j for j, h in enumerate(block.head) if h or not all(
+            (c.text if isinstance(c, Cell) else str(c)) == "" for c in (row[j] for row in block.rows))]
+        head = [block.head[j] for j in keep]
+        lines = ["| " + " | ".join(_md_escape(h) for h in head) + " |", "|" + "---|" * len(head)]
+        for row in block.rows:
+            cells = [row[j].text if isinstance(row[j], Cell) else str(row[j]) for j in keep]
+            lines.append("| " + " | ".join(_md_escape(c) for c in cells) + " |")
+        return "\n".join(lines)
+    raise TypeError(f"report: unknown block {type(block).__name__}")
+
+
+def _markdown(title, meta, sections):
+    parts = [f"# {title}", meta, " · ".join(f"[{s.title}](#{s.id})" for s in sections)]
+    for s in sections:
+        parts.append(f'<a id="{s.id}"></a>\n\n## {s.title}')
+        parts.extend(_md_block(b) for b in s.blocks)
+    return "\n\n".join(parts) + "\n"
