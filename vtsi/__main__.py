@@ -16,9 +16,11 @@ import contextlib
 import os
 import sys
 
-COMMANDS = ("run", "sweep", "trains")
+COMMANDS = ("run", "sweep", "check", "trains")
 DEFAULT_OUT = "sweep.h5"
+CHECK_OUT = "check.h5"
 EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 1, 2, 130
+EXIT_CHECK_FAILS, EXIT_PASSAGE = 1, 3
 
 SWEEP_EPILOG = """\
 BRIDGE is a description file (.toml; .yaml/.yml with PyYAML) naming a built-in bridge, e.g.
@@ -47,6 +49,16 @@ Exit status: 0 done; 2 bad command line or input (nothing written); 1 a passage 
 during the run (finished cases stay in the file); 130 interrupted (--resume continues)."""
 
 
+CHECK_EPILOG = """\
+BRIDGE, TRAINS and SPEEDS as for 'vtsi sweep' (see 'vtsi sweep --help'); without --speeds the
+EN 1991-2 6.4.6.2 series up to 1.2 x --line-speed. Damping: --damping ZETA, or --bridge-type
+for the EN 1991-2 Table 6.6 lower bound of the longest span (+ --additional-damping, Eq. 6.13,
+for moving forces on spans below 30 m). Writes the results file (--out), the checks in it, the
+governing cases' time histories, a 3-D scene (when off-screen rendering works) and the report
+(report.html, self-contained, and report.md with PNGs) in --report DIR. Prints the table of
+checks: value, limit, utilisation, pass/fail, the governing train, speed and place."""
+
+
 class _UsageError(Exception):
     """A bad value on the sweep's command line (reported like the API's errors, exit 2)."""
 
@@ -61,7 +73,7 @@ def main(argv=None):
         return _run(parser, argv)                 # the original form: vtsi SCRIPT.tcl [args]
     ns = parser.parse_args(argv)                  # -h, --version, sweep, trains
     if ns.command is None:
-        parser.error("a command (run, sweep, trains) or a Tcl script is required")
+        parser.error("a command (run, sweep, check, trains) or a Tcl script is required")
     return ns.func(ns)
 
 
@@ -69,11 +81,11 @@ def _parser():
     import vtsi
 
     parser = argparse.ArgumentParser(
-        prog="vtsi", usage="vtsi [-h] [--version] {run,sweep,trains} ...\n       vtsi SCRIPT.tcl [args ...]",
+        prog="vtsi", usage="vtsi [-h] [--version] {run,sweep,check,trains} ...\n       vtsi SCRIPT.tcl [args ...]",
         description="vtsi: trains crossing railway bridges (vehicle-track-structure interaction). "
                     "'vtsi SCRIPT.tcl [args]' is 'vtsi run SCRIPT.tcl [args]'. Details: docs/cli.md.")
     parser.add_argument("--version", action="version", version=f"vtsi {vtsi.__version__}")
-    sub = parser.add_subparsers(dest="command", title="commands", metavar="{run,sweep,trains}")
+    sub = parser.add_subparsers(dest="command", title="commands", metavar="{run,sweep,check,trains}")
 
     run = sub.add_parser("run", prog="vtsi run",
                          help="run an OpenSees-style Tcl model script (its $argv: the arguments after it)",
@@ -91,21 +103,64 @@ def _parser():
                                        "BRIDGE, in parallel, into a resumable HDF5 results file; print the table of "
                                        "envelope maxima.",
                            epilog=SWEEP_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sweep.add_argument("bridge", metavar="BRIDGE", help="bridge file: .toml/.yaml description or .tcl/.py model "
-                                                       "script (SI units)")
-    sweep.add_argument("--trains", required=True, metavar="T1,T2,...",
-                       help="trains: catalogue names, HSLM-A (= HSLM-A1..A10) or axle CSV files, comma-separated")
-    sweep.add_argument("--speeds", required=True, metavar="SPEEDS",
-                       help="speeds [km/h]: START:STOP:STEP, v1,v2,..., or en:LINE_SPEED (EN 1991-2 series)")
-    sweep.add_argument("--out", metavar="FILE.h5", default=DEFAULT_OUT,
-                       help=f"results file (default: {DEFAULT_OUT} in the current directory)")
-    mode = sweep.add_mutually_exclusive_group()
+    _sweep_options(sweep, check=False)
+    sweep.set_defaults(func=_sweep)
+
+    check = sub.add_parser("check", prog="vtsi check",
+                           help="the EN 1990 A2 / EN 1991-2 dynamic design check: sweep, check, report",
+                           description="The dynamic design check of a railway bridge: every train at every speed "
+                                       "(EN 1991-2 6.4.6), the EN 1990 A2 / EN 1991-2 criteria on the results, the "
+                                       "governing cases' histories, a 3-D scene and an HTML + Markdown report; prints "
+                                       "a one-screen summary. Exit status: 0 every criterion passes; 1 a criterion "
+                                       "fails; 2 bad command line or input (nothing written); 3 a passage failed; "
+                                       "130 interrupted.",
+                           epilog=CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _sweep_options(check, check=True)
+    rules = check.add_argument_group("code rules (EN 1990 A2, EN 1991-2)")
+    rules.add_argument("--line-speed", metavar="KMH",
+                       help="maximum line speed [km/h]: the speeds run from 144 km/h to 1.2 x it (EN 1991-2 "
+                            "6.4.6.2), finer near resonances; needed unless --speeds is given")
+    rules.add_argument("--bridge-type", metavar="TYPE",
+                       help="EN 1991-2 Table 6.6 damping: steel, composite, prestressed_concrete, filler_beam, "
+                            "reinforced_concrete (its lower bound for the longest span); or give --damping")
+    rules.add_argument("--additional-damping", action="store_true",
+                       help="add Delta zeta of EN 1991-2 Eq. 6.13 (moving forces, spans < 30 m)")
+    rules.add_argument("--track-form", default="ballasted", metavar="FORM",
+                       help="ballasted (3.5 m/s^2, default) or direct_fastening (5 m/s^2)")
+    rules.add_argument("--comfort", default="good", metavar="LEVEL",
+                       help="EN 1990 A2 Table A2.9 level: very_good, good (default), acceptable")
+    rules.add_argument("--maintenance", default="careful", metavar="M",
+                       help="careful (Phi2, phi''/2; default) or standard (Phi3, phi'')")
+    rules.add_argument("--alpha", default="1.0", metavar="A", help="LM71 classification factor (default 1.0)")
+    rules.add_argument("--unloading-limit", default="0.6", metavar="X",
+                       help="wheel unloading Delta Q/Q limit (a project criterion; default 0.6)")
+    check.add_argument("--report", metavar="DIR", help="report directory (default: <out>_report beside the results)")
+    check.set_defaults(func=_check)
+
+    trains = sub.add_parser("trains", prog="vtsi trains",
+                            help="list the train catalogue: name, fidelities, description",
+                            description="List the train catalogue (names for 'vtsi sweep --trains').")
+    trains.set_defaults(func=_trains)
+    return parser
+
+
+def _sweep_options(p, check):
+    """The options ``vtsi sweep`` and ``vtsi check`` share."""
+    p.add_argument("bridge", metavar="BRIDGE", help="bridge file: .toml/.yaml description or .tcl/.py model "
+                                                    "script (SI units)")
+    p.add_argument("--trains", required=True, metavar="T1,T2,...",
+                   help="trains: catalogue names, HSLM-A (= HSLM-A1..A10) or axle CSV files, comma-separated")
+    p.add_argument("--speeds", required=not check, metavar="SPEEDS",
+                   help="speeds [km/h]: START:STOP:STEP, v1,v2,..., or en:LINE_SPEED (EN 1991-2 series)")
+    p.add_argument("--out", metavar="FILE.h5", default=CHECK_OUT if check else DEFAULT_OUT,
+                   help=f"results file (default: {CHECK_OUT if check else DEFAULT_OUT} in the current directory)")
+    mode = p.add_mutually_exclusive_group()
     mode.add_argument("--resume", action="store_true",
                       help="continue the sweep in an existing results file (a file of another sweep is refused)")
     mode.add_argument("--overwrite", action="store_true", help="replace an existing results file")
-    sweep.add_argument("--workers", type=_positive_int, metavar="N", help="processes (default: every core; 1: serial)")
-    sweep.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
-    settings = sweep.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
+    p.add_argument("--workers", type=_positive_int, metavar="N", help="processes (default: every core; 1: serial)")
+    p.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
+    settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
     settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001)")
     settings.add_argument("--integrator", metavar="NAME", help="Newmark (default), HHT or Bathe")
     settings.add_argument("--cars", choices=("force", "full"),
@@ -120,14 +175,7 @@ def _parser():
                           help=f"rail irregularity spectrum: {', '.join(_irregularities())} (default: smooth rail)")
     settings.add_argument("--seeds", metavar="S1,S2,...",
                           help="rail samples with --irregularity: 0,1,2 or FIRST:LAST (default 0)")
-    sweep.add_argument("--quiet", action="store_true", help="no progress bar (shown on standard error when a terminal)")
-    sweep.set_defaults(func=_sweep)
-
-    trains = sub.add_parser("trains", prog="vtsi trains",
-                            help="list the train catalogue: name, fidelities, description",
-                            description="List the train catalogue (names for 'vtsi sweep --trains').")
-    trains.set_defaults(func=_trains)
-    return parser
+    p.add_argument("--quiet", action="store_true", help="no progress bar (shown on standard error when a terminal)")
 
 
 def _positive_int(text):
@@ -216,6 +264,8 @@ def _prepare_sweep(ns, out):
     for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping", "irregularity"):
         if getattr(ns, name) is not None:
             values[name] = getattr(ns, name)
+    if getattr(ns, "command", None) == "check":
+        values["damping"] = _code_damping(ns, source, values)
     settings = PassageSettings(**values)
     seeds = source.seeds or (0,)
     if ns.seeds is not None:
@@ -231,6 +281,114 @@ def _prepare_sweep(ns, out):
     if os.path.exists(out) and not ns.overwrite:
         ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume)   # refuses, or checks the file to resume
     return sweep
+
+
+def _code_damping(ns, source, values):
+    """The check's damping ratio: --damping (or the bridge file's), else EN 1991-2 Table 6.6 for
+    --bridge-type at the longest span (+ Eq. 6.13 with --additional-damping)."""
+    from vtsi.codes.en1991_2 import additional_damping, damping_lower_bound
+    from vtsi.passage import PassageRunner, PassageSettings
+
+    if ns.bridge_type is None:
+        if values.get("damping") is None:
+            raise _UsageError("the bridge's damping is needed: --bridge-type TYPE (EN 1991-2 Table 6.6) or "
+                              "--damping ZETA")
+        if ns.additional_damping:
+            raise _UsageError("--additional-damping adds to the Table 6.6 value: give --bridge-type")
+        return values["damping"]
+    if ns.damping is not None:
+        raise _UsageError("give either --bridge-type (EN 1991-2 Table 6.6) or --damping, not both")
+    runner = PassageRunner(source.bridge.model, source.bridge.track_elements, PassageSettings(), outputs=())
+    span = float(max(runner.span_lengths))
+    zeta = damping_lower_bound(ns.bridge_type, span)
+    if ns.additional_damping:
+        if values.get("cars", "force") != "force":
+            raise _UsageError("--additional-damping (EN 1991-2 Eq. 6.13) is for moving forces; the cars' "
+                              "interaction is in the model with --cars full")
+        zeta += additional_damping(span)
+    return zeta
+
+
+def _check_numbers(ns):
+    """The check's settings from the command line (numbers read here, with one-line errors)."""
+    from vtsi.check import CheckSettings
+
+    numbers = {}
+    for option, name in (("--alpha", "alpha"), ("--unloading-limit", "unloading_limit")):
+        text = getattr(ns, name)
+        try:
+            numbers[name] = float(text)
+        except ValueError:
+            raise _UsageError(f"{option} {text!r}: expected a number") from None
+    return CheckSettings(track=ns.track_form, comfort=ns.comfort, maintenance=ns.maintenance, **numbers)
+
+
+def _check(ns):
+    """Sweep, check, histories of the governing cases, scene and report; see ``vtsi check -h``."""
+    from vtsi.errors import VtsiError
+
+    out = os.path.abspath(ns.out)
+    report_dir = os.path.abspath(ns.report or os.path.splitext(out)[0] + "_report")
+    try:
+        settings = _check_numbers(ns)
+        if ns.speeds is None:
+            if ns.line_speed is None:
+                raise _UsageError("the line speed is needed: --line-speed KMH (the speeds run up to 1.2 x it), "
+                                  "or --speeds")
+            try:
+                line = float(ns.line_speed)
+            except ValueError:
+                raise _UsageError(f"--line-speed {ns.line_speed!r}: expected a speed in km/h") from None
+            ns.speeds = f"en:{line}"
+        if os.path.exists(report_dir) and not os.path.isdir(report_dir):
+            raise _UsageError(f"--report {report_dir}: exists and is not a directory")
+        sweep = _prepare_sweep(ns, out)
+    except (VtsiError, OSError, _UsageError) as exc:
+        return _fail(exc, EXIT_USAGE, "check")
+    except KeyboardInterrupt:
+        return _fail("interrupted", EXIT_INTERRUPTED, "check")
+    status = _run_sweep(sweep, ns, out, summary=False, command="check")
+    if status != 0:
+        return EXIT_PASSAGE if status == EXIT_FAILED else status
+    try:
+        return _check_and_report(sweep, out, report_dir, settings, ns)
+    except (VtsiError, OSError) as exc:
+        return _fail(exc, EXIT_PASSAGE, "check")
+    except KeyboardInterrupt:
+        return _fail("interrupted (the results are in the file; --resume)", EXIT_INTERRUPTED, "check")
+
+
+def _check_and_report(sweep, out, report_dir, settings, ns):
+    import numpy as np
+
+    from vtsi.check import check
+    from vtsi.report import write_report
+
+    result = check(out, settings)
+    result.store(out)
+    governing = sorted({(r.train, r.speed_kmh, r.seed) for r in result.rows
+                        if r.train in sweep.trains and np.isfinite(r.speed_kmh)})
+    if governing:
+        sweep.record_histories(out, governing)
+    os.makedirs(report_dir, exist_ok=True)
+    scene = _scene(out, report_dir)
+    paths = write_report(out, report_dir, scene_png=scene)
+    print(result.text())
+    if not ns.quiet:
+        print(f"vtsi check: results in {out}; report in {paths['html']}" +
+              ("" if scene else " (no 3-D scene: off-screen rendering is not available)"), file=sys.stderr)
+    return 0 if result.passed else EXIT_CHECK_FAILS
+
+
+def _scene(out, report_dir):
+    """A PNG of the deck and the train at the time of the largest deck acceleration, or None when
+    off-screen rendering is not available here."""
+    from vtsi.scene3d import render_case, rendering_available
+
+    ok, _ = rendering_available()
+    if not ok:
+        return None
+    return render_case(out, os.path.join(report_dir, "scene.png"))
 
 
 def _train_list(text):
@@ -282,7 +440,7 @@ def _check_out_path(out, ns):
         raise SweepError(f"results file {out}: cannot write in {parent}")
 
 
-def _run_sweep(sweep, ns, out):
+def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
     from vtsi.errors import VtsiError
     from vtsi.sweep_results import SweepResults
 
@@ -305,11 +463,13 @@ def _run_sweep(sweep, ns, out):
                 os.remove(out)                          # nothing computed: leave nothing behind
         kept = f" ({done} of {len(sweep.cases)} cases are in {out}" if done > 0 else ""
         if isinstance(exc, KeyboardInterrupt):
-            return _fail("interrupted" + (kept + "; --resume runs the rest)" if kept else ""), EXIT_INTERRUPTED)
-        return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED)
-    print(results.summary())
-    if not ns.quiet:
-        print(f"vtsi sweep: results in {out}", file=sys.stderr)
+            return _fail("interrupted" + (kept + "; --resume runs the rest)" if kept else ""), EXIT_INTERRUPTED,
+                         command)
+        return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED, command)
+    if summary:
+        print(results.summary())
+        if not ns.quiet:
+            print(f"vtsi sweep: results in {out}", file=sys.stderr)
     return 0
 
 
@@ -321,9 +481,9 @@ def _message(exc):
     return text[len("sweep: "):] if text.startswith("sweep: ") else text
 
 
-def _fail(exc, status):
+def _fail(exc, status, command="sweep"):
     sys.stdout.flush()
-    print(f"vtsi sweep: {exc if isinstance(exc, str) else _message(exc)}", file=sys.stderr)
+    print(f"vtsi {command}: {exc if isinstance(exc, str) else _message(exc)}", file=sys.stderr)
     return status
 
 

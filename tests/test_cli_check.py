@@ -1,0 +1,80 @@
+"""``vtsi check``: sweep, check, histories, scene and report in one command; its one-screen
+summary and exit status; bad input refused with one line and nothing written."""
+import os
+
+import h5py
+import pytest
+
+from vtsi.__main__ import main
+from vtsi.check import stored_check
+
+BEAM_TOML = """\
+[bridge]
+kind = "beam"
+spans_m = [20.0]
+E_Pa = 3.5e10
+f1_Hz = 5.0
+mu_kg_m = 15000.0
+elements_per_span = 4
+[analysis]
+dt_s = 0.005
+"""
+
+LONG_TOML = BEAM_TOML.replace("spans_m = [20.0]", "spans_m = [32.0]")
+
+
+@pytest.fixture
+def bridge(tmp_path):
+    path = tmp_path / "bridge.toml"
+    path.write_text(BEAM_TOML)
+    return path
+
+
+def test_check_writes_results_checks_histories_and_report(tmp_path, bridge, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status = main(["check", str(bridge), "--trains", "HSLM-A1,HSLM-A4", "--speeds", "300:380:40",
+                   "--bridge-type", "prestressed_concrete", "--additional-damping", "--workers", "1", "--quiet"])
+    out = capsys.readouterr().out
+    result = stored_check(tmp_path / "check.h5")
+    assert status == (0 if result.passed else 1)
+    assert "deck_acceleration" in out and ("PASS" in out or "FAIL" in out)
+    row = result.row("deck_acceleration")
+    assert row.train in out and f"{row.speed_kmh:g} km/h" in out
+    with h5py.File(tmp_path / "check.h5", "r") as f:
+        assert f["checks/criterion"].shape[0] == len(result.rows)
+        assert f["histories"]                        # the governing cases' histories
+        zeta = f.attrs["identity"]
+    assert '"damping": 0.0129648' in zeta            # Table 6.6 (1.0 %) + Eq. 6.13 (0.30 %) at 20 m
+    assert (tmp_path / "check_report" / "report.html").stat().st_size > 50_000
+    assert (tmp_path / "check_report" / "report.md").exists()
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--bridge-type", "timber"], "timber"),                                  # unknown bridge type (Table 6.6)
+    (["--bridge-type", "steel", "--additional-damping", "LONG"], "30 m"),     # span out of Eq. 6.13's range
+    (["--bridge-type", "steel", "--unloading-limit", "abc"], "--unloading-limit 'abc': expected a number"),
+    (["--bridge-type", "steel", "--alpha", "x1"], "--alpha 'x1': expected a number"),
+    (["--bridge-type", "steel", "--track-form", "slab"], "slab"),
+    (["--bridge-type", "steel", "--comfort", "superb"], "superb"),
+    ([], "damping is needed"),
+    (["--bridge-type", "steel", "--damping", "0.01"], "not both"),
+])
+def test_bad_check_input_is_one_line_exit_2_nothing_written(tmp_path, bridge, capsys, monkeypatch, extra, words):
+    monkeypatch.chdir(tmp_path)
+    if "LONG" in extra:
+        extra = [e for e in extra if e != "LONG"]
+        bridge.write_text(LONG_TOML)
+    status = main(["check", str(bridge), "--trains", "HSLM-A1", "--speeds", "300", "--workers", "1", *extra])
+    err = capsys.readouterr().err
+    assert status == 2
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("vtsi check: ") and words in lines[0], err
+    assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
+
+
+def test_missing_line_speed(tmp_path, bridge, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status = main(["check", str(bridge), "--trains", "HSLM-A1", "--bridge-type", "steel"])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and err.startswith("vtsi check: the line speed is needed") and "\n" not in err
+    assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]

@@ -1,0 +1,824 @@
+"""A 3-D scene of a train passage: the deformed bridge and the train on it, as a PNG or an
+animation (GIF, MP4), rendered off-screen with pyvista (extra ``plot``; docs/scene3d.md).
+
+The scene takes arrays only (it does not know how they were computed):
+
+* the deck: node positions ``deck_x`` (n_nodes,) [m, increasing] and, per picture, their
+  vertical displacements ``deck_uy`` (n_nodes,) [m, positive up], interpolated between the
+  nodes by a cubic spline and exaggerated by ``scale``;
+* the supports: their positions ``supports_x`` [m] (abutments at the deck's ends, piers
+  between);
+* the train: wheel positions ``wheel_x`` (n_wheels,) [m] and optionally the front and rear
+  ends of every car body ``car_bounds`` (n_cars, 2) [m].
+
+Coordinates: x along the track, y up, z across it (the 2-D model is drawn extruded in z). The
+rail top at rest is y = 0; a wheel on the deck rides on the deformed (exaggerated) rail, a wheel
+off the deck on rigid ground at y = 0.
+
+Off-screen rendering (DESIGN §8): VTK segfaults rather than raising when it finds no OpenGL
+library, so :func:`rendering_available` first renders a tiny scene in a subprocess, with
+``VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow`` (OSMesa, Debian's ``libosmesa6``) unless
+the variable is set already, then VTK's own default window; the first that works is used in
+this process too. Rendering calls raise a :class:`RuntimeError` with its reason when none does.
+"""
+import ctypes.util
+import functools
+import importlib.util
+import logging
+import math
+import os
+import re
+import reprlib
+import signal
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from vtsi.errors import ModelError
+
+logger = logging.getLogger(__name__)
+
+WINDOW_VARIABLE = "VTK_DEFAULT_OPENGL_WINDOW"
+OSMESA_WINDOW = "vtkOSOpenGLRenderWindow"
+PROBE_TIMEOUT = 120.0   # [s]
+INSTALL_HINT = ("install OSMesa (Debian/Ubuntu: apt-get install libosmesa6) and pyvista "
+                "(pip install 'vtsi[plot]'), and set VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow")
+
+# Dimensions of the drawn track and train [m]: a standard-gauge track on a ballast bed, and
+# car bodies of a European passenger coach. They only dress the picture.
+GAUGE = 1.435
+RAIL_HEIGHT = 0.17
+TRACK_BED = 0.55            # rail top above the deck top (rail, sleeper, ballast)
+BALLAST_WIDTH = 3.6
+WHEEL_RADIUS = 0.46
+WHEEL_WIDTH = 0.14
+BODY_WIDTH = 2.9
+BODY_FLOOR = 1.0            # body floor above the rail top
+BODY_HEIGHT = 3.0
+BEARING = 0.15              # bearing height under the deck
+TARGET_DEPTHS = 0.5         # default scale: the largest |uy| shows as this many deck depths
+
+# Colours (sRGB hex).
+CONCRETE = "#b5b2aa"
+CONCRETE_DARK = "#8f8c85"
+GHOST = "#5a5d62"
+GROUND = "#9fae84"
+EMBANKMENT = "#8c9d74"
+SOIL = "#8a7a62"
+BALLAST = "#7d7a73"
+RAIL = "#4a4d52"
+WHEEL = "#50545a"
+BOGIE = "#2e3136"
+BODY = "#eef0f2"
+BODY_BAND = "#1f4e79"
+WINDOWS = "#39424e"
+TEXT = "#1b1f24"
+DECK_CMAP = "coolwarm"
+
+PROBE = """
+import sys
+import pyvista as pv
+pv.OFF_SCREEN = True
+p = pv.Plotter(off_screen=True, window_size=(64, 48))
+p.add_mesh(pv.Sphere(), color="red")
+img = p.screenshot(return_img=True)
+name = p.render_window.GetClassName()
+p.close()
+if img.shape[:2] != (48, 64) or float(img.std()) <= 0.0:
+    sys.exit("the probe rendered a blank image of shape " + str(img.shape))
+print("ok", name)
+"""
+
+
+def _installed(module):
+    """Whether the top-level ``module`` can be imported (without importing it)."""
+    return importlib.util.find_spec(module) is not None
+
+
+def _log_message(line):
+    """A line of VTK's log without its colour codes and its 'date (time) [thread] file:line WARN|'
+    prefix."""
+    line = re.sub(r"\x1b\[[0-9;]*m", "", line).strip()
+    return line.rsplit("| ", 1)[-1].strip() if re.search(r"\b(WARN|ERR|INFO)\s*\|", line) else line
+
+
+def _probe(window):
+    """Render a tiny scene in a subprocess with ``VTK_DEFAULT_OPENGL_WINDOW=window`` (None: the
+    variable unset, VTK's default). Returns ``(window class used or None, message)``."""
+    env = dict(os.environ)
+    if window is None:
+        env.pop(WINDOW_VARIABLE, None)
+    else:
+        env[WINDOW_VARIABLE] = window
+    label = window or "VTK's default window"
+    try:
+        done = subprocess.run([sys.executable, "-c", PROBE], env=env, capture_output=True, text=True,
+                              timeout=PROBE_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return None, f"{label}: the probe did not finish within {PROBE_TIMEOUT:g} s"
+    out = done.stdout.strip().splitlines()
+    if done.returncode == 0 and out and out[-1].startswith("ok "):
+        used = out[-1].split()[-1]
+        return used, f"off-screen rendering with {used}"
+    if done.returncode < 0:
+        try:
+            how = f"crashed with {signal.Signals(-done.returncode).name}"
+        except ValueError:
+            how = f"was killed by signal {-done.returncode}"
+    else:
+        how = f"exited with code {done.returncode}"
+    errors = [_log_message(line) for line in done.stderr.splitlines()]
+    errors = [e for e in errors if e]
+    detail = f": {errors[-1] if len(errors[-1]) <= 160 else errors[-1][:159] + '…'}" if errors else ""
+    return None, f"{label}: the probe {how}{detail}"
+
+
+@functools.cache
+def rendering_available():
+    """Whether pyvista can render off-screen here: ``(True, how)`` or ``(False, reason)``.
+
+    Probes in a subprocess (VTK segfaults without a GL library): with the user's
+    ``VTK_DEFAULT_OPENGL_WINDOW`` if set, else with ``vtkOSOpenGLRenderWindow`` (OSMesa), then
+    with VTK's default window. The first window that renders is set in ``os.environ`` for this
+    process (VTK may fall back to another window class than the one asked for: the class the
+    probe used is set). Cached: ``rendering_available.cache_clear()`` probes again.
+    """
+    missing = [name for name in ("pyvista", "imageio") if not _installed(name)]
+    if missing:
+        return False, f"{' and '.join(missing)} not installed: pip install 'vtsi[plot]'"
+    user = os.environ.get(WINDOW_VARIABLE)
+    windows = [user] if user else [OSMESA_WINDOW, None]
+    failures = []
+    for window in windows:
+        used, message = _probe(window)
+        if used:
+            os.environ[WINDOW_VARIABLE] = used
+            logger.info("scene3d: %s", message)
+            return True, message
+        failures.append(message)
+    osmesa = "" if ctypes.util.find_library("OSMesa") else "libOSMesa not found; "
+    return False, f"off-screen rendering unavailable ({'; '.join(failures)}); {osmesa}{INSTALL_HINT}"
+
+
+def _pyvista():
+    """pyvista, set for off-screen rendering, or a RuntimeError naming why it cannot render."""
+    ok, reason = rendering_available()
+    if not ok:
+        raise RuntimeError(f"vtsi.scene3d cannot render: {reason}")
+    import pyvista
+
+    pyvista.OFF_SCREEN = True
+    return pyvista
+
+
+# ---------------------------------------------------------------------------------------------
+# Input checks
+
+
+def _vector(name, value, size=None, min_size=0, of=""):
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"{name}: not an array of numbers ({exc}): {reprlib.repr(value)}") from None
+    if a.ndim != 1:
+        raise ModelError(f"{name}: expected a 1-D array, got shape {a.shape}")
+    if size is not None and a.size != size:
+        raise ModelError(f"{name}: expected {size} values{f' ({of})' if of else ''}, got shape {a.shape}")
+    if a.size < min_size:
+        raise ModelError(f"{name}: expected at least {min_size} values, got {a.size}")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{name}: non-finite value at index {int(np.flatnonzero(~np.isfinite(a))[0])}")
+    return a
+
+
+def _array(name, value, shape):
+    """A float array of ``shape`` (None entries: any size)."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"{name}: not an array of numbers ({exc})") from None
+    want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
+    if a.ndim != len(shape) or any(s is not None and s != n for s, n in zip(shape, a.shape)):
+        raise ModelError(f"{name}: expected shape {want}, got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{name}: contains non-finite values")
+    return a
+
+
+def _positive(name, value):
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"{name}: expected a positive number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise ModelError(f"{name}: expected a positive number, got {value!r}")
+    return v
+
+
+def _window(window_size):
+    try:
+        w, h = (int(v) for v in window_size)
+    except (TypeError, ValueError):
+        raise ModelError(f"window_size: expected (width, height) in pixels, got {window_size!r}") from None
+    if w < 16 or h < 16 or (w, h) != tuple(window_size):
+        raise ModelError(f"window_size: expected two integers >= 16, got {window_size!r}")
+    return w, h
+
+
+def _nice(value, down=True, steps=(1, 2, 5, 10)):
+    """The number ``step × 10^k`` at or below (``down``) / at or above ``value`` > 0."""
+    exponent = math.floor(math.log10(value))
+    mantissa = value / 10.0 ** exponent
+    if down:
+        m = max(s for s in steps if s <= mantissa * (1 + 1e-12))
+    else:
+        m = min(s for s in steps if s >= mantissa * (1 - 1e-12))
+    return m * 10.0 ** exponent
+
+
+def _one_digit(value):
+    """``value`` > 0 rounded down to one significant digit (75.3 -> 70, 0.0123 -> 0.01)."""
+    unit = 10.0 ** math.floor(math.log10(value))
+    return math.floor(value / unit * (1 + 1e-12)) * unit
+
+
+def _fmt(value):
+    return f"{value:,.0f}".replace(",", " ") if value >= 10 else f"{value:.3g}"
+
+
+@dataclass(frozen=True)
+class _Frame:
+    """One picture: the deck's displacements ``uy`` (n_nodes,) [m], the wheels ``wheel_x``
+    (n_wheels,) [m], the car bodies ``car_bounds`` (n_cars, 2) [m] or None, the time [s] or None."""
+
+    uy: np.ndarray
+    wheel_x: np.ndarray
+    car_bounds: object = None
+    time: object = None
+
+
+@dataclass(frozen=True)
+class _Look:
+    """What stays fixed over an animation: the exaggeration ``scale``, the colour range
+    ``clim`` [mm], the ground's x extent [m], the title."""
+
+    scale: float
+    clim: tuple
+    ground_x: tuple
+    title: object = None
+
+
+@dataclass
+class _Stage:
+    """The parts of a plotter a frame changes: the moving meshes by name, the legend text."""
+
+    meshes: dict
+    legend: object
+
+
+class PassageScene:
+    """A bridge deck on its supports, drawn in 3-D with a train on it.
+
+    Parameters
+    ----------
+    deck_x : (n_nodes,) array [m]
+        x of the deck nodes, strictly increasing (the deck runs from the first to the last).
+    supports_x : (n_supports,) array [m]
+        x of the supports, within the deck; those at the deck's ends (within 2 % of its length)
+        are drawn as abutments, the others as piers.
+    deck_depth, deck_width : float [m]
+        The deck's depth (y) and width (z): a box under the track.
+    approach : float [m], optional
+        Length of the approach embankment framed by the camera at each end (default:
+        max(10 m, 0.35 × the deck's length)).
+
+    Methods :meth:`render_png` and :meth:`animate` draw a time of a passage and a passage.
+    """
+
+    def __init__(self, deck_x, supports_x, deck_depth=1.5, deck_width=6.0, approach=None):
+        x = _vector("deck_x", deck_x, min_size=2)
+        steps = np.diff(x)
+        if np.any(steps <= 0):
+            i = int(np.flatnonzero(steps <= 0)[0])
+            raise ModelError(f"deck_x: must increase strictly, but deck_x[{i + 1}] = {x[i + 1]:g} "
+                             f"<= deck_x[{i}] = {x[i]:g}")
+        s = _vector("supports_x", supports_x)
+        length = x[-1] - x[0]
+        outside = (s < x[0] - 1e-9 * length) | (s > x[-1] + 1e-9 * length)
+        if np.any(outside):
+            raise ModelError(f"supports_x: {s[outside][0]:g} is off the deck [{x[0]:g}, {x[-1]:g}] m")
+        self.deck_x, self.supports_x = x, np.sort(s)
+        self.deck_depth = _positive("deck_depth", deck_depth)
+        self.deck_width = _positive("deck_width", deck_width)
+        self.length = float(length)
+        self.approach = max(10.0, 0.35 * self.length) if approach is None else _positive("approach", approach)
+        self.clearance = max(3.0, 0.12 * self.length)          # deck soffit above the ground [m]
+        self.ground_y = -TRACK_BED - self.deck_depth - BEARING - self.clearance
+        n = int(np.clip(12 * (x.size - 1), 240, 1200))
+        self._xs = np.unique(np.concatenate([np.linspace(x[0], x[-1], n), x]))  # drawing abscissae
+
+    # -----------------------------------------------------------------------------------------
+    # public API
+
+    def render_png(self, path, deck_uy, wheel_x, car_bounds=None, scale=None, time=None, title=None,
+                   window_size=(1600, 700)):
+        """Draw the bridge and train at one time into the PNG file ``path``; return its path.
+
+        Parameters
+        ----------
+        deck_uy : (n_nodes,) array [m]
+            Vertical displacements of the deck nodes (positive up).
+        wheel_x : (n_wheels,) array [m]
+            Wheel (axle) positions.
+        car_bounds : (n_cars, 2) array [m], optional
+            Front and rear x of each car body (either order); without it, only the axles.
+        scale : float, optional
+            Exaggeration of the displacements, > 0 (default: the largest |deck_uy| shown as
+            half a deck depth, rounded down to one significant digit).
+        time : float [s], optional
+            Shown as 't = … s'.
+        title : str, optional
+        window_size : (width, height) [pixels]
+        """
+        path = self._path(path, (".png",))
+        frame = self._frame(deck_uy, wheel_x, car_bounds, time)
+        look = self._look([frame], scale, title)
+        window = _window(window_size)
+        pv = _pyvista()
+        plotter = _plotter(pv, window)
+        try:
+            stage = self._setup(pv, plotter, look, window)
+            self._draw(pv, stage, frame, look)
+            plotter.screenshot(str(path))
+        finally:
+            plotter.close()
+        return path
+
+    def animate(self, path, times, deck_uy_history, wheel_x_history, car_bounds_history=None, scale=None,
+                fps=20, max_frames=120, title=None, window_size=(1200, 528)):
+        """Draw a passage into the animation ``path`` (.gif, or .mp4 with imageio-ffmpeg); return
+        its path.
+
+        Parameters
+        ----------
+        times : (n_t,) array [s], non-decreasing
+        deck_uy_history : (n_t, n_nodes) array [m]
+        wheel_x_history : (n_t, n_wheels) array [m]
+        car_bounds_history : (n_t, n_cars, 2) array [m], optional
+        scale : float, optional
+            As in :meth:`render_png`, by default from the largest |uy| over the whole history:
+            one scale and one colour range for every frame.
+        fps : float
+            Frames per second of the animation.
+        max_frames : int
+            At most this many frames, taken evenly from the history (first and last kept).
+        title : str, optional
+        window_size : (width, height) [pixels]
+            For an MP4, multiples of 16 (else imageio-ffmpeg resizes the frames, with a warning).
+        """
+        path = self._path(path, (".gif", ".mp4"))
+        t = _vector("times", times, min_size=1)
+        if np.any(np.diff(t) < 0):
+            raise ModelError(f"times: must not decrease, but times[{int(np.flatnonzero(np.diff(t) < 0)[0]) + 1}] "
+                             "is smaller than the time before it")
+        uy = _array("deck_uy_history", deck_uy_history, (t.size, self.deck_x.size))
+        wx = _array("wheel_x_history", wheel_x_history, (t.size, None))
+        cb = None if car_bounds_history is None else _array("car_bounds_history", car_bounds_history,
+                                                            (t.size, None, 2))
+        fps = _positive("fps", fps)
+        if isinstance(max_frames, bool) or not isinstance(max_frames, (int, np.integer)) or max_frames < 1:
+            raise ModelError(f"max_frames: expected an integer >= 1, got {max_frames!r}")
+        keep = np.unique(np.round(np.linspace(0, t.size - 1, min(t.size, int(max_frames)))).astype(int))
+        frames = [_Frame(uy[i], wx[i], None if cb is None else cb[i], float(t[i])) for i in keep]
+        look = self._look(frames, scale, title)
+        window = _window(window_size)
+        _AnimationWriter.check(path)
+        pv = _pyvista()
+        writer = _AnimationWriter(path, fps)
+        plotter = _plotter(pv, window)
+        try:
+            stage = self._setup(pv, plotter, look, window)
+            for k, frame in enumerate(frames):
+                self._draw(pv, stage, frame, look)
+                writer.append(plotter.screenshot(return_img=True) if k == 0 else _grab(plotter))
+        finally:
+            plotter.close()
+            writer.close()
+        return path
+
+    # -----------------------------------------------------------------------------------------
+    # input handling
+
+    @staticmethod
+    def _path(path, suffixes):
+        p = Path(path)
+        if p.suffix.lower() not in suffixes:
+            raise ModelError(f"path: {str(path)!r} must end in {' or '.join(suffixes)}")
+        if not p.parent.is_dir():
+            raise ModelError(f"path: the folder {str(p.parent)!r} does not exist")
+        return p
+
+    def _frame(self, deck_uy, wheel_x, car_bounds, time):
+        uy = _vector("deck_uy", deck_uy, size=self.deck_x.size, of="one per node of deck_x")
+        wx = _vector("wheel_x", wheel_x)
+        cb = None if car_bounds is None else _array("car_bounds", car_bounds, (None, 2))
+        if time is not None:
+            try:
+                time = float(time)
+            except (TypeError, ValueError):
+                raise ModelError(f"time: expected a number [s], got {time!r}") from None
+            if not math.isfinite(time):
+                raise ModelError(f"time: expected a finite number [s], got {time!r}")
+        return _Frame(uy, wx, cb, time)
+
+    def _look(self, frames, scale, title):
+        peak = max(float(np.max(np.abs(f.uy))) for f in frames)
+        if scale is None:
+            scale = _one_digit(TARGET_DEPTHS * self.deck_depth / peak) if peak > 0 else 1.0
+        else:
+            scale = _positive("scale", scale)
+        limit = _nice(1e3 * peak, down=False, steps=(1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10)) if peak > 0 else 1.0
+        xs = [self.deck_x[0] - self.approach, self.deck_x[-1] + self.approach]
+        for f in frames:
+            if f.wheel_x.size:
+                xs += [f.wheel_x.min() - 3.0, f.wheel_x.max() + 3.0]
+            if f.car_bounds is not None and f.car_bounds.size:
+                xs += [f.car_bounds.min() - 2.0, f.car_bounds.max() + 2.0]
+        return _Look(float(scale), (-limit, limit), (min(xs), max(xs)), title)
+
+    # -----------------------------------------------------------------------------------------
+    # geometry
+
+    def deck_line(self, uy, x):
+        """The deck's displacement [m] at ``x`` [m] from its node values ``uy``: a cubic spline
+        (not-a-knot; linear for two nodes)."""
+        x = np.asarray(x, dtype=float)
+        if self.deck_x.size >= 3:
+            return CubicSpline(self.deck_x, uy)(x)
+        return np.interp(x, self.deck_x, uy)
+
+    def rail_top(self, uy, scale, x):
+        """y [m] of the rail top at ``x`` [m]: the deck line exaggerated by ``scale`` on the
+        deck, 0 (rigid ground) off it."""
+        x = np.asarray(x, dtype=float)
+        on = (x >= self.deck_x[0]) & (x <= self.deck_x[-1])
+        return np.where(on, scale * self.deck_line(uy, x), 0.0)
+
+    def _setup(self, pv, plotter, look, window):
+        """Add the still parts (ground, embankments, supports, scale bar, texts, camera) and the
+        moving ones; return the moving ones (a :class:`_Stage`), which :meth:`_draw` updates."""
+        x0, x1, w = self.deck_x[0], self.deck_x[-1], self.deck_width
+        g, bed = self.ground_y, -TRACK_BED
+        gx0, gx1 = look.ground_x
+        toe = self.deck_width / 2 + 0.5 + 1.5 * (bed - g)     # half-width of the embankments' base
+        front, back = max(self.deck_width / 2 + 9.0, toe + 3.0), toe + 12.0
+        plotter.set_background("#fbfcfd", top="#c3d3e4")
+        plotter.enable_anti_aliasing("ssaa")
+
+        # The site: a block of ground, cut at the framed extent (a section model).
+        top = pv.PolyData(np.array([[gx0, g, -back], [gx0, g, front], [gx1, g, front], [gx1, g, -back]]),
+                          faces=[4, 0, 1, 2, 3])
+        plotter.add_mesh(top, color=GROUND, ambient=0.25, diffuse=0.7, specular=0.0)
+        plotter.add_mesh(pv.Box((gx0, gx1, g - 1.2, g - 0.02, -back, front)), color=SOIL, ambient=0.3)
+
+        # Abutments (back wall + seat) and embankments at the deck's ends; piers between.
+        half = w / 2 + 0.5
+        seat = bed - self.deck_depth - BEARING
+        blocks = []
+        for end, outward in ((x0, -1.0), (x1, 1.0)):
+            wall = sorted((end + outward * 0.08, end + outward * 1.6))
+            blocks.append(pv.Box((wall[0], wall[1], g, bed - 0.02, -half, half)))
+            embankment = sorted((end + outward * 1.6, gx0 if outward < 0 else gx1))
+            plotter.add_mesh(_prism(pv, embankment, g, bed - 0.02, half + 1.5 * (bed - g), half),
+                             color=EMBANKMENT, ambient=0.2, diffuse=0.65)
+        lengthwise = 0.05 * self.length
+        bearings = []
+        for s in self.supports_x:
+            if min(s - x0, x1 - s) <= 0.02 * self.length:
+                end = x0 if s - x0 < x1 - s else x1
+                inward = 1.0 if end == x0 else -1.0
+                seat_x = sorted((end - inward * 1.6, max(s + inward * 0.8, end + inward * 0.8)))
+                blocks.append(pv.Box((seat_x[0], seat_x[1], g, seat, -half, half)))
+                plotter.add_mesh(pv.Box((seat_x[0], seat_x[1], g - 0.01, g + 0.6, -half - 0.4, half + 0.4)),
+                                 color=CONCRETE_DARK, ambient=0.25)
+            else:
+                t = float(np.clip(lengthwise, 0.8, 1.8)) / 2
+                blocks.append(pv.Box((s - t, s + t, g, seat, -0.38 * w, 0.38 * w)))
+                blocks.append(pv.Box((s - t - 0.25, s + t + 0.25, seat - 0.6, seat, -0.45 * w, 0.45 * w)))
+                plotter.add_mesh(pv.Box((s - t - 0.6, s + t + 0.6, g - 0.01, g + 0.5, -0.42 * w, 0.42 * w)),
+                                 color=CONCRETE_DARK, ambient=0.25)
+            for z in (-0.3 * w, 0.3 * w):
+                bearings.append(pv.Box((s - 0.3, s + 0.3, seat, seat + BEARING, z - 0.4, z + 0.4)))
+        plotter.add_mesh(pv.merge(blocks), color=CONCRETE, ambient=0.25, diffuse=0.75, specular=0.1)
+        plotter.add_mesh(pv.merge(bearings), color="#3d3f43")
+
+        # Track on the approaches (rigid, y = 0): ballast bed and rails.
+        for xa, xb in ((gx0, x0), (x1, gx1)):
+            plotter.add_mesh(_prism(pv, (xa, xb), bed - 0.02, -RAIL_HEIGHT - 0.1, BALLAST_WIDTH / 2 + 0.6,
+                                    BALLAST_WIDTH / 2), color=BALLAST, ambient=0.3)
+            for z in (-GAUGE / 2, GAUGE / 2):
+                plotter.add_mesh(pv.Box((xa, xb, -RAIL_HEIGHT, 0.0, z - 0.04, z + 0.04)), color=RAIL,
+                                 specular=0.6, specular_power=30)
+
+        self._scale_bar(pv, plotter, look, window)
+
+        # Moving parts: added once, their meshes replaced in place per frame (_draw).
+        meshes = self._moving(pv, _Frame(np.zeros(self.deck_x.size), np.zeros(0)), look)
+        fs = _font(window)
+        plotter.add_mesh(meshes["deck"], scalars="uy [mm]", cmap=DECK_CMAP, clim=look.clim, smooth_shading=True,
+                         ambient=0.25, diffuse=0.75, specular=0.15,
+                         scalar_bar_args=dict(title="", vertical=False, n_labels=5, fmt="%.3g", position_x=0.66,
+                                              position_y=0.035, width=0.31, height=0.075, label_font_size=fs + 1,
+                                              color=TEXT, font_family="arial"))
+        # (VTK's embedded sans font draws square brackets round: no brackets on screen.)
+        label = plotter.add_text("deck vertical displacement in mm", position=(int(0.97 * window[0]),
+                                 int(0.115 * window[1])), font_size=fs, color=TEXT, font="arial")
+        label.GetTextProperty().SetJustificationToRight()
+        plotter.add_mesh(_outline(pv, x0, x1, -TRACK_BED, -TRACK_BED - self.deck_depth, w / 2,
+                                  dash=max(0.6, self.length / 60)), color=GHOST, line_width=2.0)
+        plotter.add_mesh(meshes["ballast"], color=BALLAST, ambient=0.3)
+        plotter.add_mesh(meshes["rails"], color=RAIL, specular=0.6, specular_power=30)
+        plotter.add_mesh(meshes["wheels"], color=WHEEL, specular=0.4, smooth_shading=True)
+        plotter.add_mesh(meshes["bodies"], color=BODY, ambient=0.3, diffuse=0.7, specular=0.3)
+        plotter.add_mesh(meshes["bands"], color=BODY_BAND, ambient=0.3)
+        plotter.add_mesh(meshes["bogies"], color=BOGIE, specular=0.3)
+        plotter.add_mesh(meshes["windows"], color=WINDOWS, specular=0.6, specular_power=40)
+        if look.title:
+            plotter.add_text(str(look.title), position="upper_left", font_size=fs + 3, color=TEXT, font="arial")
+        legend = plotter.add_text(" ", position="upper_right", font_size=fs + 1, color=TEXT, font="arial")
+
+        # Camera: from the front (+z), above and a little from the left, framing the deck, the
+        # approaches, the scale bar and a train's height.
+        xa, xb = x0 - self.approach, x1 + self.approach
+        box = np.array([[x, y, z] for x in (xa, xb) for y in (g, BODY_FLOOR + BODY_HEIGHT)
+                        for z in (-0.5 * w, 0.5 * w + 4.0)])
+        _aim(plotter.camera, box, direction=(-0.25, 0.32, 1.0), view_angle=30.0, aspect=window[0] / window[1])
+        return _Stage(meshes, legend)
+
+    def _scale_bar(self, pv, plotter, look, window):
+        """A black-and-white length bar on the ground in front of the bridge, labelled."""
+        bar = _nice(0.3 * self.length)
+        n = 5 if bar / 5 >= 0.2 else 2
+        unit = max(1.0, (self.length + 2 * self.approach) / 40.0)   # bar thickness grows with the scene
+        x_start = self.deck_x[0] + 0.5
+        z = self.deck_width / 2 + 3.0
+        y = self.ground_y + 0.02
+        pieces = [pv.Box((x_start + k * bar / n, x_start + (k + 1) * bar / n, y, y + 0.08 * unit, z,
+                          z + 0.35 * unit)) for k in range(n)]
+        plotter.add_mesh(pv.merge(pieces[0::2]), color="#111111")
+        plotter.add_mesh(pv.merge(pieces[1::2]), color="#ffffff")
+        plotter.add_point_labels([(x_start + bar / 2, y + 0.9 * unit, z + 0.2 * unit)], [f"{_fmt(bar)} m"],
+                                 font_size=_font(window) + 2, text_color=TEXT, shape=None, show_points=False,
+                                 always_visible=True, bold=True, font_family="arial")
+
+    def _moving(self, pv, frame, look):
+        """The moving meshes of a frame by name: the deformed deck (point data 'uy [mm]'), its
+        ballast and rails, the wheels and axles, the car bodies with their bands, windows and
+        bogie frames."""
+        xs, scale, half = self._xs, look.scale, self.deck_width / 2
+        uy = self.deck_line(frame.uy, xs)
+        top = scale * uy
+        deck = _ribbon(pv, xs, top - TRACK_BED, top - TRACK_BED - self.deck_depth, -half, half)
+        deck.point_data["uy [mm]"] = np.tile(1e3 * uy, 4)
+        deck = deck.extract_surface(algorithm="dataset_surface").compute_normals(
+            split_vertices=True, feature_angle=40.0, auto_orient_normals=False)
+        ballast = _prism(pv, xs, top - TRACK_BED + 0.01, top - RAIL_HEIGHT - 0.1, BALLAST_WIDTH / 2 + 0.6,
+                             BALLAST_WIDTH / 2)
+        rails = pv.merge([_ribbon(pv, xs, top, top - RAIL_HEIGHT, z - 0.04, z + 0.04).extract_surface(
+            algorithm="dataset_surface") for z in (-GAUGE / 2, GAUGE / 2)])
+
+        wx = frame.wheel_x
+        contact = self.rail_top(frame.uy, scale, wx)
+        wheels = [pv.PolyData()]
+        for x, y in zip(wx, contact):
+            for z in (-GAUGE / 2 - 0.03, GAUGE / 2 + 0.03):
+                wheels.append(pv.Cylinder(center=(x, y + WHEEL_RADIUS, z), direction=(0, 0, 1),
+                                          radius=WHEEL_RADIUS, height=WHEEL_WIDTH, resolution=28))
+            wheels.append(pv.Cylinder(center=(x, y + WHEEL_RADIUS, 0.0), direction=(0, 0, 1), radius=0.09,
+                                      height=GAUGE, resolution=12))
+        bodies, bands, windows, bogies = [pv.PolyData()], [pv.PolyData()], [pv.PolyData()], [pv.PolyData()]
+        if frame.car_bounds is not None:
+            for front, rear in frame.car_bounds:
+                a, b = min(front, rear), max(front, rear)
+                mine = (wx >= a - 0.5) & (wx <= b + 0.5)
+                if np.count_nonzero(mine) >= 2 and np.ptp(wx[mine]) > 0:
+                    xa, xb = wx[mine].min(), wx[mine].max()
+                    ya, yb = contact[mine][np.argmin(wx[mine])], contact[mine][np.argmax(wx[mine])]
+                else:
+                    xa, xb = a, b
+                    ya, yb = self.rail_top(frame.uy, scale, [a, b]) if b > a else (0.0, 0.0)
+                slope = (yb - ya) / (xb - xa) if xb > xa else 0.0
+                for group in _bogies(np.sort(wx[mine])):
+                    ga, gb = group[0] - 1.0, group[-1] + 1.0
+                    yg = ya + slope * (0.5 * (ga + gb) - xa)
+                    for z in (-GAUGE / 2 - 0.16, GAUGE / 2 + 0.16):
+                        bogies.append(pv.Box((ga, gb, yg + 0.36, yg + 0.7, z - 0.05, z + 0.05)))
+                lift = (lambda x, ya=ya, xa=xa, slope=slope: ya + slope * (x - xa))
+                bodies.append(_sheared(pv.Box((a, b, BODY_FLOOR, BODY_FLOOR + BODY_HEIGHT, -BODY_WIDTH / 2,
+                                               BODY_WIDTH / 2)), lift))
+                bands.append(_sheared(pv.Box((a + 0.02, b - 0.02, BODY_FLOOR + 0.35, BODY_FLOOR + 0.7,
+                                              -BODY_WIDTH / 2 - 0.02, BODY_WIDTH / 2 + 0.02)), lift))
+                windows.append(_sheared(pv.Box((a + 1.2, b - 1.2, BODY_FLOOR + 1.45, BODY_FLOOR + 2.2,
+                                                -BODY_WIDTH / 2 - 0.015, BODY_WIDTH / 2 + 0.015)), lift))
+        return {"deck": deck, "ballast": ballast, "rails": rails, "wheels": pv.merge(wheels),
+                "bodies": pv.merge(bodies), "bands": pv.merge(bands), "windows": pv.merge(windows),
+                "bogies": pv.merge(bogies)}
+
+    def _draw(self, pv, stage, frame, look):
+        """Update the moving parts and the legend (time, scale) to ``frame``."""
+        for name, mesh in self._moving(pv, frame, look).items():
+            stage.meshes[name].copy_from(mesh, deep=True)
+        stage.meshes["deck"].set_active_scalars("uy [mm]")
+        lines = [f"displacements × {_fmt(look.scale)}"]
+        if frame.time is not None:
+            lines.insert(0, f"t = {frame.time:.3f} s")
+        stage.legend.set_text("upper_right", "\n".join(lines))
+
+
+def _plotter(pv, window):
+    """An off-screen plotter whose theme allows empty meshes (a frame without cars)."""
+    theme = pv.themes.Theme()
+    theme.allow_empty_mesh = True
+    return pv.Plotter(off_screen=True, window_size=window, theme=theme)
+
+
+def _grab(plotter):
+    """Render ``plotter`` (already rendered once) and return its image (h, w, 3) uint8: one
+    render, where ``screenshot`` renders twice."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    plotter.render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(plotter.render_window)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.ShouldRerenderOff()
+    grab.Update()
+    image = grab.GetOutput()
+    width, height, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, 3)[::-1]
+
+
+class _AnimationWriter:
+    """Frames (h, w, 3) uint8 into a GIF (each frame reduced to 256 colours by an octree, which
+    keeps the colour bar's saturated ends) or an MP4 (imageio-ffmpeg)."""
+
+    def __init__(self, path, fps):
+        import imageio.v2 as imageio
+
+        self.check(path)
+        self.gif = path.suffix.lower() == ".gif"
+        if self.gif:
+            self._writer = imageio.get_writer(str(path), format="GIF", mode="I", duration=1000.0 / fps, loop=0)
+        else:
+            self._writer = imageio.get_writer(str(path), format="FFMPEG", mode="I", fps=fps, codec="libx264",
+                                              quality=8, macro_block_size=16)
+
+    @staticmethod
+    def check(path):
+        """Raise a RuntimeError naming the fix if ``path`` cannot be written here."""
+        if path.suffix.lower() == ".mp4" and not _installed("imageio_ffmpeg"):
+            raise RuntimeError(f"writing {str(path)!r} needs an ffmpeg writer for imageio: pip install "
+                               "imageio-ffmpeg (or write a .gif)")
+
+    def append(self, image):
+        image = np.ascontiguousarray(image[..., :3])
+        if self.gif:
+            from PIL import Image
+
+            image = np.asarray(Image.fromarray(image).quantize(256, method=Image.Quantize.FASTOCTREE,
+                                                               dither=Image.Dither.NONE).convert("RGB"))
+        self._writer.append_data(image)
+
+    def close(self):
+        self._writer.close()
+
+
+def _aim(camera, points, direction, view_angle, aspect, margin=1.04):
+    """Point ``camera`` along -``direction`` (y up) at the nearest distance, and the centre, at
+    which every one of ``points`` (n, 3) is in view, with a small ``margin``."""
+    d = np.asarray(direction, dtype=float)
+    d /= np.linalg.norm(d)
+    right = np.cross((0.0, 1.0, 0.0), d)
+    right /= np.linalg.norm(right)
+    up = np.cross(d, right)
+    tan_v = math.tan(math.radians(view_angle / 2)) / margin
+    tan_h = tan_v * aspect
+    focus = points.mean(axis=0)
+    for _ in range(4):   # centre the projected extent, then refit the distance
+        rel = points - focus
+        along, h, v = rel @ d, rel @ right, rel @ up
+        distance = max(np.max(along + np.abs(h) / tan_h), np.max(along + np.abs(v) / tan_v))
+        depth = distance - along
+        sh, sv = h / depth, v / depth           # screen coordinates (tangents)
+        focus = focus + distance * (0.5 * (sh.max() + sh.min()) * right + 0.5 * (sv.max() + sv.min()) * up)
+    rel = points - focus
+    along, h, v = rel @ d, rel @ right, rel @ up
+    distance = max(np.max(along + np.abs(h) / tan_h), np.max(along + np.abs(v) / tan_v))
+    camera.focal_point = tuple(focus)
+    camera.position = tuple(focus + distance * d)
+    camera.up = (0.0, 1.0, 0.0)
+    camera.view_angle = view_angle
+    camera.clipping_range = (0.02 * distance, 20.0 * distance)
+
+
+def _bogies(x, gap=3.6):
+    """Sorted axle positions grouped into bogies: runs of axles less than ``gap`` [m] apart."""
+    groups, run = [], [x[0]] if x.size else []
+    for a, b in zip(x[:-1], x[1:]):
+        if b - a < gap:
+            run.append(b)
+        else:
+            groups.append(run)
+            run = [b]
+    if run:
+        groups.append(run)
+    return [g for g in groups if len(g) >= 2]
+
+
+def _font(window):
+    return int(np.clip(round(window[1] / 64), 6, 18))
+
+
+def _ribbon(pv, x, y_top, y_bottom, z0, z1):
+    """A box swept along x: top and bottom lines y_top(x), y_bottom(x), between z0 and z1."""
+    n = x.size
+    X = np.broadcast_to(x[:, None, None], (n, 2, 2))
+    Y = np.stack([y_bottom, y_top], axis=1)[:, :, None].repeat(2, axis=2)
+    Z = np.broadcast_to(np.array([z0, z1])[None, None, :], (n, 2, 2))
+    return pv.StructuredGrid(np.ascontiguousarray(X), np.ascontiguousarray(Y), np.ascontiguousarray(Z))
+
+
+def _prism(pv, x, y_low, y_high, half_low, half_high):
+    """A prism swept along ``x`` (n,) with a trapezoidal section: from ``y_low`` to ``y_high``
+    (scalars or (n,) arrays), half-widths ``half_low`` at its base and ``half_high`` at its top."""
+    x = np.asarray(x, dtype=float)
+    n = x.size
+    X = np.broadcast_to(x[:, None, None], (n, 2, 2))
+    Y = np.stack([np.broadcast_to(y_low, (n,)), np.broadcast_to(y_high, (n,))], axis=1)[:, :, None].repeat(2, axis=2)
+    Z = np.array([half_low, half_high])[None, :, None] * np.array([-1.0, 1.0])[None, None, :] * np.ones((n, 1, 1))
+    return pv.StructuredGrid(np.ascontiguousarray(X), np.ascontiguousarray(Y),
+                             np.ascontiguousarray(Z)).extract_surface(algorithm="dataset_surface")
+
+
+def _outline(pv, x0, x1, y_top, y_bottom, half, dash=0.6):
+    """The undeformed deck box's long edges (front and top), dashed every ``dash`` [m]."""
+    n = max(2, int(round((x1 - x0) / dash)))
+    edges = np.linspace(x0, x1, n + 1)
+    lines = []
+    for y, z in ((y_top, half + 0.05), (y_bottom, half + 0.05), (y_top, -half)):
+        for a, b in zip(edges[0::2], edges[1::2]):
+            lines.append(pv.Line((a, y, z), (b, y, z)))
+    for x in (x0, x1):
+        lines.append(pv.Line((x, y_bottom, half + 0.05), (x, y_top, half + 0.05)))
+    return pv.merge(lines)
+
+
+def _sheared(mesh, lift):
+    """``mesh`` with every point raised by lift(x) (a car body following its wheels)."""
+    points = np.array(mesh.points)
+    points[:, 1] += lift(points[:, 0])
+    mesh.points = points
+    return mesh
+
+
+def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=None, **kwargs):
+    """A PNG of a case recorded in a sweep's results file (its deck-displacement history,
+    :meth:`vtsi.sweep.Sweep.record_histories`): by default the case and time of the largest deck
+    acceleration of the stored check (else of the envelope), the train's axles where they are
+    then. ``kwargs`` go to :meth:`PassageScene.render_png`. Returns the path written."""
+    from vtsi.check import stored_check
+    from vtsi.errors import SweepError
+    from vtsi.sweep_results import SweepResults
+
+    results = SweepResults(results_path)
+    if train is None:
+        stored = stored_check(results_path)
+        rows = [r for r in (stored.rows if stored else []) if r.criterion == "deck_acceleration"]
+        if rows:
+            train, speed_kmh, seed = rows[0].train, rows[0].speed_kmh, rows[0].seed
+        else:
+            quantity = next((q for q in results.quantities if q.endswith("_absmax")), None)
+            worst = results.critical(quantity) if quantity else None
+            if worst is None:
+                raise SweepError(f"render_case: {results_path} holds no case to draw")
+            train, speed_kmh, seed = worst["train"], worst["speed_kmh"], worst["seed"]
+    history = results.history(train, speed_kmh, seed)
+    if "deck_displacement" not in history:
+        raise SweepError(f"render_case: case {train} at {speed_kmh:g} km/h has no deck displacement history")
+    times, uy, _ = history["deck_displacement"]
+    if time is None:
+        _, accel, _ = history.get("deck_acceleration", history["deck_displacement"])
+        time = float(times[int(np.argmax(np.max(np.abs(accel), axis=1)))])
+    k = int(np.argmin(np.abs(times - time)))
+    bridge, data = results.bridge(), results.train_data(train)
+    x0, edges = float(bridge["deck_x_m"][0]), np.cumsum(np.concatenate([[0.0], bridge["span_lengths_m"]]))
+    scene = PassageScene(bridge["deck_x_m"], x0 + edges)
+    wheel_x = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k] - data["axle_offsets_m"]
+    title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
+    return scene.render_png(path, uy[k], wheel_x, time=float(times[k]), title=title, **kwargs)
