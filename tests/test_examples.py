@@ -66,3 +66,15 @@ def test_example_bridge_file_is_the_s4_bridge():
     f = vertical_frequencies(loaded.bridge.model, 3)[0]
     assert f[0] == pytest.approx(5.0, rel=1e-4) and loaded.bridge.description["spans_m"] == [20.0]
     assert loaded.settings["damping"] == 0.013 and loaded.settings["dt"] == 0.002
+
+
+def test_design_check_example(tmp_path, capsys):
+    """The main example at a reduced size (2 trains, a 200 km/h line, 4 elements, Δt = 5 ms):
+    results, checks, report; the printout names the governing case and the times."""
+    example = load("design_check")
+    result, paths = example.main(str(tmp_path / "dc"), workers=1, trains=["HSLM-A1", "ICE3"], line_speed=200.0,
+                                 elements=4, dt=5e-3)
+    out = capsys.readouterr().out
+    row = result.row("deck_acceleration")
+    assert row.train in ("HSLM-A1", "ICE3") and f"{row.speed_kmh:g} km/h" in out
+    assert "compiling or loading" in out and paths["html"].exists() and (tmp_path / "dc.h5").exists()

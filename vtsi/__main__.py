@@ -359,36 +359,14 @@ def _check(ns):
 
 
 def _check_and_report(sweep, out, report_dir, settings, ns):
-    import numpy as np
+    from vtsi.workflow import design_check
 
-    from vtsi.check import check
-    from vtsi.report import write_report
-
-    result = check(out, settings)
-    result.store(out)
-    governing = sorted({(r.train, r.speed_kmh, r.seed) for r in result.rows
-                        if r.train in sweep.trains and np.isfinite(r.speed_kmh)})
-    if governing:
-        sweep.record_histories(out, governing)
-    os.makedirs(report_dir, exist_ok=True)
-    scene = _scene(out, report_dir)
-    paths = write_report(out, report_dir, scene_png=scene)
+    result, paths = design_check(sweep, out, settings, report_dir, workers=ns.workers, resume=True)
     print(result.text())
     if not ns.quiet:
         print(f"vtsi check: results in {out}; report in {paths['html']}" +
-              ("" if scene else " (no 3-D scene: off-screen rendering is not available)"), file=sys.stderr)
+              ("" if paths["scene"] else " (no 3-D scene: off-screen rendering is not available)"), file=sys.stderr)
     return 0 if result.passed else EXIT_CHECK_FAILS
-
-
-def _scene(out, report_dir):
-    """A PNG of the deck and the train at the time of the largest deck acceleration, or None when
-    off-screen rendering is not available here."""
-    from vtsi.scene3d import render_case, rendering_available
-
-    ok, _ = rendering_available()
-    if not ok:
-        return None
-    return render_case(out, os.path.join(report_dir, "scene.png"))
 
 
 def _train_list(text):

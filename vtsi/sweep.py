@@ -88,9 +88,10 @@ def resonance_speeds(frequencies_hz, lengths_m, orders=(1, 2, 3, 4)):
 def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=EN_START_KMH, step_kmh=10.0,
                   fine_step_kmh=2.0, band=0.1):
     """The EN 1991-2 §6.4.6.2 speed series [km/h]: from ``start_kmh`` (40 m/s) up to 1.2 × the
-    line speed in steps of ``step_kmh``, plus steps of ``fine_step_kmh`` within ± ``band`` (a
-    fraction) of every resonance speed v = n·D/i (:func:`resonance_speeds`) in that range.
-    The end points are included."""
+    line speed in steps of ``step_kmh``, plus every resonance speed v = n·D/i
+    (:func:`resonance_speeds`) in that range and steps of ``fine_step_kmh`` within ± ``band`` (a
+    fraction) of it, on one lattice from ``start_kmh`` (the bands of several trains share it).
+    The end points are included; speeds are rounded to 0.01 km/h."""
     v_max = 1.2 * float(line_speed_kmh)
     if not (math.isfinite(v_max) and v_max > 0):
         raise SweepError(f"EN speed grid: the line speed must be > 0 km/h, got {line_speed_kmh!r}")
@@ -101,10 +102,11 @@ def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=EN_START_
     grid = [np.arange(start_kmh, v_max + 1e-9, step_kmh), [v_max]]
     for v in resonance_speeds(frequencies_hz, lengths_m):
         lo, hi = max(start_kmh, v * (1 - band)), min(v_max, v * (1 + band))
-        if lo <= hi:
-            grid.append(np.arange(lo, hi + 1e-9, fine_step_kmh))
-            grid.append([v] if lo <= v <= hi else [])
-    return np.unique(np.round(np.concatenate(grid), 6))
+        if lo <= hi:     # the fine steps on one lattice from the start, so that bands share them
+            first = start_kmh + math.ceil((lo - start_kmh) / fine_step_kmh - 1e-9) * fine_step_kmh
+            grid.append(np.arange(first, hi + 1e-9, fine_step_kmh))
+            grid.append([v] if start_kmh <= v <= v_max else [])
+    return np.unique(np.round(np.concatenate(grid), 2))
 
 
 # -- the bridge --------------------------------------------------------------------------------

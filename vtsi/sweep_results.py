@@ -53,7 +53,7 @@ UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "contac
 
 def case_key(train, speed_kmh, seed):
     """The case's group path under /cases: '<train>/<speed>kmh/<seed>' ('smooth' for seed -1)."""
-    return f"{str(train).replace('/', '|')}/{float(speed_kmh):.6g}kmh/{'smooth' if seed < 0 else f'seed{int(seed)}'}"
+    return f"{str(train).replace('/', '|')}/{float(speed_kmh):.10g}kmh/{'smooth' if seed < 0 else f'seed{int(seed)}'}"
 
 
 def quantities(outputs):

@@ -1,0 +1,40 @@
+"""The design-check workflow (DESIGN §9): the stages one after the other, each doing its own job
+on the results file — sweep (passages), check (criteria), the governing cases' histories (the
+sweep again, for them only), the 3-D scene and the report. Used by ``vtsi check`` and
+``examples/design_check.py``."""
+import logging
+import os
+
+import numpy as np
+
+from vtsi.check import check
+from vtsi.report import write_report
+from vtsi.scene3d import render_case, rendering_available
+
+log = logging.getLogger(__name__)
+
+
+def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, progress=None, resume=False,
+                 overwrite=False):
+    """Run ``sweep`` into ``path``, check it (``settings``: :class:`~vtsi.check.CheckSettings`),
+    store the check, record the governing cases' histories, render the 3-D scene of the largest
+    deck acceleration (when off-screen rendering works here) and write the report into
+    ``report_dir`` (default: ``<path without .h5>_report``).
+
+    Returns ``(CheckResult, report paths: dict html, markdown, images, scene (or None))``."""
+    path = os.path.abspath(os.fspath(path))
+    report_dir = os.path.abspath(report_dir or os.path.splitext(path)[0] + "_report")
+    sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
+    result = check(path, settings)
+    result.store(path)
+    governing = sorted({(r.train, r.speed_kmh, r.seed) for r in result.rows
+                        if r.train in sweep.trains and np.isfinite(r.speed_kmh)})
+    if governing:
+        sweep.record_histories(path, governing)
+    os.makedirs(report_dir, exist_ok=True)
+    available, reason = rendering_available()
+    scene = render_case(path, os.path.join(report_dir, "scene.png")) if available else None
+    if scene is None:
+        log.info("no 3-D scene: %s", reason)
+    paths = write_report(path, report_dir, scene_png=scene)
+    return result, {**paths, "scene": scene}
