@@ -15,7 +15,8 @@ import argparse
 import numpy as np
 
 from vtsi.codes.en1991_2 import additional_damping, damping_lower_bound
-from vtsi.passage import Output, PassageSettings, vertical_frequencies
+from vtsi.damping import vertical_frequencies
+from vtsi.passage import Output, PassageSettings
 from vtsi.sweep import Sweep, beam_bridge
 
 L, F1, MU = 20.0, 5.0, 15000.0          # span [m], first frequency [Hz], mass [kg/m]

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vtsi.damping import rayleigh_damping
 from vtsi.errors import ModelError
 
 
@@ -27,7 +28,7 @@ class BeamBridge:
 
 
 def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent_mass=True, x0=0.0,
-                    first_node=1, first_element=1):
+                    first_node=1, first_element=1, damping=None, damping_hz=None):
     """A continuous beam over ``len(spans)`` spans [m] on pin (first support) and rollers.
 
     Parameters
@@ -36,6 +37,10 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
     spans : sequence of span lengths [m].
     elements_per_span : int, even (so that a node sits at each midspan).
     E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only).
+    damping : None (undamped) or a damping ratio ζ [-] (e.g. from
+        :func:`vtsi.codes.en1991_2.damping_lower_bound`), given to the model as Rayleigh damping
+        through ``damping_hz`` = (f_a, f_b) [Hz], by default the first vertical frequency and the
+        EN 1990 A2 cut-off (:func:`vtsi.damping.rayleigh_damping`: what it does to the other modes).
     """
     spans = [float(s) for s in spans]
     if not spans or any(not s > 0 for s in spans):
@@ -57,6 +62,8 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
     for e, (i, j) in zip(elements, zip(nodes[:-1], nodes[1:])):
         model.element("elasticBeamColumn", e, (i, j), A=A, E=E, I=I, rho=mu, cmass=1 if consistent_mass else 0)
     midspan = [nodes[k * n + n // 2] for k in range(len(spans))]
+    if damping is not None:
+        rayleigh_damping(model, damping, damping_hz)
     return BeamBridge(nodes, elements, supports, midspan, spans)
 
 

@@ -16,7 +16,8 @@ import pytest
 from vtsi.__main__ import main
 from vtsi.bridge_file import ANALYSIS_KEYS, BRIDGE_KINDS, load_bridge, mass_per_metre, read_bridge_file
 from vtsi.errors import ModelError
-from vtsi.passage import PassageRunner, PassageSettings, vertical_frequencies
+from vtsi.damping import vertical_frequencies
+from vtsi.passage import PassageRunner, PassageSettings
 from vtsi.sweep import en_speed_grid
 from vtsi.sweep_results import SweepResults
 

@@ -61,7 +61,7 @@ def test_sweep_example_writes_results_and_chart(tmp_path, capsys):
 def test_example_bridge_file_is_the_s4_bridge():
     """examples/bridge_20m.toml (the README's `vtsi sweep` command): 20 m, 15 t/m, f1 = 5 Hz."""
     from vtsi.bridge_file import read_bridge_file
-    from vtsi.passage import vertical_frequencies
+    from vtsi.damping import vertical_frequencies
     loaded = read_bridge_file(EXAMPLES / "bridge_20m.toml")
     f = vertical_frequencies(loaded.bridge.model, 3)[0]
     assert f[0] == pytest.approx(5.0, rel=1e-4) and loaded.bridge.description["spans_m"] == [20.0]

@@ -22,7 +22,8 @@ from vtsi.errors import SweepError
 from vtsi.models.bridges import first_frequency, simply_supported_beam
 from vtsi.models.catalogue import catalogue_train
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
-from vtsi.passage import Output, PassageSettings, rayleigh_coefficients
+from vtsi.damping import rayleigh_coefficients
+from vtsi.passage import Output, PassageSettings
 from vtsi.recorders import ContactRecorder, NodeRecorder
 from vtsi.sweep import Sweep, beam_bridge, en_speed_grid, resonance_speeds, speeds
 from vtsi.sweep_results import SweepResults

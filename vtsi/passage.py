@@ -29,6 +29,7 @@ import numpy as np
 
 from vtsi.analysis import domain_state, eigen
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+from vtsi.damping import rayleigh_damping, vertical_frequencies
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
 from vtsi.errors import ModelError, VtsiError
@@ -242,28 +243,6 @@ def _psd(name):
     return partial(fra_psd, fra_class=int(name.split("-")[1]))
 
 
-def vertical_frequencies(model, n=3):
-    """The first ``n`` vertical (bending) natural frequencies [Hz] and mode shapes of a model:
-    the modes whose mass-weighted uy motion exceeds their ux motion (a beam's axial modes are
-    skipped)."""
-    asm = model.build()
-    M = asm.M_full
-    on = lambda dof: np.arange(asm.n_full) % asm.ndf == dof
-    for k in (min(asm.n_free, max(3 * n, 12)), asm.n_free):
-        omega2, shapes = eigen(model, k)
-        motion = lambda mask: np.einsum("ij,ij->j", shapes * mask[:, None], M @ (shapes * mask[:, None]))
-        keep = np.flatnonzero(motion(on(1)) > motion(on(0)))[:n]
-        if len(keep) == n:
-            break
-    return np.sqrt(np.maximum(omega2[keep], 0.0)) / (2 * np.pi), shapes[:, keep]
-
-
-def rayleigh_coefficients(zeta, f_a, f_b):
-    """α [1/s], β [s] of C = α M + β K with damping ratio ``zeta`` at f_a and f_b [Hz]."""
-    w_a, w_b = 2 * np.pi * f_a, 2 * np.pi * f_b
-    return 2 * zeta * w_a * w_b / (w_a + w_b), 2 * zeta / (w_a + w_b)
-
-
 class PassageRunner:
     """A bridge model with its track, ready to run passages (see the module docstring).
 
@@ -297,8 +276,8 @@ class PassageRunner:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
         self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3)
         if settings.damping is not None:
-            f_a, f_b = settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies))
-            self.model.rayleigh(*rayleigh_coefficients(settings.damping, f_a, f_b))
+            rayleigh_damping(self.model, settings.damping,
+                             settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
         self.cache = BridgeStageCache()
         self._dead_load = {}
         self._profiles = {}

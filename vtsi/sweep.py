@@ -32,6 +32,7 @@ from tqdm.auto import tqdm
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import PassageError, SweepError, VtsiError
+from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
 from vtsi.sweep_results import ResultsWriter, case_key
@@ -120,15 +121,17 @@ class SweepBridge:
     description: dict
 
 
-def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0):
+def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0, damping=None):
     """A continuous Euler-Bernoulli beam over ``spans`` [m] (pin, then rollers) as a sweep
-    bridge; its track is the beam. E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only)."""
-    import vtsi
-    model = vtsi.Model()
-    beam = continuous_beam(model, spans, elements_per_span, E, I, mu, A=A)
-    return SweepBridge(model, list(beam.elements),
-                       {"kind": "beam", "spans_m": [float(s) for s in spans], "E_Pa": float(E), "I_m4": float(I),
-                        "mu_kg_m": float(mu), "elements_per_span": int(elements_per_span), "A_m2": float(A)})
+    bridge; its track is the beam. E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only); ``damping``:
+    a ratio ζ [-] as Rayleigh damping through n₀ and the EN cut-off (or the sweep's settings)."""
+    model = Model()
+    beam = continuous_beam(model, spans, elements_per_span, E, I, mu, A=A, damping=damping)
+    description = {"kind": "beam", "spans_m": [float(s) for s in spans], "E_Pa": float(E), "I_m4": float(I),
+                   "mu_kg_m": float(mu), "elements_per_span": int(elements_per_span), "A_m2": float(A)}
+    if damping is not None:
+        description["damping"] = float(damping)
+    return SweepBridge(model, list(beam.elements), description)
 
 
 def _fingerprint(runner):

@@ -6,7 +6,7 @@ EI = μ (2π f₁ (L/π)²)² (E = 3.5e10 Pa, I = EI/E, A = 1 m², axial only); 
 elasticBeamColumn elements with consistent mass (:func:`vtsi.sweep.beam_bridge`). Damping
 (moving forces): ζ = 1.0 % (EN 1991-2 Table 6.6, prestressed concrete, L ≥ 20 m) + Δζ (Eq. 6.13,
 0.30 % at 20 m) = 1.30 %, as Rayleigh damping through f₁ and f₃, the two modes that carry the
-midspan response (f₁, f₃ computed from the FE model, ``vtsi.passage.vertical_frequencies``).
+midspan response (f₁, f₃ computed from the FE model, ``vtsi.damping.vertical_frequencies``).
 
 Sweep: HSLM-A1 … A10 as moving forces (one per axle), 140–420 km/h in steps of 5 km/h: 10 × 57
 = 570 passages. A passage starts with the first axle over the left support (t = 0) and ends
@@ -118,7 +118,8 @@ def damping_ratio(interaction=False):
 
 def make_sweep(n_elements, dt, trains, speeds_kmh, cars="force", interpolation="hermite"):
     """The S4 sweep: returns ``(sweep, info)``, info = frequencies [Hz], ζ, Rayleigh factors."""
-    from vtsi.passage import Output, PassageSettings, vertical_frequencies
+    from vtsi.damping import vertical_frequencies
+    from vtsi.passage import Output, PassageSettings
     from vtsi.sweep import Sweep, beam_bridge
 
     bridge = beam_bridge([SPAN], E, flexural_rigidity() / E, MU, elements_per_span=n_elements, A=AREA)
