@@ -149,3 +149,27 @@ def test_unavailable_rendering_raises_with_the_reason(scene, tmp_path, monkeypat
     monkeypatch.setattr(scene3d, "rendering_available", lambda: (False, "install libosmesa6"))
     with pytest.raises(RuntimeError, match="install libosmesa6"):
         scene.render_png(tmp_path / "x.png", SAG, WHEELS, CARS)
+
+
+def test_scene_and_animation_of_a_recorded_case(tmp_path):
+    """render_case / animate_case read a sweep's results file: the governing case's deck history."""
+    require_rendering()
+    import imageio.v3 as iio
+
+    from vtsi.check import check
+    from vtsi.scene3d import animate_case, render_case
+    from vtsi.passage import PassageSettings
+    from vtsi.sweep import Sweep, beam_bridge
+
+    EI = 15000.0 * (2 * np.pi * 5.0 * (SPAN / np.pi) ** 2) ** 2
+    sweep = Sweep(beam_bridge([SPAN], EI, 1.0, 15000.0, 4), ["HSLM-A1"], "300,320", PassageSettings(dt=0.01))
+    path = tmp_path / "r.h5"
+    sweep.run(path, workers=1, progress=False)
+    result = check(path)
+    result.store(path)
+    row = result.row("deck_acceleration")
+    sweep.record_histories(path, [(row.train, row.speed_kmh, row.seed)])
+    png = render_case(path, tmp_path / "s.png", window_size=(400, 180))
+    assert iio.imread(png).shape[:2] == (180, 400)
+    gif = animate_case(path, tmp_path / "s.gif", max_frames=3, window_size=(400, 176))
+    assert iio.imread(gif, index=None).shape[0] == 3

@@ -135,6 +135,8 @@ def _parser():
     rules.add_argument("--unloading-limit", default="0.6", metavar="X",
                        help="wheel unloading Delta Q/Q limit (a project criterion; default 0.6)")
     check.add_argument("--report", metavar="DIR", help="report directory (default: <out>_report beside the results)")
+    check.add_argument("--animation", action="store_true",
+                       help="also a GIF of the governing passage (scene.gif in the report directory)")
     check.set_defaults(func=_check)
 
     trains = sub.add_parser("trains", prog="vtsi trains",
@@ -361,7 +363,8 @@ def _check(ns):
 def _check_and_report(sweep, out, report_dir, settings, ns):
     from vtsi.workflow import design_check
 
-    result, paths = design_check(sweep, out, settings, report_dir, workers=ns.workers, resume=True)
+    result, paths = design_check(sweep, out, settings, report_dir, workers=ns.workers, resume=True,
+                                 animation=ns.animation)
     print(result.text())
     if not ns.quiet:
         print(f"vtsi check: results in {out}; report in {paths['html']}" +

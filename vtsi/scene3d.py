@@ -787,11 +787,9 @@ def _sheared(mesh, lift):
     return mesh
 
 
-def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=None, **kwargs):
-    """A PNG of a case recorded in a sweep's results file (its deck-displacement history,
-    :meth:`vtsi.sweep.Sweep.record_histories`): by default the case and time of the largest deck
-    acceleration of the stored check (else of the envelope), the train's axles where they are
-    then. ``kwargs`` go to :meth:`PassageScene.render_png`. Returns the path written."""
+def _recorded_case(results_path, train, speed_kmh, seed):
+    """(results, train, speed, seed, history, scene) of a case with recorded histories: by default
+    the governing case of the stored check's deck acceleration (else of the envelope)."""
     from vtsi.check import stored_check
     from vtsi.errors import SweepError
     from vtsi.sweep_results import SweepResults
@@ -806,19 +804,40 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
             quantity = next((q for q in results.quantities if q.endswith("_absmax")), None)
             worst = results.critical(quantity) if quantity else None
             if worst is None:
-                raise SweepError(f"render_case: {results_path} holds no case to draw")
+                raise SweepError(f"scene: {results_path} holds no case to draw")
             train, speed_kmh, seed = worst["train"], worst["speed_kmh"], worst["seed"]
     history = results.history(train, speed_kmh, seed)
     if "deck_displacement" not in history:
-        raise SweepError(f"render_case: case {train} at {speed_kmh:g} km/h has no deck displacement history")
+        raise SweepError(f"scene: case {train} at {speed_kmh:g} km/h has no deck displacement history")
+    bridge = results.bridge()
+    edges = np.cumsum(np.concatenate([[0.0], bridge["span_lengths_m"]]))
+    scene = PassageScene(bridge["deck_x_m"], float(bridge["deck_x_m"][0]) + edges)
+    return results, train, float(speed_kmh), seed, history, scene
+
+
+def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=None, **kwargs):
+    """A PNG of a case recorded in a sweep's results file (its deck-displacement history,
+    :meth:`vtsi.sweep.Sweep.record_histories`): by default the case and time of the largest deck
+    acceleration of the stored check (else of the envelope), the train's axles where they are
+    then. ``kwargs`` go to :meth:`PassageScene.render_png`. Returns the path written."""
+    results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
     times, uy, _ = history["deck_displacement"]
     if time is None:
         _, accel, _ = history.get("deck_acceleration", history["deck_displacement"])
         time = float(times[int(np.argmax(np.max(np.abs(accel), axis=1)))])
     k = int(np.argmin(np.abs(times - time)))
-    bridge, data = results.bridge(), results.train_data(train)
-    x0, edges = float(bridge["deck_x_m"][0]), np.cumsum(np.concatenate([[0.0], bridge["span_lengths_m"]]))
-    scene = PassageScene(bridge["deck_x_m"], x0 + edges)
-    wheel_x = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k] - data["axle_offsets_m"]
+    offsets = results.train_data(train)["axle_offsets_m"]
+    wheel_x = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k] - offsets
     title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
     return scene.render_png(path, uy[k], wheel_x, time=float(times[k]), title=title, **kwargs)
+
+
+def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_frames=60, **kwargs):
+    """A GIF (or MP4) of a recorded case's passage (the case chosen as :func:`render_case`
+    chooses it), ``max_frames`` frames over the whole record. Returns the path written."""
+    results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
+    times, uy, _ = history["deck_displacement"]
+    offsets = results.train_data(train)["axle_offsets_m"]
+    wheels = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[:, None] - offsets[None, :]
+    title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
+    return scene.animate(path, times, uy, wheels, max_frames=max_frames, title=title, **kwargs)

@@ -9,19 +9,21 @@ import numpy as np
 
 from vtsi.check import check
 from vtsi.report import write_report
-from vtsi.scene3d import render_case, rendering_available
+from vtsi.scene3d import animate_case, render_case, rendering_available
 
 log = logging.getLogger(__name__)
 
 
 def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, progress=None, resume=False,
-                 overwrite=False):
+                 overwrite=False, animation=False):
     """Run ``sweep`` into ``path``, check it (``settings``: :class:`~vtsi.check.CheckSettings`),
     store the check, record the governing cases' histories, render the 3-D scene of the largest
     deck acceleration (when off-screen rendering works here) and write the report into
-    ``report_dir`` (default: ``<path without .h5>_report``).
+    ``report_dir`` (default: ``<path without .h5>_report``); with ``animation`` also a GIF of
+    that passage (``scene.gif``, about 10-20 s).
 
-    Returns ``(CheckResult, report paths: dict html, markdown, images, scene (or None))``."""
+    Returns ``(CheckResult, report paths: dict html, markdown, images, scene and animation (or
+    None))``."""
     path = os.path.abspath(os.fspath(path))
     report_dir = os.path.abspath(report_dir or os.path.splitext(path)[0] + "_report")
     sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
@@ -34,7 +36,8 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
     os.makedirs(report_dir, exist_ok=True)
     available, reason = rendering_available()
     scene = render_case(path, os.path.join(report_dir, "scene.png")) if available else None
+    movie = animate_case(path, os.path.join(report_dir, "scene.gif")) if available and animation else None
     if scene is None:
         log.info("no 3-D scene: %s", reason)
     paths = write_report(path, report_dir, scene_png=scene)
-    return result, {**paths, "scene": scene}
+    return result, {**paths, "scene": scene, "animation": movie}
