@@ -2,7 +2,6 @@
 import numpy as np
 import pytest
 
-import vtsi
 from vtsi.check import CheckSettings, check, stored_check
 from vtsi.codes.en1991_2 import dynamic_factor, track_irregularity_increment
 from vtsi.errors import ModelError

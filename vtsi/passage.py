@@ -29,9 +29,9 @@ import numpy as np
 
 from vtsi.analysis import domain_state, eigen
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
-from vtsi.damping import rayleigh_damping, vertical_frequencies
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
+from vtsi.damping import rayleigh_damping, vertical_frequencies
 from vtsi.errors import ModelError, VtsiError
 from vtsi.influence import InfluenceLines
 from vtsi.integrators import make_integrator

@@ -38,7 +38,9 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from vtsi.errors import ModelError
+from vtsi.check import stored_check
+from vtsi.errors import ModelError, SweepError
+from vtsi.sweep_results import SweepResults
 
 logger = logging.getLogger(__name__)
 
@@ -790,10 +792,6 @@ def _sheared(mesh, lift):
 def _recorded_case(results_path, train, speed_kmh, seed):
     """(results, train, speed, seed, history, scene) of a case with recorded histories: by default
     the governing case of the stored check's deck acceleration (else of the envelope)."""
-    from vtsi.check import stored_check
-    from vtsi.errors import SweepError
-    from vtsi.sweep_results import SweepResults
-
     results = SweepResults(results_path)
     if train is None:
         stored = stored_check(results_path)

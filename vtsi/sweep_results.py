@@ -41,6 +41,7 @@ import uuid
 import h5py
 import numpy as np
 
+from vtsi import __version__
 from vtsi.errors import SweepError
 
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 1
@@ -86,7 +87,6 @@ class ResultsWriter:
     """Creates (or reopens, to resume) a sweep's results file and writes batches of cases."""
 
     def __init__(self, path, identity, runner, resume=False, overwrite=False):
-        from vtsi import __version__
         self.path = None if path is None else os.fspath(path)
         self.identity = json.loads(json.dumps(identity))
         self._memory = None
