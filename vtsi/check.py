@@ -12,7 +12,7 @@ deck_acceleration      max |a| of the deck, frequencies up to max(30 Hz, 1.5 n�
                        5 m/s² direct fastening
 dynamic_increment      φ'_dyn = max |y_dyn / y_stat| − 1 of the deflection of each   EN 1991-2
                        span's middle, y_stat the static deflection under the same    6.4.6.5(3)
-                       train (info)
+                       train (info); ``_moment``: the same for the bending moment
 dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71), the    EN 1991-2
                        largest over trains and spans: > 1 means the dynamic          6.4.6.5(3),
                        analysis, not Φ × LM71, governs the design (info)             Annex C
@@ -234,45 +234,55 @@ def _span_columns(columns, bridge):
 
 
 def _dynamic_increment(results, outputs, bridge, settings):
+    """φ'_dyn and the comparison with Φ × LM71, on the mid-span deflections (downward: the
+    envelope's minimum) and, when the sweep kept them, the mid-span bending moments (sagging:
+    the maximum)."""
     rows = []
-    for name in _outputs_of(outputs, "disp", cutoff=False):
-        static = results.static(name)
-        if static is None:
-            continue
-        env, columns = results.column_envelopes(name)
-        spans = [c for c in _span_columns(columns, bridge) if c >= 0]
-        if not spans:
-            continue
-        stat_train, stat_lm71 = static
-        dyn = env[..., MIN, :][..., spans]                       # (n_train, n_speed, n_seed, n_spans), downward < 0
-        stat = stat_train[:, MIN, :][:, spans]                   # (n_train, n_spans)
-        ratio = dyn / stat[:, None, None, :]
-        if np.all(np.isnan(ratio)):
-            continue
-        train, speed, seed, idx = _governing(results, ratio, np.nanargmax)
-        phi_dyn = float(ratio[idx]) - 1.0
-        rows.append(CheckRow("dynamic_increment", "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
-                             speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
-                             note=f"phi'_dyn of the mid-span deflection ({name}) against the static deflection "
-                                  "under the same train"))
-        L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
-        Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
-        v_max = float(np.max(results.speeds_kmh)) / 3.6
-        phi2 = en1991_2.track_irregularity_increment(L_phi, float(bridge["frequencies_hz"][0]), v_max)
-        share = 0.5 if settings.maintenance == "careful" else 1.0
-        per_train = np.nanmax(ratio, axis=(1, 2)) - 1.0              # φ'_dyn per train and span
-        design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
-        lm71 = Phi * settings.alpha * np.abs(stat_lm71[MIN, spans])
-        r = design / lm71[None, :]
-        if np.all(np.isnan(r)):
-            continue
-        i, j = np.unravel_index(np.nanargmax(r), r.shape)
-        value = float(r[i, j])
-        governs = "the dynamic analysis governs" if value > 1.0 else "Phi x LM71 covers the dynamic effects"
-        rows.append(CheckRow("dynamic_vs_lm71", "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
-                             results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
-                             f"(1 + phi'dyn + {share:g} phi'') y_train / (Phi alpha y_LM71) = {value:.3f}: {governs} "
-                             f"(L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, alpha = {settings.alpha:g})"))
+    for response, row, suffix, what in (("disp", MIN, "", "mid-span deflection"),
+                                        ("moment", MAX, "_moment", "mid-span bending moment")):
+        for name in _outputs_of(outputs, response, cutoff=False):
+            rows.extend(_increment_rows(results, name, row, suffix, what, bridge, settings))
+    return rows
+
+
+def _increment_rows(results, name, row, suffix, what, bridge, settings):
+    static = results.static(name)
+    if static is None:
+        return []
+    env, columns = results.column_envelopes(name)
+    spans = [c for c in _span_columns(columns, bridge) if c >= 0]
+    if not spans:
+        return []
+    stat_train, stat_lm71 = static
+    dyn = env[..., row, :][..., spans]                        # (n_train, n_speed, n_seed, n_spans)
+    stat = stat_train[:, row, :][:, spans]                    # (n_train, n_spans), the same sign
+    ratio = dyn / stat[:, None, None, :]
+    if np.all(np.isnan(ratio)):
+        return []
+    train, speed, seed, idx = _governing(results, ratio, np.nanargmax)
+    phi_dyn = float(ratio[idx]) - 1.0
+    rows = [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
+                     speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
+                     note=f"phi'_dyn of the {what} ({name}) against its static value under the same train")]
+    L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
+    Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
+    v_max = float(np.max(results.speeds_kmh)) / 3.6
+    phi2 = en1991_2.track_irregularity_increment(L_phi, float(bridge["frequencies_hz"][0]), v_max)
+    share = 0.5 if settings.maintenance == "careful" else 1.0
+    per_train = np.nanmax(ratio, axis=(1, 2)) - 1.0              # φ'_dyn per train and span
+    design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
+    lm71 = Phi * settings.alpha * np.abs(stat_lm71[row, spans])
+    r = design / lm71[None, :]
+    if np.all(np.isnan(r)):
+        return rows
+    i, j = np.unravel_index(np.nanargmax(r), r.shape)
+    value = float(r[i, j])
+    governs = "the dynamic analysis governs" if value > 1.0 else "Phi x LM71 covers the dynamic effects"
+    rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
+                         results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
+                         f"{what}: (1 + phi'dyn + {share:g} phi'') y_train / (Phi alpha y_LM71) = {value:.3f}: "
+                         f"{governs} (L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, "
+                         f"alpha = {settings.alpha:g})"))
     return rows
 
 

@@ -31,19 +31,27 @@ class InfluenceLines:
     ----------
     model : vtsi.Model (linear; its stiffness K is used).
     track : vtsi.track.Track.
-    dofs : list of (node tag, dof) with dof 1-based (2 uy, 3 rz): the responses.
+    dofs : list of (node tag, dof) with dof 1-based (2 uy, 3 rz): the responses; or
+    functionals : (free dofs (n,), P (n, n_responses)): responses u[free] @ P (e.g. bending
+        moments, :func:`vtsi.recorders.moment.moment_rows`).
     """
 
-    def __init__(self, model, track, dofs):
+    def __init__(self, model, track, dofs=None, functionals=None):
         asm = model.build()
-        self.track, self.dofs = track, list(dofs)
-        try:
-            full = [asm.full_dof(n, d) for n, d in self.dofs]
-        except ModelError as exc:
-            raise ModelError(f"influence lines: {exc}") from None
-        free = asm.free_of_full[full]
-        rhs = np.zeros((asm.n_free, len(full)))
-        rhs[free[free >= 0], np.flatnonzero(free >= 0)] = 1.0
+        self.track = track
+        if functionals is not None:            # responses r = u[free] @ P: (free dofs, P)
+            free, P = functionals
+            rhs = np.zeros((asm.n_free, P.shape[1]))
+            rhs[free] = P
+        else:
+            try:
+                full = [asm.full_dof(n, d) for n, d in dofs]
+            except ModelError as exc:
+                raise ModelError(f"influence lines: {exc}") from None
+            free = asm.free_of_full[full]
+            rhs = np.zeros((asm.n_free, len(full)))
+            rhs[free[free >= 0], np.flatnonzero(free >= 0)] = 1.0
+        self.n_responses = rhs.shape[1]
         try:
             w = spla.splu(asm.K.tocsc()).solve(rhs)
         except RuntimeError:
@@ -66,11 +74,11 @@ class InfluenceLines:
         offsets, loads = np.asarray(offsets, dtype=float), np.asarray(loads, dtype=float)
         lo, hi = self.track.x_begin + offsets.min(), self.track.x_end + offsets.max()
         heads = np.arange(lo, hi + self.step, self.step)
-        response = np.zeros((heads.size, len(self.dofs)))
+        response = np.zeros((heads.size, self.n_responses))
         for block in range(0, heads.size, 2048):
             h = heads[block: block + 2048]
             x = h[:, None] - offsets[None, :]
-            il = self(x.ravel()).reshape(x.shape + (len(self.dofs),))
+            il = self(x.ravel()).reshape(x.shape + (self.n_responses,))
             response[block: block + 2048] = np.einsum("j,ijk->ik", loads, il)
         return np.stack([_refined(response, heads, np.argmin), _refined(response, heads, np.argmax)])
 
@@ -81,13 +89,13 @@ class InfluenceLines:
         extreme sought (its influence of that sign), over every position of the axles."""
         x = np.arange(self.track.x_begin, self.track.x_end + self.step / 2, self.step)
         il = self(x)                                                # (n_x, n_resp)
-        out = np.zeros((2, len(self.dofs)))
+        out = np.zeros((2, self.n_responses))
         centres = np.arange(self.track.x_begin - 2.4, self.track.x_end + 2.4 + self.step, self.step)
         axles = centres[:, None] + LM71_SPACING * np.array([-1.5, -0.5, 0.5, 1.5])[None, :]
-        point = LM71_AXLE * self(axles.ravel()).reshape(axles.shape + (len(self.dofs),)).sum(axis=1)
+        point = LM71_AXLE * self(axles.ravel()).reshape(axles.shape + (self.n_responses,)).sum(axis=1)
         for k, sign in enumerate((-1.0, 1.0)):
             part = np.where(sign * il > 0.0, il, 0.0)               # the favourable-to-the-extreme part
-            cumulative = np.concatenate([np.zeros((1, len(self.dofs))),
+            cumulative = np.concatenate([np.zeros((1, self.n_responses)),
                                          np.cumsum(0.5 * (part[1:] + part[:-1]) * np.diff(x)[:, None], axis=0)])
             total = cumulative[-1]
             reach = 1.5 * LM71_SPACING + 0.8                        # from the centre to the load's start [m]

@@ -39,6 +39,7 @@ from vtsi.models.catalogue import FIDELITIES, catalogue_train
 from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.modal import ModalNodeRecorder
+from vtsi.recorders.moment import BendingMomentRecorder, moment_rows
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
@@ -49,7 +50,7 @@ PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
 IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range(1, 7))
 
 # Output responses: node responses (NodeRecorder names) and the vehicle responses.
-NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad"}
+NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
 PLACES = ("deck", "midspan", "supports")
 
@@ -65,7 +66,8 @@ class Output:
         The name in results (e.g. 'deflection').
     response : str
         Node responses 'disp' [m], 'vel' [m/s], 'accel' [m/s²] (vertical, dof uy) and
-        'rotation' [rad] (dof rz, counter-clockwise positive), or 'contact_force' [N, compression
+        'rotation' [rad] (dof rz, counter-clockwise positive) and 'moment' [N·m] (bending moment,
+        sagging positive, :mod:`vtsi.recorders.moment`), or 'contact_force' [N, compression
         positive] (one column per contact wheel), or 'car_body_accel' [m/s²] (the body bounce of
         every car). The vehicle responses need a train of cars (fidelity 'full'); a train of
         moving forces skips them.
@@ -122,6 +124,7 @@ HISTORY_OUTPUTS = (Output("deck_displacement", "disp", history=True),
 
 DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel", cutoff="en"),
                    Output("end_rotation", "rotation", nodes="supports"),
+                   Output("bending_moment", "moment", nodes="midspan"),
                    Output("contact_force", "contact_force"), Output("car_body_acceleration", "car_body_accel"))
 
 
@@ -322,14 +325,19 @@ class PassageRunner:
         return f_max, self._modes[f_max]
 
     def static_envelopes(self, output, train_names):
-        """Static min and max (n_trains, 2, n_columns) of a displacement or rotation output under
+        """Static min and max (n_trains, 2, n_columns) of a displacement, rotation or moment output under
         each train's static axle loads (:mod:`vtsi.influence`), and under Load Model 71 (2,
         n_columns) (α = 1): what dynamic increments and the LM71 comparison are measured
         against. None for other outputs."""
-        if output.response not in ("disp", "rotation") or output.cutoff is not None:
+        if output.response not in ("disp", "rotation", "moment") or output.cutoff is not None:
             return None
-        dof = 3 if output.response == "rotation" else 2
-        lines = InfluenceLines(self.model, self.track, [(n, dof) for n in self.output_nodes(output.nodes)])
+        nodes = self.output_nodes(output.nodes)
+        if output.response == "moment":
+            lines = InfluenceLines(self.model, self.track,
+                                   functionals=moment_rows(self.model.build(), self.track, nodes))
+        else:
+            lines = InfluenceLines(self.model, self.track, [(n, 3 if output.response == "rotation" else 2)
+                                                            for n in nodes])
         trains = []
         for name in train_names:
             train = self.train(name, 1.0)
@@ -443,7 +451,11 @@ class PassageRunner:
         out = []
         for o in outputs:
             kwargs = dict(envelope=True, history=o.history)
-            if o.response in NODE_RESPONSES:
+            if o.response == "moment":
+                if o.cutoff is not None:
+                    raise ModelError(f"output {o.name!r}: bending moments take no cut-off")
+                rec = BendingMomentRecorder(self.track, self.output_nodes(o.nodes), **kwargs)
+            elif o.response in NODE_RESPONSES:
                 dof, response = (3, "disp") if o.response == "rotation" else (2, o.response)
                 nodes = self.output_nodes(o.nodes)
                 if o.cutoff is None:

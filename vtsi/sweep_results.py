@@ -24,8 +24,8 @@ Layout (docs/sweeps.md)::
                            indices); with a history <name>_time (n,) [s] and <name>_values (n,
                            n_columns)
 
-Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements and contact
-forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
+Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements, rotations,
+bending moments and contact forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
 deflection: y is positive up).
 
 Writing is atomic per batch: the file is copied, the batch written to the copy, and the copy
@@ -47,9 +47,11 @@ from vtsi.errors import SweepError
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 1
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
+              "moment": ("min", "max"),
               "contact_force": ("min", "max"), "car_body_accel": ("absmax",)}
 COLUMN_KIND = {"contact_force": "contact wheel", "car_body_accel": "car"}
-UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "contact_force": "N", "car_body_accel": "m/s^2"}
+UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m", "contact_force": "N",
+         "car_body_accel": "m/s^2"}
 
 
 def case_key(train, speed_kmh, seed):

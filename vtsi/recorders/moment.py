@@ -1,0 +1,75 @@
+"""Bending moments at the nodes of a track (the deck's beam elements along it).
+
+The moment at a node is M = EI w'' [N·m], sagging positive (w'' > 0 where the deck curves up,
+as at mid-span under a downward load), from the Hermite curvature of the beam elements that
+meet there, averaged over them (one element at the chain's ends):
+
+    w''(ξ) = [6(2ξ − 1)/ℓ², (6ξ − 4)/ℓ, 6(1 − 2ξ)/ℓ², (6ξ − 2)/ℓ] · [v₁, θ₁, v₂, θ₂],
+
+ξ = 0 at an element's start node, 1 at its end. Hermite elements give exact nodal displacements
+under nodal and element loads, and the curvature of an unloaded element is exact; an element
+carrying a load inside it gives its end curvature to O(ℓ) — the mean of the two sides halves
+that. A linear functional of the nodal dofs, so it serves the dynamic recorder and the static
+influence lines (:mod:`vtsi.influence`) alike.
+"""
+import numpy as np
+
+from vtsi.errors import ModelError
+from vtsi.recorders.base import Recorder
+from vtsi.recorders.node import _int_list
+from vtsi.track import hermite_curvature
+
+
+def moment_rows(asm, track, nodes):
+    """The bending moment at ``nodes`` as a linear map of the free dofs of the assembly ``asm``:
+    ``(free_dofs (n_req,), P (n_req, len(nodes)))`` with M = u[free_dofs] @ P [N·m]."""
+    coefficients = {}
+    for j, node in enumerate(nodes):
+        if node not in asm.node_index:
+            raise ModelError(f"bending moment: node {node} does not exist")
+        x = float(asm.coords[asm.node_index[node], 0])
+        ends = []
+        for e, tag in enumerate(track.elements):
+            b, i = asm.element_location[tag]
+            if node in asm.blocks[b][0].nodes[i]:
+                ends.append((e, tag, 0.0 if abs(x - track.x_start[e]) <= 0.5 * track.length[e] else 1.0))
+        if not ends:
+            raise ModelError(f"bending moment: node {node} (x = {x:g} m) is not a node of the track")
+        for e, tag, xi in ends:
+            b, i = asm.element_location[tag]
+            etype, params = asm.blocks[b][0], asm.blocks[b][3][i]
+            if "E" not in etype.param_names or "I" not in etype.param_names:
+                raise ModelError(f"bending moment: element {tag} ({etype.name}) has no E and I")
+            EI = params[etype.param_names.index("E")] * params[etype.param_names.index("I")]
+            row = np.array(hermite_curvature(xi, track.length[e])) * EI / len(ends)
+            for d, c in zip(track.dofs[e], row):
+                if d >= 0:
+                    key = int(track.free_index[d])
+                    coefficients.setdefault(key, np.zeros(len(nodes)))[j] += c
+    free = np.array(sorted(coefficients), dtype=np.int64)
+    P = np.array([coefficients[f] for f in free]).reshape(len(free), len(nodes))
+    return free, P
+
+
+class BendingMomentRecorder(Recorder):
+    """Bending moment M [N·m] (sagging positive) at ``nodes`` of ``track`` (see the module
+    docstring), one column per node. ``sink``, ``dt``, ``envelope``, ``history``, ``tag``: see
+    :class:`~vtsi.recorders.base.Recorder`."""
+
+    name = "bending moment recorder"
+
+    def __init__(self, track, nodes, sink=None, dt=None, envelope=False, history=True, tag=None):
+        self.track, self.nodes = track, _int_list(self.name, "nodes", nodes)
+        super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
+        self._projection = None
+
+    def requests(self, assembly):
+        free, self._projection = moment_rows(assembly, self.track, self.nodes)
+        return [("u", int(f)) for f in assembly.full_of_free[free]]
+
+    def prepare(self, assembly, model):
+        return {"response": "moment", "quantity": "bending moment, sagging positive",
+                "units": ["N m"] * len(self.nodes), "columns": {"node": np.array(self.nodes, dtype=np.int64)}}
+
+    def compute(self, times, columns, assembly):
+        return columns @ self._projection
