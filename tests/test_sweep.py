@@ -318,7 +318,7 @@ def test_a_bridge_without_track_and_bad_settings():
 
 def test_unwritable_path_and_existing_files(tmp_path):
     sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
-    with pytest.raises(SweepError, match="cannot write"):
+    with pytest.raises(SweepError, match="does not exist"):
         sweep.run(tmp_path / "no" / "such" / "dir.h5", workers=1)
     path = tmp_path / "s.h5"
     sweep.run(path, workers=1, progress=False)

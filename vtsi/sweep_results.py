@@ -168,6 +168,11 @@ class ResultsWriter:
             f = h5py.File(f"vtsi-sweep-{uuid.uuid4().hex}.h5", "w", driver="core", backing_store=False)
             return _KeepOpen(f), None
         tmp = self.path + ".partial"
+        folder = os.path.dirname(os.path.abspath(self.path))
+        if not os.path.isdir(folder):
+            raise SweepError(f"results file {self.path}: the directory {folder} does not exist")
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise SweepError(f"results file {self.path}: cannot write in {folder}")
         try:
             return h5py.File(tmp, "w"), tmp
         except OSError as exc:
