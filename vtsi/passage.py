@@ -35,6 +35,7 @@ from vtsi.damping import rayleigh_damping, vertical_frequencies
 from vtsi.errors import ModelError, VtsiError
 from vtsi.influence import InfluenceLines
 from vtsi.integrators import make_integrator
+from vtsi.modal_passage import CUTOFF_MARGIN, ModalBridge, peaks
 from vtsi.models.catalogue import FIDELITIES, catalogue_train
 from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
@@ -53,6 +54,7 @@ IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range
 NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
 PLACES = ("deck", "midspan", "supports")
+BRIDGE_MODELS = ("fe", "modal")
 
 
 @dataclass(frozen=True)
@@ -154,6 +156,10 @@ class PassageSettings:
     free_vibration : time after the last wheel leaves the track [s]; None:
         FREE_VIBRATION_PERIODS periods of the first vertical mode.
     bridge_self_weight : include the deck's self weight (results are then totals).
+    bridge : 'fe' (the FE bridge, time-stepped) or 'modal' (its modes up to ``modal_hz``, each
+        with the damping ratio ``damping`` exactly; trains of moving forces run as exact modal
+        passages, :mod:`vtsi.modal_passage`, sampled every ``dt``).
+    modal_hz : the modal bridge's highest frequency [Hz]; None: 1.1 × the EN cut-off.
     """
 
     dt: float = 1e-3
@@ -168,6 +174,8 @@ class PassageSettings:
     approach: object = None
     free_vibration: object = None
     bridge_self_weight: bool = False
+    bridge: str = "fe"
+    modal_hz: object = None
 
     def __post_init__(self):
         def positive(name, allow_none=False, allow_zero=False):
@@ -203,6 +211,14 @@ class PassageSettings:
         if self.irregularity is not None and self.irregularity not in IRREGULARITIES:
             raise ModelError(f"sweep settings: unknown irregularity {self.irregularity!r}; valid: "
                              f"{', '.join(IRREGULARITIES)} (or None for a smooth rail)")
+        if self.bridge not in BRIDGE_MODELS:
+            raise ModelError(f"sweep settings: unknown bridge {self.bridge!r}; valid: {', '.join(BRIDGE_MODELS)}")
+        if self.bridge == "modal":
+            positive("modal_hz", allow_none=True)
+            for name, default in (("cars", "force"), ("contact", "bilateral"), ("bridge_self_weight", False)):
+                if getattr(self, name) != default:
+                    raise ModelError(f"sweep settings: the modal bridge runs trains of moving forces on a bridge "
+                                     f"at rest ({name} = {getattr(self, name)!r} needs bridge='fe')")
         try:
             integrator = make_integrator(self.integrator)
         except VtsiError as exc:
@@ -278,10 +294,14 @@ class PassageRunner:
             if missing and not o.vehicle:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
         self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3)
-        if settings.damping is not None:
+        if settings.damping is not None and settings.bridge == "fe":
             rayleigh_damping(self.model, settings.damping,
                              settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
         self.cache = BridgeStageCache()
+        self.modal = None
+        if settings.bridge == "modal":
+            f_max = settings.modal_hz or CUTOFF_MARGIN * acceleration_cutoff_hz(self.frequencies)
+            self.modal = ModalBridge(self.model, self.track, f_max, settings.damping or 0.0)
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}
@@ -392,6 +412,9 @@ class PassageRunner:
         if not (math.isfinite(speed_kmh) and speed_kmh > 0):
             raise ModelError(f"sweep: speed must be > 0 km/h, got {speed_kmh}")
         train = self.train(train_name, speed_kmh / 3.6)
+        if self.modal is not None:
+            return self._modal_passage(train_name, train, float(speed_kmh), int(seed),
+                                       self.outputs if outputs is None else outputs, clock)
         approach = self.approach(train)
         x_head0 = self.track.x_begin - approach + float(train.wheel_offsets[0])
         n_steps = self.n_steps(train)
@@ -427,6 +450,35 @@ class PassageRunner:
             result.columns[output.name] = self._columns(output, sub)
             if output.history:
                 result.histories[output.name] = (np.asarray(rec.time).copy(), np.asarray(rec.values).copy())
+        result.seconds = time.perf_counter() - clock
+        return result
+
+    def _modal_passage(self, name, train, speed_kmh, seed, outputs, clock):
+        """A passage of moving forces over the modal bridge, exact in the modal coordinates
+        (:mod:`vtsi.modal_passage`); node outputs from the modes, sampled every Δt."""
+        s, modal = self.settings, self.modal
+        n_steps = self.n_steps(train)
+        x_head0 = self.track.x_begin - self.approach(train) + float(train.wheel_offsets[0])
+        q, qd, qdd = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt)
+        times = s.dt * np.arange(1, n_steps + 1)
+        result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)
+        asm = self.model.build()
+        for o in outputs:
+            if o.vehicle:
+                continue
+            nodes = self.output_nodes(o.nodes)
+            if o.response == "moment":
+                free, P = moment_rows(asm, self.track, nodes)
+                rows = modal.shapes[asm.full_of_free[free]].T @ P                 # (n_modes, n_columns)
+            else:
+                dof = 3 if o.response == "rotation" else 2
+                rows = modal.shapes[[asm.full_dof(n, dof) for n in nodes]].T
+            coordinate = {"accel": qdd, "vel": qd}.get(o.response, q)
+            values = coordinate @ rows
+            result.envelopes[o.name] = peaks(times, values)
+            result.columns[o.name] = np.array(nodes, dtype=np.int64)
+            if o.history:
+                result.histories[o.name] = (times, values)
         result.seconds = time.perf_counter() - clock
         return result
 

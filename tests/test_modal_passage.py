@@ -1,0 +1,89 @@
+"""Exact moving-force passages over a modal bridge (vtsi.modal_passage): against Frýba's series,
+against the time-stepped FE bridge, the modal damping by free decay, and as a sweep setting."""
+import numpy as np
+import pytest
+
+import vtsi
+from vtsi.modal_passage import ModalBridge, peaks
+from vtsi.models.bridges import simply_supported_beam
+from vtsi.passage import Output, PassageSettings
+from vtsi.reference.fryba import moving_force_midspan
+from vtsi.sweep import Sweep, beam_bridge
+from vtsi.track import Track
+
+L, F1, MU, P = 20.0, 5.0, 15000.0, 170e3
+EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
+V = 200 / 3.6
+
+
+def bridge(n=40, f_max=45.5, zeta=0.0):
+    model = vtsi.Model()
+    beam = simply_supported_beam(model, L, n, EI, 1.0, MU)
+    modal = ModalBridge(model, Track(model, beam.elements), f_max, zeta)
+    return model, beam, modal
+
+
+def test_one_force_is_frybas_series_in_the_same_modes():
+    """Modes 1-3 (5, 20, 45 Hz; the beam's axial mode is left out: no wheel loads it) of a
+    40-element beam: the mid-span deflection equals Frýba's series with 3 modes to 2e-6 of its
+    peak (the FE modes' own error), the acceleration to 5e-4 (the reference's second
+    difference, h = 10 µs), over the crossing and as long again of free vibration."""
+    model, beam, modal = bridge()
+    assert modal.n_modes == 3 and modal.frequencies == pytest.approx([5.0, 20.0, 45.0], rel=1e-5)
+    n, dt = 1440, 5e-4
+    q, _, qdd = modal.passage([0.0], [P], V, 0.0, n, dt)
+    t = dt * np.arange(1, n + 1)
+    mid = model.build().full_dof(beam.midspan_nodes[0], 2)
+    w = lambda tt: moving_force_midspan(P, V, L, EI, MU, tt, n_modes=3)
+    exact = -w(t)
+    assert np.max(np.abs(q @ modal.shapes[mid] - exact)) < 2e-6 * np.max(np.abs(exact))
+    h = 1e-5
+    a = -(w(t + h) - 2 * w(t) + w(t - h)) / h ** 2
+    assert np.max(np.abs(qdd @ modal.shapes[mid] - a)) < 5e-4 * np.max(np.abs(a))
+
+
+def test_modal_damping_by_free_decay():
+    """After the force has left, every mode decays with its own ratio exactly (ζ = 1, 2, 3 %)."""
+    model, beam, modal = bridge(n=10, zeta=[0.01, 0.02, 0.03])
+    dt = 2e-4
+    n = int(round((L / V + 2.0) / dt))
+    q, qd, _ = modal.passage([0.0], [P], V, 0.0, n, dt)
+    t = dt * np.arange(1, n + 1)
+    free = t > L / V + 1e-9
+    for j, zeta in enumerate((0.01, 0.02, 0.03)):
+        w = modal.omega[j]
+        wd = w * np.sqrt(1 - zeta ** 2)
+        # the amplitude of the damped free vibration: sqrt(q² + ((q̇ + ζωq)/ω_d)²) ∝ e^(−ζωt)
+        amp = np.sqrt(q[free, j] ** 2 + ((qd[free, j] + zeta * w * q[free, j]) / wd) ** 2)
+        measured = -np.polyfit(t[free], np.log(amp), 1)[0] / w
+        assert measured == pytest.approx(zeta, rel=1e-6)
+
+
+def test_modal_sweep_converges_to_the_time_stepped_fe_bridge():
+    """HSLM-A4 near its resonance: the FE bridge's EN-filtered mid-span acceleration (Newmark,
+    Δt = 0.25 ms, Rayleigh damping equal to the modal ratio on modes 1 and 3, the modes that move
+    the mid-span) and the exact modal passage agree within 0.3 %."""
+    beam = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
+    out = [Output("acceleration", "accel", nodes="midspan", cutoff="en")]
+    fe = Sweep(beam, ["HSLM-A4"], "380", PassageSettings(dt=2.5e-4, damping=0.013, damping_hz=(5.0, 45.024)), out)
+    modal = Sweep(beam, ["HSLM-A4"], "380", PassageSettings(dt=2.5e-4, damping=0.013, bridge="modal"), out)
+    a_fe = fe.run(None, workers=1, progress=False).envelope("acceleration_absmax")[0, 0, 0]
+    a_modal = modal.run(None, workers=1, progress=False).envelope("acceleration_absmax")[0, 0, 0]
+    assert a_modal == pytest.approx(a_fe, rel=3e-3)
+
+
+def test_peaks_are_refined_between_samples():
+    t = np.arange(0.0, 1.0, 0.011)
+    y = (np.cos(2 * np.pi * 3.0 * (t - 0.5)) * np.exp(-((t - 0.5) / 0.3) ** 2))[:, None]
+    env = peaks(t, y)
+    assert env[1, 0] == pytest.approx(1.0, abs=2e-4) and env[4, 0] == pytest.approx(0.5, abs=2e-4)
+    assert np.max(y) < 1.0 - 1e-3                     # the samples alone miss the peak
+
+
+def test_modal_bridge_settings():
+    with pytest.raises(vtsi.ModelError, match="bridge='fe'"):
+        PassageSettings(bridge="modal", cars="full")
+    with pytest.raises(vtsi.ModelError, match="unknown bridge"):
+        PassageSettings(bridge="shell")
+    with pytest.raises(vtsi.ModelError, match="damping ratios"):
+        bridge(n=10, zeta=[0.01, 0.02, 0.03, 0.04])
