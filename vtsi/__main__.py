@@ -170,6 +170,9 @@ def _sweep_options(p, check):
     settings.add_argument("--contact", choices=("bilateral", "lcp"), help="bilateral (default) or lcp (contact loss)")
     settings.add_argument("--interpolation", choices=("hermite", "bspline"),
                           help="rail shape functions: hermite (default) or bspline")
+    settings.add_argument("--bridge-model", choices=("fe", "modal"),
+                          help="fe (the FE bridge, time-stepped; default) or modal (its modes up to 1.1 x the EN "
+                               "cut-off, exact moving-force passages, the damping ratio on every mode)")
     settings.add_argument("--damping", type=float, metavar="ZETA",
                           help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh, through n0 and the EN cut-off); "
                                "default: the bridge as built (a beam: undamped)")
@@ -266,6 +269,8 @@ def _prepare_sweep(ns, out):
     for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping", "irregularity"):
         if getattr(ns, name) is not None:
             values[name] = getattr(ns, name)
+    if ns.bridge_model is not None:
+        values["bridge"] = ns.bridge_model
     if getattr(ns, "command", None) == "check":
         values["damping"] = _code_damping(ns, source, values)
     settings = PassageSettings(**values)
