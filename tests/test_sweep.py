@@ -404,3 +404,19 @@ def test_histories_of_chosen_cases_are_added_to_the_file(tmp_path):
     assert h["attrs"]["x_head0"] == 0.0
     with h5py.File(path, "r") as f:
         assert f["bridge/mode_shapes_uy"].shape == (5, 3)
+
+
+def test_a_shared_bridge_cache_tells_self_weight_apart():
+    """Two analyses of one bridge sharing a cache, with and without the deck's self weight, each
+    get their own stages (the self-weight deflection is part of them)."""
+    from vtsi.coupled import BridgeStageCache
+    model = vtsi.Model()
+    beam = simply_supported_beam(model, L, 4, EI, 1.0, MU)
+    cache = BridgeStageCache()
+    train = catalogue_train("HSLM-A1", 80.0)
+    for weight in (False, True, False):
+        tie = MovingLoadConstraint(Track(model, beam.elements), TrainSubdomain(train, -1.0))
+        analysis = CoupledAnalysis(model, tie, "Newmark", dt=5e-3, bridge_self_weight=weight, bridge_cache=cache)
+        analysis.prepare()
+        assert (analysis._sag is not None) == weight
+    assert len(cache) == 2

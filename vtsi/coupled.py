@@ -35,11 +35,11 @@ from vtsi.banded import (
 )
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
-from vtsi.timeloop import stage_operators
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.lcp import lcp_workspace
 from vtsi.models.cars import GRAVITY
+from vtsi.timeloop import stage_operators
 
 CONTACT_STRATEGIES = ("bilateral", "lcp")
 TRAIN_QUANTITIES = {"train_u": 0, "train_v": 1, "train_a": 2}
@@ -156,10 +156,10 @@ class CoupledAnalysis:
         if self._prepared is asm and np.array_equal(active, self.active):
             return asm
         integ, dt, train = self.integrator, self.dt, self.train
-        bridge = self.bridge_cache.get(asm, active, integ, dt, self.constraint.track)
+        self_weight = self._bridge_constant_load(asm) if self.bridge_self_weight else None
+        bridge = self.bridge_cache.get(asm, active, integ, dt, self.constraint.track, self_weight)
         if bridge is None:
-            bridge = self.bridge_cache.put(BridgeStages(asm, active, integ, dt, self.constraint.track,
-                                                        self._bridge_constant_load(asm) if self.bridge_self_weight else None))
+            bridge = self.bridge_cache.put(BridgeStages(asm, active, integ, dt, self.constraint.track, self_weight))
         self.active, self.position = bridge.active, bridge.position
         self.fac_b, self.flex, self.ops_b, self.slots_b = bridge.fac_b, bridge.flex, bridge.ops, bridge.slots
         stages = integ.stages(dt)
@@ -580,7 +580,7 @@ class BridgeStages:
 
     def __init__(self, assembly, active, integrator, dt, track, self_weight_load=None):
         self.assembly, self.active = assembly, active
-        self.key = _stage_key(active, integrator, dt, track)
+        self.key = _stage_key(active, integrator, dt, track, self_weight_load)
         self.position = np.full(assembly.n_free, -1, dtype=np.int64)
         self.position[active] = np.arange(len(active))
         K, C = (m[active][:, active].tocsr() for m in (assembly.K, assembly.C))
@@ -604,7 +604,7 @@ class BridgeStages:
 
 class BridgeStageCache:
     """:class:`BridgeStages` by what they were built for (model version — the assembly object —,
-    integrator, Δt, track and moving dofs). Analyses that share one cache factor the bridge once
+    integrator, Δt, track, moving dofs and self-weight load). Analyses that share one cache factor the bridge once
     (a sweep: once for all its passages). Keeps the entries of the latest assembly only, so a
     changed model frees the old factors."""
 
@@ -614,8 +614,8 @@ class BridgeStageCache:
     def __len__(self):
         return len(self._entries)
 
-    def get(self, assembly, active, integrator, dt, track):
-        key = _stage_key(active, integrator, dt, track)
+    def get(self, assembly, active, integrator, dt, track, self_weight_load=None):
+        key = _stage_key(active, integrator, dt, track, self_weight_load)
         for entry in self._entries:
             if entry.assembly is assembly and entry.key == key:
                 return entry
@@ -626,9 +626,10 @@ class BridgeStageCache:
         return stages
 
 
-def _stage_key(active, integrator, dt, track):
+def _stage_key(active, integrator, dt, track, self_weight_load):
+    weight = None if self_weight_load is None else np.asarray(self_weight_load).tobytes()
     return (repr(integrator), float(dt), np.asarray(active).tobytes(), track.free_index.tobytes(),
-            track.dofs.tobytes(), track.x_start.tobytes(), track.length.tobytes())
+            track.dofs.tobytes(), track.x_start.tobytes(), track.length.tobytes(), weight)
 
 
 def _positive(what, value, finite=True):
