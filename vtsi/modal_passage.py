@@ -197,13 +197,13 @@ def _exact_passage(x0, loads, speed, x_start, length, tdofs, modes, omega, zeta,
                         q_out[sample:last, j], qd_out[sample:last, j], qdd_out[sample:last, j])
             sample = last
         for j in range(n_modes):
-            q[j], v[j], _ = _state(q[j], v[j], c[j], omega[j], zeta[j], tb - ta)
+            q[j], v[j] = _state(q[j], v[j], c[j], omega[j], zeta[j], tb - ta)
 
 
 @njit(cache=True)
-def _sample(q0, v0, c, w, z, tau0, dt, count, q_out, v_out, a_out):
-    """:func:`_state` at τ = tau0 + k dt, k = 0 … count − 1, into the outputs: the homogeneous
-    part advanced by a constant rotation and decay per sample (one exp, cos, sin per piece)."""
+def _solution(q0, v0, c, w, z):
+    """The cubic particular solution b₀ … b₃ of q̈ + 2zw q̇ + w² q = c₀ + c₁τ + c₂τ² + c₃τ³ and
+    the damped frequency ω_d with the homogeneous amplitudes A, B from (q0, v0) at τ = 0."""
     w2 = w * w
     b3 = c[3] / w2
     b2 = (c[2] - 6.0 * z * w * b3) / w2
@@ -211,7 +211,14 @@ def _sample(q0, v0, c, w, z, tau0, dt, count, q_out, v_out, a_out):
     b0 = (c[0] - 2.0 * z * w * b1 - 2.0 * b2) / w2
     wd = w * math.sqrt(1.0 - z * z)
     A = q0 - b0
-    B = (v0 - b1 + z * w * A) / wd
+    return b0, b1, b2, b3, wd, A, (v0 - b1 + z * w * A) / wd
+
+
+@njit(cache=True)
+def _sample(q0, v0, c, w, z, tau0, dt, count, q_out, v_out, a_out):
+    """:func:`_state` at τ = tau0 + k dt, k = 0 … count − 1, into the outputs: the homogeneous
+    part advanced by a constant rotation and decay per sample (one exp, cos, sin per piece)."""
+    b0, b1, b2, b3, wd, A, B = _solution(q0, v0, c, w, z)
     decay = math.exp(-z * w * tau0)
     cs, sn = math.cos(wd * tau0), math.sin(wd * tau0)
     step_decay = math.exp(-z * w * dt)
@@ -222,27 +229,17 @@ def _sample(q0, v0, c, w, z, tau0, dt, count, q_out, v_out, a_out):
         qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn)
         vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * (dA * cs + dB * sn)
         q_out[k], v_out[k] = qq, vv
-        a_out[k] = c[0] + tau * (c[1] + tau * (c[2] + tau * c[3])) - 2.0 * z * w * vv - w2 * qq
+        a_out[k] = c[0] + tau * (c[1] + tau * (c[2] + tau * c[3])) - 2.0 * z * w * vv - w * w * qq
         decay *= step_decay
         cs, sn = cs * step_cs - sn * step_sn, sn * step_cs + cs * step_sn
 
 
 @njit(cache=True)
 def _state(q0, v0, c, w, z, tau):
-    """(q, q̇, q̈) at τ of q̈ + 2zw q̇ + w² q = c₀ + c₁τ + c₂τ² + c₃τ³ from (q0, v0) at τ = 0."""
-    w2 = w * w
-    b3 = c[3] / w2
-    b2 = (c[2] - 6.0 * z * w * b3) / w2
-    b1 = (c[1] - 4.0 * z * w * b2 - 6.0 * b3) / w2
-    b0 = (c[0] - 2.0 * z * w * b1 - 2.0 * b2) / w2
-    wd = w * math.sqrt(1.0 - z * z)
-    A = q0 - b0
-    B = (v0 - b1 + z * w * A) / wd
+    """(q, q̇) at τ of q̈ + 2zw q̇ + w² q = c₀ + c₁τ + c₂τ² + c₃τ³ from (q0, v0) at τ = 0."""
+    b0, b1, b2, b3, wd, A, B = _solution(q0, v0, c, w, z)
     decay = math.exp(-z * w * tau)
     cs, sn = math.cos(wd * tau), math.sin(wd * tau)
-    h = decay * (A * cs + B * sn)
-    hd = decay * ((-z * w * A + wd * B) * cs + (-z * w * B - wd * A) * sn)
-    qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + h
-    vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + hd
-    force = c[0] + tau * (c[1] + tau * (c[2] + tau * c[3]))
-    return qq, vv, force - 2.0 * z * w * vv - w2 * qq
+    qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn)
+    vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * ((-z * w * A + wd * B) * cs + (-z * w * B - wd * A) * sn)
+    return qq, vv
