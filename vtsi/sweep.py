@@ -232,7 +232,10 @@ class Sweep:
                 "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
 
     def prepare(self):
-        """Factor the bridge once (into the runner's cache) before passages are dispatched."""
+        """Factor the bridge once (into the runner's cache) before passages are dispatched (a
+        modal bridge has nothing to factor)."""
+        if self.runner.modal is not None:
+            return
         train = self.runner.train(self.trains[0], float(self.speeds_kmh[0]) / 3.6)
         sub = TrainSubdomain(train, self.runner.track.x_begin - 1.0 - train.length)
         s = self.settings
@@ -270,27 +273,24 @@ class Sweep:
             raise SweepError(f"sweep: executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
         n_workers = int(workers or os.cpu_count() or 1)
         writer = ResultsWriter(path, self.identity(), self.runner, resume=resume, overwrite=overwrite)
-        try:
-            done = writer.done()
-            todo = [c for c in self.cases if case_key(*c) not in done]
-            if todo:
-                self.prepare()
-                size = cases_per_task or self.task_size(todo, n_workers)
-                tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
-                bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
-                if executor is None and n_workers == 1:
-                    with bar() as shown:
-                        for task in tasks:
-                            results = _run_task(self.runner, task)
-                            writer.write(results)
-                            shown.update(len(results))
-                elif executor is None:
-                    with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=_pool_context()) as pool:
-                        self._dispatch(pool, tasks, writer, bar)
-                else:
-                    self._dispatch(executor, tasks, writer, bar)
-        finally:
-            writer.close()
+        done = writer.done()
+        todo = [c for c in self.cases if case_key(*c) not in done]
+        if todo:
+            self.prepare()
+            size = cases_per_task or self.task_size(todo, n_workers)
+            tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
+            bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
+            if executor is None and n_workers == 1:
+                with bar() as shown:
+                    for task in tasks:
+                        results = _run_task(self.runner, task)
+                        writer.write(results)
+                        shown.update(len(results))
+            elif executor is None:
+                with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=_pool_context()) as pool:
+                    self._dispatch(pool, tasks, writer, bar)
+            else:
+                self._dispatch(executor, tasks, writer, bar)
         return writer.results()
 
     def record_histories(self, path, cases, outputs=HISTORY_OUTPUTS):

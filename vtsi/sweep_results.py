@@ -271,9 +271,6 @@ class ResultsWriter:
             put(f)
         os.replace(tmp, self.path)
 
-    def close(self):
-        pass
-
     def results(self):
         return SweepResults(self._memory if self._memory is not None else self.path)
 
