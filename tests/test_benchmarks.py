@@ -65,3 +65,18 @@ def test_missing_peer_is_named(tmp_path):
     assert proc.returncode == 3
     assert "openseespy" in proc.stderr
     assert proc.stdout == ""
+
+
+def test_s8_work_precision_quick():
+    """S8 runs (reduced) and reports, per bridge, the reference and one row per fidelity with a
+    positive cost and an error; the exact modal passages on the viaduct are within 0.5 %."""
+    proc = run("S8", "--json", "--quick", "--repeats", "1")
+    assert proc.returncode == 0, proc.stderr
+    result = json.loads(proc.stdout)
+    assert set(result["bridges"]) == {"S4 span (20 m)", "S5 viaduct (3 x 30 m)"}
+    for name, bridge in result["bridges"].items():
+        assert bridge["reference_max_acc"] > 0
+        for row in bridge["rows"]:
+            assert row["ms_per_passage"] > 0 and row["rel_err"] >= 0
+            if name.startswith("S5") and row["method"] == "modal exact":
+                assert row["rel_err"] < 5e-3
