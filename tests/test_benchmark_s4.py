@@ -31,7 +31,7 @@ def test_s4_quick_json_keys(quick_result):
     r = quick_result
     assert KEYS | CONTRACT_KEYS <= set(r)
     assert r["scene"] == "S4" and r["peer"] == "openseespy" and r["quick"] is True
-    assert r["passages"] == 10 and len(r["cases"]) == 3
+    assert r["passages"] == 10 and len(r["cases"]) == 4
     assert r["vtsi_s"] > 0 and r["peer_s_per_passage"] > 0 and r["passages_per_s"] > 0
     assert {"vtsi", "peer", "reference"} <= set(r["settings"])
     assert ICE3_KEYS <= set(r["ice3_full"]) and r["ice3_full"]["passages"] == 3
@@ -58,3 +58,11 @@ def test_s4_quick_settings_near_the_reference(quick_result):
 
 def test_s4_quick_vtsi_is_faster(quick_result):
     assert quick_result["speedup"] > 1.0
+
+
+def test_s4_modal_section(quick_result):
+    """The exact modal passages: modes kept, their envelope against the 200 Hz modal reference
+    within 0.5 %, and a positive rate."""
+    modal = quick_result["modal"]
+    assert modal["modes"] >= 2 and modal["reference_modes"] > modal["modes"]
+    assert modal["max_acc_rel_err"] < 5e-3 and modal["passages_per_s"] > 0
