@@ -13,7 +13,7 @@ car types.
 References
 ----------
 .. [1] Fedorova, M. & Sivaselvan, M.V. (2017). An algorithm for dynamic vehicle-track-structure
-   interaction analysis for high-speed trains. Engineering Structures 148, 845-856 (Eq. 2: the
+   interaction analysis for high-speed trains. Engineering Structures 148, 857-877 (Eq. 2: the
    4-dof car).
 .. [2] Cantero, D. TTB-2D, Train-Track-Bridge interaction 2-D (MATLAB),
    github.com/DanielCanteroNTNU/TTB-2D: the 10-dof car and the parameter sets in

@@ -382,3 +382,13 @@ def test_cli_doc_exists():
     text = (Path(__file__).parent.parent / "docs" / "cli.md").read_text()
     for word in ("vtsi sweep", "vtsi trains", "vtsi run", "--resume", "Exit status", "SI"):
         assert word in text
+
+
+def test_tcl_runner_without_tkinter_names_the_package(tmp_path, capsys, monkeypatch):
+    """``vtsi run`` on a Python without tkinter: one line naming python3-tk, exit status 1."""
+    script = tmp_path / "m.tcl"
+    script.write_text("model basic -ndm 2 -ndf 3\n")
+    monkeypatch.setitem(sys.modules, "tkinter", None)          # import tkinter now fails
+    assert main(["run", str(script)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "python3-tk" in err and "tkinter" in err

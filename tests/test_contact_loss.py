@@ -277,7 +277,7 @@ def flexible_scene():
 
 @pytest.fixture(scope="module")
 def flexible_reference():
-    events_module = pytest.importorskip("vtsi.reference.events")
+    import vtsi.reference.events as events_module
     model, con = flexible_scene()
     h = FLEX["h_ref"]
     t_eval = h * np.arange(1, int(round(FLEX["t_end"] / h)) + 1)

@@ -207,6 +207,12 @@ def _run(parser, argv):
     ns = parser.run_parser.parse_args(argv[:split])
     try:
         interp = run_file(ns.script, argv=argv[split:])
+    except ImportError as exc:
+        if "tkinter" not in str(exc):
+            raise
+        print("vtsi: running Tcl scripts needs Python's tkinter, which this Python lacks "
+              "(Debian/Ubuntu: apt-get install python3-tk)", file=sys.stderr)
+        return EXIT_FAILED
     except (VtsiError, OSError) as exc:
         sys.stdout.flush()
         notes = "\n".join(getattr(exc, "__notes__", ()))

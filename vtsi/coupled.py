@@ -8,7 +8,7 @@ stage, and the steps run in compiled chunks (:mod:`vtsi.coupled_loop`).
 References
 ----------
 Fedorova, M., Sivaselvan, M.V. (2017) An algorithm for dynamic vehicle-track-structure
-interaction analysis for high-speed trains. Engineering Structures 148, 524-539.
+interaction analysis for high-speed trains. Engineering Structures 148, 857-877.
 """
 import numpy as np
 import scipy.sparse as sp
