@@ -322,6 +322,22 @@ def eigen(model, n_modes):
     return omega2, shapes
 
 
+def modes_up_to(model, f_max):
+    """Every mode of ``model`` up to ``f_max`` [Hz] (at least one): ``(frequencies (n,) [Hz],
+    shapes (n_full, n))`` mass-normalised, as :func:`eigen` (which it calls with twice as many
+    modes until one lies above ``f_max``)."""
+    n_free = model.build().n_free
+    k = min(n_free, 8)
+    while True:
+        omega2, shapes = eigen(model, k)
+        f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
+        if f[-1] > f_max or k == n_free:
+            break
+        k = min(n_free, 2 * k)
+    keep = max(1, int(np.sum(f <= f_max)))
+    return f[:keep], shapes[:, :keep]
+
+
 def max_frequency(assembly):
     """Largest ω [rad/s] of ``K φ = ω² M φ`` (stability check of conditionally stable schemes);
     infinite when a free dof has stiffness but no mass."""

@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
-from vtsi.analysis import eigen
+from vtsi.analysis import modes_up_to
 from vtsi.errors import ModelError
 from vtsi.track import host_element
 
@@ -56,15 +56,8 @@ class ModalBridge:
 
     def __init__(self, model, track, f_max, zeta=0.0):
         asm = model.build()
-        k = min(asm.n_free, 8)
-        while True:
-            omega2, shapes = eigen(model, k)
-            f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
-            if f[-1] > f_max or k == asm.n_free:
-                break
-            k = min(asm.n_free, 2 * k)
-        keep = max(1, int(np.sum(f <= f_max)))
-        on_track = shapes[asm.full_of_free[track.free_index], :keep]
+        f, shapes = modes_up_to(model, f_max)
+        on_track = shapes[asm.full_of_free[track.free_index]]
         loaded = np.flatnonzero(np.max(np.abs(on_track), axis=0) > 1e-9 * np.max(np.abs(on_track)))
         if len(loaded) == 0:
             raise ModelError(f"modal bridge: no mode up to {f_max:g} Hz moves the track")

@@ -27,7 +27,7 @@ from functools import partial
 
 import numpy as np
 
-from vtsi.analysis import domain_state, eigen
+from vtsi.analysis import domain_state, modes_up_to
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
@@ -306,6 +306,7 @@ class PassageRunner:
         self._profiles = {}
         self._trains = {}
         self._modes = {}
+        self._rows = {}
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
@@ -333,15 +334,7 @@ class PassageRunner:
         (mass-normalised; at least one), computed once per cut-off."""
         f_max = self.cutoff_hz(cutoff)
         if f_max not in self._modes:
-            n_free = self.model.build().n_free
-            k = min(n_free, 8)
-            while True:
-                omega2, shapes = eigen(self.model, k)
-                f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
-                if f[-1] > f_max or k == n_free:
-                    break
-                k = min(n_free, 2 * k)
-            self._modes[f_max] = shapes[:, : max(1, int(np.sum(f <= f_max)))]
+            self._modes[f_max] = modes_up_to(self.model, f_max)[1]
         return f_max, self._modes[f_max]
 
     def static_envelopes(self, output, train_names):
@@ -462,17 +455,11 @@ class PassageRunner:
         q, qd, qdd = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt)
         times = s.dt * np.arange(1, n_steps + 1)
         result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)
-        asm = self.model.build()
         for o in outputs:
             if o.vehicle:
                 continue
             nodes = self.output_nodes(o.nodes)
-            if o.response == "moment":
-                free, P = moment_rows(asm, self.track, nodes)
-                rows = modal.shapes[asm.full_of_free[free]].T @ P                 # (n_modes, n_columns)
-            else:
-                dof = 3 if o.response == "rotation" else 2
-                rows = modal.shapes[[asm.full_dof(n, dof) for n in nodes]].T
+            rows = self._modal_rows(o.response, nodes)
             coordinate = {"accel": qdd, "vel": qd}.get(o.response, q)
             values = coordinate @ rows
             result.envelopes[o.name] = peaks(times, values)
@@ -481,6 +468,20 @@ class PassageRunner:
                 result.histories[o.name] = (times, values)
         result.seconds = time.perf_counter() - clock
         return result
+
+    def _modal_rows(self, response, nodes):
+        """The node response ``response`` at ``nodes`` as a map of the modal coordinates
+        (n_modes, n_columns), computed once per response and nodes."""
+        key = (response, tuple(nodes))
+        if key not in self._rows:
+            asm, shapes = self.model.build(), self.modal.shapes
+            if response == "moment":
+                free, P = moment_rows(asm, self.track, nodes)
+                self._rows[key] = shapes[asm.full_of_free[free]].T @ P
+            else:
+                dof = 3 if response == "rotation" else 2
+                self._rows[key] = shapes[[asm.full_dof(n, dof) for n in nodes]].T
+        return self._rows[key]
 
     def output_nodes(self, nodes):
         """Node tags of an output's ``nodes`` ('deck', 'midspan' or tags)."""
