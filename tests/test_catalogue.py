@@ -165,3 +165,14 @@ def test_registry_refuses_duplicates_and_unknown_fidelities():
     with pytest.raises(ModelError, match=r"fidelities \['exact'\]"):
         catalogue.register(catalogue.Entry('new', 'x', {'exact': build['force']}))
     assert 'new' not in train_names()
+
+
+def test_with_speed_copies_the_train_at_another_speed():
+    """Train.with_speed: the same cars and arrays (shared, read-only), the new speed; the
+    original is unchanged; a bad speed names the train."""
+    train = catalogue_train('ICE3', 50.0, fidelity='full')
+    fast = train.with_speed(80.0)
+    assert fast.speed == 80.0 and train.speed == 50.0
+    assert fast.wheel_offsets is train.wheel_offsets and fast.cars is train.cars
+    with pytest.raises(ModelError, match="ICE3.*speed"):
+        train.with_speed(-1.0)
