@@ -222,7 +222,7 @@ def bar_chain(n=4):
 
 
 def omega_max(model):
-    from vtsi.analysis import max_frequency
+    from vtsi.subdomain import max_frequency
     return max_frequency(model.build())
 
 

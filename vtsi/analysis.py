@@ -10,18 +10,11 @@ import scipy.linalg
 import scipy.sparse.linalg as spla
 from scipy.sparse import csgraph
 
-from vtsi.banded import (
-    NotPositiveDefinite,
-    band_rows,
-    band_type,
-    half_bandwidth,
-    ldl_band,
-    pad,
-    solve_band,
-)
+from vtsi.banded import pad, solve_band
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
-from vtsi.timeloop import run_linear_steps, stage_operators
+from vtsi.subdomain import FEStages, factor
+from vtsi.timeloop import run_linear_steps
 from vtsi.timeseries import Path, interpolate_rows
 
 log = logging.getLogger(__name__)
@@ -47,34 +40,8 @@ def domain_state(model):
     return state
 
 
-def factor(assembly, matrix, what, cause=None, dofs=None):
-    """Banded Cholesky factor of a free-dof matrix, or of its rows and columns ``dofs`` (the
-    matrix given already restricted to them), with the half bandwidth of K, M and C there; a
-    failure names the dof at fault (``cause``: the explanation that follows, by default "a
-    mechanism or a dof with neither stiffness nor mass")."""
-    parts = (assembly.K, assembly.M, assembly.C)
-    if dofs is None:
-        dofs = np.arange(assembly.n_free)
-    else:
-        parts = (m[dofs][:, dofs] for m in parts)
-    kd = max(half_bandwidth(m) for m in parts)
-    try:
-        return ldl_band(matrix, kd)
-    except NotPositiveDefinite as exc:
-        raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(dofs[exc.pivot])}: "
-                            + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
-                                        "mass (fix it or connect it)")) from None
 
 
-def factor_stage(assembly, active, kv, ku, what, cause=None):
-    """Banded factor of the effective matrix M + kv C + ku K on the moving dofs ``active``
-    (:func:`moving_dofs`). The dofs at rest are checked too: a dof with neither stiffness nor
-    mass is a modelling error even where nothing moves, and is named as everywhere else."""
-    full = (assembly.M + kv * assembly.C + ku * assembly.K).tocsr()
-    rest = np.setdiff1d(np.arange(assembly.n_free), active)
-    if len(rest):
-        factor(assembly, full[rest][:, rest], what, cause, dofs=rest)
-    return factor(assembly, full[active][:, active], what, cause, dofs=active)
 
 
 def component_labels(M, C, K):
@@ -276,8 +243,8 @@ class StaticAnalysis:
             for _ in range(n_steps):
                 t = state.time + self.d_lambda
                 rhs = np.zeros(asm.n_free)
-                for p, vec in zip(patterns, loads):
-                    rhs += p.factors(np.array([t]))[0] * vec
+                for lam, vec in zip(pattern_factors(patterns, np.array([t]))[0], loads):
+                    rhs += lam * vec
                 kd = lower.shape[1] - 1
                 padded = pad(rhs, kd)
                 solve_band(lower, padded)
@@ -338,18 +305,21 @@ def modes_up_to(model, f_max):
     return f[:keep], shapes[:, :keep]
 
 
-def max_frequency(assembly):
-    """Largest ω [rad/s] of ``K φ = ω² M φ`` (stability check of conditionally stable schemes);
-    infinite when a free dof has stiffness but no mass."""
-    try:
-        if assembly.n_free <= 1500:
-            lam = scipy.linalg.eigvalsh(assembly.K.toarray(), assembly.M.toarray(), subset_by_index=[assembly.n_free - 1] * 2)
-        else:
-            lam = spla.eigsh(assembly.K.tocsc(), k=1, M=assembly.M.tocsc(), which="LM",
-                             return_eigenvectors=False, tol=1e-8)
-    except (np.linalg.LinAlgError, spla.ArpackError, ValueError):
-        return np.inf
-    return float(np.sqrt(max(lam[-1], 0.0)))
+
+
+def load_factor_table(patterns, starts, dt, load_points, cache=None):
+    """``(n, n_stages, n_patterns)`` stage load factors of the steps starting at ``starts`` (n,)
+    [s]: stage s takes Σ weight × factor(t + θ Δt) over its ``load_points[s]`` ((θ, weight)
+    pairs, :mod:`vtsi.integrators.base`); ``cache`` as for :func:`pattern_factors`. The one
+    builder of every time loop's load table."""
+    table = np.zeros((len(starts), len(load_points), len(patterns)))
+    for s, points in enumerate(load_points):
+        for theta, weight in points:
+            if weight != 0.0:
+                table[:, s, :] += weight * pattern_factors(patterns, starts + theta * dt, cache)
+    if not np.all(np.isfinite(table)):
+        raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
+    return table
 
 
 class TransientAnalysis:
@@ -364,14 +334,17 @@ class TransientAnalysis:
     divergence_limit : a step whose largest |u| exceeds this (or is NaN) stops the run with
         a :class:`~vtsi.errors.DivergenceError` naming the step and the time.
     chunk_steps : steps per compiled call (recorders receive chunks of this size).
+    bridge : None (the FE model) or a :class:`~vtsi.modal_bridge.ModalBridge` of the model: the
+        steps then integrate its modal coordinates (the recorders read Φ q).
 
-    Only the dofs that can move are integrated (:func:`moving_dofs`, listed in ``active`` after
-    a run): a component of the model with no load and no state stays exactly at rest, e.g.
-    the axial dofs of a straight beam under vertical loads; its recorders read 0.
+    The model is stepped as a bridge subdomain (:mod:`vtsi.subdomain`). With the FE model only
+    the dofs that can move are integrated (:func:`moving_dofs`, listed in ``active`` after a
+    run): a component of the model with no load and no state stays exactly at rest, e.g. the
+    axial dofs of a straight beam under vertical loads; its recorders read 0.
     """
 
     def __init__(self, model, integrator="Newmark", dt=None, recorders=(), divergence_limit=1e8,
-                 chunk_steps=2000):
+                 chunk_steps=2000, bridge=None):
         self.model = model
         self.integrator = make_integrator(integrator)
         self.recorders = list(recorders)
@@ -383,8 +356,11 @@ class TransientAnalysis:
             raise AnalysisError(f"transient analysis: divergence_limit must be a number > 0 (inf: no bound), "
                                 f"got {divergence_limit!r}")
         self.chunk_steps = _integer("transient analysis", "chunk_steps", chunk_steps, 1)
+        if bridge is not None and not hasattr(bridge, "stages"):
+            raise AnalysisError(f"transient analysis: bridge must be None or a ModalBridge, got {type(bridge).__name__}")
+        self.bridge = bridge
         self.dt = None
-        self._prepared_for = None
+        self.stages = None
         self._path_tables = {}
         if dt is not None:
             self.set_dt(dt)
@@ -397,55 +373,36 @@ class TransientAnalysis:
         if not (np.isfinite(dt) and dt > 0.0):
             raise AnalysisError(f"transient analysis: dt must be > 0 and finite, got {dt}")
         if dt != self.dt:
-            self.dt, self._prepared_for = dt, None
+            self.dt, self.stages = dt, None
 
     def _prepare(self, loaded=None):
-        """Factor the stage matrices (once per model version, dt and set of moving dofs, see
-        :func:`moving_dofs`; ``loaded``: the loaded free dofs, if known) and pack the stages."""
+        """The bridge stages (:mod:`vtsi.subdomain`): factored once per model version, dt and set
+        of moving dofs (see :func:`moving_dofs`; ``loaded``: the loaded free dofs, if known)."""
         asm = self.model.build()
-        active = moving_dofs(asm, self.model, loaded=loaded)
-        if self._prepared_for is asm and np.array_equal(active, self.active):
+        if self.bridge is not None:
+            self.bridge.check_model(self.model)
+            if self.stages is None:
+                self.stages = self.bridge.stages(self.integrator, self.dt)
             return asm
-        self.active = active
-        self.position = np.full(asm.n_free, -1, dtype=np.int64)
-        self.position[active] = np.arange(len(active))
-        integ, dt = self.integrator, self.dt
-        limit = integ.stability_limit(dt)
-        stages = integ.stages(dt)
-        A = integ.n_slots
-        active = self.active
-        K, C = (m[active][:, active].tocsr() for m in (asm.K, asm.C))
-        factors = []
-        for s, st in enumerate(stages):
-            what = f"effective matrix of {integ.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
-            cause = (f"{integ.name} is explicit, so every free dof needs mass and that one has none "
-                     "(give it mass, fix it, or use an implicit integrator: Newmark, HHT, Bathe)") if integ.explicit else None
-            factors.append(factor_stage(asm, active, st.kv[A], st.ku[A], what, cause))
-        if limit is not None:
-            omega_max = max_frequency(asm)
-            if omega_max * dt > limit * (1.0 + 1e-12):
-                raise AnalysisError(f"integrator {integ.name}: dt = {dt:g} s exceeds its stability limit "
-                                    f"{limit / omega_max:.6g} s (= {limit:.4g}/omega_max, omega_max = "
-                                    f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
-        self.factors = np.ascontiguousarray(np.stack(factors))
-        kd = self.factors.shape[2] - 1
-        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
-        self.du, self.dv = pack("du"), pack("dv")
-        self.ops, self.op_slots = stage_operators(band_rows(K, kd), band_rows(C, kd), pack("ku"), pack("kv"))
-        self.load_points = [st.load for st in stages]
-        self._prepared_for = asm
+        active = moving_dofs(asm, self.model, loaded=loaded)
+        stages = self.stages
+        if stages is None or stages.assembly is not asm or not np.array_equal(active, stages.active):
+            self.stages = FEStages(asm, active, self.integrator, self.dt)
         return asm
 
-    def _load_factors(self, patterns, t0, n):
-        """``(n, n_stages, n_patterns)`` stage load factors of the steps after ``t0``."""
-        steps = t0 + self.dt * np.arange(n, dtype=float)
-        table = np.zeros((n, len(self.load_points), len(patterns)))
-        for s, points in enumerate(self.load_points):
-            for theta, weight in points:
-                table[:, s, :] += weight * pattern_factors(patterns, steps + theta * self.dt, self._path_tables)
-        if not np.all(np.isfinite(table)):
-            raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
-        return table
+    @property
+    def active(self):
+        """The free dofs the FE bridge integrates (after a run)."""
+        return self.stages.active
+
+    def step_starts(self, t0, n):
+        """``(n,)`` start times [s] of the next ``n`` steps from ``t0`` (the load table is
+        evaluated from them); a subclass may keep another time bookkeeping."""
+        return t0 + self.dt * np.arange(n, dtype=float)
+
+    def chunk_end(self, t0, n):
+        """The time [s] after ``n`` steps from ``t0``."""
+        return t0 + n * self.dt
 
     def run(self, n_steps):
         """Advance ``n_steps`` steps from the model's committed state; returns the state."""
@@ -455,46 +412,37 @@ class TransientAnalysis:
         patterns = list(self.model.patterns.values())
         load_ptr, load_dof, load_val = _pattern_loads(self.model.build(), patterns)
         asm = self._prepare(load_dof)
+        bridge = self.stages
         state = domain_state(self.model)
-        load_dof = self.position[load_dof]
-        n_slots = self.integrator.n_slots
-        kd = self.factors.shape[2] - 1
-        n = len(self.active)
-        full_dofs = asm.full_of_free[self.active]
-        bank = np.zeros((n_slots, n + 2 * kd))
-        for slot, vec in enumerate((state.u, state.v, state.a)):
-            bank[slot, kd: kd + n] = vec[full_dofs]
+        load_ptr, load_dof, load_val = bridge.loads(load_ptr, load_dof, load_val)
+        bank = bridge.bank(state, asm.full_of_free, self.integrator.n_slots)
+        load_points = [st.load for st in self.integrator.stages(self.dt)]
         feed = _RecorderFeed(asm, self.model, self.recorders,
                              {"analysis": "transient", "integrator": repr(self.integrator), "dt": self.dt})
-        work = np.zeros((3, n + 2 * kd))
+        rec_slot, rec_index = bridge.record_plan(feed.rec_slot, feed.rec_index)
+        work = np.zeros((3, bank.shape[1]))
         done = 0
         try:
             while done < n_steps:
                 chunk = min(self.chunk_steps, n_steps - done)
                 t0 = state.time
-                table = self._load_factors(patterns, t0, chunk)
-                out = np.zeros((chunk, len(feed.rec_index)))
-                bad = run_linear_steps(bank, self.du, self.dv, self.factors, self.ops, self.op_slots, table,
-                                       load_ptr, load_dof, load_val, feed.rec_slot, self.position[feed.rec_index],
-                                       out, self.divergence_limit, work, band_type(self.factors.shape[2] - 1))
+                starts = self.step_starts(t0, chunk)
+                table = load_factor_table(patterns, starts, self.dt, load_points, self._path_tables)
+                out = np.zeros((chunk, len(rec_slot)))
+                bad = run_linear_steps(bank, bridge.du, bridge.dv, bridge.fac, bridge.ops, bridge.slots, table,
+                                       load_ptr, load_dof, load_val, rec_slot, rec_index,
+                                       out, self.divergence_limit, work, bridge.band)
                 good = chunk if bad < 0 else bad
                 times = t0 + self.dt * np.arange(1, good + 1)
-                feed.deliver(times, out[:good], asm)
+                feed.deliver(times, bridge.recorded(out[:good]), asm)
                 if bad >= 0:
                     step = done + bad + 1
                     raise DivergenceError(
                         f"transient analysis diverged at step {step}, t = {t0 + (bad + 1) * self.dt:.6g} s "
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, t0 + (bad + 1) * self.dt)
-                self._commit(state, bank[:, kd: kd + n], full_dofs, t0 + chunk * self.dt)
+                bridge.commit(state, bank, asm.full_of_free, self.chunk_end(t0, chunk))
                 done += chunk
         finally:
             feed.close()
         return state
-
-    @staticmethod
-    def _commit(state, bank, full_dofs, time):
-        for slot, vec in enumerate((state.u, state.v, state.a)):
-            vec[:] = 0.0
-            vec[full_dofs] = bank[slot]
-        state.time = time

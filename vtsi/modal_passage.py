@@ -30,70 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
-from vtsi.analysis import modes_up_to
-from vtsi.errors import ModelError
 from vtsi.track import host_element
-
-CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
-
-
-class ModalBridge:
-    """The modes of a FE bridge up to ``f_max`` [Hz] along its ``track``, with damping ratios.
-
-    Parameters
-    ----------
-    model : vtsi.Model; track : vtsi.track.Track.
-    f_max : highest frequency kept [Hz] (at least one mode is kept; modes that do not move the
-        track, such as a straight beam's axial modes, are left out: no wheel loads them).
-    zeta : damping ratio of every mode [-], a sequence (one per kept mode), or a function of the
-        frequency [Hz] -> ratio.
-
-    Attributes
-    ----------
-    frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,), shapes (n_full, n) mass-normalised,
-    track_modes (n_track, n): the shapes on the track dofs.
-    """
-
-    def __init__(self, model, track, f_max, zeta=0.0):
-        asm = model.build()
-        f, shapes = modes_up_to(model, f_max)
-        on_track = shapes[asm.full_of_free[track.free_index]]
-        loaded = np.flatnonzero(np.max(np.abs(on_track), axis=0) > 1e-9 * np.max(np.abs(on_track)))
-        if len(loaded) == 0:
-            raise ModelError(f"modal bridge: no mode up to {f_max:g} Hz moves the track")
-        keep = len(loaded)                    # modes the wheels cannot load (axial ones) never move
-        self.frequencies, self.shapes = f[loaded], shapes[:, loaded]
-        self.omega = 2 * np.pi * self.frequencies
-        if callable(zeta):
-            ratios = np.array([float(zeta(fi)) for fi in self.frequencies])
-        else:
-            ratios = np.broadcast_to(np.asarray(zeta, dtype=float), (keep,)).copy() if np.ndim(zeta) == 0 \
-                else np.asarray(zeta, dtype=float)
-        if ratios.shape != (keep,) or not np.all((ratios >= 0) & (ratios < 1)):
-            raise ModelError(f"modal bridge: damping ratios must be in [0, 1), one per kept mode ({keep}), "
-                             f"got {np.asarray(zeta).tolist() if not callable(zeta) else 'a function giving ' + str(ratios.tolist())}")
-        if not np.all(self.omega > 0):
-            raise ModelError("modal bridge: a kept mode has zero frequency (a mechanism)")
-        self.zeta = ratios
-        self.track = track
-        self.track_modes = np.ascontiguousarray(self.shapes[asm.full_of_free[track.free_index]])
-
-    @property
-    def n_modes(self):
-        return len(self.frequencies)
-
-    def passage(self, offsets, loads, speed, x_head0, n_samples, dt):
-        """Modal coordinates of a passage of downward axle ``loads`` [N] at ``offsets`` [m] behind
-        the head (at ``x_head0`` [m] at t = 0), ``speed`` [m/s], from rest: ``(q, q̇, q̈)`` each
-        (n_samples, n_modes) at t = dt, 2 dt, … (the analyses' output times)."""
-        x0 = np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float))
-        t_end = n_samples * dt
-        q, qd, qdd = (np.zeros((n_samples, self.n_modes)) for _ in range(3))
-        _exact_passage(x0, np.ascontiguousarray(loads, dtype=float), float(speed), self.track.x_start,
-                       self.track.length, self.track.dofs, self.track_modes, self.omega, self.zeta, t_end,
-                       float(dt), q, qd, qdd)
-        return q, qd, qdd
-
 
 def peaks(times, values):
     """Envelope rows (6, n_columns): min, max, absmax and their times of sampled ``values``
@@ -124,7 +61,7 @@ def _in_tau(h0, h1, h2, h3, a, s):
 
 
 @njit(cache=True)
-def _exact_passage(x0, loads, speed, x_start, length, tdofs, modes, omega, zeta, t_end, dt, q_out, qd_out, qdd_out):
+def exact_passage(x0, loads, speed, x_start, length, tdofs, modes, omega, zeta, t_end, dt, q_out, qd_out, qdd_out):
     """Fill q, q̇, q̈ (n_samples, n_modes) at t = dt, 2 dt, …; x0 decreases (the train's order)."""
     n_el = x_start.shape[0]
     n_ax = x0.shape[0]

@@ -33,10 +33,10 @@ import numpy as np
 from vtsi.analysis import StaticAnalysis, TransientAnalysis, _RecorderFeed, domain_state, factor
 from vtsi.analysis import eigen as _eigen
 from vtsi.banded import solve_band
-from vtsi.errors import AnalysisError, CommandError, DivergenceError
+from vtsi.errors import CommandError, DivergenceError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
 from vtsi.model import Model
-from vtsi.timeseries import Constant, Linear, TimeSeries, interpolate_rows
+from vtsi.timeseries import Constant, Linear, TimeSeries
 from vtsi.train_commands import TRAIN_COMMANDS, TrainCommands
 
 log = logging.getLogger(__name__)
@@ -321,7 +321,6 @@ class _CommandTransient(TransientAnalysis):
 
     def __init__(self, model, integrator):
         super().__init__(model, integrator)
-        self._chunk_end = None
 
     def _increments(self):
         if isinstance(self.integrator, HHT):
@@ -337,55 +336,11 @@ class _CommandTransient(TransientAnalysis):
         seq[1:] = np.tile(inc, n)
         return np.cumsum(seq)[:: len(inc)]
 
-    def _load_factors(self, patterns, t0, n):
-        times = self.step_times(t0, n)
-        self._chunk_end = times[-1]
-        starts = times[:-1]
-        table = np.zeros((n, len(self.load_points), len(patterns)))
-        for s, points in enumerate(self.load_points):
-            for theta, weight in points:
-                table[:, s, :] += weight * self._pattern_factors(patterns, starts + theta * self.dt)
-        if not np.all(np.isfinite(table)):
-            raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
-        return table
+    def step_starts(self, t0, n):
+        return self.step_times(t0, n)[:-1]
 
-    def _pattern_factors(self, patterns, times):
-        """``(len(times), len(patterns))`` load factors; ``-dt`` Path series on one time grid
-        (one per loaded node, the usual moving-load script) are evaluated together."""
-        out = np.empty((len(times), len(patterns)))
-        groups = {}
-        for p, pattern in enumerate(patterns):
-            series = pattern.series
-            if isinstance(series, PathSeries) and pattern.constant_time is None:
-                key = (series.dt, series.start_time, series.values.size, series.use_last)
-                groups.setdefault(key, []).append(p)
-            else:
-                out[:, p] = pattern.factors(times)
-        cache = getattr(self, "_path_stacks", {})
-        self._path_stacks = {}
-        for (dt, start, size, use_last), members in groups.items():
-            series = [patterns[p].series for p in members]
-            ids = tuple(id(x) for x in series)
-            stack = cache.get(ids)
-            if stack is None or any(a is not b for a, b in zip(stack[0], series)):
-                stack = (series, np.stack([x.values for x in series], axis=1), np.array([x.factor for x in series]))
-            self._path_stacks[ids] = stack
-            _, table, series_factor = stack
-            x = (times - start) / dt
-            i = np.floor(x)
-            started = times >= start
-            inside = started & (i + 1 < size)
-            k = i[inside].astype(np.int64)
-            y = np.zeros((len(times), len(members)))
-            y[inside] = interpolate_rows(table, k, x[inside] - k)
-            if use_last:
-                y[started & ~inside] = table[-1]
-            fact = np.array([patterns[p].factor for p in members])
-            out[:, members] = y * (fact * series_factor)
-        return out
-
-    def _commit(self, state, bank, full_dofs, time):
-        TransientAnalysis._commit(state, bank, full_dofs, self._chunk_end if self._chunk_end is not None else time)
+    def chunk_end(self, t0, n):
+        return self.step_times(t0, n)[-1]
 
 
 class _OpenSeesTRBDF2:

@@ -1,0 +1,204 @@
+"""A modal bridge: the first modes of a FE bridge, each with its own damping ratio.
+
+With the mass-normalised shapes Φ (Φᵀ M Φ = I) of the kept modes, u ≈ Φ q and
+
+    q̈_j + 2 ζ_j ω_j q̇_j + ω_j² q_j = φ_jᵀ P(t)
+
+one uncoupled equation per mode: true modal damping (EN 1991-2 gives a ratio per mode, which
+Rayleigh damping gives to two modes only). The time loops step it through the same bridge
+subdomain contract as the FE bridge (:mod:`vtsi.subdomain`): its matrices are diagonal (half
+bandwidth 0), a load is projected on the modes, a recorded dof is read back through its row of Φ,
+and a wheel's constraint row over the track dofs becomes that row times Φ on the track dofs
+(:class:`ModalStages`). Exact passages of moving forces: :meth:`ModalBridge.passage`
+(:mod:`vtsi.modal_passage`).
+
+What is left out is the truncated modes' response: accelerations above the kept frequency (the
+EN 1990 A2 cut-off by construction) and their quasi-static share of a displacement (for a simply
+supported span the first omitted symmetric mode beyond 1.1 × 30 Hz carries a small fraction of
+the static mid-span deflection: 1/625 for the 5th mode). With every mode kept, the modal bridge
+steps exactly the FE bridge's equations (tests: to 1e-9 with the same integrator and Δt) when
+its damping is classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
+"""
+import numpy as np
+import scipy.sparse as sp
+
+from vtsi.analysis import eigen, modes_up_to
+from vtsi.banded import ldl_band
+from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+from vtsi.damping import vertical_frequencies
+from vtsi.errors import AnalysisError, ModelError
+from vtsi.modal_passage import exact_passage
+from vtsi.subdomain import BridgeStages
+
+CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
+
+
+class ModalBridge:
+    """The modes of a FE bridge model, mass-normalised, with a damping ratio per mode.
+
+    Parameters
+    ----------
+    model : vtsi.Model (built as it is now: a later change of the model needs a new ModalBridge).
+    track : vtsi.track.Track or None. With a track, modes that do not move it (a straight beam's
+        axial modes) are left out: no wheel loads them.
+    f_max : highest frequency kept [Hz]; default (and ``n_modes`` None): the EN 1990 A2
+        acceleration cut-off max(30 Hz, 1.5 n₀, n₃) of the first vertical frequencies, × 1.1 so
+        that a mode sitting on the cut-off stays in.
+    zeta : damping ratio [-] of every mode, a sequence (one per kept mode) or a function of the
+        frequency [Hz] -> ratio. None: the model's own damping, ζ_j = φ_jᵀ C φ_j / (2 ω_j), which
+        must be classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
+    n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound.
+
+    Attributes
+    ----------
+    frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,), shapes (n_full, n) mass-normalised,
+    assembly (the model version the modes belong to), track_modes (n_track, n) with a track.
+    """
+
+    def __init__(self, model, track=None, f_max=None, zeta=None, n_modes=None):
+        asm = model.build()
+        if n_modes is not None:
+            if f_max is not None:
+                raise ModelError("modal bridge: give f_max or n_modes, not both")
+            omega2, shapes = eigen(model, n_modes)
+            f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
+        else:
+            if f_max is None:
+                f_max = CUTOFF_MARGIN * acceleration_cutoff_hz(vertical_frequencies(model, 3)[0])
+            f_max = _positive_hz(f_max)
+            f, shapes = modes_up_to(model, f_max)
+        keep = np.arange(len(f))
+        if track is not None:
+            on_track = shapes[asm.full_of_free[track.free_index]]
+            keep = np.flatnonzero(np.max(np.abs(on_track), axis=0) > 1e-9 * np.max(np.abs(on_track)))
+            if len(keep) == 0:
+                raise ModelError(f"modal bridge: no mode up to {f[-1]:g} Hz moves the track")
+        self.assembly, self.track = asm, track
+        self.frequencies, self.shapes = f[keep], np.ascontiguousarray(shapes[:, keep])
+        self.omega = 2 * np.pi * self.frequencies
+        if not np.all(self.omega > 0):
+            raise ModelError("modal bridge: a kept mode has zero frequency (a mechanism)")
+        self.zeta = self._ratios(zeta)
+        if track is not None:
+            self.track_modes = np.ascontiguousarray(self.shapes[asm.full_of_free[track.free_index]])
+
+    def _ratios(self, zeta):
+        n = self.n_modes
+        if zeta is None:
+            phi = self.shapes[self.assembly.full_of_free]
+            modal_c = phi.T @ (self.assembly.C @ phi)
+            diagonal = np.diag(modal_c).copy()
+            off = np.abs(modal_c - np.diag(diagonal)).max(initial=0.0)
+            if off > 1e-8 * max(np.abs(diagonal).max(initial=0.0), 1e-300) and off > 0.0:
+                raise ModelError("modal bridge: the model's damping is not classical (ΦᵀCΦ has off-diagonal terms "
+                                 f"up to {off:.3g}); give the damping ratios: zeta=...")
+            ratios = diagonal / (2.0 * self.omega)
+        elif callable(zeta):
+            ratios = np.array([float(zeta(fi)) for fi in self.frequencies])
+        else:
+            ratios = np.broadcast_to(np.asarray(zeta, dtype=float), (n,)).copy() if np.ndim(zeta) == 0 \
+                else np.asarray(zeta, dtype=float)
+        if ratios.shape != (n,) or not np.all((ratios >= 0) & (ratios < 1)):
+            given = "a function giving " + str(ratios.tolist()) if callable(zeta) else np.asarray(zeta).tolist()
+            raise ModelError(f"modal bridge: damping ratios must be in [0, 1), one per kept mode ({n}), got {given}")
+        return ratios
+
+    @property
+    def n_modes(self):
+        return len(self.frequencies)
+
+    def stages(self, integrator, dt, track=None, self_weight_load=None):
+        """The bridge subdomain for ``integrator`` and ``dt`` [s] (:class:`ModalStages`)."""
+        return ModalStages(self, integrator, dt, track, self_weight_load)
+
+    def check_model(self, model):
+        """Raise unless ``model`` is still the version the modes were computed for."""
+        if model.build() is not self.assembly:
+            raise AnalysisError("modal bridge: the model changed after its modes were computed; "
+                                "build a new ModalBridge")
+
+    def passage(self, offsets, loads, speed, x_head0, n_samples, dt):
+        """Modal coordinates of a passage of downward axle ``loads`` [N] at ``offsets`` [m] behind
+        the head (at ``x_head0`` [m] at t = 0), ``speed`` [m/s], from rest: ``(q, q̇, q̈)`` each
+        (n_samples, n_modes) at t = dt, 2 dt, … (the analyses' output times), exact
+        (:mod:`vtsi.modal_passage`)."""
+        if self.track is None:
+            raise ModelError("modal bridge: a passage needs the bridge's track (ModalBridge(model, track, ...))")
+        x0 = np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float))
+        t_end = n_samples * dt
+        q, qd, qdd = (np.zeros((n_samples, self.n_modes)) for _ in range(3))
+        exact_passage(x0, np.ascontiguousarray(loads, dtype=float), float(speed), self.track.x_start,
+                      self.track.length, self.track.dofs, self.track_modes, self.omega, self.zeta, t_end,
+                      float(dt), q, qd, qdd)
+        return q, qd, qdd
+
+
+class ModalStages(BridgeStages):
+    """A :class:`ModalBridge` as the bridge subdomain of a time loop (:mod:`vtsi.subdomain`):
+    coordinates q (n_modes), M = I, C = diag(2ζω), K = diag(ω²), effective matrices diagonal."""
+
+    def __init__(self, modal, integrator, dt, track=None, self_weight_load=None):
+        asm = modal.assembly
+        self.modal, self.n = modal, modal.n_modes
+        self.phi = modal.shapes[asm.full_of_free]                  # (n_free, n)
+        self.mass = asm.M
+        k, c = modal.omega ** 2, 2.0 * modal.zeta * modal.omega
+        A = integrator.n_slots
+        stages = integrator.stages(dt)
+        k_hat = [1.0 + st.kv[A] * c + st.ku[A] * k for st in stages]
+        self._stepping(integrator, dt, sp.diags(k), sp.diags(c), [ldl_band(sp.diags(d), 0) for d in k_hat])
+        self.stiffness = sp.diags(k).tocsc()
+        if track is not None:
+            self.track_index = np.zeros(track.n_track, dtype=np.int64)
+            self.track_basis = np.ascontiguousarray(self.phi[track.free_index])
+            self.flex = np.ascontiguousarray(np.stack([(self.track_basis / d) @ self.track_basis.T for d in k_hat]))
+            self.track_operator = sp.csr_matrix(self.track_basis)
+            if self_weight_load is not None:
+                self.track_sag = self.track_basis @ (self.phi.T @ self_weight_load / k)
+
+    def coordinates(self, free):
+        """q = Φᵀ M u of a free-dof vector."""
+        return self.phi.T @ (self.mass @ free)
+
+    def free_values(self, coords):
+        return self.phi @ coords
+
+    def static_load(self, p_free):
+        return self.phi.T @ p_free
+
+    def static_free(self, x):
+        return self.phi @ x
+
+    def loads(self, ptr, dof, val):
+        """The pattern loads' modal forces Φᵀ P, one dense row of n per pattern (CSR)."""
+        n_p = len(ptr) - 1
+        out = np.zeros((n_p, self.n))
+        for p in range(n_p):
+            sl = slice(ptr[p], ptr[p + 1])
+            out[p] = self.phi[dof[sl]].T @ val[sl]
+        return (np.arange(n_p + 1, dtype=np.int64) * self.n, np.tile(np.arange(self.n, dtype=np.int64), n_p),
+                out.ravel())
+
+    def record_plan(self, rec_slot, rec_index):
+        """Record every mode in each slot the recorders need; :meth:`recorded` maps them to the
+        recorders' free dofs through their rows of Φ."""
+        slots = np.unique(rec_slot)
+        self._post = np.zeros((len(slots) * self.n, len(rec_slot)))
+        for r, (slot, dof) in enumerate(zip(rec_slot, rec_index)):
+            b = int(np.searchsorted(slots, slot))
+            if dof >= 0:
+                self._post[b * self.n: (b + 1) * self.n, r] = self.phi[dof]
+        return np.repeat(slots, self.n).astype(np.int64), np.tile(np.arange(self.n, dtype=np.int64), len(slots))
+
+    def recorded(self, out):
+        return out @ self._post
+
+
+def _positive_hz(value):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"modal bridge: f_max must be a frequency [Hz], got {value!r}") from None
+    if not (np.isfinite(value) and value > 0.0):
+        raise ModelError(f"modal bridge: f_max must be > 0 and finite [Hz], got {value}")
+    return value

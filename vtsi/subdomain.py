@@ -1,0 +1,248 @@
+"""The bridge subdomain the time loops step (DESIGN §4): one contract, two implementations.
+
+A time loop (:func:`vtsi.timeloop.run_linear_steps`, :func:`vtsi.coupled_loop.run_coupled_steps`)
+advances a padded state bank ``(n_slots, n + 2 kd)`` of ``n`` coordinates: per integrator stage, a
+banded factor of the effective matrix ``M + kv C + ku K`` and the operators of the stage's known
+part. What a bridge gives the loops for one integrator and Δt is a :class:`BridgeStages`:
+
+- ``n``, ``du``, ``dv`` (the integrator's stage coefficients), ``fac`` (n_stages, n + kd, kd + 1), ``ops``, ``slots`` (:func:`vtsi.timeloop.stage_operators`),
+  ``band``: the stepping data;
+- :meth:`~BridgeStages.loads`: pattern loads (CSR over the free dofs) as loads on the coordinates;
+- :meth:`~BridgeStages.bank` / :meth:`~BridgeStages.commit`: the committed state in and out;
+- :meth:`~BridgeStages.record_plan` / :meth:`~BridgeStages.recorded`: what the kernel records for the
+  recorders' free-dof columns and how those columns follow from it;
+- along a track (coupled analyses): ``track_index`` (n_track,) the coordinate of each track dof and
+  ``track_basis`` (n_track, n_basis) — a track dof's value is ``bank[kd + track_index[c]]`` when
+  ``n_basis == 0``, else ``track_basis[c] · bank[kd: kd + n]``; ``flex`` (n_stages, n_track, n_track)
+  the stages' K̂⁻¹ on the track dofs [per unit acceleration weight]; ``track_sag`` (n_track,) [m] the
+  self-weight deflection of the track dofs (None without self weight);
+- for the dead-load solve: ``stiffness`` over its own coordinates (the FE bridge's free dofs, the
+  modes), ``track_operator`` (n_track × those), :meth:`~BridgeStages.static_load` and
+  :meth:`~BridgeStages.static_free` to map a load in and a solution out.
+
+Implementations: :class:`FEStages` (the FE bridge: banded, on the dofs that can move) here, and
+:class:`vtsi.modal_bridge.ModalStages` (mass-normalised modes: diagonal, kd = 0).
+"""
+import numpy as np
+import scipy.linalg
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, solve_band
+from vtsi.errors import AnalysisError
+from vtsi.timeloop import stage_operators
+
+
+def factor(assembly, matrix, what, cause=None, dofs=None):
+    """Banded Cholesky factor of a free-dof matrix, or of its rows and columns ``dofs`` (the
+    matrix given already restricted to them), with the half bandwidth of K, M and C there; a
+    failure names the dof at fault (``cause``: the explanation that follows, by default "a
+    mechanism or a dof with neither stiffness nor mass")."""
+    parts = (assembly.K, assembly.M, assembly.C)
+    if dofs is None:
+        dofs = np.arange(assembly.n_free)
+    else:
+        parts = (m[dofs][:, dofs] for m in parts)
+    kd = max(half_bandwidth(m) for m in parts)
+    try:
+        return ldl_band(matrix, kd)
+    except NotPositiveDefinite as exc:
+        raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(dofs[exc.pivot])}: "
+                            + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
+                                        "mass (fix it or connect it)")) from None
+
+
+def factor_stage(assembly, active, kv, ku, what, cause=None):
+    """Banded factor of the effective matrix M + kv C + ku K on the moving dofs ``active``
+    (:func:`vtsi.analysis.moving_dofs`). The dofs at rest are checked too: a dof with neither stiffness nor
+    mass is a modelling error even where nothing moves, and is named as everywhere else."""
+    full = (assembly.M + kv * assembly.C + ku * assembly.K).tocsr()
+    rest = np.setdiff1d(np.arange(assembly.n_free), active)
+    if len(rest):
+        factor(assembly, full[rest][:, rest], what, cause, dofs=rest)
+    return factor(assembly, full[active][:, active], what, cause, dofs=active)
+
+
+def max_frequency(assembly):
+    """Largest ω [rad/s] of ``K φ = ω² M φ`` (stability check of conditionally stable schemes);
+    infinite when a free dof has stiffness but no mass."""
+    try:
+        if assembly.n_free <= 1500:
+            lam = scipy.linalg.eigvalsh(assembly.K.toarray(), assembly.M.toarray(), subset_by_index=[assembly.n_free - 1] * 2)
+        else:
+            lam = spla.eigsh(assembly.K.tocsc(), k=1, M=assembly.M.tocsc(), which="LM",
+                             return_eigenvectors=False, tol=1e-8)
+    except (np.linalg.LinAlgError, spla.ArpackError, ValueError):
+        return np.inf
+    return float(np.sqrt(max(lam[-1], 0.0)))
+
+
+class BridgeStages:
+    """The contract (see the module docstring). Subclasses set the attributes and implement
+    :meth:`free_values` (coordinates -> free-dof vectors) and :meth:`loads`."""
+
+    n = 0
+    track_index = np.zeros(0, dtype=np.int64)
+    track_basis = np.zeros((0, 0))
+    flex = np.zeros((0, 0, 0))
+    track_sag = None
+
+    def _stepping(self, integrator, dt, K, C, factors):
+        """Set fac, ops, slots, band from the stage factors and K, C on the coordinates."""
+        self.fac = np.ascontiguousarray(np.stack(factors))
+        self.kd = self.fac.shape[2] - 1
+        self.band = band_type(self.kd)
+        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in integrator.stages(dt)]))
+        self.du, self.dv = pack("du"), pack("dv")
+        self.ops, self.slots = stage_operators(band_rows(K, self.kd), band_rows(C, self.kd), pack("ku"), pack("kv"))
+
+    def bank(self, state, full_of_free, n_slots):
+        """A padded bank ``(n_slots, n + 2 kd)`` holding the committed ``state`` in slots 0..2."""
+        out = np.zeros((n_slots, self.n + 2 * self.kd))
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            out[slot, self.kd: self.kd + self.n] = self.coordinates(vec[full_of_free])
+        return out
+
+    def commit(self, state, bank, full_of_free, time):
+        """Write the bank's slots 0..2 back to the full-dof ``state`` at ``time`` [s]."""
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            vec[:] = 0.0
+            vec[full_of_free] = self.free_values(bank[slot, self.kd: self.kd + self.n])
+        state.time = time
+
+    def track_values(self, coords):
+        """The track dofs' values (n_track,) of a coordinate vector (n,)."""
+        if self.track_basis.shape[1]:
+            return self.track_basis @ coords
+        return np.where(self.track_index >= 0, coords[np.maximum(self.track_index, 0)], 0.0)
+
+
+class FEStages(BridgeStages):
+    """The FE bridge on the free dofs that can move (``active``, :func:`vtsi.analysis.moving_dofs`).
+
+    Parameters
+    ----------
+    assembly : the model's assembly; active : (n_a,) int64 free dofs integrated.
+    integrator, dt [s] : the stages; track : vtsi.track.Track or None (transient analyses).
+    self_weight_load : (n_free,) [N] or None: the self weight whose static deflection ``track_sag``
+        the rail is measured from.
+    """
+
+    def __init__(self, assembly, active, integrator, dt, track=None, self_weight_load=None):
+        self.assembly, self.active, self.n = assembly, active, len(active)
+        self.position = np.full(assembly.n_free, -1, dtype=np.int64)
+        self.position[active] = np.arange(len(active))
+        A = integrator.n_slots
+        cause = (f"{integrator.name} is explicit, so every free dof needs mass and that one has none "
+                 "(give it mass, fix it, or use an implicit integrator: Newmark, HHT, Bathe)") if integrator.explicit else None
+        factors = []
+        for s, st in enumerate(integrator.stages(dt)):
+            what = f"effective matrix of {integrator.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
+            factors.append(factor_stage(assembly, active, st.kv[A], st.ku[A], what, cause))
+        limit = integrator.stability_limit(dt)
+        if limit is not None:
+            omega_max = max_frequency(assembly)
+            if omega_max * dt > limit * (1.0 + 1e-12):
+                raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
+                                    f"{limit / omega_max:.6g} s (= {limit:.4g}/omega_max, omega_max = "
+                                    f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
+        K, C = (m[active][:, active].tocsr() for m in (assembly.K, assembly.C))
+        self._stepping(integrator, dt, K, C, factors)
+        self.stiffness = assembly.K
+        if track is not None:
+            self.track_index = self.position[track.free_index]
+            self.track_basis = np.zeros((track.n_track, 0))
+            self.flex = np.ascontiguousarray(np.stack([_inverse_columns(f, self.track_index)[self.track_index]
+                                                       for f in self.fac]))
+            self.track_operator = sp.csr_matrix((np.ones(track.n_track), (np.arange(track.n_track), track.free_index)),
+                                                shape=(track.n_track, assembly.n_free))
+            if self_weight_load is not None:
+                sag = _pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)
+                self.track_sag = sag[track.free_index]
+
+    def coordinates(self, free):
+        return free[self.active]
+
+    def free_values(self, coords):
+        out = np.zeros(self.assembly.n_free)
+        out[self.active] = coords
+        return out
+
+    def static_load(self, p_free):
+        """A free-dof load as a load on the coordinates of ``stiffness`` (here the free dofs)."""
+        return p_free
+
+    def static_free(self, x):
+        """The free-dof displacements of a solution over ``stiffness``'s coordinates."""
+        return x
+
+    def loads(self, ptr, dof, val):
+        """The CSR ``(ptr, dof, val)`` over free dofs with the dofs as bank coordinates (a loaded
+        dof is always integrated)."""
+        return ptr, self.position[dof], val
+
+    def record_plan(self, rec_slot, rec_index):
+        """Kernel columns ``(slot, coordinate)`` for recorder columns of free dofs ``rec_index``
+        (-1: a dof at rest, read as 0)."""
+        return rec_slot, self.position[rec_index]
+
+    def recorded(self, out):
+        """The recorder columns from the kernel's columns (here the same)."""
+        return out
+
+
+def _pad_solve(lower, rhs):
+    """``K̂⁻¹ rhs`` from a banded factor (unpadded in and out)."""
+    kd = lower.shape[1] - 1
+    b = np.zeros(len(rhs) + 2 * kd)
+    b[kd: kd + len(rhs)] = rhs
+    solve_band(lower, b)
+    return b[kd: kd + len(rhs)]
+
+
+def _inverse_columns(lower, dofs):
+    """``K̂⁻¹[:, dofs]`` from a banded factor (one padded solve per column) -> (n, len(dofs))."""
+    kd = lower.shape[1] - 1
+    n = lower.shape[0] - kd
+    out = np.zeros((n, len(dofs)))
+    b = np.zeros(n + 2 * kd)
+    for j, d in enumerate(dofs):
+        b[:] = 0.0
+        b[kd + d] = 1.0
+        solve_band(lower, b)
+        out[:, j] = b[kd: kd + n]
+    return out
+
+
+class BridgeStageCache:
+    """Bridge stages by what they were built for (the bridge — a FE assembly or a modal bridge —
+    and a key: integrator, Δt, track, moving dofs, self-weight load). Analyses that share one cache
+    prepare the bridge once (a sweep: once for all its passages). Keeps the entries of the latest
+    bridge only, so a changed model frees the old factors."""
+
+    def __init__(self):
+        self._entries = []
+
+    def __len__(self):
+        return len(self._entries)
+
+    def get(self, source, key, build):
+        """The stages of ``source`` for ``key``, built by ``build()`` when not cached."""
+        for entry_source, entry_key, stages in self._entries:
+            if entry_source is source and entry_key == key:
+                return stages
+        stages = build()
+        self._entries = [e for e in self._entries if e[0] is source] + [(source, key, stages)]
+        return stages
+
+    def stages(self):
+        """The cached stages (oldest first)."""
+        return [e[2] for e in self._entries]
+
+
+def stage_key(integrator, dt, track=None, active=None, self_weight_load=None):
+    """What bridge stages depend on besides the bridge itself (hashable)."""
+    weight = None if self_weight_load is None else np.asarray(self_weight_load).tobytes()
+    tr = None if track is None else (track.free_index.tobytes(), track.dofs.tobytes(), track.x_start.tobytes(),
+                                     track.length.tobytes())
+    return (repr(integrator), float(dt), None if active is None else np.asarray(active).tobytes(), tr, weight)
