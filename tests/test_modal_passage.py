@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 import vtsi
-from vtsi.modal_passage import ModalBridge, peaks
+from vtsi.modal_bridge import ModalBridge
+from vtsi.modal_passage import peaks
 from vtsi.models.bridges import simply_supported_beam
 from vtsi.passage import Output, PassageSettings
 from vtsi.reference.fryba import moving_force_midspan

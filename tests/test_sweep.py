@@ -127,9 +127,9 @@ def test_the_bridge_is_factored_once_per_sweep():
     sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A9"], "150,250,350", FAST)
     sweep.run(None, workers=1, progress=False)
     assert len(sweep.runner.cache) == 1
-    factors = sweep.runner.cache._entries[0].fac_b
+    factors = sweep.runner.cache.stages()[0].fac
     sweep.runner.run("HSLM-A2", 300.0)
-    assert len(sweep.runner.cache) == 1 and sweep.runner.cache._entries[0].fac_b is factors
+    assert len(sweep.runner.cache) == 1 and sweep.runner.cache.stages()[0].fac is factors
 
 
 def test_memory_stays_flat_over_500_passages():
@@ -409,7 +409,7 @@ def test_histories_of_chosen_cases_are_added_to_the_file(tmp_path):
 def test_a_shared_bridge_cache_tells_self_weight_apart():
     """Two analyses of one bridge sharing a cache, with and without the deck's self weight, each
     get their own stages (the self-weight deflection is part of them)."""
-    from vtsi.coupled import BridgeStageCache
+    from vtsi.subdomain import BridgeStageCache
     model = vtsi.Model()
     beam = simply_supported_beam(model, L, 4, EI, 1.0, MU)
     cache = BridgeStageCache()

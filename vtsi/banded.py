@@ -114,3 +114,26 @@ def band_matvec_add(out, rows, x, scale, band):
         for k in range(2 * kd + 1):
             s += rows[i, k] * x[i + k]
         out[kd + i] += scale * s
+
+
+def pad_solve(lower, rhs):
+    """``K̂⁻¹ rhs`` from a banded factor (unpadded in and out)."""
+    kd = lower.shape[1] - 1
+    b = np.zeros(len(rhs) + 2 * kd)
+    b[kd: kd + len(rhs)] = rhs
+    solve_band(lower, b)
+    return b[kd: kd + len(rhs)]
+
+
+def inverse_columns(lower, dofs):
+    """``K̂⁻¹[:, dofs]`` from a banded factor (one padded solve per column) -> (n, len(dofs))."""
+    kd = lower.shape[1] - 1
+    n = lower.shape[0] - kd
+    out = np.zeros((n, len(dofs)))
+    b = np.zeros(n + 2 * kd)
+    for j, d in enumerate(dofs):
+        b[:] = 0.0
+        b[kd + d] = 1.0
+        solve_band(lower, b)
+        out[:, j] = b[kd: kd + n]
+    return out

@@ -21,8 +21,7 @@ from vtsi.analysis import (
     _RecorderFeed,
     component_labels,
     domain_state,
-    factor,
-    factor_stage,
+    load_factor_table,
     moving_dofs,
 )
 from vtsi.banded import (
@@ -30,8 +29,8 @@ from vtsi.banded import (
     band_rows,
     band_type,
     half_bandwidth,
+    inverse_columns,
     ldl_band,
-    solve_band,
 )
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled_loop import run_coupled_steps
@@ -39,6 +38,7 @@ from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.lcp import lcp_workspace
 from vtsi.models.cars import GRAVITY
+from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
 
 CONTACT_STRATEGIES = ("bilateral", "lcp")
@@ -73,9 +73,12 @@ class CoupledAnalysis:
         timing correction and a consistent restart of its car: second order, no extra
         factorisation; the impulse is recorded as impulse/Δt in that step's λ, and Newmark's
         λ no longer rings after a kink (docs/theory/coupled_step.md §6).
-    bridge_cache : a :class:`BridgeStageCache` shared by analyses of one bridge (a sweep's
-        passages): the bridge's factors and track flexibilities are computed once per model
-        version, integrator, Δt, track and set of moving dofs, whatever train crosses.
+    bridge_cache : a :class:`~vtsi.subdomain.BridgeStageCache` shared by analyses of one bridge
+        (a sweep's passages): the bridge's factors and track flexibilities are computed once per
+        model version, integrator, Δt, track and set of moving dofs, whatever train crosses.
+    bridge : None (the FE model) or a :class:`~vtsi.modal_bridge.ModalBridge` of the model: the
+        bridge is then stepped in its modal coordinates, the constraint rows become rows of Φ at
+        the wheel positions (:mod:`vtsi.subdomain`), the recorders read Φ q.
 
     After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
     and ``gap`` (n_steps, n_c) [m] hold every step of the run; :meth:`contact_events` and
@@ -85,7 +88,7 @@ class CoupledAnalysis:
 
     def __init__(self, model, constraint, integrator="Newmark", dt=None, contact="bilateral",
                  gravity=GRAVITY, bridge_self_weight=False, recorders=(), divergence_limit=1e3,
-                 chunk_steps=2000, gap_tol=1e-9, exact_events=False, bridge_cache=None):
+                 chunk_steps=2000, gap_tol=1e-9, exact_events=False, bridge_cache=None, bridge=None):
         if not isinstance(constraint, MovingLoadConstraint):
             raise ModelError(f"CoupledAnalysis: constraint must be a MovingLoadConstraint, got {type(constraint).__name__}")
         if contact not in CONTACT_STRATEGIES:
@@ -103,6 +106,7 @@ class CoupledAnalysis:
         self.divergence_limit = _positive("divergence_limit", divergence_limit, finite=False)
         self.dt = _positive("dt", dt)
         self._prepared = None
+        self._path_tables = {}
         self._sag = None
         self.static_state = None
         self.time = np.zeros(0)
@@ -119,6 +123,10 @@ class CoupledAnalysis:
         if not isinstance(bridge_cache, BridgeStageCache):
             raise AnalysisError(f"CoupledAnalysis: bridge_cache must be a BridgeStageCache, got {type(bridge_cache).__name__}")
         self.bridge_cache = bridge_cache
+        if bridge is not None and not hasattr(bridge, "stages"):
+            raise AnalysisError(f"CoupledAnalysis: bridge must be None or a ModalBridge, got {type(bridge).__name__}")
+        self.bridge = bridge
+        self.stages = None
 
     # -- preparation ----------------------------------------------------------------------
     def _bridge_constant_load(self, asm):
@@ -141,27 +149,33 @@ class CoupledAnalysis:
         if self._sag is None or con.n_contact == 0:
             return np.zeros_like(x)
         cols, vals, slopes = con.track.rows(x.ravel(), con.knot(self.dt))
-        sag = np.where(cols >= 0, self._sag[con.track.free_index[np.maximum(cols, 0)]], 0.0)
+        sag = np.where(cols >= 0, self._sag[np.maximum(cols, 0)], 0.0)
         rows = vals if nu == 0 else con.train.speed * slopes
         return np.einsum("ij,ij->i", rows, sag).reshape(x.shape)
 
     def _prepare(self, loaded=None):
-        """Factors, flexibilities and stage data of the bridge dofs the loop integrates
-        (:func:`vtsi.analysis.moving_dofs`: the components holding a track dof, a load — the
+        """The bridge stages (:mod:`vtsi.subdomain`, shared through ``bridge_cache``) and the
+        train's factors, flexibilities and stage data. The FE bridge integrates the dofs that can
+        move (:func:`vtsi.analysis.moving_dofs`: the components holding a track dof, a load — the
         self weight too, ``loaded`` the patterns' loaded dofs if known — or a nonzero state)."""
         asm = self.model.build()
-        seeds = self._bridge_constant_load(asm) != 0.0
-        seeds[self.constraint.track.free_index] = True
-        active = moving_dofs(asm, self.model, seeds, loaded)
-        if self._prepared is asm and np.array_equal(active, self.active):
-            return asm
-        integ, dt, train = self.integrator, self.dt, self.train
+        integ, dt, train, track = self.integrator, self.dt, self.train, self.constraint.track
         self_weight = self._bridge_constant_load(asm) if self.bridge_self_weight else None
-        bridge = self.bridge_cache.get(asm, active, integ, dt, self.constraint.track, self_weight)
-        if bridge is None:
-            bridge = self.bridge_cache.put(BridgeStages(asm, active, integ, dt, self.constraint.track, self_weight))
-        self.active, self.position = bridge.active, bridge.position
-        self.fac_b, self.flex, self.ops_b, self.slots_b = bridge.fac_b, bridge.flex, bridge.ops, bridge.slots
+        if self.bridge is not None:
+            self.bridge.check_model(self.model)
+            if self._prepared is asm and self.stages is not None:
+                return asm
+            bridge = self.bridge_cache.get(self.bridge, stage_key(integ, dt, track, None, self_weight),
+                                           lambda: self.bridge.stages(integ, dt, track, self_weight))
+        else:
+            seeds = self._bridge_constant_load(asm) != 0.0
+            seeds[track.free_index] = True
+            active = moving_dofs(asm, self.model, seeds, loaded)
+            if self._prepared is asm and np.array_equal(active, self.stages.active):
+                return asm
+            bridge = self.bridge_cache.get(asm, stage_key(integ, dt, track, active, self_weight),
+                                           lambda: FEStages(asm, active, integ, dt, track, self_weight))
+        self.stages = bridge
         stages = integ.stages(dt)
         A = integ.n_slots
         fac_t, tflex, response = [], [], []
@@ -175,7 +189,7 @@ class CoupledAnalysis:
                     raise AnalysisError(f"train effective matrix of stage {s + 1} is singular at train dof "
                                         f"{train.train.dof_names[exc.pivot]}: a dof with neither mass nor "
                                         "stiffness") from None
-                cols = _inverse_columns(ft, train.wheel_dofs)
+                cols = inverse_columns(ft, train.wheel_dofs)
                 tflex.append(cols[train.wheel_dofs])
                 response.append(cols.T)
             else:
@@ -200,7 +214,7 @@ class CoupledAnalysis:
         for s, st in enumerate(stages):
             for q, (theta, w) in enumerate(st.load):
                 self.load_theta[s, q], self.load_weight[s, q] = theta, w
-        self._sag = bridge.sag
+        self._sag = bridge.track_sag
         self._kinks = self._kink_positions()
         self._cars = {}
         self._prepared = asm
@@ -210,6 +224,11 @@ class CoupledAnalysis:
         """Factor and precompute now (otherwise the first :meth:`static` or :meth:`run` does);
         with a shared ``bridge_cache`` the bridge's part is then ready for every analysis."""
         self._prepare()
+
+    @property
+    def active(self):
+        """The free dofs the FE bridge integrates (after a run)."""
+        return self.stages.active
 
     # -- dead load ------------------------------------------------------------------------
     def static(self):
@@ -227,22 +246,19 @@ class CoupledAnalysis:
             for i, f in enumerate(train.wheel_forces):
                 keep = cols[i] >= 0
                 np.add.at(p_b, track.free_index[cols[i][keep]], -f * vals[i][keep])
-        n_b, n_t, n_c = asm.n_free, train.n_dof, con.n_contact
         self._prepare()
+        bridge = self.stages
+        K_b, p_b = bridge.stiffness, bridge.static_load(p_b)
+        n_b, n_t, n_c = K_b.shape[0], train.n_dof, con.n_contact
         cols, vals, _, r = con.rows_at(t, self.dt)
         r = r - self._rail_sag(np.array(t), 0)
-        rows, cs, vs = [], [], []
-        for i in range(n_c):
-            keep = cols[i] >= 0
-            rows.append(np.full(keep.sum(), i))
-            cs.append(track.free_index[cols[i][keep]])
-            vs.append(vals[i][keep])
-        N = sp.csr_matrix((np.concatenate(vs) if vs else [], (np.concatenate(rows) if rows else [],
-                           np.concatenate(cs) if cs else [])), shape=(n_c, n_b))
+        keep = cols >= 0
+        N = sp.csr_matrix((vals[keep], (np.nonzero(keep)[0], cols[keep])), shape=(n_c, track.n_track)) \
+            @ bridge.track_operator if n_c else None
         S = sp.csr_matrix((np.ones(n_c), (np.arange(n_c), train.wheel_dofs)), shape=(n_c, n_t))
-        big = sp.bmat([[asm.K, None, N.T], [None, train.K if n_t else None, -S.T if n_t else None],
+        big = sp.bmat([[K_b, None, N.T], [None, train.K if n_t else None, -S.T if n_t else None],
                        [N, -S if n_t else None, None]], format="csc") if n_c else \
-            sp.bmat([[asm.K, None], [None, train.K]], format="csc") if n_t else asm.K.tocsc()
+            sp.bmat([[K_b, None], [None, train.K]], format="csc") if n_t else sp.csc_matrix(K_b)
         rhs = np.concatenate([p_b, train.gravity_load, -r])[: big.shape[0]]
         with np.errstate(all="ignore"):
             try:
@@ -253,14 +269,14 @@ class CoupledAnalysis:
             raise AnalysisError("dead load: the static train-bridge system is singular (a bridge mechanism, "
                                 "or a train dof held by neither a spring nor a wheel)")
         state.u[:] = 0.0
-        state.u[asm.full_of_free] = sol[:n_b]
+        state.u[asm.full_of_free] = bridge.static_free(sol[:n_b])
         state.v[:] = 0.0
         state.a[:] = 0.0
         train.u[:] = sol[n_b: n_b + n_t]
         train.v[:] = 0.0
         if n_c:   # wheels move with the rail: v_w = V N'(x) u_b + ṙ (ġ = 0 with the bridge at rest)
             _, _, slopes, _ = con.rows_at(t, self.dt)
-            u_track = np.where(cols >= 0, sol[:n_b][track.free_index[np.maximum(cols, 0)]], 0.0)
+            u_track = np.where(cols >= 0, (bridge.track_operator @ sol[:n_b])[np.maximum(cols, 0)], 0.0)
             rate = con.irregularity_at(np.array(t), self.dt, 1) - self._rail_sag(np.array(t), 1)
             train.v[train.wheel_dofs] = train.speed * np.einsum("ij,ij->i", slopes, u_track) + rate
         train.a[:] = 0.0
@@ -296,18 +312,17 @@ class CoupledAnalysis:
         state = domain_state(self.model)
         train, con, track = self.train, self.constraint, self.constraint.track
         con.check_travel(state.time, state.time + n_steps * self.dt, self.dt)
-        constant = self._bridge_constant_load(asm)
+        bridge = self.stages
+        constant = self._bridge_constant_load(asm)     # a last pattern of factor 1
         nz = np.flatnonzero(constant)
-        load_ptr = np.append(load_ptr, load_ptr[-1] + len(nz))
-        load_dof = self.position[np.concatenate([load_dof, nz]).astype(np.int64)]
-        load_val = np.concatenate([load_val, constant[nz]])
+        load_ptr, load_dof, load_val = bridge.loads(np.append(load_ptr, load_ptr[-1] + len(nz)),
+                                                    np.concatenate([load_dof, nz]).astype(np.int64),
+                                                    np.concatenate([load_val, constant[nz]]))
         n_slots = self.integrator.n_slots
-        kd_b, kd_t = self.fac_b.shape[2] - 1, self.fac_t.shape[2] - 1
-        n_b, n_t, n_c = len(self.active), train.n_dof, con.n_contact
-        bank_b = np.zeros((n_slots, n_b + 2 * kd_b))
+        kd_b, kd_t = bridge.kd, self.fac_t.shape[2] - 1
+        n_b, n_t, n_c = bridge.n, train.n_dof, con.n_contact
+        bank_b = bridge.bank(state, asm.full_of_free, n_slots)
         bank_t = np.zeros((n_slots, n_t + 2 * kd_t))
-        for slot, vec in enumerate((state.u, state.v, state.a)):
-            bank_b[slot, kd_b: kd_b + n_b] = vec[asm.full_of_free[self.active]]
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
         channels = {q: ("train", slot, n_t, "train dof") for q, slot in TRAIN_QUANTITIES.items()}
@@ -325,7 +340,8 @@ class CoupledAnalysis:
         W, q, lam = np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c)
         times_all, force_all, gap_all = [self.time], [self.contact_force], [self.gap]
         prev = self._previous_forces(width)
-        track_dofs, rec_index = self.position[track.free_index], self.position[feed.rec_index]
+        rec_slot, rec_index = bridge.record_plan(feed.rec_slot, feed.rec_index)
+        load_points = [st.load for st in self.integrator.stages(self.dt)]
 
         def steps(first, last, x0_c, r_part, rate_part):
             """Run the chunk's steps first..last - 1 with the contact wheels at ``x0_c`` at t = 0 and
@@ -333,13 +349,14 @@ class CoupledAnalysis:
             counted in the chunk."""
             bad = run_coupled_steps(
                 bank_b, bank_t, self.du, self.dv,
-                self.fac_b, self.ops_b, self.slots_b, self.fac_t, self.ops_t, self.slots_t,
+                bridge.fac, bridge.ops, bridge.slots, self.fac_t, self.ops_t, self.slots_t,
                 table[first:last], load_ptr, load_dof, load_val, train.gravity_load,
-                self.flex, self.tflex, track.x_start, track.length, track.dofs, track_dofs,
+                bridge.flex, self.tflex, track.x_start, track.length, track.dofs, bridge.track_index,
+                bridge.track_basis,
                 x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                 con.knot(self.dt), r_part, rate_part, t0 + first * self.dt, self.dt, self.stage_theta,
                 self.load_theta, self.load_weight, self.force_weight, self.contact == "lcp", self.gap_tol,
-                self.in_contact, feed.rec_slot, rec_index, out[0][first:last], t_slot, t_index, out[1][first:last],
+                self.in_contact, rec_slot, rec_index, out[0][first:last], t_slot, t_index, out[1][first:last],
                 out[2][first:last], out[3][first:last], self.divergence_limit, work_b, work_t, cols, vals, slopes,
                 W, q, lam, self._lcp_work, band_type(kd_b), band_type(kd_t), *prev,
                 self.group_ptr, self.group_wheel, self.ground_inv, self.wheel_response, self.response_range)
@@ -351,17 +368,12 @@ class CoupledAnalysis:
                 n = min(self.chunk_steps, n_steps - done)
                 t0 = state.time
                 starts = t0 + self.dt * np.arange(n, dtype=float)
-                table = np.zeros((n, len(self.stage_theta), len(patterns) + 1))
-                for s in range(len(self.stage_theta)):
-                    for theta, w in zip(self.load_theta[s], self.load_weight[s]):
-                        if w != 0.0:
-                            for p, pattern in enumerate(patterns):
-                                table[:, s, p] += w * pattern.factors(starts + theta * self.dt)
-                    table[:, s, -1] = 1.0
+                table = np.concatenate([load_factor_table(patterns, starts, self.dt, load_points, self._path_tables),
+                                        np.ones((n, len(load_points), 1))], axis=2)
                 r_table, rate_table = (np.ascontiguousarray(np.stack(
                     [con.irregularity_at(starts + th * self.dt, self.dt, nu) - self._rail_sag(starts + th * self.dt, nu)
                      for th in self.stage_theta], axis=1)) for nu in (0, 1))
-                out = (np.zeros((n, len(feed.rec_index))), np.zeros((n, len(t_index))), np.zeros((n, n_c)),
+                out = (np.zeros((n, len(rec_slot))), np.zeros((n, len(t_index))), np.zeros((n, n_c)),
                        np.zeros((n, n_c)))
                 out_b, out_t, out_force, out_gap = out
                 events = self._events(t0, n)
@@ -384,7 +396,7 @@ class CoupledAnalysis:
                     first = k + 1
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
-                feed.deliver(times, out_b[:good], asm, train=out_t[:good],
+                feed.deliver(times, bridge.recorded(out_b[:good]), asm, train=out_t[:good],
                              contact_force=out_force[:good][:, force_wheels], gap=out_gap[:good][:, gap_wheels])
                 times_all.append(times)
                 force_all.append(out_force[:good])
@@ -398,8 +410,9 @@ class CoupledAnalysis:
                                               f"{self.integrator!r}, dt = {self.dt:g} s", step, t_bad)
                     raise DivergenceError(f"coupled analysis: contact flexibility W is singular at step {step}, "
                                           f"t = {t_bad:.6g} s", step, t_bad)
-                self._commit(state, train, asm.full_of_free[self.active], bank_b[:, kd_b: kd_b + n_b], bank_t[:, kd_t: kd_t + n_t],
-                             t0 + n * self.dt)
+                bridge.commit(state, bank_b, asm.full_of_free, t0 + n * self.dt)
+                for slot, vec in enumerate((train.u, train.v, train.a)):
+                    vec[:] = bank_t[slot, kd_t: kd_t + n_t]
                 done += n
         finally:
             feed.close()
@@ -480,17 +493,16 @@ class CoupledAnalysis:
         contact='lcp' a new line that falls away (an impulse that would pull) leaves the wheel
         in flight instead. Returns the contact impulse [N·s] (compression positive)."""
         con, train, track, V = self.constraint, self.train, self.constraint.track, self.train.speed
-        n_b, n_t = len(self.active), train.n_dof
-        u_b, v_b, a_b = (bank_b[s, kd_b: kd_b + n_b] for s in range(3))
+        n_b, n_t = self.stages.n, train.n_dof
+        u_b, v_b, a_b = (self.stages.track_values(bank_b[s, kd_b: kd_b + n_b]) for s in range(3))
         if self._sag is not None:
-            u_b = u_b - self._sag[self.active]
+            u_b = u_b - self._sag
         xp = x + V * tau + 1e-9 * max(1.0, abs(x))
         row = track.hermite_row(xp)
         wu = wv = wa = 0.0
         if row is not None:
             dofs, h0, h1, h2 = row
-            f = np.where(dofs >= 0, self.position[track.free_index[np.maximum(dofs, 0)]], -1)
-            ub, vb, ab = (np.where(f >= 0, vec[np.maximum(f, 0)], 0.0) for vec in (u_b, v_b, a_b))
+            ub, vb, ab = (np.where(dofs >= 0, vec[np.maximum(dofs, 0)], 0.0) for vec in (u_b, v_b, a_b))
             wu, wv, wa = h0 @ ub, h0 @ vb + V * h1 @ ub, h0 @ ab + 2.0 * V * h1 @ vb + V * V * h2 @ ub
         if con.irregularity is not None:
             r = [float(np.ravel(con._profile(np.array([xp]), nu))[0]) for nu in range(3)]
@@ -554,83 +566,6 @@ class CoupledAnalysis:
             prev = self._prev = (lam, cols, vals)
         return prev
 
-    @staticmethod
-    def _commit(state, train, full_dofs, bank_b, bank_t, time):
-        for slot, vec in enumerate((state.u, state.v, state.a)):
-            vec[:] = 0.0
-            vec[full_dofs] = bank_b[slot]
-        for slot, vec in enumerate((train.u, train.v, train.a)):
-            vec[:] = bank_t[slot]
-        state.time = time
-
-
-class BridgeStages:
-    """The bridge's part of a coupled analysis' preparation, independent of the train: per
-    stage, the banded factor of the effective matrix on the moving dofs ``active`` and the
-    flexibility K̂_b⁻¹ on the track dofs; the band rows of K and C; the self-weight deflection
-    ``sag`` (None without self weight).
-
-    Attributes
-    ----------
-    assembly, active (n_a,) int64, position (n_free,) int64 (-1 at rest),
-    fac_b (n_stages, n_a + kd, kd + 1), flex (n_stages, n_track, n_track) [m/N per unit
-    acceleration weight], ops, slots (the stages' known parts, :func:`vtsi.timeloop.stage_operators`),
-    sag (n_free,) [m] or None, key (what it was built for).
-    """
-
-    def __init__(self, assembly, active, integrator, dt, track, self_weight_load=None):
-        self.assembly, self.active = assembly, active
-        self.key = _stage_key(active, integrator, dt, track, self_weight_load)
-        self.position = np.full(assembly.n_free, -1, dtype=np.int64)
-        self.position[active] = np.arange(len(active))
-        K, C = (m[active][:, active].tocsr() for m in (assembly.K, assembly.C))
-        track_dofs = self.position[track.free_index]
-        A = integrator.n_slots
-        fac_b, flex = [], []
-        for s, st in enumerate(integrator.stages(dt)):
-            fb = factor_stage(assembly, active, st.kv[A], st.ku[A],
-                              f"bridge effective matrix of {integrator.name} stage {s + 1}")
-            fac_b.append(fb)
-            flex.append(_inverse_columns(fb, track_dofs)[track_dofs])
-        self.fac_b = np.ascontiguousarray(np.stack(fac_b))
-        self.flex = np.ascontiguousarray(np.stack(flex))
-        kd_b = self.fac_b.shape[2] - 1
-        pack = lambda name: np.stack([getattr(st, name) for st in integrator.stages(dt)])
-        self.ops, self.slots = stage_operators(band_rows(K, kd_b), band_rows(C, kd_b), pack("ku"), pack("kv"))
-        self.sag = None
-        if self_weight_load is not None:
-            self.sag = _pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)
-
-
-class BridgeStageCache:
-    """:class:`BridgeStages` by what they were built for (model version — the assembly object —,
-    integrator, Δt, track, moving dofs and self-weight load). Analyses that share one cache factor the bridge once
-    (a sweep: once for all its passages). Keeps the entries of the latest assembly only, so a
-    changed model frees the old factors."""
-
-    def __init__(self):
-        self._entries = []
-
-    def __len__(self):
-        return len(self._entries)
-
-    def get(self, assembly, active, integrator, dt, track, self_weight_load=None):
-        key = _stage_key(active, integrator, dt, track, self_weight_load)
-        for entry in self._entries:
-            if entry.assembly is assembly and entry.key == key:
-                return entry
-        return None
-
-    def put(self, stages):
-        self._entries = [e for e in self._entries if e.assembly is stages.assembly] + [stages]
-        return stages
-
-
-def _stage_key(active, integrator, dt, track, self_weight_load):
-    weight = None if self_weight_load is None else np.asarray(self_weight_load).tobytes()
-    return (repr(integrator), float(dt), np.asarray(active).tobytes(), track.free_index.tobytes(),
-            track.dofs.tobytes(), track.x_start.tobytes(), track.length.tobytes(), weight)
-
 
 def _positive(what, value, finite=True):
     """``value`` as a float > 0 (and finite, unless ``finite=False``), or an AnalysisError naming it."""
@@ -680,26 +615,3 @@ def _wheel_groups(tflex, va):
             inverse = np.linalg.inv(factor_)
             ground_inv[s][np.ix_(idx, idx)] = inverse.T @ inverse
     return group_ptr, group_wheel, ground_inv
-
-
-def _pad_solve(lower, rhs):
-    """``K̂⁻¹ rhs`` from a banded factor (unpadded in and out)."""
-    kd = lower.shape[1] - 1
-    b = np.zeros(len(rhs) + 2 * kd)
-    b[kd: kd + len(rhs)] = rhs
-    solve_band(lower, b)
-    return b[kd: kd + len(rhs)]
-
-
-def _inverse_columns(lower, dofs):
-    """``K̂⁻¹[:, dofs]`` from a banded factor (one padded solve per column) -> (n, len(dofs))."""
-    kd = lower.shape[1] - 1
-    n = lower.shape[0] - kd
-    out = np.zeros((n, len(dofs)))
-    b = np.zeros(n + 2 * kd)
-    for j, d in enumerate(dofs):
-        b[:] = 0.0
-        b[kd + d] = 1.0
-        solve_band(lower, b)
-        out[:, j] = b[kd: kd + n]
-    return out

@@ -48,14 +48,36 @@ def _free_stage(bank, base, fac, ops, op_slots, rhs, xk, xc, s, su, vu, cu, sv, 
 
 
 @njit(cache=True)
-def _position_gap(bank_t, bank_b, slot, i, wheel_dof, r, cols, vals, track_free, kdt, kdb):
+def _track_value(bank, slot, kd, track_free, basis, c):
+    """The value of track dof ``c`` in the bridge bank's ``slot``: the coordinate
+    ``track_free[c]`` (FE bridge: ``basis`` has no column) or ``basis[c] · q`` (modal bridge)."""
+    if basis.shape[1] == 0:
+        return bank[slot, kd + track_free[c]]
+    acc = 0.0
+    for j in range(basis.shape[1]):
+        acc += basis[c, j] * bank[slot, kd + j]
+    return acc
+
+
+@njit(cache=True)
+def _track_add(rhs, kd, track_free, basis, c, f):
+    """Add a force ``f`` on track dof ``c`` to the bridge's padded ``rhs`` (its coordinates)."""
+    if basis.shape[1] == 0:
+        rhs[kd + track_free[c]] += f
+    else:
+        for j in range(basis.shape[1]):
+            rhs[kd + j] += f * basis[c, j]
+
+
+@njit(cache=True)
+def _position_gap(bank_t, bank_b, slot, i, wheel_dof, r, cols, vals, track_free, basis, kdt, kdb):
     """Position gap ``S u_t - N u_b - r`` of contact wheel ``i`` in the banks' ``slot`` [m]."""
     g = bank_t[slot, kdt + wheel_dof[i]] - r
     for a_ in range(cols.shape[1]):
         c_ = cols[i, a_]
         if c_ < 0:
             break
-        g -= vals[i, a_] * bank_b[slot, kdb + track_free[c_]]
+        g -= vals[i, a_] * _track_value(bank_b, slot, kdb, track_free, basis, c_)
     return g
 
 
@@ -189,7 +211,7 @@ def _first_at_most(decreasing, value):
 def run_coupled_steps(bank_b, bank_t, du, dv,
                       fac_b, ops_b, slots_b, fac_t, ops_t, slots_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
-                      flex, tflex, x_start, length, tdofs, track_free,
+                      flex, tflex, x_start, length, tdofs, track_free, track_basis,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
                       t0, dt, stage_theta, load_theta, load_weight, force_weight, lcp, gap_tol, in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
@@ -199,6 +221,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
 
+    The bridge is a subdomain of :mod:`vtsi.subdomain`: track dof c is the coordinate
+    ``track_free[c]`` (FE) or ``track_basis[c] · q`` (modal, ``track_basis`` (n_track, n)).
     Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); ops_*, slots_* the
     stages' known parts (:func:`vtsi.timeloop.stage_operators`); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
@@ -258,7 +282,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                     for a_ in range(4):
                         d = tdofs[e, a_]
                         if d >= 0:
-                            rb[kdb + track_free[d]] -= w_q * force_f[f] * h[a_]
+                            _track_add(rb, kdb, track_free, track_basis, d, -w_q * force_f[f] * h[a_])
             w_prev = 1.0 - force_weight[s]
             if w_prev != 0.0:
                 for i in range(n_c):
@@ -266,7 +290,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                         c_ = cols_prev[i, a_]
                         if c_ < 0:
                             break
-                        rb[kdb + track_free[c_]] -= w_prev * lam_prev[i] * vals_prev[i, a_]
+                        _track_add(rb, kdb, track_free, track_basis, c_, -w_prev * lam_prev[i] * vals_prev[i, a_])
             _free_stage(bank_b, base, fac_b, ops_b, slots_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
@@ -290,8 +314,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                 for a_ in range(nw):
                     c_ = cols[i, a_]
                     if c_ >= 0:
-                        k_ = kdb + track_free[c_]
-                        g -= vals[i, a_] * bank_b[base + 1, k_] + speed * slopes[i, a_] * bank_b[base, k_]
+                        g -= (vals[i, a_] * _track_value(bank_b, base + 1, kdb, track_free, track_basis, c_)
+                              + speed * slopes[i, a_] * _track_value(bank_b, base, kdb, track_free, track_basis, c_))
                 q[i] = g
             for i in range(n_c):
                 on_bridge[i] = cols[i, 0] >= 0
@@ -301,7 +325,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
             if lcp:
                 for i in range(n_c):
                     gp = _position_gap(bank_t, bank_b, base, i, wheel_dof, r_table[step, s, i], cols, vals,
-                                       track_free, kdt, kdb)
+                                       track_free, track_basis, kdt, kdb)
                     # in flight: no force, decoupled; a wheel landing in this step takes its
                     # impact at the last stage (a multi-stage scheme's memory of the pre-impact
                     # velocity would undo an impact taken at an earlier stage)
@@ -331,7 +355,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                     for a_ in range(nw):
                         c_ = cols[i, a_]
                         if c_ >= 0:
-                            rb[kdb + track_free[c_]] -= lam[i] * vals[i, a_]
+                            _track_add(rb, kdb, track_free, track_basis, c_, -lam[i] * vals[i, a_])
                             touched = True
                 if touched:
                     _correct(bank_b, base, fac_b, rb, s, ua, va, band_b, wa)
@@ -347,7 +371,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
             # drift of the velocity-level constraint; velocities and accelerations untouched)
             for i in range(n_c):
                 g = _position_gap(bank_t, bank_b, base, i, wheel_dof, r_table[step, s, i], cols, vals,
-                                  track_free, kdt, kdb)
+                                  track_free, track_basis, kdt, kdb)
                 if not lcp or lam[i] > 0.0 or g <= gap_tol:
                     bank_t[base, kdt + wheel_dof[i]] -= g
                     g = 0.0

@@ -1,6 +1,6 @@
 """Exact passages of moving forces over a modal bridge: no time stepping.
 
-A :class:`ModalBridge` keeps the first modes of a FE bridge (mass-normalised, Φᵀ M Φ = I) up to
+A :class:`~vtsi.modal_bridge.ModalBridge` keeps the first modes of a FE bridge (mass-normalised, Φᵀ M Φ = I) up to
 a frequency, each with its own damping ratio ζ_j (true modal damping). An axle of downward load
 P at x(t) = x₀ + V t loads mode j with f_j(t) = −P N(x(t)) · φ_j, N the Hermite row of the
 track element under the axle: a cubic polynomial of t while the axle stays on one element. So
@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit
 
 from vtsi.track import host_element
+
 
 def peaks(times, values):
     """Envelope rows (6, n_columns): min, max, absmax and their times of sampled ``values``

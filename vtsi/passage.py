@@ -1,7 +1,7 @@
 """One train passage over a bridge: the unit of work of a sweep (:mod:`vtsi.sweep`).
 
 A :class:`PassageRunner` holds a bridge model with its track, factored once (a
-:class:`~vtsi.coupled.BridgeStageCache` shared by every passage) and runs
+:class:`~vtsi.subdomain.BridgeStageCache` shared by every passage) and runs
 :class:`~vtsi.coupled.CoupledAnalysis` passages on it, each from the bridge's rest state
 (or its self-weight state), without rebuilding or re-factoring anything: per passage it makes
 only the train (at the case's speed), its constraint, the recorders and the compiled run.
@@ -30,17 +30,19 @@ import numpy as np
 from vtsi.analysis import domain_state, modes_up_to
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
-from vtsi.coupled import CONTACT_STRATEGIES, BridgeStageCache, CoupledAnalysis
+from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis
 from vtsi.damping import rayleigh_damping, vertical_frequencies
 from vtsi.errors import ModelError, VtsiError
 from vtsi.influence import InfluenceLines
 from vtsi.integrators import make_integrator
-from vtsi.modal_passage import CUTOFF_MARGIN, ModalBridge, peaks
+from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
+from vtsi.modal_passage import peaks
 from vtsi.models.catalogue import FIDELITIES, catalogue_train
 from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.modal import ModalNodeRecorder
 from vtsi.recorders.moment import BendingMomentRecorder, moment_rows
+from vtsi.subdomain import BridgeStageCache
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 

@@ -28,7 +28,7 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, ldl_band, solve_band
+from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, inverse_columns, ldl_band, pad_solve
 from vtsi.errors import AnalysisError
 from vtsi.timeloop import stage_operators
 
@@ -152,12 +152,12 @@ class FEStages(BridgeStages):
         if track is not None:
             self.track_index = self.position[track.free_index]
             self.track_basis = np.zeros((track.n_track, 0))
-            self.flex = np.ascontiguousarray(np.stack([_inverse_columns(f, self.track_index)[self.track_index]
+            self.flex = np.ascontiguousarray(np.stack([inverse_columns(f, self.track_index)[self.track_index]
                                                        for f in self.fac]))
             self.track_operator = sp.csr_matrix((np.ones(track.n_track), (np.arange(track.n_track), track.free_index)),
                                                 shape=(track.n_track, assembly.n_free))
             if self_weight_load is not None:
-                sag = _pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)
+                sag = pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)
                 self.track_sag = sag[track.free_index]
 
     def coordinates(self, free):
@@ -189,29 +189,6 @@ class FEStages(BridgeStages):
     def recorded(self, out):
         """The recorder columns from the kernel's columns (here the same)."""
         return out
-
-
-def _pad_solve(lower, rhs):
-    """``K̂⁻¹ rhs`` from a banded factor (unpadded in and out)."""
-    kd = lower.shape[1] - 1
-    b = np.zeros(len(rhs) + 2 * kd)
-    b[kd: kd + len(rhs)] = rhs
-    solve_band(lower, b)
-    return b[kd: kd + len(rhs)]
-
-
-def _inverse_columns(lower, dofs):
-    """``K̂⁻¹[:, dofs]`` from a banded factor (one padded solve per column) -> (n, len(dofs))."""
-    kd = lower.shape[1] - 1
-    n = lower.shape[0] - kd
-    out = np.zeros((n, len(dofs)))
-    b = np.zeros(n + 2 * kd)
-    for j, d in enumerate(dofs):
-        b[:] = 0.0
-        b[kd + d] = 1.0
-        solve_band(lower, b)
-        out[:, j] = b[kd: kd + n]
-    return out
 
 
 class BridgeStageCache:
