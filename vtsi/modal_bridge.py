@@ -44,7 +44,7 @@ class ModalBridge:
     f_max : highest frequency kept [Hz]; default (and ``n_modes`` None): the EN 1990 A2
         acceleration cut-off max(30 Hz, 1.5 n₀, n₃) of the first vertical frequencies, × 1.1 so
         that a mode sitting on the cut-off stays in.
-    zeta : damping ratio [-] of every mode, a sequence (one per kept mode) or a function of the
+    zeta : damping ratio [-] (>= 0; < 1 for exact passages) of every mode, a sequence (one per kept mode) or a function of the
         frequency [Hz] -> ratio. None: the model's own damping, ζ_j = φ_jᵀ C φ_j / (2 ω_j), which
         must be classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
     n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound.
@@ -98,9 +98,9 @@ class ModalBridge:
         else:
             ratios = np.broadcast_to(np.asarray(zeta, dtype=float), (n,)).copy() if np.ndim(zeta) == 0 \
                 else np.asarray(zeta, dtype=float)
-        if ratios.shape != (n,) or not np.all((ratios >= 0) & (ratios < 1)):
+        if ratios.shape != (n,) or not np.all((ratios >= 0) & np.isfinite(ratios)):
             given = "a function giving " + str(ratios.tolist()) if callable(zeta) else np.asarray(zeta).tolist()
-            raise ModelError(f"modal bridge: damping ratios must be in [0, 1), one per kept mode ({n}), got {given}")
+            raise ModelError(f"modal bridge: damping ratios must be finite and >= 0, one per kept mode ({n}), got {given}")
         return ratios
 
     @property
@@ -124,6 +124,10 @@ class ModalBridge:
         (:mod:`vtsi.modal_passage`)."""
         if self.track is None:
             raise ModelError("modal bridge: a passage needs the bridge's track (ModalBridge(model, track, ...))")
+        if np.any(self.zeta >= 1.0):
+            j = int(np.argmax(self.zeta >= 1.0))
+            raise ModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
+                             "an exact passage needs underdamped modes (lower f_max or give the ratios)")
         x0 = np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float))
         t_end = n_samples * dt
         q, qd, qdd = (np.zeros((n_samples, self.n_modes)) for _ in range(3))
