@@ -159,8 +159,10 @@ class PassageSettings:
         FREE_VIBRATION_PERIODS periods of the first vertical mode.
     bridge_self_weight : include the deck's self weight (results are then totals).
     bridge : 'fe' (the FE bridge, time-stepped) or 'modal' (its modes up to ``modal_hz``, each
-        with the damping ratio ``damping`` exactly; trains of moving forces run as exact modal
-        passages, :mod:`vtsi.modal_passage`, sampled every ``dt``).
+        with the damping ratio ``damping`` exactly, :class:`~vtsi.modal_bridge.ModalBridge`):
+        trains of moving forces over a bridge without self weight run as exact modal passages
+        (:mod:`vtsi.modal_passage`, sampled every ``dt``); cars, contact loss and self weight are
+        time-stepped on the modal bridge (:class:`~vtsi.coupled.CoupledAnalysis` ``bridge=``).
     modal_hz : the modal bridge's highest frequency [Hz]; None: 1.1 × the EN cut-off.
     """
 
@@ -217,10 +219,6 @@ class PassageSettings:
             raise ModelError(f"sweep settings: unknown bridge {self.bridge!r}; valid: {', '.join(BRIDGE_MODELS)}")
         if self.bridge == "modal":
             positive("modal_hz", allow_none=True)
-            for name, default in (("cars", "force"), ("contact", "bilateral"), ("bridge_self_weight", False)):
-                if getattr(self, name) != default:
-                    raise ModelError(f"sweep settings: the modal bridge runs trains of moving forces on a bridge "
-                                     f"at rest ({name} = {getattr(self, name)!r} needs bridge='fe')")
         try:
             integrator = make_integrator(self.integrator)
         except VtsiError as exc:
@@ -407,7 +405,7 @@ class PassageRunner:
         if not (math.isfinite(speed_kmh) and speed_kmh > 0):
             raise ModelError(f"sweep: speed must be > 0 km/h, got {speed_kmh}")
         train = self.train(train_name, speed_kmh / 3.6)
-        if self.modal is not None:
+        if self.modal is not None and train.n_dof == 0 and not s.bridge_self_weight:
             return self._modal_passage(train_name, train, float(speed_kmh), int(seed),
                                        self.outputs if outputs is None else outputs, clock)
         approach = self.approach(train)
@@ -428,7 +426,8 @@ class PassageRunner:
         state.u[:], state.v[:], state.a[:] = 0.0, 0.0, 0.0
         analysis = CoupledAnalysis(self.model, tie, s.integrator, dt=s.dt, contact=s.contact,
                                    bridge_self_weight=s.bridge_self_weight, recorders=[r for _, r in recorders],
-                                   exact_events=s.exact_events, bridge_cache=self.cache, chunk_steps=4000)
+                                   exact_events=s.exact_events, bridge_cache=self.cache, chunk_steps=4000,
+                                   bridge=self.modal)
         key = (train.name, approach, seed if irregularity is not None else -1)
         if key in self._dead_load:
             analysis.start_from(self._dead_load[key])
