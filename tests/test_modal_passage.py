@@ -81,6 +81,25 @@ def test_peaks_are_refined_between_samples():
     assert np.max(y) < 1.0 - 1e-3                     # the samples alone miss the peak
 
 
+def test_the_static_correction_restores_the_truncated_modes_moment():
+    """HSLM-A4 at 250 km/h, bending moment and deflection at mid-span, against the FE bridge
+    (every mode, Newmark, Δt = 0.25 ms, Rayleigh equal to the modal ratio on modes 1 and 3). The
+    modal bridge keeps 3 modes (up to 1.1 × 30 Hz): without the static correction the largest
+    moment misses 0.7 % (measured 7.3e-3), with it 2.5e-4; the deflection 5.0e-4 and 1.7e-5."""
+    beam = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
+    out = [Output("deflection", "disp", nodes="midspan"), Output("moment", "moment", nodes="midspan")]
+    fe = Sweep(beam, ["HSLM-A4"], "250", PassageSettings(dt=2.5e-4, damping=0.013, damping_hz=(5.0, 45.024)),
+               out).runner.run("HSLM-A4", 250.0)
+    modal = {sc: Sweep(beam, ["HSLM-A4"], "250", PassageSettings(dt=2.5e-4, damping=0.013, bridge="modal",
+                                                                  static_correction=sc), out).runner.run("HSLM-A4", 250.0)
+             for sc in (True, False)}
+    err = {sc: (abs(r.envelopes["moment"][1, 0] / fe.envelopes["moment"][1, 0] - 1.0),
+                abs(r.envelopes["deflection"][0, 0] / fe.envelopes["deflection"][0, 0] - 1.0))
+           for sc, r in modal.items()}
+    assert err[True][0] < 1e-3 and err[True][1] < 1e-4
+    assert err[False][0] > 3e-3 and err[False][0] > 10 * err[True][0]
+
+
 def test_a_modal_sweep_of_cars_with_every_mode_equals_the_fe_sweep():
     """ICE3 of 10-dof cars, LCP contact, the deck's self weight, no damping: with every mode that
     moves the track kept (modal_hz far above the FE model's highest frequency) the modal bridge

@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
-from vtsi.track import host_element
+from vtsi.track import hermite, host_element
 
 
 def peaks(times, values):
@@ -174,3 +174,32 @@ def _state(q0, v0, c, w, z, tau):
     qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn)
     vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * ((-z * w * A + wd * B) * cs + (-z * w * B - wd * A) * sn)
     return qq, vv
+
+
+@njit(cache=True)
+def add_static_correction(x0, loads, speed, x_start, length, tdofs, G, dt, out):
+    """Add the truncated modes' quasi-static response of a passage to ``out`` (n_samples,
+    n_columns) at t = dt, 2 dt, …: Σ over the axles on the track of −P N(x(t)) G, with ``G``
+    (n_track, n_columns) the residual flexibility (K⁻¹ − Φ Ω⁻² Φᵀ) from the track dofs to the
+    output columns; x0 decreases (the train's order)."""
+    n_el = x_start.shape[0]
+    x_begin, x_end = x_start[0], x_start[n_el - 1] + length[n_el - 1]
+    n_ax = x0.shape[0]
+    first = 0
+    for k in range(out.shape[0]):
+        t = (k + 1) * dt
+        while first < n_ax and x0[first] + speed * t > x_end:
+            first += 1
+        for i in range(first, n_ax):
+            x = x0[i] + speed * t
+            if x < x_begin:
+                break
+            e = host_element(x, x_start, length)
+            h = hermite((x - x_start[e]) / length[e], length[e])
+            for slot in range(4):
+                d = tdofs[e, slot]
+                if d < 0:
+                    continue
+                w = -loads[i] * h[slot]
+                for c in range(out.shape[1]):
+                    out[k, c] += w * G[d, c]

@@ -164,6 +164,9 @@ class PassageSettings:
         (:mod:`vtsi.modal_passage`, sampled every ``dt``); cars, contact loss and self weight are
         time-stepped on the modal bridge (:class:`~vtsi.coupled.CoupledAnalysis` ``bridge=``).
     modal_hz : the modal bridge's highest frequency [Hz]; None: 1.1 × the EN cut-off.
+    static_correction : exact modal passages add the truncated modes' quasi-static response to
+        displacements, rotations and bending moments (:mod:`vtsi.modal_bridge`); accelerations
+        keep the modes up to ``modal_hz`` only (the cut-off).
     """
 
     dt: float = 1e-3
@@ -180,6 +183,7 @@ class PassageSettings:
     bridge_self_weight: bool = False
     bridge: str = "fe"
     modal_hz: object = None
+    static_correction: bool = True
 
     def __post_init__(self):
         def positive(name, allow_none=False, allow_zero=False):
@@ -460,9 +464,12 @@ class PassageRunner:
             if o.vehicle:
                 continue
             nodes = self.output_nodes(o.nodes)
-            rows = self._modal_rows(o.response, nodes)
+            rows, residual = self._modal_rows(o.response, nodes)
             coordinate = {"accel": qdd, "vel": qd}.get(o.response, q)
             values = coordinate @ rows
+            if residual is not None and s.static_correction:   # the truncated modes' quasi-static part
+                values += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
+                                                  train.speed, x_head0, n_steps, s.dt)
             result.envelopes[o.name] = peaks(times, values)
             result.columns[o.name] = np.array(nodes, dtype=np.int64)
             if o.history:
@@ -472,16 +479,26 @@ class PassageRunner:
 
     def _modal_rows(self, response, nodes):
         """The node response ``response`` at ``nodes`` as a map of the modal coordinates
-        (n_modes, n_columns), computed once per response and nodes."""
+        (n_modes, n_columns) and, for a displacement, rotation or moment, its residual
+        flexibility for the static correction (None for a velocity or acceleration);
+        computed once per response and nodes."""
         key = (response, tuple(nodes))
         if key not in self._rows:
-            asm, shapes = self.model.build(), self.modal.shapes
+            asm, modal = self.model.build(), self.modal
             if response == "moment":
                 free, P = moment_rows(asm, self.track, nodes)
-                self._rows[key] = shapes[asm.full_of_free[free]].T @ P
+                output_map = np.zeros((asm.n_free, P.shape[1]))
+                output_map[free] = P
             else:
                 dof = 3 if response == "rotation" else 2
-                self._rows[key] = shapes[[asm.full_dof(n, dof) for n in nodes]].T
+                output_map = np.zeros((asm.n_free, len(nodes)))
+                for c, n in enumerate(nodes):
+                    f = asm.free_of_full[asm.full_dof(n, dof)]
+                    if f >= 0:
+                        output_map[f, c] = 1.0
+            rows = modal.shapes[asm.full_of_free].T @ output_map
+            residual = modal.residual_flexibility(output_map) if response in ("disp", "rotation", "moment") else None
+            self._rows[key] = (rows, residual)
         return self._rows[key]
 
     def output_nodes(self, nodes):
