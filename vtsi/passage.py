@@ -56,7 +56,7 @@ IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range
 NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
 PLACES = ("deck", "midspan", "supports")
-BRIDGE_MODELS = ("fe", "modal")
+BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
 
 
 @dataclass(frozen=True)
@@ -162,7 +162,8 @@ class PassageSettings:
         with the damping ratio ``damping`` exactly, :class:`~vtsi.modal_bridge.ModalBridge`):
         trains of moving forces over a bridge without self weight run as exact modal passages
         (:mod:`vtsi.modal_passage`, sampled every ``dt``); cars, contact loss and self weight are
-        time-stepped on the modal bridge (:class:`~vtsi.coupled.CoupledAnalysis` ``bridge=``).
+        time-stepped on the modal bridge (:class:`~vtsi.coupled.CoupledAnalysis` ``bridge=``);
+        'modal-stepped' time-steps every passage on the modal bridge (the work-precision study).
     modal_hz : the modal bridge's highest frequency [Hz]; None: 1.1 × the EN cut-off.
     static_correction : exact modal passages add the truncated modes' quasi-static response to
         displacements, rotations and bending moments (:mod:`vtsi.modal_bridge`); accelerations
@@ -221,7 +222,7 @@ class PassageSettings:
                              f"{', '.join(IRREGULARITIES)} (or None for a smooth rail)")
         if self.bridge not in BRIDGE_MODELS:
             raise ModelError(f"sweep settings: unknown bridge {self.bridge!r}; valid: {', '.join(BRIDGE_MODELS)}")
-        if self.bridge == "modal":
+        if self.bridge != "fe":
             positive("modal_hz", allow_none=True)
         try:
             integrator = make_integrator(self.integrator)
@@ -303,7 +304,7 @@ class PassageRunner:
                              settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
         self.cache = BridgeStageCache()
         self.modal = None
-        if settings.bridge == "modal":
+        if settings.bridge != "fe":
             f_max = settings.modal_hz or CUTOFF_MARGIN * acceleration_cutoff_hz(self.frequencies)
             self.modal = ModalBridge(self.model, self.track, f_max, settings.damping or 0.0)
         self._dead_load = {}
@@ -409,7 +410,7 @@ class PassageRunner:
         if not (math.isfinite(speed_kmh) and speed_kmh > 0):
             raise ModelError(f"sweep: speed must be > 0 km/h, got {speed_kmh}")
         train = self.train(train_name, speed_kmh / 3.6)
-        if self.modal is not None and train.n_dof == 0 and not s.bridge_self_weight:
+        if s.bridge == "modal" and train.n_dof == 0 and not s.bridge_self_weight:
             return self._modal_passage(train_name, train, float(speed_kmh), int(seed),
                                        self.outputs if outputs is None else outputs, clock)
         approach = self.approach(train)

@@ -1,6 +1,7 @@
 """Scene S8: work against precision of a sweep's bridge fidelities — the FE bridge time-stepped
-(Newmark) at several meshes and Δt, and the modal bridge's exact passages at several meshes and
-sampling steps — on the S4 span and on the S5 viaduct.
+(Newmark) at several meshes and Δt, the modal bridge time-stepped (Newmark, ``bridge=
+'modal-stepped'``) and its exact passages at several meshes and Δt / sampling steps — on the S4
+span and on the S5 viaduct.
 
 Quantity: the sweep's envelope maximum of the deck acceleration counted up to the EN cut-off
 (max over every deck node, every HSLM-A train and speed; `Output(..., cutoff='en')`), the
@@ -23,6 +24,7 @@ L4, F4, MU4 = 20.0, 5.0, 15000.0
 VIADUCT = dict(spans=[30.0, 30.0, 30.0], E=3.5e10, I=7.0, mu=30000.0)
 FE = [(n, dt) for n in (4, 8, 16) for dt in (4e-3, 2e-3, 1e-3, 5e-4)]
 MODAL = [(n, dt) for n in (4, 10) for dt in (4e-3, 2e-3, 1e-3, 5e-4)]
+METHOD_BRIDGE = {"FE Newmark": "fe", "modal Newmark": "modal-stepped", "modal exact": "modal"}
 
 
 def _bridges():
@@ -54,7 +56,7 @@ def chart_work_precision(result, path):
     fig, axes = plt.subplots(1, len(bridges), figsize=(6.2 * len(bridges), 4.6))
     for ax, name in zip(np.atleast_1d(axes), bridges):
         rows = result["bridges"][name]["rows"]
-        for method, marker in (("FE Newmark", "o"), ("modal exact", "s")):
+        for method, marker in (("FE Newmark", "o"), ("modal Newmark", "^"), ("modal exact", "s")):
             for n in sorted({r["elements"] for r in rows if r["method"] == method}):
                 pts = sorted((r["ms_per_passage"], max(r["rel_err"], 1e-7), r["dt"]) for r in rows
                              if r["method"] == method and r["elements"] == n)
@@ -78,7 +80,7 @@ def chart_work_precision(result, path):
 @register
 class S8(Scene):
     name = "S8"
-    description = "work against precision of the sweep's fidelities: FE Newmark (meshes, dt) and exact modal passages, S4 span and S5 viaduct"
+    description = "work against precision of the sweep's fidelities: FE Newmark (meshes, dt), modal Newmark and exact modal passages, S4 span and S5 viaduct"
     columns = (("bridge", "bridge", "{}"), ("method", "method", "{}"), ("elements", "el/span", "{:d}"),
                ("dt", "dt [s]", "{:g}"), ("ms_per_passage", "ms/passage", "{:.3f}"), ("rel_err", "error", "{:.2e}"))
 
@@ -92,9 +94,9 @@ class S8(Scene):
             ref, ref_cost, n_passages = _max(build, 40, trains, speeds,
                                              PassageSettings(dt=1e-4, damping=zeta, bridge="modal"), 1)
             rows = []
-            for method, grid in (("FE Newmark", fe_grid), ("modal exact", modal_grid)):
+            for method, grid in (("FE Newmark", fe_grid), ("modal Newmark", modal_grid), ("modal exact", modal_grid)):
                 for n, dt in grid:
-                    settings = PassageSettings(dt=dt, damping=zeta, bridge="fe" if method == "FE Newmark" else "modal")
+                    settings = PassageSettings(dt=dt, damping=zeta, bridge=METHOD_BRIDGE[method])
                     value, cost, _ = _max(build, n, trains, speeds, settings, repeats)
                     rows.append({"bridge": name, "method": method, "elements": n, "dt": dt,
                                  "ms_per_passage": cost * 1e3, "max_acc": value, "rel_err": abs(value / ref - 1.0)})
