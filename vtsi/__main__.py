@@ -172,7 +172,8 @@ def _sweep_options(p, check):
                           help="rail shape functions: hermite (default) or bspline")
     settings.add_argument("--bridge-model", choices=("fe", "modal"),
                           help="fe (the FE bridge, time-stepped; default) or modal (its modes up to 1.1 x the EN "
-                               "cut-off, exact moving-force passages, the damping ratio on every mode)")
+                               "cut-off, the damping ratio on every mode: exact passages for moving forces, "
+                               "time-stepped for cars)")
     settings.add_argument("--damping", type=float, metavar="ZETA",
                           help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh, through n0 and the EN cut-off); "
                                "default: the bridge as built (a beam: undamped)")
