@@ -169,3 +169,15 @@ def test_the_model_damping_must_be_classical_and_the_model_unchanged():
     model.element("elasticBeamColumn", 99, (9, 99), A=1.0, E=3.0e10, I=1.2, rho=15000.0)
     with pytest.raises(AnalysisError, match="model changed"):
         vtsi.TransientAnalysis(model, "Newmark", dt=1e-3, bridge=modal).run(1)
+
+
+def test_an_explicit_integrator_is_held_to_the_highest_kept_mode():
+    """Central differences on a modal bridge: stable up to Δt = 2/ω_max of the kept modes (far
+    above the FE bridge's limit), refused beyond it with a message naming the limit."""
+    model = vtsi.Model()
+    simply_supported_beam(model, 20.0, 16, 3.0e10, 1.2, 15000.0)
+    modal = ModalBridge(model, n_modes=3, zeta=0.0)
+    limit = 2.0 / modal.omega.max()
+    with pytest.raises(AnalysisError, match="stability limit"):
+        vtsi.TransientAnalysis(model, "CentralDifference", dt=1.01 * limit, bridge=modal).run(1)
+    vtsi.TransientAnalysis(model, "CentralDifference", dt=0.99 * limit, bridge=modal).run(10)

@@ -171,6 +171,11 @@ class ModalStages(BridgeStages):
         self.mass = asm.M
         k, c = modal.omega ** 2, 2.0 * modal.zeta * modal.omega
         A = integrator.n_slots
+        limit = integrator.stability_limit(dt)
+        if limit is not None and modal.omega.max() * dt > limit * (1.0 + 1e-12):
+            raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
+                                f"{limit / modal.omega.max():.6g} s on the modal bridge (highest mode "
+                                f"{modal.frequencies.max():.6g} Hz); reduce dt or keep fewer modes")
         stages = integrator.stages(dt)
         k_hat = [1.0 + st.kv[A] * c + st.ku[A] * k for st in stages]
         self._stepping(integrator, dt, sp.diags(k), sp.diags(c), [ldl_band(sp.diags(d), 0) for d in k_hat])
