@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 oracle = pytest.importorskip("openseespy.opensees")
+import vtsi  # noqa: E402
 import vtsi.opensees as vops  # noqa: E402
 
 SCRIPTS = Path(__file__).parent / "scripts"
@@ -128,3 +129,70 @@ def test_truss_rayleigh(do_rayleigh):
     """OpenSees's truss takes Rayleigh damping (alphaM on its mass and betaK on its stiffness) only
     with -doRayleigh 1; without it, none at all."""
     assert relative_difference(truss_model(oracle, do_rayleigh), truss_model(vops, do_rayleigh)) < RTOL
+
+
+def modal_damping_beam(ops, ratios, rayleigh=None, element_mass=False, n_eigen=3, load_dof=2):
+    """A 20 m simply supported beam of 8 elements with nodal masses (the OpenSees idiom: no
+    rotational mass) under a step load at mid-span, eigen(n_eigen) then modalDamping(*ratios);
+    mid-span deflection of every step (Newmark)."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(9):
+        ops.node(i + 1, 2.5 * i, 0.0)
+        if not element_mass and 0 < i < 8:
+            ops.mass(i + 1, 37500.0, 37500.0, 0.0)
+    ops.mass(9, 18750.0, 0.0, 0.0)
+    ops.fix(1, 1, 1, 0)
+    ops.fix(9, 0, 1, 0)
+    ops.geomTransf("Linear", 1)
+    for e in range(8):
+        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, 3.0e10, 1.2, 1,
+                    *(["-mass", 15000.0, "-cMass"] if element_mass else []))
+    if rayleigh:
+        ops.rayleigh(*rayleigh, 0.0, 0.0)
+    ops.timeSeries("Constant", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(5, *[(-1.0e5 if d == load_dof else 0.0) for d in (1, 2, 3)])
+    ops.eigen("-fullGenLapack", n_eigen)
+    ops.modalDamping(*ratios)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", 1e-14, 50)
+    ops.algorithm("Newton")          # OpenSees puts modal damping in the residual only: it iterates
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    out = []
+    for _ in range(300):
+        ops.analyze(1, 2e-3)
+        out.append(ops.nodeDisp(5, 2))
+    ops.wipe()
+    return np.array(out)
+
+
+@pytest.mark.parametrize("ratios, rayleigh", [((0.05,), None), ((0.02, 0.04, 0.08), None), ((0.03,), (0.4, 0.0))],
+                         ids=["one ratio", "a ratio per mode", "with rayleigh alphaM"])
+def test_modal_damping(ratios, rayleigh):
+    """modalDamping on the modes of the last eigen, alone and on top of Rayleigh damping: vtsi
+    steps every mode of finite frequency (the rotations, without mass, follow statically) with
+    those ratios, OpenSees the FE model with C + M Φ diag(2ζω) Φᵀ M; measured agreement 5e-14 .. 6e-14
+    (with element mass instead of nodal masses OpenSees differs by 1.7e-3: docs/commands.md)."""
+    ref = modal_damping_beam(oracle, ratios, rayleigh)
+    val = modal_damping_beam(vops, ratios, rayleigh)
+    undamped = modal_damping_beam(vops, (0.0,), rayleigh)
+    assert relative_difference(ref, val) < 1e-9
+    assert relative_difference(ref, undamped) > 1e-2          # the damping is there
+
+
+def test_modal_damping_refusals():
+    vops.wipe()
+    vops.model("basic", "-ndm", 2, "-ndf", 3)
+    with pytest.raises(vops.CommandError, match="call eigen"):
+        vops.modalDamping(0.05)
+    with pytest.raises(vops.CommandError, match="betaK"):
+        modal_damping_beam(vops, (0.05,), rayleigh=(0.0, 1e-4))
+    with pytest.raises(vops.CommandError, match="one per mode"):
+        modal_damping_beam(vops, (0.01, 0.02))
+    with pytest.raises(vtsi.AnalysisError, match="no mass"):
+        modal_damping_beam(vops, (0.05,), load_dof=3)
+    vops.wipe()

@@ -19,6 +19,7 @@ from vtsi.timeseries import Path, interpolate_rows
 
 log = logging.getLogger(__name__)
 QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
+ALL_MODES_MAX = 3000      # free dofs up to which eigen(model, 'all') solves the dense problem
 
 
 class DomainState:
@@ -264,16 +265,24 @@ def eigen(model, n_modes):
     """Lowest ``n_modes`` eigenpairs of ``K φ = ω² M φ`` on the free dofs.
 
     Returns ``omega2 (n_modes,)`` [rad²/s²] ascending and ``shapes (n_full, n_modes)``
-    mass-normalised (``φᵀ M φ = 1``), zero at fixed dofs. Dofs without mass are allowed.
+    mass-normalised (``φᵀ M φ = 1``), zero at fixed dofs. Dofs without mass are allowed;
+    ``n_modes='all'``: every mode of finite frequency (as many as the mass matrix' rank; a
+    dense solve, up to ALL_MODES_MAX free dofs).
     """
     asm = model.build()
     n = asm.n_free
-    n_modes = _integer("eigen", "number of modes", n_modes)
+    every = isinstance(n_modes, str) and n_modes == "all"
+    if every and n > ALL_MODES_MAX:
+        raise AnalysisError(f"eigen: every mode of {n} free dofs is a dense problem beyond {ALL_MODES_MAX} dofs; "
+                            "ask for the lowest modes")
+    n_modes = n if every else _integer("eigen", "number of modes", n_modes)
     if not 1 <= n_modes <= n:
         raise AnalysisError(f"eigen: number of modes must be between 1 and {n} (the free dofs), got {n_modes}")
     factor(asm, asm.K, "stiffness matrix K")   # names the mechanism, if any
     if n <= 1200 or n_modes >= n - 1:
         mu, vec = scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray())
+        if every:
+            n_modes = max(1, int(np.sum(mu > 1e-14 * mu.max())))
         order = np.argsort(mu)[::-1][:n_modes]
         if np.any(mu[order] <= 1e-14 * mu.max()):
             raise AnalysisError(f"eigen: only {int(np.sum(mu > 1e-14 * mu.max()))} dofs carry mass, "

@@ -51,7 +51,8 @@ class ModalBridge:
     zeta : damping ratio [-] (>= 0; < 1 for exact passages) of every mode, a sequence (one per kept mode) or a function of the
         frequency [Hz] -> ratio. None: the model's own damping, ζ_j = φ_jᵀ C φ_j / (2 ω_j), which
         must be classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
-    n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound.
+    n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound; 'all': every mode
+        of finite frequency (with every dof carrying mass, the FE model's own equations).
 
     Attributes
     ----------
@@ -110,6 +111,16 @@ class ModalBridge:
     @property
     def n_modes(self):
         return len(self.frequencies)
+
+    def add_ratios(self, ratios):
+        """Add damping ratios [-] to the lowest ``len(ratios)`` modes (OpenSees ``modalDamping``
+        on top of the model's own damping)."""
+        ratios = np.asarray(ratios, dtype=float)
+        if ratios.ndim != 1 or len(ratios) > self.n_modes or not np.all((ratios >= 0) & np.isfinite(ratios)):
+            raise ModelError(f"modal bridge: added ratios must be finite, >= 0 and at most one per mode "
+                             f"({self.n_modes}), got {ratios.tolist()}")
+        self.zeta = self.zeta.copy()
+        self.zeta[: len(ratios)] += ratios
 
     def stages(self, integrator, dt, track=None, self_weight_load=None):
         """The bridge subdomain for ``integrator`` and ``dt`` [s] (:class:`ModalStages`)."""
@@ -202,7 +213,13 @@ class ModalStages(BridgeStages):
         return self.phi @ x
 
     def loads(self, ptr, dof, val):
-        """The pattern loads' modal forces Φᵀ P, one dense row of n per pattern (CSR)."""
+        """The pattern loads' modal forces Φᵀ P, one dense row of n per pattern (CSR). A load on a
+        dof without mass is refused: its static response is not in the modes."""
+        massless = dof[self.mass.diagonal()[dof] <= 0.0] if len(dof) else dof
+        if len(massless):
+            raise AnalysisError(f"modal bridge: a load on {self.modal.assembly.dof_label(massless[0])}, which has "
+                                "no mass: the modes do not carry its static response (load a dof with mass, "
+                                "or use the FE bridge)")
         n_p = len(ptr) - 1
         out = np.zeros((n_p, self.n))
         for p in range(n_p):

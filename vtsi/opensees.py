@@ -33,8 +33,9 @@ import numpy as np
 from vtsi.analysis import StaticAnalysis, TransientAnalysis, _RecorderFeed, domain_state, factor
 from vtsi.analysis import eigen as _eigen
 from vtsi.banded import solve_band
-from vtsi.errors import CommandError, DivergenceError
+from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
+from vtsi.modal_bridge import ModalBridge
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, TimeSeries
 from vtsi.train_commands import TRAIN_COMMANDS, TrainCommands
@@ -44,7 +45,7 @@ log = logging.getLogger(__name__)
 COMMANDS = (
     "model", "node", "fix", "mass", "geomTransf", "element", "uniaxialMaterial", "timeSeries", "pattern",
     "load", "rayleigh", "constraints", "numberer", "system", "test", "algorithm", "integrator", "analysis",
-    "analyze", "eigen", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce",
+    "analyze", "eigen", "modalDamping", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce",
     "eleResponse", "recorder", "wipe", "wipeAnalysis", "getTime", "setTime", "loadConst", "nodeCoord",
     "nodeEigenvector", "nodeResponse", "remove", "getNodeTags", "getEleTags",
 ) + TRAIN_COMMANDS
@@ -319,8 +320,8 @@ class _CommandTransient(TransientAnalysis):
     (``t += Δt`` each step; HHT: ``t += αΔt`` then ``t += (1-α)Δt``), so that a Path series
     evaluated at its last sample gives OpenSees's value to the last bit."""
 
-    def __init__(self, model, integrator):
-        super().__init__(model, integrator)
+    def __init__(self, model, integrator, bridge=None):
+        super().__init__(model, integrator, bridge=bridge)
 
     def _increments(self):
         if isinstance(self.integrator, HHT):
@@ -520,6 +521,7 @@ class Session(TrainCommands):
         self._current_pattern = None
         self._series_count = 0
         self._eigen = None
+        self._modal_damping = None  # (assembly, ratios) of the last modalDamping
         self._reactions = None
         self._load_time = None     # time at which the domain last applied its loads
         self._clear_analysis()
@@ -1045,8 +1047,9 @@ class Session(TrainCommands):
             self._trbdf2.run(model, n, dt, self._recorder_list(), info)
             self._load_time = domain_state(model).time
             return 0
-        if self._transient is None:
-            self._transient = _CommandTransient(model, integ)
+        bridge = self._modal_bridge("analyze")
+        if self._transient is None or self._transient.bridge is not bridge:
+            self._transient = _CommandTransient(model, integ, bridge)
         analysis = self._transient
         analysis.set_dt(dt)
         analysis.recorders = self._recorder_list()
@@ -1082,6 +1085,58 @@ class Session(TrainCommands):
         self._eigen = (model.build(), omega2, shapes)
         log.debug("eigen %s: %d modes", solver, n)
         return [float(w) for w in omega2]
+
+    def modalDamping(self, *args):
+        """``modalDamping(zeta)`` or ``modalDamping(zeta_1, ..., zeta_n)``: damping ratios [-] of the
+        modes of the last ``eigen`` (one for all, or one per mode), added to the model's own
+        (Rayleigh) damping: C = M Φ diag(2ζω) Φᵀ M. vtsi then steps the model as a modal bridge of
+        every mode of finite frequency (:class:`~vtsi.modal_bridge.ModalBridge`, ``n_modes='all'``):
+        the model's own equations, a dof without mass following statically, so the model's own
+        damping must be classical (Rayleigh) and no load may act on a dof without mass. Equal to
+        OpenSees with nodal masses (``mass``); with element mass (``-mass``, ``-rho``) OpenSees's
+        modal damping force differs from this C by a fraction of a percent (docs/commands.md)."""
+        model = self._model("modalDamping")
+        a = _Args("modalDamping", args)
+        ratios = [a.float("damping ratio")]
+        while a.more():
+            ratios.append(a.float("damping ratio"))
+        a.done()
+        if self._eigen is None:
+            raise CommandError("modalDamping: no modes; call eigen(n) first (the ratios apply to its modes)")
+        asm, omega2, _ = self._eigen
+        if asm is not model.build():
+            raise CommandError("modalDamping: the model changed after the last eigen; call eigen(n) again")
+        n = len(omega2)
+        if len(ratios) not in (1, n):
+            raise CommandError(f"modalDamping: give one ratio or one per mode of the last eigen ({n}), got {len(ratios)}")
+        bad = [z for z in ratios if not (np.isfinite(z) and z >= 0.0)]
+        if bad:
+            raise CommandError(f"modalDamping: a damping ratio must be >= 0 (0.05 for 5 %), got {bad[0]:g}")
+        self._modal_damping = (asm, np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None)
+        self._transient = None
+
+    def _modal_bridge(self, command):
+        """The modal bridge that ``modalDamping`` asks for (None without it), built once."""
+        if self._modal_damping is None:
+            return None
+        asm, ratios, bridge = self._modal_damping
+        model = self._model(command)
+        if asm is not model.build():
+            raise CommandError(f"{command}: the model changed after eigen and modalDamping; call them again")
+        if bridge is None:
+            massless = np.flatnonzero(asm.M.diagonal() <= 0.0)
+            damped = massless[np.abs(asm.C[massless]).sum(axis=1).A1 > 0.0] if len(massless) else massless
+            if len(damped):
+                raise CommandError(f"{command}: modalDamping: {asm.dof_label(damped[0])} has damping (rayleigh "
+                                   "betaK) but no mass; vtsi steps the modes of the model, where a dof without "
+                                   "mass follows statically (give it mass, or use rayleigh alphaM only)")
+            try:
+                bridge = ModalBridge(model, n_modes="all")
+                bridge.add_ratios(ratios)
+            except (ModelError, AnalysisError) as exc:
+                raise CommandError(f"{command}: modalDamping: {exc}") from None
+            self._modal_damping = (asm, ratios, bridge)
+        return bridge
 
     # -- queries -------------------------------------------------------------------------------
     def nodeDisp(self, node, dof=-1):

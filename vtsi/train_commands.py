@@ -221,13 +221,14 @@ class TrainCommands:
         if kind in ("TRBDF2", "CentralDifference"):
             raise CommandError(f"{command}: integrator {kind} is not available for a coupled analysis; "
                                "use Newmark, HHT or Bathe")
-        if self._coupled is None or self._coupled.model is not model:
+        bridge = self._modal_bridge(command)
+        if self._coupled is None or self._coupled.model is not model or self._coupled.bridge is not bridge:
             spec = self._constraint
             subdomain = TrainSubdomain(self._trains[spec["train"]], spec["x_head0"])
             constraint = MovingLoadConstraint(Track(model, self._tracks[spec["track"]]), subdomain,
                                               spec["irregularity"], spec["interpolation"])
             self._coupled = CoupledAnalysis(model, constraint, integ or "Newmark", dt or 1.0, contact=self._contact,
-                                            exact_events=spec["exact_events"])
+                                            exact_events=spec["exact_events"], bridge=bridge)
             self._dead_load_done = False
         analysis = self._coupled
         if dt is not None and dt != analysis.dt:
