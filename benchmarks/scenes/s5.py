@@ -31,7 +31,9 @@ run): vtsi
 precomputed by a one-step warm-up; the run includes the irregularity tables and the recorder
 feed of the three midspan deflections); the peer's loop (its splu factorisations not timed).
 ``--baseline`` adds the peer's slower variant that rebuilds the rows as scipy sparse matrices
-every step (``baseline_*`` fields).
+every step (``baseline_*`` fields). ``modal_*`` / ``modal_rich_*``: the same passage on the
+modal bridge (modes up to 1.1 × the EN cut-off / up to 300 Hz), µs per step and its differences
+from the FE bridge (:func:`run_modal`).
 """
 import math
 import time
@@ -49,6 +51,7 @@ APPROACH, RUN_OUT = 25.0, 10.0
 TAPER = 20.0          # [m] the irregularity fades in over this length ahead of the train's head
 SEED = 20170524
 CLOCK = time.process_time
+MODAL_RICH_HZ = 300.0  # [Hz] the rich modal basis
 VTSI_RUNS = 5         # vtsi runs per repeat: a run is ~40 ms against the peer's ~1 s
 
 
@@ -128,6 +131,30 @@ def _rel(a, b):
     return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
 
 
+def run_modal(scene, n_steps, repeats, w_fe, lam_fe):
+    """The same passage on the modal bridge (``CoupledAnalysis(bridge=ModalBridge(...))``): the
+    modes up to 1.1 × the EN cut-off (``modal_*``) and up to MODAL_RICH_HZ (``modal_rich_*``):
+    µs per step and the differences from the FE bridge's mid-span deflections and contact forces."""
+    from vtsi.coupled import CoupledAnalysis
+    from vtsi.modal_bridge import ModalBridge
+
+    fe = scene["analysis"]
+    out = {}
+    for key, f_max in (("modal", None), ("modal_rich", MODAL_RICH_HZ)):
+        modal = ModalBridge(scene["model"], scene["track"], f_max)
+        scene["analysis"] = CoupledAnalysis(scene["model"], scene["constraint"], "Newmark", dt=scene["dt"], bridge=modal)
+        run_vtsi(scene, 1)                        # warm-up
+        best = math.inf
+        for _ in range(repeats * VTSI_RUNS):
+            seconds, lam, w = run_vtsi(scene, n_steps)
+            best = min(best, seconds)
+        out.update({f"{key}_modes": modal.n_modes, f"{key}_hz": float(modal.frequencies[-1]),
+                    f"{key}_us_per_step": 1e6 * best / n_steps, f"{key}_deflection_rel_diff": _rel(w, w_fe),
+                    f"{key}_force_rel_diff": _rel(lam, lam_fe)})
+    scene["analysis"] = fe
+    return out
+
+
 def run_case(n_cars, n_steps=None, repeats=3, baseline=False):
     scene = build(n_cars)
     n = scene["n_steps"] if n_steps is None else n_steps
@@ -158,6 +185,7 @@ def run_case(n_cars, n_steps=None, repeats=3, baseline=False):
         "max_wheels_on_bridge": on_bridge,
     }
     case["max_rel_diff"] = max(case["deflection_rel_diff"], case["force_rel_diff"])
+    case.update(run_modal(scene, n, repeats, w_v, lam_v))
     if baseline:
         case.update({
             "baseline": "straightforward, rows as scipy sparse matrices rebuilt each step",
@@ -183,6 +211,8 @@ class S5(Scene):
         ("max_rel_diff", "max rel diff", "{:.1e}"),
         ("baseline_us_per_step", "sparse-rows loop µs/step", "{:.0f}"),
         ("speedup_vs_baseline", "vs sparse rows", "{:.0f}×"),
+        ("modal_us_per_step", "modal bridge µs/step", "{:.1f}"),
+        ("modal_force_rel_diff", "modal λ diff", "{:.1e}"),
     )
 
     def run(self, quick=False, baseline=False, repeats=3):
