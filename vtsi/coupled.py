@@ -233,11 +233,62 @@ class CoupledAnalysis:
     # -- dead load ------------------------------------------------------------------------
     def static(self):
         """Static equilibrium of bridge and train under gravity (and the patterns at the current
-        time) with the wheels on the rail: sets the committed states and ``static_state``."""
+        time) with the wheels on the rail: sets the committed states and ``static_state``.
+
+        The bridge starts at rest. The wheels move with the rail (ġ = 0: v_w = V N'(x) u_b + ṙ
+        where the rail under them is deflected, sloping or irregular), and the rest of the train
+        follows them quasi-statically, v_o = −K_oo⁻¹ K_ow v_w (the train's stiffness split into
+        its other dofs o and its wheels w), so that a train can start on a deflected or sloping
+        rail without its suspension seeing a velocity jump at t = 0. Accelerations start at 0."""
         asm = self.model.build()
         state = domain_state(self.model)
-        train, con, track = self.train, self.constraint, self.constraint.track
+        train, con = self.train, self.constraint
         t = state.time
+        self._prepare()
+        bridge = self.stages
+        n_b, n_t, n_c = bridge.stiffness.shape[0], train.n_dof, con.n_contact
+        sol = self._static_solution(asm, t)
+        state.u[:], state.v[:], state.a[:] = 0.0, 0.0, 0.0
+        state.u[asm.full_of_free] = bridge.static_free(sol[:n_b])
+        train.u[:] = sol[n_b: n_b + n_t]
+        train.v[:] = 0.0
+        train.a[:] = 0.0
+        if n_c:
+            cols, _, slopes, _ = con.rows_at(t, self.dt)
+            u_track = np.where(cols >= 0, (bridge.track_operator @ sol[:n_b])[np.maximum(cols, 0)], 0.0)
+            rate = con.irregularity_at(np.array(t), self.dt, 1) - self._rail_sag(np.array(t), 1)
+            train.v[train.wheel_dofs] = train.speed * np.einsum("ij,ij->i", slopes, u_track) + rate
+            train.v[:] = self._quasi_static_rates(train.v[train.wheel_dofs])
+        self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
+                             "train_v": train.v.copy(), "contact_force": sol[n_b + n_t:].copy()}
+        self._prev = None
+        return self.static_state
+
+    def _quasi_static_rates(self, wheel_v):
+        """Train velocities (n_t,) [m/s, rad/s] with the contact wheels at ``wheel_v`` and every
+        other dof following them statically: v_o = −K_oo⁻¹ K_ow v_w."""
+        train = self.train
+        v = np.zeros(train.n_dof)
+        v[train.wheel_dofs] = wheel_v
+        if not np.any(wheel_v):
+            return v
+        others = np.setdiff1d(np.arange(train.n_dof), train.wheel_dofs)
+        if len(others):
+            K = train.K.tocsr()
+            k_oo, k_ow = K[others][:, others].tocsc(), K[others][:, train.wheel_dofs]
+            with np.errstate(all="ignore"):
+                try:
+                    v[others] = -spla.spsolve(k_oo, k_ow @ wheel_v)
+                except RuntimeError:
+                    v[others] = np.nan
+            if not np.all(np.isfinite(v)):
+                raise AnalysisError("dead load: a train dof is held by no spring once its wheels are on the rail")
+        return v
+
+    def _static_solution(self, asm, t):
+        """``(bridge coordinates, train dofs, contact forces)`` of the static equilibrium at time
+        ``t`` [s] (the wheels where they are then, the patterns' loads then)."""
+        train, con, track, bridge = self.train, self.constraint, self.constraint.track, self.stages
         p_b = self._bridge_constant_load(asm)
         for pattern in self.model.patterns.values():
             p_b = p_b + pattern.factors(np.array([t]))[0] * asm.load_vector(pattern)
@@ -246,10 +297,8 @@ class CoupledAnalysis:
             for i, f in enumerate(train.wheel_forces):
                 keep = cols[i] >= 0
                 np.add.at(p_b, track.free_index[cols[i][keep]], -f * vals[i][keep])
-        self._prepare()
-        bridge = self.stages
         K_b, p_b = bridge.stiffness, bridge.static_load(p_b)
-        n_b, n_t, n_c = K_b.shape[0], train.n_dof, con.n_contact
+        n_t, n_c = train.n_dof, con.n_contact
         cols, vals, _, r = con.rows_at(t, self.dt)
         r = r - self._rail_sag(np.array(t), 0)
         keep = cols >= 0
@@ -268,22 +317,7 @@ class CoupledAnalysis:
         if not np.all(np.isfinite(sol)) or np.linalg.norm(big @ sol - rhs) > 1e-8 * max(np.linalg.norm(rhs), 1.0):
             raise AnalysisError("dead load: the static train-bridge system is singular (a bridge mechanism, "
                                 "or a train dof held by neither a spring nor a wheel)")
-        state.u[:] = 0.0
-        state.u[asm.full_of_free] = bridge.static_free(sol[:n_b])
-        state.v[:] = 0.0
-        state.a[:] = 0.0
-        train.u[:] = sol[n_b: n_b + n_t]
-        train.v[:] = 0.0
-        if n_c:   # wheels move with the rail: v_w = V N'(x) u_b + ṙ (ġ = 0 with the bridge at rest)
-            _, _, slopes, _ = con.rows_at(t, self.dt)
-            u_track = np.where(cols >= 0, (bridge.track_operator @ sol[:n_b])[np.maximum(cols, 0)], 0.0)
-            rate = con.irregularity_at(np.array(t), self.dt, 1) - self._rail_sag(np.array(t), 1)
-            train.v[train.wheel_dofs] = train.speed * np.einsum("ij,ij->i", slopes, u_track) + rate
-        train.a[:] = 0.0
-        self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
-                             "train_v": train.v.copy(), "contact_force": sol[n_b + n_t:].copy()}
-        self._prev = None
-        return self.static_state
+        return np.atleast_1d(sol)
 
     def start_from(self, static_state):
         """Set the committed states to a dead-load state that :meth:`static` returned for this
