@@ -88,7 +88,8 @@ def s5_ice3(bridge_kind, contact, interpolation, integrator="Newmark", n_steps=7
 
 
 @pytest.mark.parametrize("contact, interpolation, integrator", [
-    ("bilateral", "hermite", "Newmark"), ("lcp", "bspline", "Newmark"), ("bilateral", "hermite", "Bathe")])
+    ("bilateral", "hermite", "Newmark"), ("lcp", "bspline", HHT(0.9)), ("bilateral", "hermite", "Bathe")],
+    ids=["bilateral-hermite-Newmark", "lcp-bspline-HHT", "bilateral-hermite-Bathe"])
 def test_all_modes_equal_the_fe_bridge_s5(contact, interpolation, integrator):
     """Measured: 1e-12 relative on the contact forces, the deck and the train."""
     fe = s5_ice3("fe", contact, interpolation, integrator)

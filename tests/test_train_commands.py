@@ -85,6 +85,9 @@ def test_contact_recorder_text_and_bspline_option(tmp_path):
     session = ops.Session()
     s2_commands(session, ("-bspline",))
     session.contact("lcp")
+    with pytest.raises(vtsi.AnalysisError, match="contact='lcp' needs a dissipative integrator"):
+        session.analyze(1, DT)                       # s2_commands' integrator Newmark 0.5 0.25
+    session.integrator("HHT", 0.9)
     path = tmp_path / "contact.out"
     session.recorder("Contact", "-file", str(path), "-time", "inContact")
     session.analyze(100, DT)

@@ -164,7 +164,9 @@ def _sweep_options(p, check):
     p.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
     settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
     settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001)")
-    settings.add_argument("--integrator", metavar="NAME", help="Newmark (default), HHT or Bathe")
+    settings.add_argument("--integrator", metavar="NAME",
+                          help="Newmark, HHT or Bathe; default: Newmark, or HHT(0.9) with --contact lcp "
+                               "(which refuses an integrator without numerical damping)")
     settings.add_argument("--cars", choices=("force", "full"),
                           help="trains as moving axle forces (default) or multibody cars (catalogue trains with cars)")
     settings.add_argument("--contact", choices=("bilateral", "lcp"), help="bilateral (default) or lcp (contact loss)")

@@ -30,11 +30,10 @@ import numpy as np
 from vtsi.analysis import domain_state, modes_up_to
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
-from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis
+from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import rayleigh_damping, vertical_frequencies
 from vtsi.errors import ModelError, VtsiError
 from vtsi.influence import InfluenceLines
-from vtsi.integrators import make_integrator
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
 from vtsi.models.catalogue import FIDELITIES, catalogue_train
@@ -140,7 +139,9 @@ class PassageSettings:
     ----------
     dt : time step [s].
     integrator : a registered name ('Newmark', 'HHT', 'Bathe', …) or an integrator instance
-        such as ``vtsi.integrators.HHT(0.9)`` (implicit; stored in results by its repr).
+        such as ``vtsi.integrators.HHT(0.9)`` (implicit; stored in results by its repr); None:
+        Newmark with bilateral contact, HHT(0.9) with contact='lcp', which refuses one without
+        numerical dissipation (:func:`vtsi.coupled.coupled_integrator`).
     cars : fidelity of the trains: 'force' (moving axle loads) or 'full' (the catalogue's
         multibody cars; a train without them is refused).
     contact : 'bilateral' or 'lcp' (contact loss).
@@ -171,7 +172,7 @@ class PassageSettings:
     """
 
     dt: float = 1e-3
-    integrator: str = "Newmark"
+    integrator: object = None
     cars: str = "force"
     contact: str = "bilateral"
     interpolation: str = "hermite"
@@ -225,9 +226,11 @@ class PassageSettings:
         if self.bridge != "fe":
             positive("modal_hz", allow_none=True)
         try:
-            integrator = make_integrator(self.integrator)
+            integrator = coupled_integrator(self.integrator, self.contact, "sweep settings")
         except VtsiError as exc:
-            raise ModelError(f"sweep settings: {exc}") from None
+            raise ModelError(f"sweep settings: {exc}" if not str(exc).startswith("sweep settings") else str(exc)) from None
+        if self.integrator is None:      # the contact strategy's default, by name where it has one
+            object.__setattr__(self, "integrator", "Newmark" if self.contact == "bilateral" else integrator)
         if integrator.explicit:
             raise ModelError(f"sweep settings: {integrator.name} is explicit; a passage needs an implicit integrator "
                              "(Newmark, HHT, Bathe)")

@@ -211,7 +211,7 @@ class TrainCommands:
     # -- the analysis ----------------------------------------------------------------------------
     def _coupled_analysis(self, command, dt):
         from vtsi.constraint import MovingLoadConstraint
-        from vtsi.coupled import CoupledAnalysis
+        from vtsi.coupled import CoupledAnalysis, coupled_integrator
         from vtsi.track import Track
         from vtsi.train import TrainSubdomain
         if self._constraint is None:
@@ -227,14 +227,14 @@ class TrainCommands:
             subdomain = TrainSubdomain(self._trains[spec["train"]], spec["x_head0"])
             constraint = MovingLoadConstraint(Track(model, self._tracks[spec["track"]]), subdomain,
                                               spec["irregularity"], spec["interpolation"])
-            self._coupled = CoupledAnalysis(model, constraint, integ or "Newmark", dt or 1.0, contact=self._contact,
+            self._coupled = CoupledAnalysis(model, constraint, integ, dt or 1.0, contact=self._contact,
                                             exact_events=spec["exact_events"], bridge=bridge)
             self._dead_load_done = False
         analysis = self._coupled
         if dt is not None and dt != analysis.dt:
             analysis.dt, analysis._prepared = float(dt), None
         if integ is not None and analysis.integrator is not integ:
-            analysis.integrator, analysis._prepared = integ, None
+            analysis.integrator, analysis._prepared = coupled_integrator(integ, analysis.contact, command), None
         return analysis
 
     def _analyze_coupled(self, n, dt):
