@@ -93,6 +93,15 @@ class Integrator:
     def stages(self, dt):
         raise NotImplementedError
 
+    def force_record_weights(self):
+        """Weights (n_stages + 1) of λ_n and of each stage's λ in the contact force an analysis
+        records for a step. Default: the last stage's. A scheme whose velocity update mixes the
+        step's forces (Bathe: v_{n+1} − v_n = Δt Σ w_s a_s) returns those w, so that the record's
+        Σ λ Δt is the impulse the steps transferred, a span entry's included."""
+        weights = np.zeros(self.n_stages + 1)
+        weights[-1] = 1.0
+        return weights
+
     def stability_limit(self, dt):
         return None
 

@@ -9,6 +9,8 @@ nonlinear dynamics. Comput. Struct. 83, 2513-2524.
 Bathe, K.J. (2007) Conserving energy and momentum in nonlinear dynamics: a simple implicit
 time integration scheme. Comput. Struct. 85, 437-445.
 """
+import numpy as np
+
 from .base import Integrator, Stage, check_parameter, number, register
 
 
@@ -23,6 +25,12 @@ class Bathe(Integrator):
     def __init__(self, gamma=0.5):
         self.gamma = number(self.name, "gamma", gamma)
         check_parameter(self.name, "gamma", self.gamma, 0.0, 1.0, low_open=True, high_open=True)
+
+    def force_record_weights(self):
+        """From the two stages' velocity updates, v_{n+1} = v_n + Δt (w₀ a_n + w₁ a_γ + w₂ a_{n+1})
+        with w₀ = w₁ = 1/(2(2 − γ)), w₂ = (1 − γ)/(2 − γ) (1/3 each for γ = 1/2)."""
+        g = self.gamma
+        return np.array([0.5 / (2.0 - g), 0.5 / (2.0 - g), (1.0 - g) / (2.0 - g)])
 
     def stages(self, dt):
         g = self.gamma

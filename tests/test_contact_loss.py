@@ -189,7 +189,7 @@ def s6_reference():
 @pytest.mark.parametrize("integrator", INTEGRATORS)
 def test_s6_lift_off_contact_force_and_flight(integrator, s6_reference):
     """Lift-off time and position within 0.5 % at every Δt and converging; λ before lift-off
-    converges to m (g + V² r''); the flight u(t) (= gap + r, the ground is rigid) converges at
+    (the end of step's, ``contact_force_end``) converges to m (g + V² r''); the flight u(t) (= gap + r, the ground is rigid) converges at
     about second order. Measured (lift-off time error, Δt = 1, 0.5, 0.25, 0.125 ms):
     Newmark(0.6, 0.3025) 0.22, 0.11, 0.048, 0.023 % (first order); HHT(0.9) 0.034, 0.017, 0.003, 0.0004 %; Bathe 0.033,
     0.017, 0.003, 0.0004 %. λ before lift-off: max error 1.8, 0.11 % of m g at 1, 0.25 ms
@@ -211,7 +211,7 @@ def test_s6_lift_off_contact_force_and_flight(integrator, s6_reference):
         x = p["x0"] + p["V"] * t
         before = t < ref["t_lift"] - dt
         exact = p["m"] * (GRAVITY + p["V"] ** 2 * ref["r"](x[before], nu=2))
-        force_err.append(np.abs(an.contact_force[before, 0] - exact).max() / (p["m"] * GRAVITY))
+        force_err.append(np.abs(an.contact_force_end[before, 0] - exact).max() / (p["m"] * GRAVITY))
         flying = (t > ref["t_lift"] + dt) & (t < ref["t_land"] - dt)
         assert np.all(an.gap[flying, 0] > 0.0) and np.all(an.contact_force[flying, 0] == 0.0)
         u = an.gap[flying, 0] + ref["r"](x[flying])
@@ -321,7 +321,7 @@ def test_flexible_beam_single_wheel_vs_event_reference(integrator, flexible_refe
         k = np.round(an.time / FLEX["h_ref"]).astype(int) - 1
         away = np.all([np.abs(an.time - t) > 3 * dt for _, t, _ in ref.events], axis=0)
         before = away & (an.time < t_land)
-        errors.append(np.abs(an.contact_force[before, 0] - ref.contact_force[k[before], 0]).max() / Q)
+        errors.append(np.abs(an.contact_force_end[before, 0] - ref.contact_force[k[before], 0]).max() / Q)
     assert errors[-1] < errors[0] / 5 and errors[-1] < 5e-3, errors
 
 

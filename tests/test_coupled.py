@@ -77,7 +77,7 @@ def _s2_run(integrator="Newmark", interpolation="hermite", dt=2.5e-4, n_elements
     analysis.static()
     analysis.run(int(round(S2["L"] / S2["V"] / dt)))
     return dict(t=analysis.time, w=mid.sink.values[:, 0], body=body.sink.values[:, 0],
-                accel=accel.sink.values[:, 0], force=analysis.contact_force)
+                accel=accel.sink.values[:, 0], force=analysis.contact_force_end)   # λ_{n+1}: alike for every scheme
 
 
 def _s3_run(integrator="Newmark", interpolation="hermite", dt=1e-3, t_end=S3_CROSSING + 0.05, n_elements=20):
@@ -87,7 +87,7 @@ def _s3_run(integrator="Newmark", interpolation="hermite", dt=1e-3, t_end=S3_CRO
     static = analysis.static()
     analysis.run(int(round(t_end / dt)))
     return dict(t=analysis.time, w=mid.sink.values[:, 0], body=body.sink.values[:, 0] - static["train_u"][0],
-                force=analysis.contact_force, static=static, train=train)
+                force=analysis.contact_force_end, static=static, train=train)   # λ_{n+1}: alike for every scheme
 
 
 # -- S2: Yang & Yau (1997) sprung mass -----------------------------------------------------------
@@ -431,7 +431,7 @@ def _rigid_ground_run(integrator, interpolation, dt, t_end=0.8):
                                  train_dofs=("car0.body_y", "car0.body_rz"))
     static = analysis.static()
     analysis.run(int(round(t_end / dt)))
-    return analysis.time, body.sink.values - static["train_u"][:2], analysis.contact_force
+    return analysis.time, body.sink.values - static["train_u"][:2], analysis.contact_force_end
 
 
 def _slope(steps, errors):

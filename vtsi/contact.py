@@ -14,7 +14,9 @@ wheel i and step k, times t_k at the end of each step):
   with λ = 0 ("touching") before its gap exceeds ``gap_tol``. Let j be the last step before k
   with λ_j > 0 (only touching steps between j and k): the force vanished in (t_j, t_{j+1}].
   With ``interpolate`` the event time is where the straight line through (t_{j-1}, λ_{j-1})
-  and (t_j, λ_j) reaches zero, clamped to [t_j, t_{j+1}]: λ(t) is smooth up to lift-off and
+  and (t_j, λ_j) reaches zero, clamped to [t_j, t_{j+1}] (λ_j the end of step's force
+  ``contact_force_end``: a multi-stage scheme's record is its step mean, Bathe's
+  (λ_n + λ_γ + λ_{n+1})/3): λ(t) is smooth up to lift-off and
   falls to zero with a non-zero slope, so the root is O(Δt²) from the true one. Where λ is
   not falling there (a time-stepping artefact, e.g. the undamped period-2Δt ringing of the
   trapezoidal rule), t_{j+1}; without any such j, t_k.
@@ -188,7 +190,8 @@ def contact_events(analysis, interpolate=True, initial=None):
     ``time``, ``contact_force``, ``gap``, ``gap_tol`` and wheel positions); see
     :func:`find_events` and the module docstring for the definitions."""
     time, force, gap = _records(analysis)
-    return find_events(time, force, gap, analysis.constraint.positions, analysis.gap_tol, initial, interpolate)
+    return find_events(time, np.asarray(analysis.contact_force_end, dtype=float), gap, analysis.constraint.positions,
+                       analysis.gap_tol, initial, interpolate)
 
 
 def summarize(events, time, contact_force, gap, static_load, gap_tol=1e-9):

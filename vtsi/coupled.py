@@ -104,8 +104,11 @@ class CoupledAnalysis:
         bridge is then stepped in its modal coordinates, the constraint rows become rows of Φ at
         the wheel positions (:mod:`vtsi.subdomain`), the recorders read Φ q.
 
-    After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive]
-    and ``gap`` (n_steps, n_c) [m] hold every step of the run; :meth:`contact_events` and
+    After :meth:`run`, ``time``, ``contact_force`` (n_steps, n_c) [N, compression positive:
+    each step's mean force, its impulse / Δt — for Bathe (λ_n + λ_γ + λ_{n+1})/3, for the Newmark
+    family λ_{n+1}, :meth:`~vtsi.integrators.base.Integrator.force_record_weights`],
+    ``contact_force_end`` (the end of step's λ_{n+1}) and ``gap`` (n_steps, n_c) [m, end of step]
+    hold every step of the run; :meth:`contact_events` and
     :meth:`contact_summary` derive lift-offs, landings and per-wheel figures from them
     (:mod:`vtsi.contact`).
     """
@@ -133,9 +136,7 @@ class CoupledAnalysis:
         self._path_tables = {}
         self._sag = None
         self.static_state = None
-        self.time = np.zeros(0)
-        self.contact_force = np.zeros((0, constraint.n_contact))
-        self.gap = np.zeros((0, constraint.n_contact))
+        self.reset_records()
         self._lcp_work = lcp_workspace(constraint.n_contact)
         self.gap_tol = float(gap_tol)
         if not isinstance(exact_events, (bool, np.bool_)):
@@ -232,6 +233,7 @@ class CoupledAnalysis:
         self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.tflex, self.dv[:, A])
         self.stage_theta = np.array([st.theta for st in stages])
         self.force_weight = np.array([st.force_weight for st in stages])
+        self.record_weights = np.ascontiguousarray(integ.force_record_weights(), dtype=np.float64)
         n_q = max(len(st.load) for st in stages)
         self.load_theta = np.zeros((len(stages), n_q))
         self.load_weight = np.zeros((len(stages), n_q))
@@ -397,6 +399,7 @@ class CoupledAnalysis:
         work_t = np.zeros((3, n_t + 2 * kd_t))
         W, q, lam = np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c)
         times_all, force_all, gap_all = [self.time], [self.contact_force], [self.gap]
+        end_all = [self.contact_force_end]
         prev = self._previous_forces(width)
         rec_slot, rec_index = bridge.record_plan(feed.rec_slot, feed.rec_index)
         load_points = [st.load for st in self.integrator.stages(self.dt)]
@@ -413,9 +416,10 @@ class CoupledAnalysis:
                 bridge.track_basis,
                 x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                 con.knot(self.dt), r_part, rate_part, t0 + first * self.dt, self.dt, self.stage_theta,
-                self.load_theta, self.load_weight, self.force_weight, self.contact == "lcp", self.gap_tol,
+                self.load_theta, self.load_weight, self.force_weight, self.record_weights, self.contact == "lcp",
+                self.gap_tol,
                 self.in_contact, rec_slot, rec_index, out[0][first:last], t_slot, t_index, out[1][first:last],
-                out[2][first:last], out[3][first:last], self.divergence_limit, work_b, work_t, cols, vals, slopes,
+                out[2][first:last], out[4][first:last], out[3][first:last], self.divergence_limit, work_b, work_t, cols, vals, slopes,
                 W, q, lam, self._lcp_work, band_type(kd_b), band_type(kd_t), *prev,
                 self.group_ptr, self.group_wheel, self.ground_inv, self.wheel_response, self.response_range)
             return bad if bad == -1 else (bad + first if bad >= 0 else bad - first)
@@ -432,8 +436,8 @@ class CoupledAnalysis:
                     [con.irregularity_at(starts + th * self.dt, self.dt, nu) - self._rail_sag(starts + th * self.dt, nu)
                      for th in self.stage_theta], axis=1)) for nu in (0, 1))
                 out = (np.zeros((n, len(rec_slot))), np.zeros((n, len(t_index))), np.zeros((n, n_c)),
-                       np.zeros((n, n_c)))
-                out_b, out_t, out_force, out_gap = out
+                       np.zeros((n, n_c)), np.zeros((n, n_c)))
+                out_b, out_t, out_force, out_gap, out_force_end = out
                 events = self._events(t0, n)
                 first, bad = 0, -1
                 for k in sorted({e[0] for e in events}) + [n]:
@@ -458,6 +462,7 @@ class CoupledAnalysis:
                              contact_force=out_force[:good][:, force_wheels], gap=out_gap[:good][:, gap_wheels])
                 times_all.append(times)
                 force_all.append(out_force[:good])
+                end_all.append(out_force_end[:good])
                 gap_all.append(out_gap[:good])
                 if bad != -1:
                     step = done + good + 1
@@ -476,6 +481,7 @@ class CoupledAnalysis:
             feed.close()
             self.time = np.concatenate(times_all)
             self.contact_force = np.concatenate(force_all)
+            self.contact_force_end = np.concatenate(end_all)
             self.gap = np.concatenate(gap_all)
         return state
 
@@ -591,6 +597,13 @@ class CoupledAnalysis:
             keep = row[0] >= 0
             cols_prev[i, : keep.sum()], vals_prev[i, : keep.sum()] = row[0][keep], row[1][keep]
         return impulse
+
+    def reset_records(self):
+        """Forget the recorded steps (``time``, ``contact_force``, ``contact_force_end``, ``gap``),
+        e.g. before a run from a new start."""
+        n_c = self.constraint.n_contact
+        self.time = np.zeros(0)
+        self.contact_force, self.contact_force_end, self.gap = (np.zeros((0, n_c)) for _ in range(3))
 
     # -- contact results ------------------------------------------------------------------
     def contact_events(self, interpolate=True):

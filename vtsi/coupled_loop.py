@@ -213,9 +213,10 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free, track_basis,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
-                      t0, dt, stage_theta, load_theta, load_weight, force_weight, lcp, gap_tol, in_contact,
+                      t0, dt, stage_theta, load_theta, load_weight, force_weight, record_weights, lcp, gap_tol,
+                      in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
-                      out_force, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
+                      out_force, out_force_end, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
                       lam_prev, cols_prev, vals_prev, group_ptr, group_wheel, ground_inv, wheel_response,
                       response_range):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
@@ -231,7 +232,11 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
     ``force_weight`` (n_stages): ω of each stage (HHT: α): the stage solves for μ = ω λ_s with
     (1 - ω) times the previous step's forces ``lam_prev`` on rows ``cols_prev``/``vals_prev``
     as a known load; λ_s = μ / ω. Those three arrays are updated at every step.
-    out_force/out_gap: contact force [N] and position gap [m] at the end of each step;
+    out_force/out_gap: contact force [N] and position gap [m] of each step: the force is the
+    mean Σ record_weights · (λ_n, λ_stage 1, …) of the scheme's velocity update (n_stages + 1
+    weights, :meth:`vtsi.integrators.base.Integrator.force_record_weights`; the last stage's λ
+    for the Newmark family), so that Σ λ Δt is the impulse the steps transferred; the gap the
+    end of step's; ``out_force_end`` the end of step's λ_{n+1} (the same for the Newmark family);
     ``in_contact`` (n_c) carries each wheel's contact state (1.0 on the rail, 0.0 in flight)
     from step to step. ``group_ptr``/``group_wheel``: the contact wheels grouped by the train's
     coupling (CSR-like; a group is a car); ``ground_inv`` (n_stages, n_c, n_c): per stage, the
@@ -257,6 +262,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
     on_bridge = np.zeros(n_c, dtype=np.bool_)
     flight = np.zeros(n_c, dtype=np.bool_)
     selected = np.empty(n_c, dtype=np.int64)
+    lam_rec = np.zeros(n_c)
     zq, zl = np.empty(n_c), np.empty(n_c)
     for step in range(n_steps):
         for s in range(n_stages):
@@ -336,6 +342,10 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                                  cols, vals, on_bridge, lcp, flight, landing, lcp_work, zq, zl)
             if not ok:
                 return -2 - step
+            for i in range(n_c):     # the step's recorded force: the scheme's mean of λ_n and its stages' λ
+                if s == 0:
+                    lam_rec[i] = record_weights[0] * lam_prev[i]
+                lam_rec[i] += record_weights[s + 1] * lam[i] / force_weight[s]
             # 4. corrections; a landing wheel's impulse changes u and v but not the (smooth)
             # acceleration that the next step's predictor uses
             for part in range(2):
@@ -377,14 +387,16 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                     g = 0.0
                 if s == n_stages - 1:
                     # an impact is recorded as its impulse ι = va λ spread over the step: ι/Δt
-                    out_force[step, i] = lam[i] * va / dt if landing[i] > 0.5 else lam[i] / force_weight[s]
+                    # a wheel in flight at the step's end records 0 (λ·gap = 0 holds for the record)
+                    out_force[step, i] = lam[i] * va / dt if landing[i] > 0.5 else (0.0 if g > gap_tol else lam_rec[i])
+                    out_force_end[step, i] = lam[i] * va / dt if landing[i] > 0.5 else lam[i] / force_weight[s]
                     out_gap[step, i] = g
                     if lcp:
                         in_contact[i] = 1.0 if g <= gap_tol else 0.0
         if n_c > 0:
             for i in range(n_c):
                 # an impact is no force of the step: the next one does not carry it over
-                lam_prev[i] = 0.0 if landing[i] > 0.5 else out_force[step, i]
+                lam_prev[i] = 0.0 if landing[i] > 0.5 else lam[i] / force_weight[n_stages - 1]
                 for a_ in range(cols.shape[1]):
                     cols_prev[i, a_] = cols[i, a_]
                     vals_prev[i, a_] = vals[i, a_]

@@ -129,7 +129,7 @@ class Runner:
 
         a = self.analysis
         domain_state(self.model).time = 0.0
-        a.time, a.contact_force, a.gap = np.zeros(0), np.zeros((0, 2)), np.zeros((0, 2))
+        a.reset_records()
         rec = NodeRecorder([self.bridge.midspan_nodes[0]], [2], "disp")
         a.recorders = [rec]
         a.static()

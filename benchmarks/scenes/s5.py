@@ -93,9 +93,8 @@ def run_vtsi(scene, n_steps):
     from vtsi.recorders import NodeRecorder
 
     a = scene["analysis"]
-    n_c = scene["constraint"].n_contact
     domain_state(scene["model"]).time = 0.0
-    a.time, a.contact_force, a.gap = np.zeros(0), np.zeros((0, n_c)), np.zeros((0, n_c))
+    a.reset_records()
     rec = NodeRecorder(scene["bridge"].midspan_nodes, [2], "disp")
     a.recorders = [rec]
     scene["static"] = a.static()
