@@ -152,3 +152,33 @@ def test_coupled_analysis_refuses_explicit_integrators():
     session.integrator("CentralDifference")
     with pytest.raises(CommandError, match="CentralDifference is not available for a coupled analysis"):
         session.analyze(1, DT)
+
+
+def test_dead_load_says_what_it_contains_and_adds_the_self_weight_on_request(tmp_path):
+    """deadLoad alone: the response to the train (the sprung mass at x = 0, over the support,
+    leaves the deck straight); deadLoad -selfWeight adds the deck's weight: mid-span deflection
+    5 μ g L⁴ / (384 EI) (consistent-mass Hermite beam, exact for a uniform load at the nodes to
+    1e-9). Each HDF5 record and the static state say which in ``loads``."""
+    import h5py
+    deflection = {}
+    for flag in ((), ("-selfWeight",)):
+        session = ops.Session()
+        s2_commands(session)
+        path = tmp_path / f"mid{len(flag)}.h5"
+        session.recorder("Node", "-h5", str(path), "-node", NE // 2 + 1, "-dof", 2, "disp")
+        session.deadLoad(*flag)
+        deflection[flag] = session.nodeDisp(NE // 2 + 1, 2)
+        loads = session._coupled.static_state["loads"]
+        session.integrator("Newmark", 0.5, 0.25)
+        session.analyze(2, DT)
+        session.wipe()
+        with h5py.File(path, "r") as f:
+            assert f.attrs["loads"] == loads
+        assert ("self weight (totals)" in loads) == bool(flag)
+    exact = 5 * S2["mu"] * vtsi.models.GRAVITY * S2["L"] ** 4 / (384 * S2["E"] * S2["I"])
+    assert abs(deflection[()]) < 1e-12
+    assert deflection[("-selfWeight",)] == pytest.approx(-exact, rel=1e-9)
+    with pytest.raises(CommandError, match="option '-gravity' is not supported; supported: -selfWeight"):
+        session = ops.Session()
+        s2_commands(session)
+        session.deadLoad("-gravity")

@@ -239,7 +239,8 @@ class StaticAnalysis:
         patterns = list(model.patterns.values())
         loads = [asm.load_vector(p) for p in patterns]
         feed = _RecorderFeed(asm, model, self.recorders,
-                             {"analysis": "static", "integrator": "LoadControl", "dt": self.d_lambda})
+                             {"analysis": "static", "integrator": "LoadControl", "dt": self.d_lambda,
+                              "loads": "the load patterns"})
         try:
             for _ in range(n_steps):
                 t = state.time + self.d_lambda
@@ -427,7 +428,8 @@ class TransientAnalysis:
         bank = bridge.bank(state, asm.full_of_free, self.integrator.n_slots)
         load_points = [st.load for st in self.integrator.stages(self.dt)]
         feed = _RecorderFeed(asm, self.model, self.recorders,
-                             {"analysis": "transient", "integrator": repr(self.integrator), "dt": self.dt})
+                             {"analysis": "transient", "integrator": repr(self.integrator), "dt": self.dt,
+                              "loads": "the load patterns"})
         rec_slot, rec_index = bridge.record_plan(feed.rec_slot, feed.rec_index)
         work = np.zeros((3, bank.shape[1]))
         done = 0

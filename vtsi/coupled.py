@@ -81,7 +81,9 @@ class CoupledAnalysis:
     contact : 'bilateral' (wheels always on the rail) or 'lcp' (contact loss allowed).
     gravity : g [m/s²] for the train's weight (its gravity_load is used as built) and, with
         ``bridge_self_weight``, for the bridge's weight ``-g M 1_y``.
-    bridge_self_weight : add the bridge's own weight to the dead load (results are totals). The
+    bridge_self_weight : add the bridge's own weight to the dead load (results are then totals;
+        without it — the default — they are the response to the train and the load patterns, the
+        part a dynamic check of the deck uses; ``load_description`` says which). The
         rail is straight at the deck's self-weight state (the track is laid on the deflected
         deck): the constraint measures the rail from that deflected line.
     recorders : bridge recorders (:mod:`vtsi.recorders`) and train/contact recorders, whose
@@ -256,10 +258,19 @@ class CoupledAnalysis:
         """The free dofs the FE bridge integrates (after a run)."""
         return self.stages.active
 
+    @property
+    def load_description(self):
+        """What the results contain (recorders store it with their metadata, ``loads``)."""
+        return ("the train's weight and axle forces, the load patterns"
+                + (" and the bridge's self weight (totals)" if self.bridge_self_weight
+                   else "; not the bridge's self weight (bridge_self_weight=False)"))
+
     # -- dead load ------------------------------------------------------------------------
     def static(self):
-        """Static equilibrium of bridge and train under gravity (and the patterns at the current
-        time) with the wheels on the rail: sets the committed states and ``static_state``.
+        """Static equilibrium of bridge and train under the train's weight (and the patterns at the
+        current time; the bridge's own weight only with ``bridge_self_weight``) with the wheels on
+        the rail: sets the committed states and ``static_state`` (whose ``loads`` says what it
+        contains).
 
         The bridge starts at rest. The wheels move with the rail (ġ = 0: v_w = V N'(x) u_b + ṙ
         where the rail under them is deflected, sloping or irregular), and the rest of the train
@@ -286,7 +297,8 @@ class CoupledAnalysis:
             train.v[train.wheel_dofs] = train.speed * np.einsum("ij,ij->i", slopes, u_track) + rate
             train.v[:] = self._quasi_static_rates(train.v[train.wheel_dofs])
         self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
-                             "train_v": train.v.copy(), "contact_force": sol[n_b + n_t:].copy()}
+                             "train_v": train.v.copy(), "contact_force": sol[n_b + n_t:].copy(),
+                             "loads": self.load_description}
         self._prev = None
         return self.static_state
 
@@ -388,7 +400,8 @@ class CoupledAnalysis:
         channels = {q: ("train", slot, n_t, "train dof") for q, slot in TRAIN_QUANTITIES.items()}
         channels.update({q: (q, 0, n_c, "contact wheel") for q in ("contact_force", "gap")})
         feed = _RecorderFeed(asm, self.model, self.recorders,
-                             {"analysis": "coupled", "integrator": repr(self.integrator), "dt": self.dt}, channels)
+                             {"analysis": "coupled", "integrator": repr(self.integrator), "dt": self.dt,
+                              "loads": self.load_description}, channels)
         t_slot, t_index = feed.group("train")
         force_wheels, gap_wheels = feed.group("contact_force")[1], feed.group("gap")[1]
         width = con.width(self.dt)

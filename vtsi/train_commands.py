@@ -43,6 +43,7 @@ class TrainCommands:
         self._tracks, self._cars, self._trains, self._irregularities = {}, {}, {}, {}
         self._constraint = None
         self._contact = "bilateral"
+        self._self_weight = False
         self._coupled = None
 
     def _new(self, registry, command, tag):
@@ -203,8 +204,15 @@ class TrainCommands:
         self._coupled = None
 
     def deadLoad(self, *args):
-        """Static equilibrium of bridge and train under gravity (and the patterns); results are totals."""
-        _args("deadLoad", args).done()
+        """``deadLoad [-selfWeight]``: static equilibrium of bridge and train under the train's
+        weight and the patterns; with ``-selfWeight`` also under the bridge's own weight (-g M in
+        y, g = 9.81 m/s²), the results then being totals. Without it they are the response to the
+        train and the patterns (a script that applies the deck's weight by a pattern gets totals)."""
+        a = _args("deadLoad", args)
+        self_weight = a.more() and a.option(("-selfWeight",)) == "-selfWeight"
+        a.done()
+        if self_weight != self._self_weight:
+            self._self_weight, self._coupled = self_weight, None
         self._coupled_analysis("deadLoad", dt=None).static()
         self._dead_load_done = True
 
@@ -228,7 +236,8 @@ class TrainCommands:
             constraint = MovingLoadConstraint(Track(model, self._tracks[spec["track"]]), subdomain,
                                               spec["irregularity"], spec["interpolation"])
             self._coupled = CoupledAnalysis(model, constraint, integ, dt or 1.0, contact=self._contact,
-                                            exact_events=spec["exact_events"], bridge=bridge)
+                                            exact_events=spec["exact_events"], bridge=bridge,
+                                            bridge_self_weight=self._self_weight)
             self._dead_load_done = False
         analysis = self._coupled
         if dt is not None and dt != analysis.dt:
