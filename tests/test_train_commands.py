@@ -134,13 +134,13 @@ analyze {STEPS} {DT}
 def test_bad_train_commands_name_the_object(command, args, message):
     session = ops.Session()
     session.model("basic", "-ndm", 2, "-ndf", 3)
-    if message is None:    # an unknown track element is reported when the analysis is built
+    if message is None:    # an unknown track element is reported where the train meets the model
         session.track(*args)
         session.car(1, "movingForce", 1e5)
         session.train(1, 80.0, "-cars", 1, 0.0)
-        session.movingLoadConstraint(1, 1, 1, 0.0)
-        with pytest.raises(vtsi.ModelError, match=r"track: element 99 does not exist|model has no nodes"):
-            session.deadLoad()
+        with pytest.raises(CommandError, match=r"movingLoadConstraint 1: track 1: (.*element 99 does not exist|"
+                                               r".*model has no nodes)"):
+            session.movingLoadConstraint(1, 1, 1, 0.0)
         return
     with pytest.raises(CommandError, match=message):
         getattr(session, command)(*args)
@@ -182,3 +182,67 @@ def test_dead_load_says_what_it_contains_and_adds_the_self_weight_on_request(tmp
         session = ops.Session()
         s2_commands(session)
         session.deadLoad("-gravity")
+
+
+def _ice3_over_s2_bridge(force_unit, length_unit, declare=True, speed="250km/h"):
+    """Two ICE3 cars (10-dof, from the SI catalogue) over the S2 span written in the given units;
+    mid-span deflection [model length] and contact forces [model force] of 300 steps."""
+    f_F = {"N": 1.0, "kN": 1e-3}[force_unit]
+    f_L = {"m": 1.0, "mm": 1e3}[length_unit]
+    f_M = f_F / f_L
+    session = ops.Session()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    if declare:
+        session.units(force_unit, length_unit)
+    for i in range(NE + 1):
+        session.node(i + 1, S2["L"] * i / NE * f_L, 0.0)
+    session.fix(1, 1, 1, 0)
+    session.fix(NE + 1, 0, 1, 0)
+    session.geomTransf("Linear", 1)
+    for e in range(NE):
+        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0 * f_L ** 2, S2["E"] * f_F / f_L ** 2,
+                        S2["I"] * f_L ** 4, 1, "-mass", S2["mu"] * f_M / f_L, "-cMass")
+    session.track(1, "-eleRange", 1, NE)
+    session.train(1, speed, "-ICE3", 2)
+    session.movingLoadConstraint(1, 1, 1, -1.0 * f_L)
+    session.integrator("Newmark", 0.5, 0.25)
+    session.analysis("Transient")
+    mid = session.recorder("Node", "-node", NE // 2 + 1, "-dof", 2, "disp")
+    force = session.recorder("Contact", "force")
+    session.analyze(300, DT)
+    values = np.array(session.recorders[mid].values)[:, 0], np.array(session.recorders[force].values)
+    session.wipe()
+    return values
+
+
+@pytest.mark.parametrize("force_unit, length_unit", [("kN", "m"), ("N", "mm")])
+def test_units_a_script_in_other_units_gives_the_same_physics(force_unit, length_unit):
+    """The same bridge in kN-t-m (or N-t-mm) with SI catalogue trains, ``units`` declared: every
+    deflection is the SI one × f_L and every contact force × f_F, to rounding (measured 1e-13 and
+    5e-12);
+    a speed given as '250km/h' is 69.44 m/s (= 69444 mm/s)."""
+    w_si, lam_si = _ice3_over_s2_bridge("N", "m")
+    w, lam = _ice3_over_s2_bridge(force_unit, length_unit)
+    f_F, f_L = {"N": 1.0, "kN": 1e-3}[force_unit], {"m": 1.0, "mm": 1e3}[length_unit]
+    assert np.abs(w - f_L * w_si).max() <= 1e-9 * np.abs(f_L * w_si).max()
+    assert np.abs(lam - f_F * lam_si).max() <= 1e-9 * np.abs(f_F * lam_si).max()
+    w_ms, _ = _ice3_over_s2_bridge("N", "m", speed=250.0 / 3.6)
+    assert np.array_equal(w_ms, w_si)
+
+
+def test_units_undeclared_on_a_kn_t_m_model_are_refused():
+    """A kN-t-m bridge with SI trains and no ``units``: its deck reads 2.3 kg/m, refused where the
+    train meets the model, naming the fix; units after a train, or unknown ones, are refused too."""
+    with pytest.raises(CommandError, match=r"movingLoadConstraint 1: the deck weighs 2\.303 kg/m.*units\('kN', 'm'\)"):
+        _ice3_over_s2_bridge("kN", "m", declare=False)
+    session = ops.Session()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    session.car(1, "movingForce", 1e5)
+    with pytest.raises(CommandError, match="units: declare the units before any car"):
+        session.units("kN", "m")
+    with pytest.raises(CommandError, match="force unit 'lbf' is not supported; supported: N, kN, MN"):
+        ops.Session().units("lbf", "m")
+    with pytest.raises(CommandError, match=r"train 1: speed: '300 mph' is not a speed"):
+        s = ops.Session()
+        s.model("basic", "-ndm", 2, "-ndf", 3)
+        s.train(1, "300 mph", "-HSLM", "A1")

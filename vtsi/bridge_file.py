@@ -41,17 +41,11 @@ import traceback
 from dataclasses import dataclass, field
 from typing import Callable
 
-import numpy as np
-
 from vtsi.errors import ModelError, VtsiError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
 from vtsi.track import Track
-
-MIN_MASS_PER_METRE = 500.0
-"""[kg/m] The lightest mass per metre of track accepted (the whole model's vertical mass over the
-track's length). Railway decks weigh more than 1000 kg/m; a model written in t/m shows 1000
-times less (15 'kg/m' for a 15 t/m deck)."""
+from vtsi.units import MIN_MASS_PER_METRE, deck_mass_per_length
 
 ANALYSIS_KEYS = {
     "dt_s": "dt", "integrator": "integrator", "cars": "cars", "contact": "contact",
@@ -362,11 +356,7 @@ def _first_line(exc):
 # -- the SI check ----------------------------------------------------------------------------
 def mass_per_metre(bridge):
     """The model's whole vertical (uy) mass divided by its track's length [kg/m]."""
-    asm = bridge.model.build()
-    uy = np.zeros(asm.n_full)
-    uy[1::asm.ndf] = 1.0
-    track = Track(bridge.model, bridge.track_elements)
-    return float(uy @ (asm.M_full @ uy)) / (track.x_end - track.x_begin)
+    return deck_mass_per_length(bridge.model, bridge.track_elements)
 
 
 def _check_mass(bridge, path, minimum):

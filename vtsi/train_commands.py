@@ -16,16 +16,22 @@
     recorder('Contact', '-file'|'-h5', f, ['-time'], ['-wheel', i...], 'force'|'gap'|'inContact')
     recorder('Train', '-file'|'-h5', f, ['-time'], ['-dof', name_or_index...], 'disp'|'vel'|'accel')
 
-Units SI; speed in m/s; offsets are measured backwards from the train's head; xHead0 is the
+    units(force, length)        the model's units ('N'|'kN'|'MN', 'm'|'cm'|'mm'; default N, m)
+
+Every number is in the model's units (declared with ``units``, default N, m, kg, s; mass is
+force·s²/length); the catalogue's SI data (cars, HSLM, ICE3, axle files, irregularity spectra,
+g) are converted into them (:mod:`vtsi.units`); a speed is a number (length/s) or a text with its
+unit ('300km/h'); offsets are measured backwards from the train's head; xHead0 is the
 head's position at t = 0. With a moving-load constraint defined, ``analyze(n, dt)`` of a
 Transient analysis runs the coupled analysis (the dead-load equilibrium is computed first,
 at the first ``analyze``, unless ``deadLoad()`` was called).
 """
 import numpy as np
 
-from vtsi.errors import CommandError
+from vtsi.errors import CommandError, ModelError
+from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
 
-TRAIN_COMMANDS = ("track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
+TRAIN_COMMANDS = ("units", "track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
 CAR_TYPES = ("movingForce", "movingMass", "sprungMass", "fourDof", "catalogue")
 CONTACT_RESPONSES = {"force": "force", "gap": "gap", "inContact": "in_contact"}
 TRAIN_RESPONSES = ("disp", "vel", "accel")
@@ -44,11 +50,25 @@ class TrainCommands:
         self._constraint = None
         self._contact = "bilateral"
         self._self_weight = False
+        self._units = Units()
         self._coupled = None
 
     def _new(self, registry, command, tag):
         if tag in registry:
             raise CommandError(f"{command}: {command} {tag} already exists")
+
+    def units(self, *args):
+        """``units(force, length)``: the model's units, 'N'|'kN'|'MN' and 'm'|'cm'|'mm' (time s,
+        mass force·s²/length: kN and m give t). Declare them before any car, train or
+        irregularity: the SI catalogue data are converted as they are built."""
+        a = _args("units", args)
+        force, length = a.word("force unit", tuple(FORCE_UNITS)), a.word("length unit", tuple(LENGTH_UNITS))
+        a.done()
+        if self._cars or self._trains or self._irregularities:
+            raise CommandError("units: declare the units before any car, train or irregularity "
+                               "(their data are converted as they are built)")
+        self._units = Units(force, length)
+        self._coupled = None
 
     def track(self, *args):
         """``track(tag, '-ele', e...)`` or ``track(tag, '-eleRange', first, last)``: the chain of
@@ -76,21 +96,22 @@ class TrainCommands:
         self._new(self._cars, "car", tag)
         kind = a.word("car type", CAR_TYPES)
         a.command = f"car {tag} {kind}"
+        g = self._units.gravity
         try:
             if kind == "movingForce":
                 car = cars.moving_force(a.float("P"))
             elif kind == "movingMass":
-                car = cars.moving_mass(a.float("m"))
+                car = cars.moving_mass(a.float("m"), g)
             elif kind == "sprungMass":
                 m_s, k_s = a.float("m_s"), a.float("k_s")
                 extra = {"-c": 0.0, "-wheelMass": 0.0}
                 while a.more():
                     extra[a.option(tuple(extra))] = a.float("value")
-                car = cars.sprung_mass(m_s, k_s, extra["-c"], extra["-wheelMass"])
+                car = cars.sprung_mass(m_s, k_s, extra["-c"], extra["-wheelMass"], g)
             elif kind == "fourDof":
-                car = cars.four_dof_car(*(a.float(n) for n in ("m_c", "J_c", "m_w", "k_s", "c_s", "l_c")))
+                car = cars.four_dof_car(*(a.float(n) for n in ("m_c", "J_c", "m_w", "k_s", "c_s", "l_c")), g)
             else:
-                car = cars.car_from_catalogue(a.word("catalogue name"))
+                car = self._units.car(cars.car_from_catalogue(a.word("catalogue name")))
         except (ValueError, KeyError) as exc:
             raise CommandError(f"car {tag}: {exc}") from None
         a.done()
@@ -103,7 +124,10 @@ class TrainCommands:
         a = _args("train", args)
         tag = a.int("train tag")
         self._new(self._trains, "train", tag)
-        speed = a.float("speed")
+        try:
+            speed = self._units.speed(a.take("speed"), f"train {tag}: speed")
+        except ModelError as exc:
+            raise CommandError(str(exc)) from None
         opt = a.option(("-cars", "-ICE3", "-HSLM", "-axleFile"))
         try:
             if opt == "-cars":
@@ -117,11 +141,11 @@ class TrainCommands:
                     raise CommandError(f"train {tag}: no cars after -cars")
                 built = trains.Train([c for c, _ in pairs], [o for _, o in pairs], speed, name=f"train {tag}")
             elif opt == "-ICE3":
-                built = trains.ice3(a.int("number of cars"), speed=speed)
+                built = self._units.train(trains.ice3(a.int("number of cars"), speed=1.0), speed)
             elif opt == "-HSLM":
-                built = trains.hslm_a(a.word("HSLM-A train (A1..A10)"), speed)
+                built = self._units.train(trains.hslm_a(a.word("HSLM-A train (A1..A10)"), 1.0), speed)
             else:
-                built = trains.Train.from_csv(a.word("axle file"), speed)
+                built = self._units.train(trains.Train.from_csv(a.word("axle file"), 1.0), speed)
         except (ValueError, KeyError, OSError) as exc:
             raise CommandError(f"train {tag}: {exc}") from None
         a.done()
@@ -161,8 +185,10 @@ class TrainCommands:
                 if not x1 > x0:
                     raise CommandError(f"irregularity {tag}: x_last must exceed x_first, got {x0:g} .. {x1:g}")
                 psd = (lambda w: german_psd(w, level)) if kind == "german" else (lambda w: fra_psd(w, level))
-                x = np.linspace(x0, x1, int(np.ceil((x1 - x0) / 0.05)) + 1)
-                profile = Irregularity.from_psd(psd, x, rng=np.random.default_rng(seed))
+                f = self._units.f_length            # the spectra are SI: sampled in m, every 5 cm
+                x = np.linspace(x0 / f, x1 / f, int(np.ceil((x1 - x0) / f / 0.05)) + 1)
+                si = Irregularity.from_psd(psd, x, rng=np.random.default_rng(seed))
+                profile = Irregularity(x * f, si(x) * f)
         except ValueError as exc:
             raise CommandError(f"irregularity {tag}: {exc}") from None
         a.done()
@@ -192,6 +218,15 @@ class TrainCommands:
                 if t not in self._irregularities:
                     raise CommandError(f"movingLoadConstraint {tag}: irregularity {t} does not exist")
                 irregularity = self._irregularities[t]
+        model = self._model("movingLoadConstraint")
+        try:
+            mass = deck_mass_per_length(model, self._tracks[track_tag])
+        except ModelError as exc:
+            raise CommandError(f"movingLoadConstraint {tag}: track {track_tag}: {exc}") from None
+        try:
+            self._units.check_deck_mass(mass, f"movingLoadConstraint {tag}")
+        except ModelError as exc:
+            raise CommandError(str(exc)) from None
         self._constraint = dict(train=train_tag, track=track_tag, x_head0=x_head0,
                                 irregularity=irregularity, interpolation=interpolation, exact_events=exact_events)
         self._coupled = None
@@ -237,7 +272,7 @@ class TrainCommands:
                                               spec["irregularity"], spec["interpolation"])
             self._coupled = CoupledAnalysis(model, constraint, integ, dt or 1.0, contact=self._contact,
                                             exact_events=spec["exact_events"], bridge=bridge,
-                                            bridge_self_weight=self._self_weight)
+                                            bridge_self_weight=self._self_weight, gravity=self._units.gravity)
             self._dead_load_done = False
         analysis = self._coupled
         if dt is not None and dt != analysis.dt:
