@@ -392,3 +392,11 @@ def test_tcl_runner_without_tkinter_names_the_package(tmp_path, capsys, monkeypa
     assert main(["run", str(script)]) == 1
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "python3-tk" in err and "tkinter" in err
+
+
+def test_a_bridge_script_in_other_units_is_refused(tmp_path):
+    """A sweep's trains and results are SI: a Tcl bridge script that declares units('kN', 'm') is
+    refused, naming them (converting the bridge would change every result's units)."""
+    script = write(tmp_path, "kn.tcl", BEAM_TCL.replace("model basic -ndm 2 -ndf 3\n", "model basic -ndm 2 -ndf 3\nunits kN m\n"))
+    with pytest.raises(ModelError, match=r"declares units kN, m, t .*must be SI"):
+        load_bridge(script)

@@ -45,7 +45,7 @@ from vtsi.errors import ModelError, VtsiError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
 from vtsi.track import Track
-from vtsi.units import MIN_MASS_PER_METRE, deck_mass_per_length
+from vtsi.units import MIN_MASS_PER_METRE, Units, deck_mass_per_length
 
 ANALYSIS_KEYS = {
     "dt_s": "dt", "integrator": "integrator", "cars": "cars", "contact": "contact",
@@ -283,6 +283,9 @@ def script_bridge(path, track=None):
         hint = (" (an OpenSeesPy script must use vtsi's commands: import vtsi.opensees as ops)"
                 if path.lower().endswith(".py") else "")
         raise ModelError(f"bridge script {path}: defines no model (or ends with wipe){hint}")
+    if session._units != Units():
+        raise ModelError(f"bridge script {path}: declares units {session._units}; a sweep's bridge must be SI "
+                         "(N, kg, m, s): the sweep's trains and results are SI")
     tracks = dict(getattr(session, "_tracks", {}))
     if not tracks:
         raise ModelError(f"bridge script {path}: defines no track; add one, e.g. 'track 1 -eleRange FIRST LAST' "
