@@ -19,6 +19,7 @@ reference_solvers.md has the full tables):
 """
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid
 from scipy.optimize import brentq
 
 import vtsi
@@ -219,7 +220,7 @@ def _window_means(t, w, width, t_end):
     out = []
     for a in np.arange(0.0, t_end - width / 2, width):
         s = (t >= a - 1e-12) & (t <= a + width + 1e-12)
-        out.append(np.trapezoid(w[s], t[s]) / width)
+        out.append(trapezoid(w[s], t[s]) / width)
     return np.array(out)
 
 

@@ -14,7 +14,7 @@ convention, ρ∞ = 0.82), Bathe (γ = 1/2, ρ∞ = 0, two stages per step), New
 docs/theory/coupled_step.md §6).
 
 (i) Work-precision, at 300 km/h, Δt = 4 ms … 0.125 ms, against the reference R1
-    (``vtsi.reference.elimination.solve``, constraint elimination integrated by solve_ivp,
+    (``vtsi.reference.elimination.solve``, constraint elimination integrated by DOP853,
     rtol 1e-10, sampled every 0.125 ms; if R1 is not importable: Bathe at Δt = 0.125/16 ms):
 
     - contact force error = RMS over the wheels and the samples of the crossing (first entry to
@@ -160,7 +160,7 @@ def reference(speed_kmh, dt_out, kind="R1"):
         sol = solve(model, constraint, t_end, t_eval, rtol=R1_RTOL)
         w = sol.node(bridge.midspan_nodes[0], 2)
         out = {"t": t_eval[1:], "force": sol.contact_force[1:], "w": w[1:],
-               "kind": f"R1 (constraint elimination, solve_ivp Radau, rtol {R1_RTOL:g})"}
+               "kind": f"R1 (constraint elimination, DOP853, rtol {R1_RTOL:g})"}
     else:
         sub = 16
         run = Runner("Bathe", speed_kmh, dt_out / sub)
