@@ -17,12 +17,13 @@ Layout (docs/sweeps.md)::
                            n_cars, n_dof, length_m, characteristic_length_m
     /outputs/<name>        attrs response, units, kind of column ('node', 'contact wheel', 'car'),
                            rows (of an envelope); columns: the node tags of a node output
-    /cases/<train>/<speed>kmh/<seed>   one group per case; attrs train, speed_kmh, seed,
-                           n_steps, seconds; per output a dataset <name> (6, n_columns), its
-                           envelope (rows min, max, absmax, time_of_min, time_of_max,
-                           time_of_absmax); <name>_columns for a vehicle output (wheel or car
-                           indices); with a history <name>_time (n,) [s] and <name>_values (n,
-                           n_columns)
+    /cases/<train>/        one group per train (attr train), a table of its cases appended batch
+                           by batch: speed_kmh (n,), seed (n,), n_steps (n,), seconds (n,) and
+                           per output <name> (n, 6, n_columns), each case's envelope (rows min,
+                           max, absmax, time_of_min, time_of_max, time_of_absmax);
+                           <name>_columns for a vehicle output (wheel or car indices); with a
+                           history, histories/<speed>kmh/<seed>/<name>_time (m,) [s] and
+                           <name>_values (m, n_columns)
 
 Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements, rotations,
 bending moments and contact forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
@@ -44,7 +45,7 @@ import numpy as np
 from vtsi import __version__
 from vtsi.errors import SweepError
 
-FORMAT, FORMAT_VERSION = "vtsi-sweep", 1
+FORMAT, FORMAT_VERSION = "vtsi-sweep", 2
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "moment": ("min", "max"),
@@ -55,8 +56,30 @@ UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment
 
 
 def case_key(train, speed_kmh, seed):
-    """The case's group path under /cases: '<train>/<speed>kmh/<seed>' ('smooth' for seed -1)."""
-    return f"{str(train).replace('/', '|')}/{float(speed_kmh):.10g}kmh/{'smooth' if seed < 0 else f'seed{int(seed)}'}"
+    """A case's name, '<train>/<speed>kmh/<seed>' ('smooth' for seed -1): its group path under
+    /histories, and under /cases/<train>/histories without the train."""
+    return f"{train_key(train)}/{_speed_seed(speed_kmh, seed)}"
+
+
+def train_key(train):
+    """The group name of a train ('/' is not allowed in a name)."""
+    return str(train).replace("/", "|")
+
+
+def _speed_seed(speed_kmh, seed):
+    return f"{float(speed_kmh):.10g}kmh/{'smooth' if seed < 0 else f'seed{int(seed)}'}"
+
+
+def _append(group, name, rows, dtype=float):
+    """Append ``rows`` (n, ...) to the resizable dataset ``name`` of ``group`` (created on first use)."""
+    rows = np.asarray(rows, dtype=dtype)
+    if name not in group:
+        group.create_dataset(name, data=rows, maxshape=(None,) + rows.shape[1:], chunks=True)
+        return
+    ds = group[name]
+    n = ds.shape[0]
+    ds.resize(n + rows.shape[0], axis=0)
+    ds[n:] = rows
 
 
 def quantities(outputs):
@@ -181,21 +204,26 @@ class ResultsWriter:
     def _check(self, path):
         try:
             with h5py.File(path, "r") as f:
-                fmt, stored = f.attrs.get("format"), f.attrs.get("identity")
+                fmt, stored, version = f.attrs.get("format"), f.attrs.get("identity"), f.attrs.get("format_version", 0)
         except OSError as exc:
             raise SweepError(f"results file {path}: not a readable HDF5 file ({exc})") from None
         if fmt != FORMAT or stored is None:
             raise SweepError(f"results file {path} is not a vtsi sweep results file")
+        if int(version) != FORMAT_VERSION:
+            raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
+                             "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
         diff = _first_difference(self.identity, json.loads(stored))
         if diff:
             raise SweepError(f"results file {path} holds a different sweep (it differs in {diff}); "
                                    "use another file, or overwrite=True (--overwrite)")
 
     def done(self):
-        """Keys of the cases already in the file."""
+        """Keys of the cases already in the file (:func:`case_key`)."""
         keys = set()
         with self._read() as f:
-            f["cases"].visititems(lambda name, obj: keys.add(name) if "train" in obj.attrs else None)
+            for g in f["cases"].values():
+                train = g.attrs["train"]
+                keys.update(case_key(train, v, int(k)) for v, k in zip(g["speed_kmh"][()], g["seed"][()]))
         return keys
 
     def _read(self):
@@ -221,19 +249,28 @@ class ResultsWriter:
         vehicle = {o["name"] for o in ident["outputs"] if o["response"] in COLUMN_KIND}
         env_group = f["envelopes"]
         tables = {q: [env_group[q][()], env_group[q + "_where"][()], env_group[q + "_time"][()]] for q, *_ in table}
+        by_train = {}
         for r in results:
-            g = f["cases"].create_group(case_key(r.train, r.speed_kmh, r.seed))
-            g.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "n_steps": r.n_steps,
-                            "seconds": r.seconds})
+            by_train.setdefault(r.train, []).append(r)
+        for train, rs in by_train.items():          # a table per train, appended: a few writes per batch
+            g = f["cases"].require_group(train_key(train))
+            g.attrs["train"] = train
+            for name, dtype, values in (("speed_kmh", float, [r.speed_kmh for r in rs]),
+                                        ("seed", np.int64, [r.seed for r in rs]),
+                                        ("n_steps", np.int64, [r.n_steps for r in rs]),
+                                        ("seconds", float, [r.seconds for r in rs])):
+                _append(g, name, values, dtype)
+            for name in rs[0].envelopes:
+                _append(g, name, np.stack([r.envelopes[name] for r in rs]))
+                if name in vehicle and name + "_columns" not in g:
+                    g[name + "_columns"] = rs[0].columns[name]
+            for r in rs:
+                for name, (time, values) in r.histories.items():
+                    h = g.require_group("histories").require_group(_speed_seed(r.speed_kmh, r.seed))
+                    h[name + "_time"] = time
+                    h.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+        for r in results:
             index = (trains.index(r.train), int(np.argmin(np.abs(speeds - r.speed_kmh))), seeds.index(r.seed))
-            for name, env in r.envelopes.items():
-                g[name] = env
-                if name in vehicle:
-                    g[name + "_columns"] = r.columns[name]
-                if name in r.histories:
-                    time, values = r.histories[name]
-                    g[name + "_time"] = time
-                    g.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
             for q, name, stat, _ in table:
                 if name not in r.envelopes:
                     continue
@@ -275,6 +312,13 @@ class ResultsWriter:
         return SweepResults(self._memory if self._memory is not None else self.path)
 
 
+def _row(group, speed_kmh, seed):
+    """The row of the case (speed [km/h], seed) in a train's table, or None."""
+    hits = np.flatnonzero(np.isclose(group["speed_kmh"][()], float(speed_kmh), rtol=0, atol=1e-9)
+                          & (group["seed"][()] == int(seed)))
+    return int(hits[0]) if len(hits) else None
+
+
 def _group_keys(group):
     """Paths of the groups below ``group`` that carry a case (attribute 'train')."""
     keys = []
@@ -312,6 +356,10 @@ class SweepResults:
         with self._open() as f:
             if f.attrs.get("format") != FORMAT:
                 raise SweepError(f"{self.path}: not a vtsi sweep results file")
+            if int(f.attrs.get("format_version", 0)) != FORMAT_VERSION:
+                raise SweepError(f"{self.path}: a vtsi sweep results file of format {f.attrs.get('format_version')}, "
+                                 f"this vtsi reads format {FORMAT_VERSION}: run the sweep again, or read it with the "
+                                 f"vtsi that wrote it ({f.attrs.get('vtsi_version')})")
             self.identity = json.loads(f.attrs["identity"])
             self.vtsi_version = str(f.attrs["vtsi_version"])
             self.trains = [t.decode() if isinstance(t, bytes) else str(t) for t in f["train"][()]]
@@ -321,9 +369,7 @@ class SweepResults:
             self.quantities = {q: units for q, _, _, units in quantities(self.identity["outputs"])}
             self._tables = {q: (f["envelopes"][q][()], f["envelopes"][q + "_where"][()], f["envelopes"][q + "_time"][()])
                             for q in self.quantities}
-            self.n_done = 0
-            f["cases"].visititems(lambda name, obj: setattr(self, "n_done", self.n_done + 1)
-                                  if "train" in obj.attrs else None)
+            self.n_done = sum(g["speed_kmh"].shape[0] for g in f["cases"].values())
 
     def _open(self):
         return _KeepOpen(self._file) if self._file is not None else h5py.File(self.path, "r")
@@ -357,18 +403,22 @@ class SweepResults:
         (m, n)]}}`` (envelope rows: min, max, absmax and their times) plus 'attrs'."""
         key = case_key(train, speed_kmh, seed)
         with self._open() as f:
-            if key not in f["cases"]:
+            g = f["cases"].get(train_key(train))
+            row = None if g is None else _row(g, speed_kmh, seed)
+            if row is None:
                 raise SweepError(f"sweep results: no case {key}")
-            g = f["cases"][key]
-            out = {"attrs": dict(g.attrs)}
+            out = {"attrs": {"train": str(g.attrs["train"]), "speed_kmh": float(g["speed_kmh"][row]),
+                             "seed": int(g["seed"][row]), "n_steps": int(g["n_steps"][row]),
+                             "seconds": float(g["seconds"][row])}}
+            h = g.get("histories/" + _speed_seed(speed_kmh, seed))
             for o in self.identity["outputs"]:
                 name = o["name"]
                 if name not in g:
                     continue
                 columns = g[name + "_columns"] if name + "_columns" in g else f["outputs"][name]["columns"]
-                out[name] = {"envelope": g[name][()], "columns": columns[()]}
-                if name + "_time" in g:
-                    out[name]["time"], out[name]["values"] = g[name + "_time"][()], g[name + "_values"][()]
+                out[name] = {"envelope": g[name][row], "columns": columns[()]}
+                if h is not None and name + "_time" in h:
+                    out[name]["time"], out[name]["values"] = h[name + "_time"][()], h[name + "_values"][()]
         return out
 
     def column_envelopes(self, output):
@@ -383,14 +433,14 @@ class SweepResults:
             if output in f["outputs"] and "columns" in f["outputs"][output]:
                 columns = f["outputs"][output]["columns"][()]
             for i, train in enumerate(self.trains):
-                for j, v in enumerate(self.speeds_kmh):
-                    for k, seed in enumerate(self.seeds):
-                        key = case_key(train, v, seed)
-                        if key in f["cases"] and output in f["cases"][key]:
-                            g = f["cases"][key]
-                            found[i, j, k] = g[output][()]
-                            if output + "_columns" in g and (columns is None or len(g[output + "_columns"]) > len(columns)):
-                                columns = g[output + "_columns"][()]
+                g = f["cases"].get(train_key(train))
+                if g is None or output not in g:
+                    continue
+                table = g[output][()]
+                for row, (v, seed) in enumerate(zip(g["speed_kmh"][()], g["seed"][()])):
+                    found[i, int(np.argmin(np.abs(self.speeds_kmh - v))), self.seeds.index(int(seed))] = table[row]
+                if output + "_columns" in g and (columns is None or len(g[output + "_columns"]) > len(columns)):
+                    columns = g[output + "_columns"][()]
         width = 0 if columns is None else len(columns)
         out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds), len(ENVELOPE_ROWS), width), np.nan)
         for index, env in found.items():
