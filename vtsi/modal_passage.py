@@ -35,22 +35,28 @@ from vtsi.track import hermite, host_element
 
 def peaks(times, values):
     """Envelope rows (6, n_columns): min, max, absmax and their times of sampled ``values``
-    (n, n_columns), each refined by a parabola through the extreme sample and its neighbours."""
-    out = np.empty((6, values.shape[1]))
-    for r, (series, pick) in enumerate(((values, np.argmin), (values, np.argmax), (np.abs(values), np.argmax))):
-        for c in range(values.shape[1]):
-            y = series[:, c]
-            k = int(pick(y))
-            value, when = y[k], times[k]
-            if 0 < k < len(y) - 1 and (r < 2 or np.sign(values[k - 1, c]) == np.sign(values[k + 1, c])):
-                y0, y1, y2 = y[k - 1], y[k], y[k + 1]
-                den = y0 - 2 * y1 + y2
-                if den != 0.0:
-                    shift = 0.5 * (y0 - y2) / den
-                    if abs(shift) <= 1.0:
-                        value = y1 - 0.25 * (y0 - y2) * shift
-                        when = times[k] + shift * (times[k + 1] - times[k])
-            out[r, c], out[r + 3, c] = value, when
+    (n, n_columns), each refined by a parabola through the extreme sample and its neighbours
+    (the absmax only where both neighbours have the extreme's sign)."""
+    n, n_c = values.shape
+    out = np.empty((6, n_c))
+    cols = np.arange(n_c)
+    magnitude = np.abs(values)
+    for r, (series, k) in enumerate(((values, values.argmin(axis=0)), (values, values.argmax(axis=0)),
+                                     (magnitude, magnitude.argmax(axis=0)))):
+        y1 = series[k, cols]
+        value, when = y1.copy(), times[k].copy()
+        if n >= 3:
+            j = np.clip(k, 1, n - 2)
+            y0, y2 = series[j - 1, cols], series[j + 1, cols]
+            den = y0 - 2.0 * y1 + y2
+            with np.errstate(divide="ignore", invalid="ignore"):
+                shift = 0.5 * (y0 - y2) / den
+            ok = (k == j) & (den != 0.0) & (np.abs(shift) <= 1.0)
+            if r == 2:
+                ok &= np.sign(values[j - 1, cols]) == np.sign(values[j + 1, cols])
+            value = np.where(ok, y1 - 0.25 * (y0 - y2) * shift, value)
+            when = np.where(ok, times[j] + shift * (times[j + 1] - times[j]), when)
+        out[r], out[r + 3] = value, when
     return out
 
 
