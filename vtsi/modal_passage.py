@@ -37,27 +37,33 @@ def peaks(times, values):
     """Envelope rows (6, n_columns): min, max, absmax and their times of sampled ``values``
     (n, n_columns), each refined by a parabola through the extreme sample and its neighbours
     (the absmax only where both neighbours have the extreme's sign)."""
-    n, n_c = values.shape
-    out = np.empty((6, n_c))
-    cols = np.arange(n_c)
-    magnitude = np.abs(values)
-    for r, (series, k) in enumerate(((values, values.argmin(axis=0)), (values, values.argmax(axis=0)),
-                                     (magnitude, magnitude.argmax(axis=0)))):
-        y1 = series[k, cols]
-        value, when = y1.copy(), times[k].copy()
-        if n >= 3:
-            j = np.clip(k, 1, n - 2)
-            y0, y2 = series[j - 1, cols], series[j + 1, cols]
-            den = y0 - 2.0 * y1 + y2
-            with np.errstate(divide="ignore", invalid="ignore"):
-                shift = 0.5 * (y0 - y2) / den
-            ok = (k == j) & (den != 0.0) & (np.abs(shift) <= 1.0)
-            if r == 2:
-                ok &= np.sign(values[j - 1, cols]) == np.sign(values[j + 1, cols])
-            value = np.where(ok, y1 - 0.25 * (y0 - y2) * shift, value)
-            when = np.where(ok, times[j] + shift * (times[j + 1] - times[j]), when)
-        out[r], out[r + 3] = value, when
+    out = np.empty((6, values.shape[1]))
+    _peaks(np.ascontiguousarray(times, dtype=np.float64), np.ascontiguousarray(values, dtype=np.float64), out)
     return out
+
+
+@njit(cache=True)
+def _peaks(times, values, out):
+    n, n_c = values.shape
+    for c in range(n_c):
+        for r in range(3):
+            k = 0
+            for i in range(1, n):                       # first extreme sample (as numpy's argmin/argmax)
+                y, best = values[i, c], values[k, c]
+                if (r == 0 and y < best) or (r == 1 and y > best) or (r == 2 and abs(y) > abs(best)):
+                    k = i
+            y1 = values[k, c] if r < 2 else abs(values[k, c])
+            value, when = y1, times[k]
+            if 0 < k < n - 1 and (r < 2 or np.sign(values[k - 1, c]) == np.sign(values[k + 1, c])):
+                y0 = values[k - 1, c] if r < 2 else abs(values[k - 1, c])
+                y2 = values[k + 1, c] if r < 2 else abs(values[k + 1, c])
+                den = y0 - 2.0 * y1 + y2
+                if den != 0.0:
+                    shift = 0.5 * (y0 - y2) / den
+                    if abs(shift) <= 1.0:
+                        value = y1 - 0.25 * (y0 - y2) * shift
+                        when = times[k] + shift * (times[k + 1] - times[k])
+            out[r, c], out[r + 3, c] = value, when
 
 
 @njit(cache=True)
@@ -74,6 +80,12 @@ def exact_passage(x0, loads, speed, x_start, length, tdofs, modes, omega, zeta, 
     n_ax = x0.shape[0]
     n_modes = omega.shape[0]
     x_begin, x_end = x_start[0], x_start[n_el - 1] + length[n_el - 1]
+    wd = np.empty(n_modes)                  # per mode, once: damped frequency, one sample's step
+    step = np.empty((n_modes, 3))
+    for j in range(n_modes):
+        wd[j] = omega[j] * math.sqrt(1.0 - zeta[j] * zeta[j])
+        step[j, 0] = math.exp(-zeta[j] * omega[j] * dt)
+        step[j, 1], step[j, 2] = math.cos(wd[j] * dt), math.sin(wd[j] * dt)
     breaks = np.empty(n_ax * (n_el + 1) + 2)
     breaks[0], breaks[1] = 0.0, t_end
     n_breaks = 2
@@ -128,58 +140,45 @@ def exact_passage(x0, loads, speed, x_start, length, tdofs, modes, omega, zeta, 
         last = sample
         while last < n_samples and (last + 1) * dt <= tb + 1e-12 * t_end:
             last += 1
-        if last > sample:
-            for j in range(n_modes):
-                _sample(q[j], v[j], c[j], omega[j], zeta[j], (sample + 1) * dt - ta, dt, last - sample,
-                        q_out[sample:last, j], qd_out[sample:last, j], qdd_out[sample:last, j])
-            sample = last
         for j in range(n_modes):
-            q[j], v[j] = _state(q[j], v[j], c[j], omega[j], zeta[j], tb - ta)
+            q[j], v[j] = _piece(q[j], v[j], c[j], omega[j], zeta[j], wd[j], step[j], (sample + 1) * dt - ta, dt,
+                                last - sample, tb - ta, q_out[sample:last, j], qd_out[sample:last, j],
+                                qdd_out[sample:last, j])
+        sample = last
 
 
 @njit(cache=True)
-def _solution(q0, v0, c, w, z):
-    """The cubic particular solution b₀ … b₃ of q̈ + 2zw q̇ + w² q = c₀ + c₁τ + c₂τ² + c₃τ³ and
-    the damped frequency ω_d with the homogeneous amplitudes A, B from (q0, v0) at τ = 0."""
+def _piece(q0, v0, c, w, z, wd, step, tau0, dt, count, tau_end, q_out, v_out, a_out):
+    """One mode over one piece, q̈ + 2zw q̇ + w² q = c₀ + c₁τ + c₂τ² + c₃τ³ from (q0, v0) at τ = 0:
+    the samples at τ = tau0 + k dt, k < count, into the outputs (the homogeneous part advanced
+    by the constant rotation and decay ``step`` = (e^(−zwΔt), cos ω_dΔt, sin ω_dΔt) per sample),
+    and (q, q̇) at ``tau_end`` returned. The cubic particular solution is b₃ = c₃/w²,
+    b₂ = (c₂ − 6zw b₃)/w², b₁ = (c₁ − 4zw b₂ − 6 b₃)/w², b₀ = (c₀ − 2zw b₁ − 2 b₂)/w²."""
     w2 = w * w
     b3 = c[3] / w2
     b2 = (c[2] - 6.0 * z * w * b3) / w2
     b1 = (c[1] - 4.0 * z * w * b2 - 6.0 * b3) / w2
     b0 = (c[0] - 2.0 * z * w * b1 - 2.0 * b2) / w2
-    wd = w * math.sqrt(1.0 - z * z)
     A = q0 - b0
-    return b0, b1, b2, b3, wd, A, (v0 - b1 + z * w * A) / wd
-
-
-@njit(cache=True)
-def _sample(q0, v0, c, w, z, tau0, dt, count, q_out, v_out, a_out):
-    """:func:`_state` at τ = tau0 + k dt, k = 0 … count − 1, into the outputs: the homogeneous
-    part advanced by a constant rotation and decay per sample (one exp, cos, sin per piece)."""
-    b0, b1, b2, b3, wd, A, B = _solution(q0, v0, c, w, z)
-    decay = math.exp(-z * w * tau0)
-    cs, sn = math.cos(wd * tau0), math.sin(wd * tau0)
-    step_decay = math.exp(-z * w * dt)
-    step_cs, step_sn = math.cos(wd * dt), math.sin(wd * dt)
+    B = (v0 - b1 + z * w * A) / wd
     dA, dB = -z * w * A + wd * B, -z * w * B - wd * A
-    for k in range(count):
-        tau = tau0 + k * dt
-        qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn)
-        vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * (dA * cs + dB * sn)
-        q_out[k], v_out[k] = qq, vv
-        a_out[k] = c[0] + tau * (c[1] + tau * (c[2] + tau * c[3])) - 2.0 * z * w * vv - w * w * qq
-        decay *= step_decay
-        cs, sn = cs * step_cs - sn * step_sn, sn * step_cs + cs * step_sn
-
-
-@njit(cache=True)
-def _state(q0, v0, c, w, z, tau):
-    """(q, q̇) at τ of q̈ + 2zw q̇ + w² q = c₀ + c₁τ + c₂τ² + c₃τ³ from (q0, v0) at τ = 0."""
-    b0, b1, b2, b3, wd, A, B = _solution(q0, v0, c, w, z)
+    if count > 0:
+        decay = math.exp(-z * w * tau0)
+        cs, sn = math.cos(wd * tau0), math.sin(wd * tau0)
+        step_decay, step_cs, step_sn = step[0], step[1], step[2]
+        for k in range(count):
+            tau = tau0 + k * dt
+            qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn)
+            vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * (dA * cs + dB * sn)
+            q_out[k], v_out[k] = qq, vv
+            a_out[k] = c[0] + tau * (c[1] + tau * (c[2] + tau * c[3])) - 2.0 * z * w * vv - w2 * qq
+            decay *= step_decay
+            cs, sn = cs * step_cs - sn * step_sn, sn * step_cs + cs * step_sn
+    tau = tau_end
     decay = math.exp(-z * w * tau)
     cs, sn = math.cos(wd * tau), math.sin(wd * tau)
-    qq = b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn)
-    vv = b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * ((-z * w * A + wd * B) * cs + (-z * w * B - wd * A) * sn)
-    return qq, vv
+    return (b0 + tau * (b1 + tau * (b2 + tau * b3)) + decay * (A * cs + B * sn),
+            b1 + tau * (2.0 * b2 + tau * 3.0 * b3) + decay * (dA * cs + dB * sn))
 
 
 @njit(cache=True)
