@@ -15,7 +15,7 @@ from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.subdomain import FEStages, factor
 from vtsi.timeloop import run_linear_steps
-from vtsi.timeseries import Path, interpolate_rows
+
 
 log = logging.getLogger(__name__)
 QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
@@ -100,44 +100,33 @@ def _pattern_loads(assembly, patterns):
 
 
 def pattern_factors(patterns, times, cache=None):
-    """``(len(times), len(patterns))`` load factors. Path series that share one time grid (the
-    OpenSees idiom of one Path per loaded node) are evaluated together by
-    :func:`~vtsi.timeseries.interpolate_rows`; their stacked table is kept in ``cache`` (a dict)
-    from call to call."""
-    out = np.empty((len(times), len(patterns)))
-    groups = {}
-    for p, pattern in enumerate(patterns):
-        series = pattern.series
-        if isinstance(series, Path) and pattern.constant_time is None:
-            key = (series.time.shape[0], float(series.time[0]), float(series.time[-1]), series.use_last, series.dt)
-            group = groups.setdefault(key, (series.time, []))
-            # series built with the same start, dt and length share their grid; others are compared
-            if group[1] and series.dt is None and not np.array_equal(group[0], series.time):
-                out[:, p] = pattern.factors(times)
-                continue
-            group[1].append(p)
-        else:
-            out[:, p] = pattern.factors(times)
+    """``(len(times), len(patterns))`` load factors. Series that stack (the OpenSees idiom of
+    one Path per loaded node on one time grid, :meth:`~vtsi.timeseries.TimeSeries.stack_key`)
+    are evaluated together from their stacked values, kept in ``cache`` (a dict) from call to
+    call with the grouping itself, so that a call costs no Python per pattern."""
     cache = {} if cache is None else cache
-    for (_, _, _, use_last, _), (grid, members) in groups.items():
-        ids = tuple(id(patterns[p].series) for p in members)
-        table = cache.get(ids)
-        if table is None or table.shape != (len(grid), len(members)):
-            table = cache[ids] = np.stack([patterns[p].series.values for p in members], axis=1)
+    ids = tuple(id(p.series) for p in patterns)
+    plan = cache.get("plan")
+    if plan is None or plan[0] != ids or any(p.constant_time is not None for p in patterns):
+        groups, single = {}, []
+        for p, pattern in enumerate(patterns):
+            key = pattern.series.stack_key() if pattern.constant_time is None else None
+            if key is None:
+                single.append(p)
+            else:
+                groups.setdefault((type(pattern.series), key), []).append(p)
+        stacked = []
+        for (cls, key), members in groups.items():
+            table = np.stack([patterns[p].series.values for p in members], axis=1)
+            stacked.append((cls, key, np.array(members), table))
+        plan = cache["plan"] = (ids, single, stacked)
+    _, single, stacked = plan
+    out = np.empty((len(times), len(patterns)))
+    for p in single:
+        out[:, p] = patterns[p].factors(times)
+    for cls, key, members, table in stacked:
         scale = np.array([patterns[p].factor * patterns[p].series.factor for p in members])
-        if len(grid) > 1:
-            j = np.clip(np.searchsorted(grid, times, side="right") - 1, 0, len(grid) - 2)
-            w = np.clip((times - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
-            # a time within 1e-10 of a step of a grid point is on it (step times are sums of
-            # dt and differ from the grid's k dt by rounding)
-            up = w > 1.0 - 1e-10
-            j, w = np.where(up, j + 1, j), np.where(up | (w < 1e-10), 0.0, w)
-        else:
-            j, w = np.zeros(len(times), dtype=np.int64), np.zeros(len(times))
-        inside = interpolate_rows(table, j, w) * scale
-        inside[times < grid[0]] = 0.0
-        inside[times > grid[-1]] = table[-1] * scale if use_last else 0.0
-        out[:, members] = inside
+        out[:, members] = cls.stack_factors(key, table, times) * scale
     return out
 
 
@@ -371,6 +360,7 @@ class TransientAnalysis:
         self.bridge = bridge
         self.dt = None
         self.stages = None
+        self._loads = None
         self._path_tables = {}
         if dt is not None:
             self.set_dt(dt)
@@ -420,11 +410,18 @@ class TransientAnalysis:
             raise AnalysisError("transient analysis: no time step set")
         n_steps = _integer("transient analysis", "number of steps", n_steps, 0)
         patterns = list(self.model.patterns.values())
-        load_ptr, load_dof, load_val = _pattern_loads(self.model.build(), patterns)
+        asm = self.model.build()
+        key = (asm, tuple((id(p), p.version) for p in patterns))
+        if self._loads is None or self._loads[0] != key:
+            self._loads = (key, _pattern_loads(asm, patterns), None, None)
+        _, (load_ptr, load_dof, load_val), stages, mapped = self._loads
         asm = self._prepare(load_dof)
         bridge = self.stages
+        if stages is not bridge:      # the loads on this bridge's coordinates, once per model, patterns, stages
+            mapped = bridge.loads(load_ptr, load_dof, load_val)
+            self._loads = (key, (load_ptr, load_dof, load_val), bridge, mapped)
+        load_ptr, load_dof, load_val = mapped
         state = domain_state(self.model)
-        load_ptr, load_dof, load_val = bridge.loads(load_ptr, load_dof, load_val)
         bank = bridge.bank(state, asm.full_of_free, self.integrator.n_slots)
         load_points = [st.load for st in self.integrator.stages(self.dt)]
         feed = _RecorderFeed(asm, self.model, self.recorders,

@@ -22,6 +22,7 @@ class LoadPattern:
             raise ModelError(f"pattern {tag}: factor must be finite, got {factor}")
         self.tag, self.series, self.factor = tag, series, factor
         self.nodal = {}
+        self.version = 0            # counts the changes of the nodal loads (analyses cache them)
         self.constant_time = None   # set by loadConst: the factor frozen at this time
 
     def load(self, node, *values):
@@ -32,6 +33,7 @@ class LoadPattern:
         if not np.all(np.isfinite(values)):
             raise ModelError(f"pattern {self.tag}: load on node {node} has NaN or inf: {values.tolist()}")
         self.nodal[node] = self.nodal.get(node, 0.0) + values
+        self.version += 1
 
     def factors(self, t):
         """Load factor at the times ``t`` (array); a NaN or inf factor raises a ModelError naming

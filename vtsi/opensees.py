@@ -37,7 +37,7 @@ from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
 from vtsi.modal_bridge import ModalBridge
 from vtsi.model import Model
-from vtsi.timeseries import Constant, Linear, TimeSeries
+from vtsi.timeseries import Constant, Linear, TimeSeries, interpolate_rows
 from vtsi.train_commands import TRAIN_COMMANDS, TrainCommands
 
 log = logging.getLogger(__name__)
@@ -208,6 +208,24 @@ class PathSeries(TimeSeries):
             values = np.r_[0.0, values]
         self.values, self.dt, self.factor = values, float(dt), float(factor)
         self.use_last, self.start_time = bool(use_last), float(start_time)
+
+    def stack_key(self):
+        return ("PathSeries", self.dt, self.start_time, self.values.size, self.use_last)
+
+    @classmethod
+    def stack_factors(cls, key, table, times):
+        """Unscaled factors of stacked series of one ``-dt`` grid, with ``getFactor``'s rules."""
+        _, dt, start, size, use_last = key
+        x = (times - start) / dt
+        i = np.floor(x)
+        started = times >= start
+        inside = started & (i + 1 < size)
+        k = i[inside].astype(np.int64)
+        y = np.zeros((len(times), table.shape[1]))
+        y[inside] = interpolate_rows(table, k, x[inside] - k)
+        if use_last:
+            y[started & ~inside] = table[-1]
+        return y
 
     def at(self, t):
         """The factor at one time ``t`` (float)."""

@@ -10,12 +10,20 @@ from vtsi.errors import ModelError
 
 
 class TimeSeries:
-    """Contract: ``__call__(t)`` takes an array of times [s] and returns factors of its shape."""
+    """Contract: ``__call__(t)`` takes an array of times [s] and returns factors of its shape.
+
+    Optional, for series of samples that many patterns share the grid of (a Path per loaded
+    node): ``stack_key()`` (hashable; series with equal keys are evaluated together, None: not
+    stackable), ``values`` and the classmethod ``stack_factors(key, table, times)`` -> the
+    unscaled factors (len(times), n) of the stacked values ``table`` (n_samples, n)."""
 
     tag = None
 
     def __call__(self, t):
         raise NotImplementedError
+
+    def stack_key(self):
+        return None
 
 
 class Constant(TimeSeries):
@@ -84,6 +92,34 @@ class Path(TimeSeries):
         self.dt = float(dt) if dt is not None and (not prepend_zero or time.size < 3 or
                                                      time[1] - time[0] == dt) else None
         self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), bool(use_last), tag
+
+    def stack_key(self):
+        """Series on the same grid (same length, start, end, dt, use_last) stack; computed once."""
+        key = getattr(self, "_stack_key", None)
+        if key is None:
+            grid = ("dt", self.dt) if self.dt is not None else ("time", self.time.tobytes())
+            key = self._stack_key = (self.time.shape[0], float(self.time[0]), float(self.time[-1]), self.use_last,
+                                     grid)
+        return key
+
+    @classmethod
+    def stack_factors(cls, key, table, times):
+        """Unscaled factors of the stacked ``table`` on the grid of ``key`` at ``times``."""
+        n, t0, t1, use_last, (kind, grid) = key
+        grid = t0 + grid * np.arange(n) if kind == "dt" else np.frombuffer(grid)
+        if n > 1:
+            j = np.clip(np.searchsorted(grid, times, side="right") - 1, 0, n - 2)
+            w = np.clip((times - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
+            # a time within 1e-10 of a step of a grid point is on it (step times are sums of
+            # dt and differ from the grid's k dt by rounding)
+            up = w > 1.0 - 1e-10
+            j, w = np.where(up, j + 1, j), np.where(up | (w < 1e-10), 0.0, w)
+        else:
+            j, w = np.zeros(len(times), dtype=np.int64), np.zeros(len(times))
+        inside = interpolate_rows(table, j, w)
+        inside[times < t0] = 0.0
+        inside[times > t1] = table[-1] if use_last else 0.0
+        return inside
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
