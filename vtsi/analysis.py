@@ -360,6 +360,7 @@ class TransientAnalysis:
         self.bridge = bridge
         self.dt = None
         self.stages = None
+        self._loaded_for = None
         self._loads = None
         self._path_tables = {}
         if dt is not None:
@@ -384,10 +385,18 @@ class TransientAnalysis:
             if self.stages is None:
                 self.stages = self.bridge.stages(self.integrator, self.dt)
             return asm
-        active = moving_dofs(asm, self.model, loaded=loaded)
         stages = self.stages
+        if stages is not None and stages.assembly is asm and loaded is self._loaded_for:
+            state = domain_state(self.model)       # the same stages unless a dof at rest has moved
+            rest = self._rest_full
+            if not (np.any(state.u[rest]) or np.any(state.v[rest]) or np.any(state.a[rest])):
+                return asm
+        active = moving_dofs(asm, self.model, loaded=loaded)
         if stages is None or stages.assembly is not asm or not np.array_equal(active, stages.active):
             self.stages = FEStages(asm, active, self.integrator, self.dt)
+        at_rest = np.ones(asm.n_free, dtype=bool)
+        at_rest[self.stages.active] = False
+        self._rest_full, self._loaded_for = asm.full_of_free[at_rest], loaded
         return asm
 
     @property

@@ -340,6 +340,7 @@ class _CommandTransient(TransientAnalysis):
 
     def __init__(self, model, integrator, bridge=None):
         super().__init__(model, integrator, bridge=bridge)
+        self._times = None
 
     def _increments(self):
         if isinstance(self.integrator, HHT):
@@ -348,12 +349,17 @@ class _CommandTransient(TransientAnalysis):
         return (self.dt,)
 
     def step_times(self, t0, n):
-        """``(n + 1,)`` times ``t_0 .. t_n`` accumulated in floating point like OpenSees."""
+        """``(n + 1,)`` times ``t_0 .. t_n`` accumulated in floating point like OpenSees (the last
+        call's are kept: a run asks for them twice)."""
         inc = self._increments()
+        if self._times is not None and self._times[0] == (t0, n, inc):
+            return self._times[1]
         seq = np.empty(n * len(inc) + 1)
         seq[0] = t0
         seq[1:] = np.tile(inc, n)
-        return np.cumsum(seq)[:: len(inc)]
+        times = np.cumsum(seq)[:: len(inc)]
+        self._times = ((t0, n, inc), times)
+        return times
 
     def step_starts(self, t0, n):
         return self.step_times(t0, n)[:-1]
