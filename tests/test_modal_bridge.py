@@ -62,7 +62,8 @@ def run_s1(bridge_kind, integrator, n_elements=20, dt=1e-3, n_steps=1500):
 
 @pytest.mark.parametrize("integrator", ["Newmark", HHT(0.9), "Bathe"], ids=["Newmark", "HHT", "Bathe"])
 def test_all_modes_equal_the_fe_bridge_s1(integrator):
-    """Measured: max difference / max value 1e-13 .. 1e-12 (rounding of the eigenvectors)."""
+    """Measured: max difference / max value 5e-13 (displacements), 4e-11 (accelerations, which
+    the stiff axial and high bending modes carry at Newmark's Δt)."""
     fe_u, fe_a = run_s1("fe", integrator)
     mo_u, mo_a = run_s1("modal", integrator)
     assert np.max(np.abs(mo_u - fe_u)) <= 1e-9 * np.max(np.abs(fe_u))
@@ -91,7 +92,7 @@ def s5_ice3(bridge_kind, contact, interpolation, integrator="Newmark", n_steps=7
     ("bilateral", "hermite", "Newmark"), ("lcp", "bspline", HHT(0.9)), ("bilateral", "hermite", "Bathe")],
     ids=["bilateral-hermite-Newmark", "lcp-bspline-HHT", "bilateral-hermite-Bathe"])
 def test_all_modes_equal_the_fe_bridge_s5(contact, interpolation, integrator):
-    """Measured: 1e-12 relative on the contact forces, the deck and the train."""
+    """Measured: 3e-13 or less relative on the contact forces, the deck and the train."""
     fe = s5_ice3("fe", contact, interpolation, integrator)
     mo = s5_ice3("modal", contact, interpolation, integrator)
     for a, b in zip(fe, mo):
