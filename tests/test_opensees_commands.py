@@ -745,3 +745,16 @@ def test_model_errors_are_vtsi_errors():
                  lambda: ops.integrator("HHT", 0.5), lambda: ops.analyze(1)):
         with pytest.raises(VtsiError):
             call()
+
+
+def test_query_commands_name_a_missing_object():
+    s = ops.Session()
+    s.model("basic", "-ndm", 2, "-ndf", 3)
+    with pytest.raises(CommandError, match="nodeBounds: the model has no nodes"):
+        s.nodeBounds()
+    s.node(1, 0.0, 0.0)
+    with pytest.raises(CommandError, match="getLoadFactor: pattern 7 does not exist"):
+        s.getLoadFactor(7)
+    with pytest.raises(CommandError, match="nodeMass.*node 9"):
+        s.nodeMass(9)
+    assert s.nodeMass(1) == [0.0, 0.0, 0.0] and s.nodeBounds() == [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]

@@ -196,3 +196,58 @@ def test_modal_damping_refusals():
     with pytest.raises(vtsi.AnalysisError, match="no mass"):
         modal_damping_beam(vops, (0.05,), load_dof=3)
     vops.wipe()
+
+
+def queried_frame(ops, outdir):
+    """A three-node beam with a nodal mass, a Linear series (-factor 2) in a pattern (-fact 3),
+    three LoadControl steps of 0.5, then a transient run with a Node recorder removed half way
+    by remove('recorders'); returns what the queries give."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.node(1, 0.0, 0.0)
+    ops.node(2, 5.0, 1.0)
+    ops.node(3, 10.0, -2.0)
+    ops.mass(2, 10.0, 20.0, 3.0)
+    ops.fix(1, 1, 1, 0)
+    ops.fix(3, 0, 1, 0)
+    ops.geomTransf("Linear", 1)
+    ops.element("elasticBeamColumn", 1, 1, 2, 1.0, 2e11, 1e-3, 1)
+    ops.element("elasticBeamColumn", 2, 2, 3, 1.0, 2e11, 1e-3, 1)
+    ops.timeSeries("Linear", 1, "-factor", 2.0)
+    ops.pattern("Plain", 1, 1, "-fact", 3.0)
+    ops.load(2, 0.0, -1.0, 0.0)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    ops.integrator("LoadControl", 0.5)
+    ops.analysis("Static")
+    ops.analyze(3)
+    out = [ops.nodeMass(2), [ops.nodeMass(2, 2)], ops.nodeMass(1), ops.nodeBounds(), [ops.getLoadFactor(1)],
+           [ops.getTime()]]
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+    ops.recorder("Node", "-file", str(Path(outdir) / "node2.out"), "-time", "-node", 2, "-dof", 2, "disp")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    ops.analyze(10, 0.01)
+    ops.remove("recorders")
+    ops.analyze(10, 0.01)
+    out.append(ops.nodeDisp(2))
+    ops.wipe()
+    return out
+
+
+def test_queries_and_remove_recorders(tmp_path):
+    """getLoadFactor (pattern factor × series factor × time), nodeMass (nodal mass only), nodeBounds
+    (6 values in 2-D) and remove('recorders') (the record stops; the analysis goes on) as OpenSeesPy."""
+    ref_dir, val_dir = tmp_path / "ref", tmp_path / "val"
+    ref_dir.mkdir()
+    val_dir.mkdir()
+    ref, val = queried_frame(oracle, ref_dir), queried_frame(vops, val_dir)
+    assert len(ref) == len(val)
+    for a, b in zip(ref, val):
+        assert relative_difference(a, b) < RTOL, (a, b)
+    assert ref[4] == [9.0]
+    compare_files(ref_dir, val_dir)
+    assert len((val_dir / "node2.out").read_text().splitlines()) == 10

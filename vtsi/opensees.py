@@ -47,7 +47,8 @@ COMMANDS = (
     "load", "rayleigh", "constraints", "numberer", "system", "test", "algorithm", "integrator", "analysis",
     "analyze", "eigen", "modalDamping", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce",
     "eleResponse", "recorder", "wipe", "wipeAnalysis", "getTime", "setTime", "loadConst", "nodeCoord",
-    "nodeEigenvector", "nodeResponse", "remove", "getNodeTags", "getEleTags",
+    "nodeEigenvector", "nodeResponse", "remove", "getNodeTags", "getEleTags", "getLoadFactor", "nodeMass",
+    "nodeBounds",
 ) + TRAIN_COMMANDS
 """Every command this layer knows; anything else raises :class:`UnknownCommand`."""
 
@@ -1252,6 +1253,31 @@ class Session(TrainCommands):
             _, state = self._state("loadConst")
             state.time = new_time
 
+    def getLoadFactor(self, tag):
+        """The load factor of pattern ``tag`` (its factor × its series' at the time the domain
+        last applied its loads, as OpenSees)."""
+        model = self._model("getLoadFactor")
+        if not _is_int(tag) or tag not in model.patterns:
+            raise CommandError(f"getLoadFactor: pattern {tag!r} does not exist")
+        at = self._load_time if self._load_time is not None else self.getTime()
+        return float(model.patterns[tag].factors(np.array([at]))[0])
+
+    def nodeMass(self, node, dof=-1):
+        """The nodal mass of ``node`` (``mass`` command or ``node -mass``; element mass not
+        included, as OpenSees) [M, M·L²]: a list over its dofs, or one 1-based ``dof``."""
+        tag = self._node("nodeMass", node)
+        values = self.domain.nodal_mass.get(tag, np.zeros(self.domain.ndf))
+        return _dof_value(list(map(float, values)), dof, f"nodeMass {node}")
+
+    def nodeBounds(self):
+        """``[x_min, y_min, 0, x_max, y_max, 0]`` of the nodes (OpenSees's 6 values in 2-D)."""
+        model = self._model("nodeBounds")
+        if not model.nodes:
+            raise CommandError("nodeBounds: the model has no nodes")
+        xy = np.array(list(model.nodes.values()), dtype=float)
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        return [float(lo[0]), float(lo[1]), 0.0, float(hi[0]), float(hi[1]), 0.0]
+
     def getNodeTags(self):
         """Node tags, ascending."""
         return sorted(self.domain.nodes) if self.domain is not None else []
@@ -1472,9 +1498,16 @@ class Session(TrainCommands):
 
     # -- removal ---------------------------------------------------------------------------------
     def remove(self, *args):
-        """``remove('recorder', tag)``, ``remove('loadPattern', tag)`` or ``remove('element', tag)``."""
+        """``remove('recorders')`` (every recorder, files closed), ``remove('recorder', tag)``,
+        ``remove('loadPattern', tag)`` or ``remove('element', tag)``."""
         a = _Args("remove", args)
-        what = a.word("object type", ("recorder", "loadPattern", "element"))
+        what = a.word("object type", ("recorders", "recorder", "loadPattern", "element"))
+        if what == "recorders":
+            a.done()
+            for tag in list(self.recorders):
+                del self.recorders[tag]
+                self._kept.pop(tag).finish()
+            return
         tag = a.int(f"{what} tag")
         a.done()
         if what == "recorder":
