@@ -42,6 +42,71 @@ class Linear(TimeSeries):
         return self.factor * np.asarray(t, dtype=float)
 
 
+class Trig(TimeSeries):
+    """OpenSees ``timeSeries Trig``: inside [t_start, t_end] ``factor sin(2π (t − t_start)/period
+    + φ) + zero_shift`` with φ = shift − period/(2π) asin(zero_shift/factor) (OpenSees's
+    definition), 0 outside."""
+
+    def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None):
+        self.tag = tag
+        self.t_start, self.t_end = _finite("Trig", tag, "tStart", t_start), _finite("Trig", tag, "tEnd", t_end)
+        self.period = _finite("Trig", tag, "period", period)
+        self.factor, self.shift = _finite("Trig", tag, "factor", factor), _finite("Trig", tag, "shift", shift)
+        self.zero_shift = _finite("Trig", tag, "zeroShift", zero_shift)
+        if not self.period > 0.0:
+            raise ModelError(f"timeSeries Trig {tag}: period must be > 0, got {self.period}")
+        if self.zero_shift and not abs(self.zero_shift) <= abs(self.factor):
+            raise ModelError(f"timeSeries Trig {tag}: |zeroShift| must not exceed |factor| (asin), got {self.zero_shift}")
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        phi = self.shift - (self.period / (2 * np.pi) * np.arcsin(self.zero_shift / self.factor) if self.zero_shift else 0.0)
+        value = self.factor * np.sin(2 * np.pi * (t - self.t_start) / self.period + phi) + self.zero_shift
+        return np.where((t >= self.t_start) & (t <= self.t_end), value, 0.0)
+
+
+class Rectangular(TimeSeries):
+    """OpenSees ``timeSeries Rectangular``: ``factor`` inside [t_start, t_end], 0 outside."""
+
+    def __init__(self, t_start, t_end, factor=1.0, tag=None):
+        self.tag = tag
+        self.t_start = _finite("Rectangular", tag, "tStart", t_start)
+        self.t_end = _finite("Rectangular", tag, "tEnd", t_end)
+        self.factor = _finite("Rectangular", tag, "factor", factor)
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        return np.where((t >= self.t_start) & (t <= self.t_end), self.factor, 0.0)
+
+
+class Triangle(TimeSeries):
+    """OpenSees ``timeSeries Triangle``: inside [t_start, t_end] a triangular wave of amplitude
+    ``factor`` and ``period`` (rising from 0 at the phase origin), shifted by ``shift`` [s] and
+    ``zero_shift`` as OpenSees: φ = shift − zero_shift/s with the slope s = 4 factor/period,
+    k = frac((t + φ − t_start)/period); 0 outside."""
+
+    def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None):
+        self.tag = tag
+        self.t_start = _finite("Triangle", tag, "tStart", t_start)
+        self.t_end = _finite("Triangle", tag, "tEnd", t_end)
+        self.period = _finite("Triangle", tag, "period", period)
+        self.factor, self.shift = _finite("Triangle", tag, "factor", factor), _finite("Triangle", tag, "shift", shift)
+        self.zero_shift = _finite("Triangle", tag, "zeroShift", zero_shift)
+        if not self.period > 0.0 or self.factor == 0.0:
+            raise ModelError(f"timeSeries Triangle {tag}: period must be > 0 and factor not 0, got "
+                             f"{self.period}, {self.factor}")
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        slope = self.factor / (self.period / 4.0)
+        x = (t + self.shift - self.zero_shift / slope - self.t_start) / self.period
+        k = x - np.floor(x)
+        c, T = self.factor, self.period
+        value = np.where(k < 0.25, slope * k * T,
+                         np.where(k < 0.75, c - slope * (k - 0.25) * T, -c + slope * (k - 0.75) * T)) + self.zero_shift
+        return np.where((t >= self.t_start) & (t <= self.t_end), value, 0.0)
+
+
 class Path(TimeSeries):
     """Piecewise-linear factor through ``(time, values)``.
 
