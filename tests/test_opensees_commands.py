@@ -292,8 +292,8 @@ def test_path_errors(tmp_path):
     (tmp_path / "bad.txt").write_text("1 2 x 3")
     with pytest.raises(CommandError, match="not a number"):
         ops.timeSeries("Path", 1, "-dt", 0.1, "-filePath", str(tmp_path / "bad.txt"))
-    with pytest.raises(CommandError, match="'Pulse'"):
-        ops.timeSeries("Pulse", 1, 0.0, 1.0, 0.1)
+    with pytest.raises(CommandError, match="'Sine'"):
+        ops.timeSeries("Sine", 1, 0.0, 1.0, 0.1)
     with pytest.raises(CommandError, match="timeSeries Trig 3: period must be > 0, got 0"):
         ops.timeSeries("Trig", 3, 0.0, 1.0, 0.0)
     ops.timeSeries("Path", 1, "-dt", 0.1, "-values", [1.0, 2.0])   # lists are spread, as Tcl lists

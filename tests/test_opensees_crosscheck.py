@@ -285,9 +285,12 @@ def series_factors(ops, series_args, n=220, d_lambda=0.0137):
     ("Trig", 5, 0.0, 1.5, 0.7),
     ("Triangle", 5, 0.3, 2.0, 0.5, "-factor", 2.0, "-shift", 0.4, "-zeroShift", 0.1),
     ("Triangle", 5, 0.1, 2.5, 0.6, "-factor", -1.5),
-    ("Rectangular", 5, 0.3, 2.0, "-factor", 2.0)], ids=["Trig", "Trig-plain", "Triangle", "Triangle-plain", "Rectangular"])
+    ("Rectangular", 5, 0.3, 2.0, "-factor", 2.0),
+    ("Pulse", 5, 0.3, 2.0, 0.5, "-width", 0.3, "-factor", 2.0, "-shift", 0.1, "-zeroShift", 0.1),
+    ("Pulse", 5, 0.2, 2.5, 0.4)],
+    ids=["Trig", "Trig-plain", "Triangle", "Triangle-plain", "Rectangular", "Pulse", "Pulse-plain"])
 def test_periodic_time_series(series_args):
-    """timeSeries Trig, Triangle and Rectangular give OpenSeesPy's factors at 220 pseudo-times
+    """timeSeries Trig, Triangle, Rectangular and Pulse give OpenSeesPy's factors at 220 pseudo-times
     across their windows (shift and zeroShift as OpenSees defines them)."""
     ref, val = series_factors(oracle, series_args), series_factors(vops, series_args)
     assert np.abs(ref).max() > 0.5

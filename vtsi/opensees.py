@@ -37,7 +37,7 @@ from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
 from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
 from vtsi.modal_bridge import ModalBridge
 from vtsi.model import Model
-from vtsi.timeseries import Constant, Linear, Rectangular, TimeSeries, Triangle, Trig, interpolate_rows
+from vtsi.timeseries import Constant, Linear, Pulse, Rectangular, TimeSeries, Triangle, Trig, interpolate_rows
 from vtsi.train_commands import TRAIN_COMMANDS, TrainCommands
 
 log = logging.getLogger(__name__)
@@ -54,7 +54,7 @@ COMMANDS = (
 
 ELEMENT_TYPES = ("elasticBeamColumn", "truss", "zeroLength")
 MATERIAL_TYPES = ("Elastic", "Viscous")
-SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular")
+SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
 CONSTRAINT_HANDLERS = ("Plain", "Transformation")
 NUMBERERS = ("Plain", "RCM", "AMD")
 SYSTEMS = ("BandSPD", "BandGeneral", "ProfileSPD", "SparseGeneral", "UmfPack", "FullGeneral", "SparseSYM")
@@ -830,17 +830,20 @@ class Session(TrainCommands):
                 a.option(("-factor",))
                 f = a.float("-factor")
             return (Constant if kind == "Constant" else Linear)(f, tag=tag)
-        if kind in ("Trig", "Triangle", "Rectangular"):
+        if kind in ("Trig", "Triangle", "Rectangular", "Pulse"):
             t0, t1 = a.float("tStart"), a.float("tEnd")
             period = a.float("period") if kind != "Rectangular" else None
-            extra = {"-factor": 1.0, "-shift": 0.0, "-zeroShift": 0.0}
-            valid = ("-factor",) if kind == "Rectangular" else tuple(extra)
+            extra = {"-factor": 1.0, "-shift": 0.0, "-zeroShift": 0.0, "-width": 0.5}
+            valid = ("-factor",) if kind == "Rectangular" else tuple(extra) if kind == "Pulse" else tuple(extra)[:3]
             while a.more():
                 opt = a.option(valid)
                 extra[opt] = a.float(opt)
             try:
                 if kind == "Rectangular":
                     return Rectangular(t0, t1, extra["-factor"], tag=tag)
+                if kind == "Pulse":
+                    return Pulse(t0, t1, period, extra["-width"], extra["-factor"], extra["-shift"], extra["-zeroShift"],
+                                 tag=tag)
                 return (Trig if kind == "Trig" else Triangle)(t0, t1, period, extra["-factor"], extra["-shift"],
                                                              extra["-zeroShift"], tag=tag)
             except ModelError as exc:

@@ -107,6 +107,28 @@ class Triangle(TimeSeries):
         return np.where((t >= self.t_start) & (t <= self.t_end), value, 0.0)
 
 
+class Pulse(TimeSeries):
+    """OpenSees ``timeSeries Pulse``: inside [t_start, t_end], with k = frac((t + shift −
+    t_start)/period), ``factor + zero_shift`` while k < ``width`` (a fraction of the period),
+    ``zero_shift`` after it; 0 outside."""
+
+    def __init__(self, t_start, t_end, period, width=0.5, factor=1.0, shift=0.0, zero_shift=0.0, tag=None):
+        self.tag = tag
+        self.t_start, self.t_end = _finite("Pulse", tag, "tStart", t_start), _finite("Pulse", tag, "tEnd", t_end)
+        self.period, self.width = _finite("Pulse", tag, "period", period), _finite("Pulse", tag, "width", width)
+        self.factor, self.shift = _finite("Pulse", tag, "factor", factor), _finite("Pulse", tag, "shift", shift)
+        self.zero_shift = _finite("Pulse", tag, "zeroShift", zero_shift)
+        if not self.period > 0.0 or not 0.0 < self.width < 1.0:
+            raise ModelError(f"timeSeries Pulse {tag}: period must be > 0 and width in (0, 1), got "
+                             f"{self.period}, {self.width}")
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        x = (t + self.shift - self.t_start) / self.period
+        value = np.where(x - np.floor(x) < self.width, self.factor + self.zero_shift, self.zero_shift)
+        return np.where((t >= self.t_start) & (t <= self.t_end), value, 0.0)
+
+
 class Path(TimeSeries):
     """Piecewise-linear factor through ``(time, values)``.
 
