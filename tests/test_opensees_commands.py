@@ -307,8 +307,10 @@ def test_pattern_and_load_errors():
         ops.load(3, 0.0, -1.0, 0.0)
     with pytest.raises(CommandError, match="time series 5 does not exist"):
         ops.pattern("Plain", 1, 5)
-    with pytest.raises(CommandError, match="'UniformExcitation'"):
+    with pytest.raises(CommandError, match="pattern UniformExcitation 1: -accel time series 1 does not exist"):
         ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    with pytest.raises(CommandError, match="type 'MultipleSupport' is not supported; supported: Plain, UniformExcitation"):
+        ops.pattern("MultipleSupport", 1)
     ops.timeSeries("Constant", 1)
     ops.pattern("Plain", 1, 1, "-fact", 2.0)
     ops.load(3, 0.0, -1.0, 0.0)

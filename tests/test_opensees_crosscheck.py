@@ -295,3 +295,45 @@ def test_periodic_time_series(series_args):
     ref, val = series_factors(oracle, series_args), series_factors(vops, series_args)
     assert np.abs(ref).max() > 0.5
     assert np.abs(val - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def ground_shaken_frame(ops, direction):
+    """A portal frame (two columns, a beam, nodal masses, Rayleigh damping) shaken by a ground
+    acceleration along ``direction`` (a -dt Path, -fact 9.81): relative displacements of the
+    beam's ends over 300 Newmark steps."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for tag, x, y in ((1, 0.0, 0.0), (2, 6.0, 0.0), (3, 0.0, 4.0), (4, 6.0, 4.0), (5, 3.0, 4.0)):
+        ops.node(tag, x, y)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(2, 1, 1, 1)
+    for tag in (3, 4, 5):
+        ops.mass(tag, 2000.0, 2000.0, 0.0)
+    ops.geomTransf("Linear", 1)
+    for tag, (i, j) in enumerate(((1, 3), (2, 4), (3, 5), (5, 4)), start=1):
+        ops.element("elasticBeamColumn", tag, i, j, 0.04, 2.1e11, 5e-4, 1)
+    ops.rayleigh(0.3, 0.0, 0.0, 0.0)
+    t = 0.01 * np.arange(200)
+    ops.timeSeries("Path", 7, "-dt", 0.01, "-values", *(0.3 * np.sin(9.0 * t) * np.exp(-t)).tolist())
+    ops.pattern("UniformExcitation", 3, direction, "-accel", 7, "-fact", 9.81)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    out = []
+    for _ in range(300):
+        ops.analyze(1, 0.005)
+        out.append(ops.nodeDisp(3) + ops.nodeDisp(5))
+    ops.wipe()
+    return np.array(out)
+
+
+@pytest.mark.parametrize("direction", [1, 2])
+def test_uniform_excitation(direction):
+    """pattern UniformExcitation dir -accel (effective load −M r a_g, relative response) as
+    OpenSeesPy; measured 4e-9 (x) and 2e-9 (y) relative, the rounding of the stiff axial modes."""
+    ref, val = ground_shaken_frame(oracle, direction), ground_shaken_frame(vops, direction)
+    assert np.abs(ref).max() > 1e-5
+    assert relative_difference(ref, val) < RTOL

@@ -152,7 +152,12 @@ class Assembly:
         return self.node_index[node_tag] * self.ndf + dof - 1
 
     def load_vector(self, pattern):
-        """Free-dof load vector ``(n_free,)`` of a pattern's nodal loads (factor 1)."""
+        """Free-dof load vector ``(n_free,)`` of a pattern's nodal loads (factor 1); of a ground
+        acceleration (``pattern.ground_direction``), −M r with r the unit translation along it."""
+        if pattern.ground_direction is not None:
+            r = np.zeros(self.n_full)
+            r[pattern.ground_direction - 1::self.ndf] = 1.0
+            return -(self.M_full @ r)[self.full_of_free]
         p = np.zeros(self.n_full)
         for tag, values in pattern.nodal.items():
             if tag not in self.node_index:

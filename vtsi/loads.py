@@ -8,8 +8,11 @@ from vtsi.timeseries import TimeSeries
 class LoadPattern:
     """Nodal loads ``[Fx, Fy, Mz]`` [N, N·m] times ``factor * series(t)``.
 
-    Loads on the same node add up (as in OpenSees).
+    Loads on the same node add up (as in OpenSees). ``ground_direction`` (None here): see
+    :class:`UniformExcitation`.
     """
+
+    ground_direction = None
 
     def __init__(self, tag, series, factor=1.0):
         if not isinstance(series, TimeSeries):
@@ -48,3 +51,20 @@ class LoadPattern:
             raise ModelError(f"pattern {self.tag}: time series {self.series.tag} ({type(self.series).__name__}) "
                              f"gives load factor {out.ravel()[bad]} at t = {when:g} s")
         return out
+
+
+class UniformExcitation(LoadPattern):
+    """A ground acceleration a_g(t) = ``factor * series(t)`` [m/s²] along dof ``direction``
+    (1 = x, 2 = y) of every node (OpenSees ``pattern UniformExcitation dir -accel``): the
+    effective load −M r a_g with r the unit rigid-body translation along ``direction``; the
+    responses are relative to the ground, as OpenSees's."""
+
+    def __init__(self, tag, direction, series, factor=1.0):
+        super().__init__(tag, series, factor)
+        if direction not in (1, 2):
+            raise ModelError(f"pattern UniformExcitation {tag}: direction must be 1 (x) or 2 (y), got {direction!r}")
+        self.ground_direction = int(direction)
+
+    def load(self, node, *values):
+        raise ModelError(f"pattern UniformExcitation {self.tag}: takes no nodal loads (its load is −M r a_g)")
+

@@ -11,7 +11,7 @@ import vtsi.elements  # noqa: F401  (registers the element library)
 from vtsi.assembly import Assembly
 from vtsi.elements.base import element_type
 from vtsi.errors import ModelError
-from vtsi.loads import LoadPattern
+from vtsi.loads import LoadPattern, UniformExcitation
 from vtsi.timeseries import TimeSeries
 
 
@@ -125,6 +125,19 @@ class Model:
                 raise ModelError(f"pattern {tag}: time series {series} does not exist")
             series = self.time_series[series]
         p = self.patterns[tag] = LoadPattern(tag, series, factor)
+        return p
+
+    def uniform_excitation(self, tag, direction, series, factor=1.0):
+        """Create and return a :class:`~vtsi.loads.UniformExcitation` (ground acceleration
+        ``factor * series(t)`` [m/s²] along dof ``direction``)."""
+        tag = _tag("pattern", tag)
+        if tag in self.patterns:
+            raise ModelError(f"pattern {tag} already exists")
+        if not isinstance(series, TimeSeries):
+            if series not in self.time_series:
+                raise ModelError(f"pattern {tag}: time series {series} does not exist")
+            series = self.time_series[series]
+        p = self.patterns[tag] = UniformExcitation(tag, direction, series, factor)
         return p
 
     def load(self, pattern_tag, node, *values):

@@ -894,8 +894,10 @@ class Session(TrainCommands):
         model = self._model("pattern")
         a = _Args("pattern", args)
         kind = a.word("pattern type")
+        if kind == "UniformExcitation":
+            return self._uniform_excitation(model, a)
         if kind != "Plain":
-            raise CommandError(f"pattern: type {kind!r} is not supported; supported: Plain")
+            raise CommandError(f"pattern: type {kind!r} is not supported; supported: Plain, UniformExcitation")
         tag = a.int("pattern tag")
         name = f"pattern Plain {tag}"
         spec = a.take(f"{name}: time series tag")
@@ -915,6 +917,35 @@ class Session(TrainCommands):
             raise CommandError(f"{name}: pattern {tag} already exists")
         model.pattern(tag, series, fact)
         self._current_pattern = tag
+
+    def _uniform_excitation(self, model, a):
+        """``pattern('UniformExcitation', tag, dir, '-accel', tsTag, ['-fact', f])``: a ground
+        acceleration along dof ``dir`` (1 x, 2 y) [L/s²]; responses relative to the ground."""
+        tag = a.int("pattern tag")
+        name = f"pattern UniformExcitation {tag}"
+        a.command = name
+        direction = a.int("direction")
+        series, fact = None, 1.0
+        while a.more():
+            opt = a.option(("-accel", "-fact", "-factor"))
+            if opt == "-accel":
+                spec = a.take("-accel time series tag")
+                if isinstance(spec, str):
+                    series = self._inline_series(name, spec)
+                elif _is_int(spec) and int(spec) in model.time_series:
+                    series = model.time_series[int(spec)]
+                else:
+                    raise CommandError(f"{name}: -accel time series {spec!r} does not exist")
+            else:
+                fact = a.float(opt)
+        if series is None:
+            raise CommandError(f"{name}: give the ground acceleration with -accel tsTag (-disp, -vel: not supported)")
+        if direction not in (1, 2):
+            raise CommandError(f"{name}: direction must be 1 (x) or 2 (y), got {direction}")
+        if tag in model.patterns:
+            raise CommandError(f"{name}: pattern {tag} already exists")
+        model.uniform_excitation(tag, direction, series, fact)
+        self._current_pattern = None
 
     def _inline_series(self, name, spec):
         words = _tcl_split(spec)
