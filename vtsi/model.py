@@ -117,19 +117,19 @@ class Model:
 
     def pattern(self, tag, series, factor=1.0):
         """Create and return a :class:`LoadPattern`; ``series`` is a TimeSeries or its tag."""
-        tag = _tag("pattern", tag)
-        if tag in self.patterns:
-            raise ModelError(f"pattern {tag} already exists")
-        if not isinstance(series, TimeSeries):
-            if series not in self.time_series:
-                raise ModelError(f"pattern {tag}: time series {series} does not exist")
-            series = self.time_series[series]
+        tag, series = self._new_pattern(tag, series)
         p = self.patterns[tag] = LoadPattern(tag, series, factor)
         return p
 
     def uniform_excitation(self, tag, direction, series, factor=1.0):
         """Create and return a :class:`~vtsi.loads.UniformExcitation` (ground acceleration
         ``factor * series(t)`` [m/s²] along dof ``direction``)."""
+        tag, series = self._new_pattern(tag, series)
+        p = self.patterns[tag] = UniformExcitation(tag, direction, series, factor)
+        return p
+
+    def _new_pattern(self, tag, series):
+        """A new pattern's tag (checked free) and its series (a TimeSeries, or resolved from its tag)."""
         tag = _tag("pattern", tag)
         if tag in self.patterns:
             raise ModelError(f"pattern {tag} already exists")
@@ -137,8 +137,7 @@ class Model:
             if series not in self.time_series:
                 raise ModelError(f"pattern {tag}: time series {series} does not exist")
             series = self.time_series[series]
-        p = self.patterns[tag] = UniformExcitation(tag, direction, series, factor)
-        return p
+        return tag, series
 
     def load(self, pattern_tag, node, *values):
         if pattern_tag not in self.patterns:
