@@ -31,6 +31,13 @@ Contract of an element type (checked by :func:`register` and by ``tests/test_ele
 5. Register with the :func:`register` decorator; ``Model.element(name, ...)`` then knows it.
    Kernels are pure functions of arrays (numba ``@njit(cache=True)``), float64 values and
    int64 indices.
+6. Optional, the OpenSees-style ``element`` command (:mod:`vtsi.opensees`, Tcl files):
+   ``command_args`` (tuple of parameter names read in order after the ``n_nodes`` node tags;
+   None: the type has no command) and ``command_options`` (dict: an option word -> the parameter
+   that the number after it sets, or -> ``(parameter, value)`` for a flag). Responses
+   (``eleResponse``, ``recorder Element``) are ``response_kinds`` with the columns of
+   ``response``; ``command_layouts`` (dict: kind -> ``(source kind, [(column or -1, coefficient
+   on the value, coefficient on its rate)], uses rates)``) rearranges them as OpenSees would.
 """
 import numpy as np
 
@@ -54,6 +61,13 @@ def register(cls):
         raise TypeError(f"element type {cls.__name__}: name must be a non-empty str, got {cls.name!r}")
     if any(d not in (0, 1, 2) for d in cls.node_dofs):
         raise TypeError(f"element type {cls.__name__}: node_dofs {cls.node_dofs} must be among 0, 1, 2")
+    if cls.command_args is not None:
+        named = list(cls.command_args) + [t[0] if isinstance(t, tuple) else t for t in cls.command_options.values()]
+        if set(named) - set(cls.param_names):
+            raise TypeError(f"element type {cls.__name__}: command_args/command_options name "
+                            f"{sorted(set(named) - set(cls.param_names))}, which are not in param_names")
+        if any(not (isinstance(o, str) and o.startswith("-")) for o in cls.command_options):
+            raise TypeError(f"element type {cls.__name__}: command_options keys must be options like '-mass'")
     for method in ("stiffness", "mass"):
         if getattr(cls, method) is getattr(ElementType, method):
             raise TypeError(f"element type {cls.__name__}: must override {method}()")
@@ -63,6 +77,11 @@ def register(cls):
         raise TypeError(f"element type name {cls.name!r} is already registered by {known.__module__}.{known.__qualname__}")
     ELEMENT_TYPES[cls.name] = cls
     return cls
+
+
+def command_element_types():
+    """``{name: class}`` of the registered types that declare an ``element`` command."""
+    return {name: cls for name, cls in ELEMENT_TYPES.items() if cls.command_args is not None}
 
 
 def element_type(name):
@@ -85,6 +104,9 @@ class ElementType:
     flags = ()
     defaults = {}
     response_kinds = ("force", "globalForce")
+    command_args = None
+    command_options = {}
+    command_layouts = {}
 
     def __init__(self):
         self.tags = []

@@ -378,7 +378,7 @@ SERIES_CASES = [
     ("unequal time and values", lambda: vtsi.Path([1.0, 2.0, 3.0], time=[0.0, 1.0]),
      r"^timeSeries Path: 2 times but 3 values$"),
     ("time not increasing", lambda: vtsi.Path([1.0, 2.0, 3.0], time=[0.0, 1.0, 1.0], tag=4),
-     r"^timeSeries Path 4: times must increase; time\[2\] = 1 follows time\[1\] = 1$"),
+     r"^timeSeries Path 4: times must increase strictly; time\[2\] = 1 follows time\[1\] = 1$"),
     ("NaN value", lambda: vtsi.Path([1.0, NAN, 3.0], dt=0.1, tag=4), r"^timeSeries Path 4: value 1 is nan \(NaN or inf\)$"),
     ("NaN time", lambda: vtsi.Path([1.0, 2.0], time=[0.0, NAN]), r"^timeSeries Path: time\[1\] is nan \(NaN or inf\)$"),
     ("empty", lambda: vtsi.Path([], time=[]), r"^timeSeries Path: no values given$"),

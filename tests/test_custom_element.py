@@ -12,6 +12,8 @@ import pytest
 from vtsi.elements import ELEMENT_TYPES
 
 import vtsi
+import vtsi.opensees
+from vtsi.tcl import run_file
 
 
 def test_registered_without_touching_the_core(custom_element):
@@ -66,4 +68,57 @@ def test_runs_as_a_script(custom_element):
                           cwd=script.parent)
     assert done.returncode == 0, done.stderr
     assert "Euler-Bernoulli" in done.stdout and "Timoshenko" in done.stdout
-    assert [line.split()[0] for line in done.stdout.splitlines()[2:]] == ["slender", "deep"]
+    assert [line.split()[0] for line in done.stdout.splitlines()[2:4]] == ["slender", "deep"]
+    assert done.stdout.splitlines()[4].startswith("Tcl script, 'element timoshenkoBeam'")
+
+
+TCL_FILE = """
+model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 3} {incr i} { node [expr {$i + 1}] [expr {$i * 4.0 / 3}] 0.0 }
+fix 1 1 1 1
+for {set e 1} {$e <= 3} {incr e} { element timoshenkoBeam $e $e [expr {$e + 1}] %(A)r %(E)r %(I)r %(G)r %(kappa)r }
+timeSeries Constant 1
+pattern Plain 1 1 { load 4 0.0 -2e5 0.0 }
+analysis Static
+analyze 1
+set tip [nodeDisp 4 2]
+set force [eleResponse 3 force]
+"""
+
+
+def test_the_new_type_is_reached_from_a_tcl_file(custom_element, tmp_path):
+    """A Tcl file uses the type's ``element`` command (declared by ``command_args``) with no
+    change to vtsi: three elements of a cantilever give the closed-form tip deflection, and the
+    element's end forces (its ``response``) balance the tip load."""
+    s = custom_element.rectangular_steel_section(1.5)
+    path = tmp_path / "cantilever.tcl"
+    path.write_text(TCL_FILE % s)
+    tcl = run_file(path)
+    L, P = 4.0, 2e5
+    exact = -(P * L ** 3 / (3 * s["E"] * s["I"]) + P * L / (s["kappa"] * s["G"] * s["A"]))
+    assert float(tcl.tcl.getvar("tip")) == pytest.approx(exact, rel=1e-10)
+    force = [float(x) for x in tcl.tcl.eval("set force").split()]
+    assert force[4] == pytest.approx(-P, rel=1e-10)          # the tip node's load on the element, y
+    assert tcl.session.domain.element_types["timoshenkoBeam"].tags == [1, 2, 3]
+
+
+def test_the_new_type_command_through_vtsi_opensees(custom_element):
+    """The same command from Python: ``-mass`` sets ``rho``; a missing or unknown argument names
+    the element and the argument."""
+    ops = vtsi.opensees.Session()
+    s = custom_element.rectangular_steel_section(0.5)
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.node(1, 0.0, 0.0)
+    ops.node(2, 2.0, 0.0)
+    ops.element("timoshenkoBeam", 1, 1, 2, s["A"], s["E"], s["I"], s["G"], s["kappa"], "-mass", s["rho"])
+    etype = ops.domain.element_types["timoshenkoBeam"]
+    assert etype.params[0].tolist() == [s["A"], s["E"], s["I"], s["G"], s["kappa"], s["rho"]]
+    with pytest.raises(vtsi.CommandError, match=r"^element timoshenkoBeam 2: missing kappa$"):
+        ops.element("timoshenkoBeam", 2, 1, 2, 1.0, 2.0, 3.0, 4.0)
+    with pytest.raises(vtsi.CommandError, match=r"^element timoshenkoBeam 2: option '-rho' is not supported; "
+                                                r"supported: -mass$"):
+        ops.element("timoshenkoBeam", 2, 1, 2, 1.0, 2.0, 3.0, 4.0, 0.8, "-rho", 5.0)
+    with pytest.raises(vtsi.CommandError, match=r"^element 2 \(timoshenkoBeam\): G must be > 0, got 0$"):
+        ops.element("timoshenkoBeam", 2, 1, 2, 1.0, 2.0, 3.0, 0.0, 0.8)
+    with pytest.raises(vtsi.CommandError, match="supported: elasticBeamColumn, truss, zeroLength, .*timoshenkoBeam"):
+        ops.element("noSuchBeam", 2, 1, 2)

@@ -32,7 +32,7 @@ def test_every_recorder_class_is_documented():
 
 
 def test_every_train_command_is_documented_with_its_units():
-    from vtsi.train_commands import TRAIN_COMMANDS
+    from vtsi.commands.train_commands import TRAIN_COMMANDS
     text = (DOCS / "commands.md").read_text()
     for command in TRAIN_COMMANDS:
         assert f"| `{command}` |" in text, command

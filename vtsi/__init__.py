@@ -11,9 +11,9 @@ from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, eigen
 from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError, VtsiError
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, Path
+from vtsi.version import __version__
 import vtsi.recorders  # noqa: E402,F401  (vtsi.recorders.NodeRecorder etc.)
 
-__version__ = "0.1.0"
-__all__ = ["Model", "StaticAnalysis", "TransientAnalysis", "eigen", "domain_state",
+__all__ = ["__version__", "Model", "StaticAnalysis", "TransientAnalysis", "eigen", "domain_state",
            "Constant", "Linear", "Path",
            "VtsiError", "ModelError", "AnalysisError", "DivergenceError", "CommandError"]

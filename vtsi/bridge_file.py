@@ -41,6 +41,8 @@ import traceback
 from dataclasses import dataclass, field
 from typing import Callable
 
+from vtsi import opensees
+from vtsi.commands.tcl import Interpreter
 from vtsi.errors import ModelError, VtsiError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
@@ -268,8 +270,6 @@ def script_bridge(path, track=None):
     """Run the model script ``path`` (.tcl or .py) with vtsi's command layer in a fresh session
     and return its model and track as a SweepBridge (description: kind 'script', the absolute
     path, the file's sha256 and the track tag). The script's load patterns are dropped."""
-    from vtsi import opensees
-
     path = os.path.abspath(os.fspath(path))
     with open(path, "rb") as f:
         sha256 = hashlib.sha256(f.read()).hexdigest()
@@ -310,7 +310,6 @@ def script_bridge(path, track=None):
 
 def _run_tcl(path, session):
     try:
-        from vtsi.tcl import Interpreter
         interp = Interpreter(session)
     except ImportError as exc:
         raise ModelError(f"bridge script {path}: Tcl scripts need tkinter ({exc})") from None
@@ -331,8 +330,6 @@ def _tcl_line(text, path):
 
 
 def _run_python(path, session):
-    from vtsi import opensees
-
     old_session = opensees.set_session(session)
     old_argv, old_path = sys.argv, list(sys.path)
     sys.argv = [path]

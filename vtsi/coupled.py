@@ -33,6 +33,7 @@ from vtsi.banded import (
     ldl_band,
 )
 from vtsi.constraint import MovingLoadConstraint
+from vtsi.contact import contact_events, contact_summary
 from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import HHT, Newmark, make_integrator
@@ -621,13 +622,11 @@ class CoupledAnalysis:
     # -- contact results ------------------------------------------------------------------
     def contact_events(self, interpolate=True):
         """Lift-off and landing events of the steps run so far (:func:`vtsi.contact.contact_events`)."""
-        from vtsi.contact import contact_events
         return contact_events(self, interpolate=interpolate)
 
     def contact_summary(self, static_load=None, interpolate=True):
         """Per-wheel separations, longest flight, force extremes and unloading ratio ΔQ/Q of the
         steps run so far (:func:`vtsi.contact.contact_summary`)."""
-        from vtsi.contact import contact_summary
         return contact_summary(self, static_load=static_load, interpolate=interpolate)
 
     def _previous_forces(self, width):

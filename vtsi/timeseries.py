@@ -1,8 +1,8 @@
 """Time series: load factor as a function of time, evaluated on arrays of times.
 
-Conventions follow OpenSees (``timeSeries Constant / Linear / Path``): a Path is linearly
-interpolated between its points, zero before its first time and after its last one (unless
-``use_last``, which then holds the last value).
+Conventions follow OpenSees (``timeSeries Constant / Linear / Path / Trig / Triangle /
+Rectangular / Pulse``) to the last bit: a :class:`Path` is OpenSees's PathSeries (``dt``) or
+PathTimeSeries (``time``).
 """
 import numpy as np
 
@@ -130,15 +130,24 @@ class Pulse(TimeSeries):
 
 
 class Path(TimeSeries):
-    """Piecewise-linear factor through ``(time, values)``.
+    """Piecewise-linear factor through samples: OpenSees's ``timeSeries Path``, with its rules.
 
     Parameters
     ----------
-    time : array (n,), strictly increasing [s]; or None with ``dt``: times ``start_time + k dt``.
     values : array (n,) of factors.
+    dt : sample step [s]: samples at ``start_time + k dt`` (OpenSees ``-dt``), or
+    time : array (n,), strictly increasing [s] (OpenSees ``-time``).
     factor : scale applied to ``values``.
-    use_last : hold the last value after the last time (else zero).
-    prepend_zero : insert a zero value before the first one (at ``time[0] - dt``, or at 0).
+    use_last : hold the last value after the last sample (else zero).
+    prepend_zero : (``dt`` form) a zero sample at ``start_time``, the given values one ``dt``
+        later (OpenSees ``-prependZero``).
+    start_time : (``dt`` form) time of the first sample [s].
+
+    The ``dt`` form is evaluated as ``PathSeries::getFactor``: ``x = (t - t0)/dt``,
+    ``i = floor(x)``; zero before ``t0``; ``factor (v[i] + (v[i+1] - v[i]) (x - i))`` while
+    ``i + 1 < n``; beyond, the last sample itself included, zero or, with ``use_last``,
+    ``factor v[n-1]``. The ``time`` form as ``PathTimeSeries::getFactor``: zero before the first
+    time, ``factor v[n-1]`` at the last time, after it zero or, with ``use_last``, ``factor v[n-1]``.
     """
 
     def __init__(self, values, time=None, dt=None, factor=1.0, use_last=False, prepend_zero=False,
@@ -150,14 +159,22 @@ class Path(TimeSeries):
         if not np.all(np.isfinite(values)):
             bad = int(np.flatnonzero(~np.isfinite(values))[0])
             raise ModelError(f"{name}: value {bad} is {values[bad]} (NaN or inf)")
+        start_time = _finite("Path", tag, "start_time", start_time)
         if time is None:
             if dt is None:
                 raise ModelError(f"{name}: give the sample times (time=...) or the step dt")
             dt = _finite("Path", tag, "dt", dt)
             if not dt > 0.0:
                 raise ModelError(f"{name}: dt must be > 0, got {dt}")
-            time = _finite("Path", tag, "start_time", start_time) + dt * np.arange(values.size)
+            if prepend_zero:
+                values = np.r_[0.0, values]
+            time = start_time + dt * np.arange(values.size)
         else:
+            if dt is not None:
+                raise ModelError(f"{name}: give either the sample times or the step dt, not both")
+            if prepend_zero or start_time != 0.0:
+                raise ModelError(f"{name}: prepend_zero and start_time apply to the dt form only (OpenSees "
+                                 "ignores them with -time); shift or extend the times instead")
             time = _numbers(name, "time", time)
             if time.size != values.size:
                 raise ModelError(f"{name}: {time.size} times but {values.size} values")
@@ -167,54 +184,55 @@ class Path(TimeSeries):
             steps = np.diff(time)
             if np.any(steps <= 0.0):
                 bad = int(np.flatnonzero(steps <= 0.0)[0])
-                raise ModelError(f"{name}: times must increase; time[{bad + 1}] = {time[bad + 1]:g} "
+                raise ModelError(f"{name}: times must increase strictly; time[{bad + 1}] = {time[bad + 1]:g} "
                                  f"follows time[{bad}] = {time[bad]:g}")
-        if prepend_zero:
-            t0 = time[0] - (dt if dt is not None else 0.0) if dt is not None else 0.0
-            if t0 >= time[0]:
-                t0 = time[0] - 1e-12 * max(1.0, abs(time[0]))
-            time, values = np.r_[t0, time], np.r_[0.0, values]
         self.time, self.values = time, values
-        # the grid's step when it is uniform by construction (-dt), else None
-        self.dt = float(dt) if dt is not None and (not prepend_zero or time.size < 3 or
-                                                     time[1] - time[0] == dt) else None
+        self.dt = None if dt is None else float(dt)        # the -dt form's step, None for the -time form
+        self.start_time = start_time
         self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), bool(use_last), tag
 
     def stack_key(self):
-        """Series on the same grid (same length, start, end, dt, use_last) stack; computed once."""
+        """Series on the same grid stack (a Path per loaded node is evaluated in one gather)."""
         key = getattr(self, "_stack_key", None)
         if key is None:
-            grid = ("dt", self.dt) if self.dt is not None else ("time", self.time.tobytes())
-            key = self._stack_key = (self.time.shape[0], float(self.time[0]), float(self.time[-1]), self.use_last,
-                                     grid)
+            grid = ("dt", self.dt, self.start_time) if self.dt is not None else ("time", self.time.tobytes())
+            key = self._stack_key = (self.values.size, self.use_last, grid)
         return key
 
     @classmethod
     def stack_factors(cls, key, table, times):
-        """Unscaled factors of the stacked ``table`` on the grid of ``key`` at ``times``."""
-        n, t0, t1, use_last, (kind, grid) = key
-        grid = t0 + grid * np.arange(n) if kind == "dt" else np.frombuffer(grid)
-        if n > 1:
-            j = np.clip(np.searchsorted(grid, times, side="right") - 1, 0, n - 2)
-            w = np.clip((times - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
-            # a time within 1e-10 of a step of a grid point is on it (step times are sums of
-            # dt and differ from the grid's k dt by rounding)
-            up = w > 1.0 - 1e-10
-            j, w = np.where(up, j + 1, j), np.where(up | (w < 1e-10), 0.0, w)
+        """Unscaled factors ``(len(times), n)`` of the stacked ``table`` (n_samples, n) on the grid
+        of ``key`` at ``times``, with the rules of the class docstring."""
+        size, use_last, grid = key
+        times = np.asarray(times, dtype=float)
+        out = np.zeros((len(times), table.shape[1]))
+        if grid[0] == "dt":
+            _, dt, start = grid
+            x = (times - start) / dt
+            i = np.floor(x)
+            started = times >= start
+            inside = started & (i + 1 < size)
+            k = i[inside].astype(np.int64)
+            out[inside] = interpolate_rows(table, k, x[inside] - k)
+            beyond = started & ~inside
         else:
-            j, w = np.zeros(len(times), dtype=np.int64), np.zeros(len(times))
-        inside = interpolate_rows(table, j, w)
-        inside[times < t0] = 0.0
-        inside[times > t1] = table[-1] if use_last else 0.0
-        return inside
+            time = np.frombuffer(grid[1])
+            k = np.searchsorted(time, times, side="right") - 1
+            inside = (k >= 0) & (k < size - 1)
+            kk = k[inside]
+            w = (times[inside] - time[kk]) / (time[kk + 1] - time[kk])
+            out[inside] = interpolate_rows(table, kk, w)
+            out[times == time[-1]] = table[-1]
+            beyond = times > time[-1]
+        if use_last:
+            out[beyond] = table[-1]
+        return out
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
-        right = self.values[-1] if self.use_last else 0.0
-        out = np.interp(t, self.time, self.values, left=0.0, right=right)
-        if not self.use_last:
-            out = np.where(t > self.time[-1], 0.0, out)
-        return self.factor * out
+        flat = t.reshape(-1)
+        out = self.stack_factors(self.stack_key(), self.values[:, None], flat)[:, 0]
+        return self.factor * out.reshape(t.shape)
 
 
 def _numbers(name, what, values):

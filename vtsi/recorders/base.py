@@ -41,6 +41,10 @@ c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of
 import numpy as np
 
 from vtsi.errors import ModelError
+from vtsi.version import __version__
+
+from .envelope import Envelope
+from .sinks import MemorySink, Sink
 
 DT_TOLERANCE = 1e-5   # OpenSees relDeltaTTol
 
@@ -63,9 +67,6 @@ class Recorder:
     name = "Recorder"
 
     def __init__(self, sink=None, dt=None, envelope=False, history=True, tag=None):
-        from vtsi.recorders.envelope import Envelope
-        from vtsi.recorders.sinks import MemorySink, Sink
-
         if sink is None:
             sink = MemorySink()
         if not isinstance(sink, Sink):
@@ -159,9 +160,7 @@ class Recorder:
 
 
 def _model_metadata(assembly, model, info):
-    import vtsi
-
-    meta = {"vtsi_version": vtsi.__version__, "n_nodes": int(len(assembly.node_tags)),
+    meta = {"vtsi_version": __version__, "n_nodes": int(len(assembly.node_tags)),
             "n_elements": int(len(assembly.element_location)), "ndf": int(assembly.ndf)}
     for key, value in (info or {}).items():
         if value is not None:

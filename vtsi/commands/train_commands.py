@@ -1,5 +1,5 @@
 """vtsi's own OpenSees-style commands for the coupled train-bridge analysis (a mixin of
-:class:`vtsi.opensees.Session`; documented in docs/commands.md, section 'Trains').
+:class:`vtsi.commands.session.Session`; documented in docs/commands.md, section 'Trains').
 
     track(tag, '-ele', e1, e2, ...)  |  track(tag, '-eleRange', first, last)
     car(tag, 'movingForce', P)  |  car(tag, 'movingMass', m)
@@ -28,8 +28,17 @@ at the first ``analyze``, unless ``deadLoad()`` was called).
 """
 import numpy as np
 
+from vtsi import recorders as rec
+from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled import CoupledAnalysis, coupled_integrator
 from vtsi.errors import CommandError, ModelError
+from vtsi.models import Irregularity, cars, fra_psd, german_psd, trains
+from vtsi.track import Track
+from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
+
+from .args import Args
+from .base import SessionBase
 
 TRAIN_COMMANDS = ("units", "track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
 CAR_TYPES = ("movingForce", "movingMass", "sprungMass", "fourDof", "catalogue")
@@ -37,12 +46,7 @@ CONTACT_RESPONSES = {"force": "force", "gap": "gap", "inContact": "in_contact"}
 TRAIN_RESPONSES = ("disp", "vel", "accel")
 
 
-def _args(command, args):
-    from vtsi.opensees import _Args
-    return _Args(command, args)
-
-
-class TrainCommands:
+class TrainCommands(SessionBase):
     """Track, cars, trains, irregularities, the moving-load constraint and contact strategy."""
 
     def _clear_train(self):
@@ -61,7 +65,7 @@ class TrainCommands:
         """``units(force, length)``: the model's units, 'N'|'kN'|'MN' and 'm'|'cm'|'mm' (time s,
         mass force·s²/length: kN and m give t). Declare them before any car, train or
         irregularity: the SI catalogue data are converted as they are built."""
-        a = _args("units", args)
+        a = Args("units", args)
         force, length = a.word("force unit", tuple(FORCE_UNITS)), a.word("length unit", tuple(LENGTH_UNITS))
         a.done()
         if self._cars or self._trains or self._irregularities:
@@ -74,7 +78,7 @@ class TrainCommands:
         """``track(tag, '-ele', e...)`` or ``track(tag, '-eleRange', first, last)``: the chain of
         beam elements the wheels run along (horizontal, ordered along +x, no gaps)."""
         model = self._model("track")
-        a = _args("track", args)
+        a = Args("track", args)
         tag = a.int("track tag")
         self._new(self._tracks, "track", tag)
         opt = a.option(("-ele", "-eleRange"))
@@ -90,8 +94,7 @@ class TrainCommands:
 
     def car(self, *args):
         """``car(tag, type, ...)``: a vehicle (see the module docstring for the types)."""
-        from vtsi.models import cars
-        a = _args("car", args)
+        a = Args("car", args)
         tag = a.int("car tag")
         self._new(self._cars, "car", tag)
         kind = a.word("car type", CAR_TYPES)
@@ -120,8 +123,7 @@ class TrainCommands:
     def train(self, *args):
         """``train(tag, speed, '-cars', car, offset, ...)``, ``'-ICE3', n``, ``'-HSLM', 'A1'`` or
         ``'-axleFile', path`` (CSV: position_m, load_kN)."""
-        from vtsi.models import trains
-        a = _args("train", args)
+        a = Args("train", args)
         tag = a.int("train tag")
         self._new(self._trains, "train", tag)
         try:
@@ -155,8 +157,7 @@ class TrainCommands:
         """``irregularity(tag, 'profile', '-x', x..., '-r', r...)``, ``(tag, 'file', path)``, or a
         random profile ``(tag, 'german', 'low'|'high', x_first, x_last, ['-seed', s])`` /
         ``(tag, 'fra', class, x_first, x_last, ['-seed', s])`` (one-sided PSDs, 3-150 m)."""
-        from vtsi.models import Irregularity, fra_psd, german_psd
-        a = _args("irregularity", args)
+        a = Args("irregularity", args)
         tag = a.int("irregularity tag")
         self._new(self._irregularities, "irregularity", tag)
         kind = a.word("irregularity type", ("profile", "file", "german", "fra"))
@@ -197,7 +198,7 @@ class TrainCommands:
     def movingLoadConstraint(self, *args):
         """``movingLoadConstraint(tag, trainTag, trackTag, xHead0, ['-irregularity', t], ['-bspline'],
         ['-exactEvents'])``."""
-        a = _args("movingLoadConstraint", args)
+        a = Args("movingLoadConstraint", args)
         tag = a.int("constraint tag")
         if self._constraint is not None:
             raise CommandError(f"movingLoadConstraint {tag}: a constraint is already defined (one train per model)")
@@ -233,7 +234,7 @@ class TrainCommands:
 
     def contact(self, *args):
         """``contact('bilateral')`` (wheels always on the rail) or ``contact('lcp')`` (contact loss)."""
-        a = _args("contact", args)
+        a = Args("contact", args)
         self._contact = a.word("contact strategy", ("bilateral", "lcp"))
         a.done()
         self._coupled = None
@@ -243,7 +244,7 @@ class TrainCommands:
         weight and the patterns; with ``-selfWeight`` also under the bridge's own weight (-g M in
         y, g = 9.81 m/s²), the results then being totals. Without it they are the response to the
         train and the patterns (a script that applies the deck's weight by a pattern gets totals)."""
-        a = _args("deadLoad", args)
+        a = Args("deadLoad", args)
         self_weight = a.more() and a.option(("-selfWeight",)) == "-selfWeight"
         a.done()
         if self_weight != self._self_weight:
@@ -253,10 +254,6 @@ class TrainCommands:
 
     # -- the analysis ----------------------------------------------------------------------------
     def _coupled_analysis(self, command, dt):
-        from vtsi.constraint import MovingLoadConstraint
-        from vtsi.coupled import CoupledAnalysis, coupled_integrator
-        from vtsi.track import Track
-        from vtsi.train import TrainSubdomain
         if self._constraint is None:
             raise CommandError(f"{command}: no movingLoadConstraint defined")
         model = self._model(command)
@@ -292,8 +289,7 @@ class TrainCommands:
 
     def _vehicle_recorder(self, *args):
         """``recorder('Contact', ...)`` or ``recorder('Train', ...)`` (see the module docstring)."""
-        from vtsi import recorders as rec
-        a = _args("recorder", args)
+        a = Args("recorder", args)
         kind = a.word("recorder type", ("Contact", "Train"))
         name = f"recorder {kind}"
         a.command = name

@@ -1,0 +1,194 @@
+"""Arguments of OpenSees-style commands: a cursor that names the command and the argument in
+every error, the Tcl word rules (OpenSees reads an integer word as an int, a number as a float)
+and small readers shared by the command modules."""
+import math
+import re
+
+import numpy as np
+
+from vtsi.errors import CommandError
+
+
+class UnknownCommand(CommandError, AttributeError):
+    """A command (or module attribute) that this layer does not offer."""
+
+
+def is_int(x):
+    return isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_))
+
+
+def is_number(x):
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
+
+
+def flatten(args):
+    """Arguments with lists, tuples and arrays spread out (Tcl lists arrive as Python lists)."""
+    out = []
+    for a in args:
+        if isinstance(a, (list, tuple)):
+            out.extend(flatten(a))
+        elif isinstance(a, np.ndarray):
+            out.extend(flatten(a.ravel().tolist()))
+        else:
+            out.append(a)
+    return out
+
+
+class Args:
+    """A cursor over one command's arguments; every error names the command and the argument."""
+
+    def __init__(self, command, args):
+        self.command = command
+        self.items = flatten(args)
+        self.pos = 0
+
+    def more(self):
+        return self.pos < len(self.items)
+
+    def peek(self):
+        return self.items[self.pos] if self.more() else None
+
+    def next_is_number(self):
+        return self.more() and is_number(self.peek())
+
+    def take(self, what):
+        if not self.more():
+            raise CommandError(f"{self.command}: missing {what}")
+        x = self.items[self.pos]
+        self.pos += 1
+        return x
+
+    def int(self, what):
+        x = self.take(what)
+        if not is_int(x):
+            raise CommandError(f"{self.command}: {what} must be an integer, got {x!r}")
+        return int(x)
+
+    def float(self, what):
+        x = self.take(what)
+        if not is_number(x):
+            raise CommandError(f"{self.command}: {what} must be a number, got {x!r}")
+        x = float(x)
+        if not math.isfinite(x):
+            raise CommandError(f"{self.command}: {what} must be finite, got {x}")
+        return x
+
+    def word(self, what, choices=None):
+        x = self.take(what)
+        if not isinstance(x, str):
+            raise CommandError(f"{self.command}: {what} must be a name, got {x!r}")
+        if choices is not None and x not in choices:
+            raise CommandError(f"{self.command}: {what} {x!r} is not supported; supported: {', '.join(choices)}")
+        return x
+
+    def floats(self, what):
+        out = []
+        while self.next_is_number():
+            out.append(self.float(what))
+        return out
+
+    def ints(self, what):
+        out = []
+        while self.next_is_number():
+            out.append(self.int(what))
+        return out
+
+    def option(self, valid):
+        """The next option name (a str); an unknown one raises naming it and the valid ones."""
+        x = self.take("option")
+        if not isinstance(x, str):
+            raise CommandError(f"{self.command}: unexpected argument {x!r} (expected an option: {', '.join(valid)})")
+        if x not in valid:
+            raise CommandError(f"{self.command}: option {x!r} is not supported; supported: {', '.join(valid)}")
+        return x
+
+    def done(self):
+        if self.more():
+            raise CommandError(f"{self.command}: unexpected argument {self.peek()!r}")
+
+
+def dof_value(values, dof, what):
+    """``values`` (list) or its 1-based component ``dof`` (-1: all), as OpenSeesPy returns them."""
+    if dof == -1:
+        return [float(v) for v in values]
+    if not is_int(dof) or not 1 <= dof <= len(values):
+        raise CommandError(f"{what}: dof must be -1 (all) or 1..{len(values)}, got {dof!r}")
+    return float(values[int(dof) - 1])
+
+
+# ---------------------------------------------------------------------------------------------
+# time series with OpenSees's exact rules
+
+def read_numbers(command, path):
+    """The numbers of the text file ``path`` (whitespace-separated), or a CommandError."""
+    try:
+        with open(path) as fh:
+            words = fh.read().split()
+    except OSError as exc:
+        raise CommandError(f"{command}: cannot read {path}: {exc.strerror}") from None
+    try:
+        return np.array([float(w) for w in words])
+    except ValueError as exc:
+        raise CommandError(f"{command}: {path} holds a word that is not a number ({exc})") from None
+
+
+
+_INT = re.compile(r"^[+-]?\d+$")
+_FLOAT = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+
+def convert_word(word):
+    """A Tcl word as OpenSees reads it: ``int``, ``float``, a list of numbers (a word holding
+    several numbers) or the ``str`` itself."""
+    if not isinstance(word, str):
+        return word
+    w = word.strip()
+    if _INT.match(w):
+        return int(w)
+    if _FLOAT.match(w):
+        return float(w)
+    if w and any(c.isspace() for c in w):
+        items = split_list(w)
+        if items and all(_INT.match(x) or _FLOAT.match(x) for x in items):
+            return [convert_word(x) for x in items]
+    return word
+
+
+def split_list(text):
+    """Split a Tcl list (whitespace-separated words; ``{...}`` and ``"..."`` group, braces nest)."""
+    words, i, n = [], 0, len(text)
+    while i < n:
+        while i < n and text[i].isspace():
+            i += 1
+        if i >= n:
+            break
+        if text[i] == "{":
+            depth, j = 1, i + 1
+            while j < n and depth:
+                if text[j] == "\\":
+                    j += 2
+                    continue
+                depth += {"{": 1, "}": -1}.get(text[j], 0)
+                j += 1
+            if depth:
+                raise CommandError(f"Tcl list {text!r}: unmatched open brace")
+            words.append(text[i + 1: j - 1])
+            i = j
+        elif text[i] == '"':
+            j = text.find('"', i + 1)
+            if j < 0:
+                raise CommandError(f"Tcl list {text!r}: unmatched quote")
+            words.append(text[i + 1: j])
+            i = j + 1
+        else:
+            j = i
+            while j < n and not text[j].isspace():
+                j += 1
+            words.append(text[i:j])
+            i = j
+    return words
+
+
+def tcl_words(text):
+    """A Tcl-like word list (``'Path -dt 0.1 -values {1 2 3}'``) as typed words."""
+    return [convert_word(w) for w in split_list(text)]

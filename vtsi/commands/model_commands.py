@@ -1,0 +1,451 @@
+"""Model-building commands: ``model``, ``node``, ``fix``, ``mass``, ``geomTransf``,
+``uniaxialMaterial``, ``element``, ``timeSeries``, ``pattern``, ``load``, ``rayleigh``, with
+OpenSees's argument orders (docs/commands.md)."""
+import math
+import os
+
+import numpy as np
+
+from vtsi.elements import command_element_types
+from vtsi.errors import CommandError, ModelError
+from vtsi.model import Model
+from vtsi.timeseries import Constant, Linear, Path, Pulse, Rectangular, Triangle, Trig
+
+from .args import Args, is_int, read_numbers, tcl_words
+from .base import SessionBase
+
+MODEL_COMMANDS = ("model", "node", "fix", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
+                  "pattern", "load", "rayleigh")
+ELEMENT_TYPES = ("elasticBeamColumn", "truss", "zeroLength")
+MATERIAL_TYPES = ("Elastic", "Viscous")
+SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
+
+
+class ModelCommands(SessionBase):
+    """The model: nodes, elements and their materials and transformations, loads and damping."""
+
+    def _clear_model(self):
+        self.domain = None
+        self._materials = {}
+        self._transforms = {}
+        self._zero_length = {}     # element tag -> [(dir, E, eta) per material]
+        self._current_pattern = None
+        self._series_count = 0
+
+    def model(self, *args):
+        """``model('basic', '-ndm', 2, '-ndf', 3)`` (``-ndf`` defaults to 3 for ``-ndm 2``)."""
+        a = Args("model", args)
+        kind = a.word("builder")
+        if kind not in ("basic", "Basic", "BasicBuilder"):
+            raise CommandError(f"model: builder {kind!r} is not supported; supported: basic")
+        ndm, ndf = None, None
+        while a.more():
+            opt = a.option(("-ndm", "-ndf"))
+            if opt == "-ndm":
+                ndm = a.int("-ndm")
+            else:
+                ndf = a.int("-ndf")
+        if ndm is None:
+            raise CommandError("model: -ndm is required")
+        if ndm != 2:
+            raise CommandError(f"model: vtsi is 2-D, -ndm must be 2, got {ndm}")
+        ndf = 3 if ndf is None else ndf
+        if ndf not in (2, 3):
+            raise CommandError(f"model: -ndf must be 2 or 3 with -ndm 2, got {ndf}")
+        if self.domain is not None and self.domain.nodes:
+            if self.domain.ndf != ndf:
+                raise CommandError(f"model: the model already has nodes with {self.domain.ndf} dofs; "
+                                   f"call wipe() before changing -ndf to {ndf}")
+            return None
+        if self.domain is None or self.domain.ndf != ndf:
+            self.domain = Model(ndm, ndf)
+        return None
+
+    def node(self, *args):
+        """``node(tag, x, y, ['-mass', *m])``."""
+        model = self._model("node")
+        a = Args("node", args)
+        tag = a.int("node tag")
+        coords = [a.float(f"coordinate {k + 1} of node {tag}") for k in range(model.ndm)]
+        mass = None
+        while a.more():
+            a.option(("-mass",))
+            mass = [a.float(f"node {tag} -mass value") for _ in range(model.ndf)]
+        model.node(tag, *coords)
+        if mass is not None:
+            model.mass(tag, *mass)
+
+    def fix(self, *args):
+        """``fix(node, *flags)`` with one 0/1 flag per dof."""
+        model = self._model("fix")
+        a = Args("fix", args)
+        tag = a.int("node tag")
+        flags = a.ints(f"fix flag of node {tag}")
+        a.done()
+        self._node("fix", tag)
+        model.fix(tag, *flags)
+
+    def mass(self, *args):
+        """``mass(node, *values)``: nodal mass, one value per dof [kg, kg·m²]."""
+        model = self._model("mass")
+        a = Args("mass", args)
+        tag = a.int("node tag")
+        values = a.floats(f"mass of node {tag}")
+        a.done()
+        self._node("mass", tag)
+        model.mass(tag, *values)
+
+    def geomTransf(self, *args):
+        """``geomTransf('Linear', tag)`` (vtsi is linear: PDelta and Corotational are refused)."""
+        self._model("geomTransf")
+        a = Args("geomTransf", args)
+        kind = a.word("transformation type")
+        if kind != "Linear":
+            raise CommandError(f"geomTransf: transformation {kind!r} is not supported (vtsi is linear); "
+                               "supported: Linear")
+        tag = a.int("transformation tag")
+        if a.more():
+            raise CommandError(f"geomTransf Linear {tag}: option {a.peek()!r} is not supported "
+                               "(joint offsets and 3-D vectors are not)")
+        self._transforms[tag] = kind
+
+    def uniaxialMaterial(self, *args):
+        """``uniaxialMaterial('Elastic', tag, E, eta=0, Eneg=E)`` or ``('Viscous', tag, C, alpha=1)``."""
+        self._model("uniaxialMaterial")
+        a = Args("uniaxialMaterial", args)
+        kind = a.word("material type")
+        if kind not in MATERIAL_TYPES:
+            raise CommandError(f"uniaxialMaterial: type {kind!r} is not supported (vtsi is linear); "
+                               f"supported: {', '.join(MATERIAL_TYPES)}")
+        tag = a.int("material tag")
+        if tag in self._materials:
+            raise CommandError(f"uniaxialMaterial {kind} {tag}: material {tag} already exists")
+        name = f"uniaxialMaterial {kind} {tag}"
+        if kind == "Elastic":
+            E = a.float(f"{name}: E")
+            eta = a.float(f"{name}: eta") if a.more() else 0.0
+            e_neg = a.float(f"{name}: Eneg") if a.more() else E
+            a.done()
+            if e_neg != E:
+                raise CommandError(f"{name}: Eneg = {e_neg:g} differs from E = {E:g}, which makes the material "
+                                   "nonlinear (bilinear in tension/compression); vtsi is linear")
+            if E < 0 or eta < 0:
+                raise CommandError(f"{name}: E and eta must be >= 0, got E = {E:g}, eta = {eta:g}")
+            self._materials[tag] = ("Elastic", E, eta)
+        else:
+            C = a.float(f"{name}: C")
+            alpha = a.float(f"{name}: alpha") if a.more() else 1.0
+            if a.more():
+                a.float(f"{name}: minVel")   # only matters for alpha != 1
+            a.done()
+            if alpha != 1.0:
+                raise CommandError(f"{name}: alpha = {alpha:g} makes the dashpot nonlinear "
+                                   "(sigma = C |rate|^alpha); vtsi supports alpha = 1 only")
+            if C < 0:
+                raise CommandError(f"{name}: C must be >= 0, got {C:g}")
+            self._materials[tag] = ("Viscous", 0.0, C)
+
+    def _material(self, command, tag):
+        if tag not in self._materials:
+            raise CommandError(f"{command}: material {tag} does not exist")
+        return self._materials[tag]
+
+    def element(self, *args):
+        """``element(type, tag, ...)`` with the argument order of OpenSees for
+        ``'elasticBeamColumn'``, ``'truss'`` and ``'zeroLength'`` (see ``docs/commands.md``), and
+        ``element(type, tag, *nodes, *command_args, *options)`` for any element type registered in
+        :mod:`vtsi.elements` that declares its command (``command_args``, ``command_options``)."""
+        model = self._model("element")
+        a = Args("element", args)
+        kind = a.word("element type")
+        if kind not in ELEMENT_TYPES and kind not in command_element_types():
+            raise CommandError(f"element: type {kind!r} is not supported; supported: "
+                               f"{', '.join(ELEMENT_TYPES + tuple(command_element_types()))}")
+        tag = a.int("element tag")
+        name = f"element {kind} {tag}"
+        if kind not in ELEMENT_TYPES:
+            return self._element_registered(model, a, name, tag, command_element_types()[kind])
+        i, j = a.int(f"{name}: node i"), a.int(f"{name}: node j")
+        for n in (i, j):
+            self._node(name, n)
+        getattr(self, "_element_" + kind)(model, a, name, tag, i, j)
+
+    def _element_registered(self, model, a, name, tag, cls):
+        """A registered type's command: its nodes, then ``cls.command_args`` in order, then the
+        options of ``cls.command_options`` (an option naming a parameter takes one number; one
+        mapped to ``(parameter, value)`` is a flag)."""
+        a.command = name
+        nodes = [a.int(f"node {k + 1}") for k in range(cls.n_nodes)]
+        for n in nodes:
+            self._node(name, n)
+        params = {p: a.float(p) for p in cls.command_args}
+        options = dict(cls.command_options)
+        while a.more():
+            opt = a.option(tuple(options))
+            target = options[opt]
+            if isinstance(target, tuple):
+                params[target[0]] = target[1]
+            else:
+                params[target] = a.float(opt)
+        try:
+            model.element(cls.name, tag, nodes, **params)
+        except ModelError as exc:
+            raise CommandError(str(exc)) from None
+
+    def _element_elasticBeamColumn(self, model, a, name, tag, i, j):
+        if model.ndf != 3:
+            raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
+        A, E, Iz = a.float(f"{name}: A"), a.float(f"{name}: E"), a.float(f"{name}: Iz")
+        if not a.next_is_number():
+            raise CommandError(f"{name}: missing transfTag (element('elasticBeamColumn', tag, i, j, A, E, Iz, "
+                               "transfTag, ...))")
+        transf = a.int(f"{name}: transfTag")
+        if a.next_is_number():
+            raise CommandError(f"{name}: the section form (secTag, transfTag) is not supported; give A, E, Iz")
+        if transf not in self._transforms:
+            raise CommandError(f"{name}: geomTransf {transf} does not exist")
+        rho, cmass = 0.0, 0
+        while a.more():
+            opt = a.option(("-mass", "-cMass"))
+            if opt == "-mass":
+                rho = a.float(f"{name}: -mass")
+            else:
+                cmass = 1
+        model.element("elasticBeamColumn", tag, (i, j), A=A, E=E, I=Iz, rho=rho, cmass=cmass)
+
+    def _element_truss(self, model, a, name, tag, i, j):
+        A = a.float(f"{name}: A")
+        mat = a.int(f"{name}: matTag")
+        kind, E, eta = self._material(name, mat)
+        if kind != "Elastic" or eta != 0.0:
+            raise CommandError(f"{name}: material {mat} must be Elastic without damping (eta = 0) for a truss "
+                               "in vtsi; use a zeroLength dashpot for damping")
+        rho, cmass, do_rayleigh = 0.0, 0, 0
+        while a.more():
+            opt = a.option(("-rho", "-cMass", "-doRayleigh"))
+            if opt == "-rho":
+                rho = a.float(f"{name}: -rho")
+            elif opt == "-cMass":
+                cmass = a.int(f"{name}: -cMass flag") if a.next_is_number() else 1
+            else:
+                do_rayleigh = a.int(f"{name}: -doRayleigh flag") if a.next_is_number() else 1
+        model.element("truss", tag, (i, j), A=A, E=E, rho=rho, cmass=cmass, do_rayleigh=do_rayleigh)
+
+    def _element_zeroLength(self, model, a, name, tag, i, j):
+        if model.ndf != 3:
+            raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
+        mats, dirs, orient, do_rayleigh = [], [], None, 0
+        while a.more():
+            opt = a.option(("-mat", "-dir", "-orient", "-doRayleigh"))
+            if opt == "-mat":
+                mats = a.ints(f"{name}: -mat tag")
+            elif opt == "-dir":
+                dirs = a.ints(f"{name}: -dir")
+            elif opt == "-orient":
+                orient = a.floats(f"{name}: -orient")
+            else:
+                do_rayleigh = a.int(f"{name}: -doRayleigh flag") if a.next_is_number() else 1
+        if not mats:
+            raise CommandError(f"{name}: no materials (-mat tags ...)")
+        if len(mats) != len(dirs):
+            raise CommandError(f"{name}: {len(mats)} materials (-mat) but {len(dirs)} directions (-dir)")
+        angle = 0.0
+        if orient is not None:
+            # 2-D: local x from the first vector; local y is x turned +90 degrees and rz is the
+            # global rotation whatever the side of yp (measured on OpenSeesPy 3.7.1)
+            if len(orient) != 6:
+                raise CommandError(f"{name}: -orient needs 6 numbers (x1 x2 x3 yp1 yp2 yp3), got {len(orient)}")
+            x, yp = np.array(orient[:3]), np.array(orient[3:])
+            if x[2] != 0.0 or np.hypot(x[0], x[1]) == 0.0:
+                raise CommandError(f"{name}: -orient x = {x.tolist()} must lie in the x-y plane (2-D model)")
+            if np.linalg.norm(np.cross(x, yp)) <= 1e-12 * np.linalg.norm(x) * np.linalg.norm(yp):
+                raise CommandError(f"{name}: -orient yp = {yp.tolist()} is parallel to x = {x.tolist()}")
+            angle = math.atan2(x[1], x[0])
+        params = dict(kx=0.0, ky=0.0, krz=0.0, cx=0.0, cy=0.0, crz=0.0)
+        keys = {1: ("kx", "cx"), 2: ("ky", "cy"), 3: ("krz", "crz"), 6: ("krz", "crz")}
+        for mat, d in zip(mats, dirs):
+            if d not in keys:
+                raise CommandError(f"{name}: -dir {d} is not a 2-D direction; valid: 1 (local x), 2 (local y), "
+                                   "3 or 6 (rotation)")
+            _, E, eta = self._material(name, mat)
+            params[keys[d][0]] += E
+            params[keys[d][1]] += eta
+        model.element("zeroLength", tag, (i, j), angle=angle, do_rayleigh=do_rayleigh, **params)
+        self._zero_length[tag] = [(3 if d == 6 else d, *self._material(name, m)[1:]) for m, d in zip(mats, dirs)]
+
+    def timeSeries(self, *args):
+        """``timeSeries('Constant'|'Linear', tag, ['-factor', f])`` or ``timeSeries('Path', tag, ...)``
+        with OpenSees's options ``-dt``, ``-values``, ``-time``, ``-filePath``, ``-fileTime``,
+        ``-factor``, ``-useLast``, ``-prependZero``, ``-startTime``."""
+        model = self._model("timeSeries")
+        a = Args("timeSeries", args)
+        kind = a.word("series type")
+        if kind not in SERIES_TYPES:
+            raise CommandError(f"timeSeries: type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
+        tag = a.int("series tag")
+        series = self._make_series(kind, tag, a)
+        if tag in model.time_series:
+            raise CommandError(f"timeSeries {kind} {tag}: series {tag} already exists")
+        model.add_time_series(series)
+
+    def _make_series(self, kind, tag, a):
+        name = f"timeSeries {kind} {tag}"
+        a.command = name
+        if kind in ("Constant", "Linear"):
+            f = 1.0
+            while a.more():
+                a.option(("-factor",))
+                f = a.float("-factor")
+            return (Constant if kind == "Constant" else Linear)(f, tag=tag)
+        if kind in ("Trig", "Triangle", "Rectangular", "Pulse"):
+            t0, t1 = a.float("tStart"), a.float("tEnd")
+            period = a.float("period") if kind != "Rectangular" else None
+            extra = {"-factor": 1.0, "-shift": 0.0, "-zeroShift": 0.0, "-width": 0.5}
+            valid = ("-factor",) if kind == "Rectangular" else tuple(extra) if kind == "Pulse" else tuple(extra)[:3]
+            while a.more():
+                opt = a.option(valid)
+                extra[opt] = a.float(opt)
+            try:
+                if kind == "Rectangular":
+                    return Rectangular(t0, t1, extra["-factor"], tag=tag)
+                if kind == "Pulse":
+                    return Pulse(t0, t1, period, extra["-width"], extra["-factor"], extra["-shift"], extra["-zeroShift"],
+                                 tag=tag)
+                return (Trig if kind == "Trig" else Triangle)(t0, t1, period, extra["-factor"], extra["-shift"],
+                                                             extra["-zeroShift"], tag=tag)
+            except ModelError as exc:
+                raise CommandError(str(exc)) from None
+        opts = {}
+        valid = ("-dt", "-values", "-time", "-filePath", "-fileTime", "-factor", "-useLast", "-prependZero",
+                 "-startTime")
+        while a.more():
+            opt = a.option(valid)
+            if opt in opts:
+                raise CommandError(f"{name}: option {opt} given twice")
+            if opt in ("-dt", "-factor", "-startTime"):
+                opts[opt] = a.float(opt)
+            elif opt in ("-values", "-time"):
+                opts[opt] = np.array(a.floats(opt))
+            elif opt in ("-filePath", "-fileTime"):
+                opts[opt] = read_numbers(name, os.fspath(a.word(f"{opt} file")))
+            else:
+                opts[opt] = True
+        if ("-values" in opts) == ("-filePath" in opts):
+            raise CommandError(f"{name}: give the values with either -values or -filePath")
+        if ("-time" in opts) and ("-fileTime" in opts):
+            raise CommandError(f"{name}: give the times with either -time or -fileTime")
+        values = opts.get("-values", opts.get("-filePath"))
+        time = opts.get("-time", opts.get("-fileTime"))
+        factor_ = opts.get("-factor", 1.0)
+        try:
+            if "-dt" in opts:
+                if time is not None:
+                    raise CommandError(f"{name}: give either -dt or -time/-fileTime, not both")
+                if not opts["-dt"] > 0.0:
+                    raise CommandError(f"{name}: -dt must be > 0, got {opts['-dt']:g}")
+                return Path(values, dt=opts["-dt"], factor=factor_, use_last=opts.get("-useLast", False),
+                            prepend_zero=opts.get("-prependZero", False), start_time=opts.get("-startTime", 0.0),
+                            tag=tag)
+            if time is None:
+                raise CommandError(f"{name}: give the sample times with -dt or -time/-fileTime")
+            for opt in ("-prependZero", "-startTime"):
+                if opt in opts:
+                    raise CommandError(f"{name}: option {opt} applies to the -dt form only (OpenSees ignores it "
+                                       "with -time); shift or extend the -time list instead")
+            return Path(values, time=time, factor=factor_, use_last=opts.get("-useLast", False), tag=tag)
+        except ModelError as exc:
+            raise CommandError(str(exc)) from None
+
+    def pattern(self, *args):
+        """``pattern('Plain', tag, tsTag, ['-fact', f])``; following ``load`` commands go to it.
+        ``tsTag`` may also be an inline series as in Tcl (``'Linear'``, ``'Path -dt 0.1 -values {...}'``)."""
+        model = self._model("pattern")
+        a = Args("pattern", args)
+        kind = a.word("pattern type")
+        if kind == "UniformExcitation":
+            return self._uniform_excitation(model, a)
+        if kind != "Plain":
+            raise CommandError(f"pattern: type {kind!r} is not supported; supported: Plain, UniformExcitation")
+        tag = a.int("pattern tag")
+        name = f"pattern Plain {tag}"
+        spec = a.take(f"{name}: time series tag")
+        if isinstance(spec, str):
+            series = self._inline_series(name, spec)
+        elif is_int(spec):
+            if int(spec) not in model.time_series:
+                raise CommandError(f"{name}: time series {spec} does not exist")
+            series = model.time_series[int(spec)]
+        else:
+            raise CommandError(f"{name}: time series tag must be an integer, got {spec!r}")
+        fact = 1.0
+        while a.more():
+            a.option(("-fact", "-factor"))
+            fact = a.float(f"{name}: -fact")
+        if tag in model.patterns:
+            raise CommandError(f"{name}: pattern {tag} already exists")
+        model.pattern(tag, series, fact)
+        self._current_pattern = tag
+
+    def _uniform_excitation(self, model, a):
+        """``pattern('UniformExcitation', tag, dir, '-accel', tsTag, ['-fact', f])``: a ground
+        acceleration along dof ``dir`` (1 x, 2 y) [L/s²]; responses relative to the ground."""
+        tag = a.int("pattern tag")
+        name = f"pattern UniformExcitation {tag}"
+        a.command = name
+        direction = a.int("direction")
+        series, fact = None, 1.0
+        while a.more():
+            opt = a.option(("-accel", "-fact", "-factor"))
+            if opt == "-accel":
+                spec = a.take("-accel time series tag")
+                if isinstance(spec, str):
+                    series = self._inline_series(name, spec)
+                elif is_int(spec) and int(spec) in model.time_series:
+                    series = model.time_series[int(spec)]
+                else:
+                    raise CommandError(f"{name}: -accel time series {spec!r} does not exist")
+            else:
+                fact = a.float(opt)
+        if series is None:
+            raise CommandError(f"{name}: give the ground acceleration with -accel tsTag (-disp, -vel: not supported)")
+        if direction not in (1, 2):
+            raise CommandError(f"{name}: direction must be 1 (x) or 2 (y), got {direction}")
+        if tag in model.patterns:
+            raise CommandError(f"{name}: pattern {tag} already exists")
+        model.uniform_excitation(tag, direction, series, fact)
+        self._current_pattern = None
+
+    def _inline_series(self, name, spec):
+        words = tcl_words(spec)
+        if not words:
+            raise CommandError(f"{name}: empty time series specification")
+        self._series_count += 1
+        a = Args(f"{name} series", words[1:])
+        kind = words[0]
+        if kind not in SERIES_TYPES:
+            raise CommandError(f"{name}: series type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
+        return self._make_series(kind, -self._series_count, a)
+
+    def load(self, *args):
+        """``load(node, *values)``: nodal load of the last pattern defined [N, N·m]."""
+        model = self._model("load")
+        a = Args("load", args)
+        tag = a.int("node tag")
+        values = a.floats(f"load on node {tag}")
+        pattern = self._current_pattern
+        while a.more():
+            a.option(("-pattern",))
+            pattern = a.int("-pattern tag")
+        self._node("load", tag)
+        if pattern is None or pattern not in model.patterns:
+            raise CommandError(f"load on node {tag}: no load pattern; define one with pattern('Plain', tag, tsTag)")
+        model.load(pattern, tag, *values)
+
+    def rayleigh(self, *args):
+        """``rayleigh(alphaM, betaK, betaKinit, betaKcomm)``: ``C = αM M + (βK + βK0 + βKc) K``."""
+        model = self._model("rayleigh")
+        a = Args("rayleigh", args)
+        values = [a.float(n) for n in ("alphaM", "betaK", "betaKinit", "betaKcomm")]
+        a.done()
+        model.rayleigh(*values)
+

@@ -1,0 +1,230 @@
+"""Query commands: ``nodeDisp``, ``nodeVel``, ``nodeAccel``, ``nodeReaction`` after
+``reactions``, ``eleForce``, ``eleResponse``, ``getTime``, ``setTime``, ``loadConst``,
+``getLoadFactor``, ``nodeMass``, ``nodeBounds``, ``nodeCoord``, ``nodeEigenvector``,
+``nodeResponse``, ``getNodeTags``, ``getEleTags``, with OpenSees's return values."""
+import numpy as np
+
+from vtsi.analysis import domain_state
+from vtsi.errors import CommandError
+
+from .args import Args, dof_value, is_int, is_number
+from .base import SessionBase
+from .responses import ELEMENT_RESPONSE_ALIASES, apply_layout, opensees_layout
+
+QUERY_COMMANDS = ("nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce", "eleResponse",
+                  "getTime", "setTime", "loadConst", "nodeCoord", "nodeEigenvector", "nodeResponse", "getNodeTags",
+                  "getEleTags", "getLoadFactor", "nodeMass", "nodeBounds")
+NODE_RESPONSE_IDS = {1: "disp", 2: "vel", 3: "accel", 6: "reaction", 7: "unbalance"}
+
+
+class QueryCommands(SessionBase):
+    """What a script reads back from the domain."""
+
+    def _clear_queries(self):
+        self._reactions = None
+
+    def nodeDisp(self, node, dof=-1):
+        """Displacement of ``node`` [m, rad]: a list over its dofs, or one 1-based ``dof``."""
+        _, state = self._state("nodeDisp")
+        return dof_value(self._node_values("nodeDisp", node, state.u), dof, f"nodeDisp {node}")
+
+    def nodeVel(self, node, dof=-1):
+        """Velocity of ``node`` [m/s, rad/s]."""
+        _, state = self._state("nodeVel")
+        return dof_value(self._node_values("nodeVel", node, state.v), dof, f"nodeVel {node}")
+
+    def nodeAccel(self, node, dof=-1):
+        """Acceleration of ``node`` [m/s², rad/s²]."""
+        _, state = self._state("nodeAccel")
+        return dof_value(self._node_values("nodeAccel", node, state.a), dof, f"nodeAccel {node}")
+
+    def nodeCoord(self, node, dim=-1):
+        """Coordinates ``[x, y]`` of ``node`` [m], or one 1-based coordinate."""
+        tag = self._node("nodeCoord", node)
+        return dof_value(list(self.domain.nodes[tag]), dim, f"nodeCoord {node}")
+
+    def nodeReaction(self, node, dof=-1):
+        """Reaction at ``node`` as last computed by :meth:`reactions` (zeros before) [N, N·m]."""
+        asm, _ = self._state("nodeReaction")
+        if self._reactions is None or self._reactions.shape[0] != asm.n_full:
+            values = np.zeros(asm.ndf)
+            self._node("nodeReaction", node)
+        else:
+            values = self._node_values("nodeReaction", node, self._reactions)
+        return dof_value(values, dof, f"nodeReaction {node}")
+
+    def nodeEigenvector(self, node, mode, dof=-1):
+        """Mode ``mode`` (1-based) of the last ``eigen`` at ``node``: list over the dofs or one dof."""
+        tag = self._node("nodeEigenvector", node)
+        if self._eigen is None:
+            raise CommandError("nodeEigenvector: no eigenvectors; call eigen(n) first")
+        asm, _, shapes = self._eigen
+        if not is_int(mode) or not 1 <= mode <= shapes.shape[1]:
+            raise CommandError(f"nodeEigenvector: mode must be 1..{shapes.shape[1]} (eigen computed "
+                               f"{shapes.shape[1]}), got {mode!r}")
+        if tag not in asm.node_index:
+            raise CommandError(f"nodeEigenvector: node {tag} was added after the last eigen")
+        i = asm.node_index[tag] * asm.ndf
+        return dof_value(shapes[i: i + asm.ndf, int(mode) - 1], dof, f"nodeEigenvector {node} {mode}")
+
+    def nodeResponse(self, node, dof, response_id):
+        """``nodeResponse(node, dof, id)``: id 1 disp, 2 vel, 3 accel, 6 reaction (as last
+        computed), 7 applied nodal load."""
+        if response_id not in NODE_RESPONSE_IDS:
+            raise CommandError(f"nodeResponse: response id {response_id!r} is not supported; supported: "
+                               + ", ".join(f"{k} ({v})" for k, v in NODE_RESPONSE_IDS.items()))
+        kind = NODE_RESPONSE_IDS[response_id]
+        if kind == "unbalance":
+            asm, _ = self._state("nodeResponse")
+            values = self._node_values("nodeResponse", node, self._applied_loads(asm))
+            return dof_value(values, dof, f"nodeResponse {node}")
+        method = {"disp": self.nodeDisp, "vel": self.nodeVel, "accel": self.nodeAccel,
+                  "reaction": self.nodeReaction}[kind]
+        return method(node, dof)
+
+    def getTime(self):
+        """The current (committed) domain time [s]."""
+        if self.domain is None or not self.domain.nodes:
+            return 0.0
+        return float(domain_state(self.domain).time)
+
+    def setTime(self, t):
+        """Set the domain time [s]; the next step goes to ``t + Δt``."""
+        _, state = self._state("setTime")
+        if not is_number(t):
+            raise CommandError(f"setTime: time must be a number, got {t!r}")
+        state.time = float(t)
+
+    def loadConst(self, *args):
+        """``loadConst(['-time', t])``: freeze every existing pattern at its current factor (and
+        set the time)."""
+        model = self._model("loadConst")
+        a = Args("loadConst", args)
+        new_time = None
+        while a.more():
+            a.option(("-time",))
+            new_time = a.float("-time")
+        at = self._load_time if self._load_time is not None else self.getTime()
+        for p in model.patterns.values():
+            if p.constant_time is None:
+                p.constant_time = at
+        if new_time is not None:
+            _, state = self._state("loadConst")
+            state.time = new_time
+
+    def getLoadFactor(self, tag):
+        """The load factor of pattern ``tag`` (its factor × its series' at the time the domain
+        last applied its loads, as OpenSees)."""
+        model = self._model("getLoadFactor")
+        if not is_int(tag) or tag not in model.patterns:
+            raise CommandError(f"getLoadFactor: pattern {tag!r} does not exist")
+        at = self._load_time if self._load_time is not None else self.getTime()
+        return float(model.patterns[tag].factors(np.array([at]))[0])
+
+    def nodeMass(self, node, dof=-1):
+        """The nodal mass of ``node`` (``mass`` command or ``node -mass``; element mass not
+        included, as OpenSees) [M, M·L²]: a list over its dofs, or one 1-based ``dof``."""
+        tag = self._node("nodeMass", node)
+        values = self.domain.nodal_mass.get(tag, np.zeros(self.domain.ndf))
+        return dof_value(list(map(float, values)), dof, f"nodeMass {node}")
+
+    def nodeBounds(self):
+        """``[x_min, y_min, 0, x_max, y_max, 0]`` of the nodes (OpenSees's 6 values in 2-D)."""
+        model = self._model("nodeBounds")
+        if not model.nodes:
+            raise CommandError("nodeBounds: the model has no nodes")
+        xy = np.array(list(model.nodes.values()), dtype=float)
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        return [float(lo[0]), float(lo[1]), 0.0, float(hi[0]), float(hi[1]), 0.0]
+
+    def getNodeTags(self):
+        """Node tags, ascending."""
+        return sorted(self.domain.nodes) if self.domain is not None else []
+
+    def getEleTags(self):
+        """Element tags, ascending."""
+        return self.domain.element_tags() if self.domain is not None else []
+
+    # -- forces ------------------------------------------------------------------------------------
+    def _applied_loads(self, asm):
+        """Full-dof nodal load vector applied at the last load time (OpenSees's unbalanced load)."""
+        p = np.zeros(asm.n_full)
+        if self._load_time is None:
+            return p
+        ndf = asm.ndf
+        for pattern in self.domain.patterns.values():
+            f = float(pattern.factors(np.array([self._load_time]))[0])
+            if f == 0.0:
+                continue
+            for tag, values in pattern.nodal.items():
+                if tag in asm.node_index:
+                    i = asm.node_index[tag] * ndf
+                    p[i: i + ndf] += f * np.asarray(values)[:ndf]
+        return p
+
+    def _element_response(self, command, tag, kind, u, v):
+        """One element's response as OpenSees returns it (see :meth:`_layout`)."""
+        asm = self.domain.build()
+        kind = ELEMENT_RESPONSE_ALIASES.get(kind, kind)
+        if tag not in asm.element_location:
+            raise CommandError(f"{command}: element {tag} does not exist")
+        b, i = asm.element_location[tag]
+        etype, _, coords, params, dofs = asm.blocks[b]
+        layout = opensees_layout(etype, kind, asm.ndf, self._zero_length.get(tag))
+        source = layout[0] if layout is not None else kind
+        if source not in etype.response_kinds:
+            raise CommandError(f"{command}: element {tag} ({etype.name}) has no response {kind!r}; valid: "
+                               f"{', '.join(etype.response_kinds)}")
+        d = dofs[i]
+        c, p, u_e, v_e = coords[i: i + 1], params[i: i + 1], u[d][None, :], v[d][None, :]
+        values = np.asarray(etype.response(source, c, p, u_e, v_e), dtype=float)
+        if layout is None:
+            return values[0]
+        rates = np.asarray(etype.response(source, c, p, v_e, v_e), dtype=float) if layout[2] else None
+        return apply_layout(layout, values, rates)[0]
+
+    def eleForce(self, tag, dof=-1):
+        """Resisting force of element ``tag`` in global axes (``K u`` plus the element's own
+        dashpots; no Rayleigh damping, no inertia), the force the nodes exert on the element."""
+        _, state = self._state("eleForce")
+        if not is_int(tag):
+            raise CommandError(f"eleForce: element tag must be an integer, got {tag!r}")
+        values = self._element_response("eleForce", int(tag), "force", state.u, state.v)
+        return dof_value(values, dof, f"eleForce {tag}")
+
+    def eleResponse(self, tag, *args):
+        """``eleResponse(tag, 'force'|'globalForce'|'localForce'|'basicForce'|...)`` as a list."""
+        _, state = self._state("eleResponse")
+        a = Args(f"eleResponse {tag}", args)
+        kind = a.word("response")
+        a.done()
+        if not is_int(tag):
+            raise CommandError(f"eleResponse: element tag must be an integer, got {tag!r}")
+        return [float(x) for x in self._element_response("eleResponse", int(tag), kind, state.u, state.v)]
+
+    def reactions(self, *args):
+        """Compute the nodal reactions (read them with :meth:`nodeReaction`): ``R = F_resisting - P``
+        with the elements' static resisting forces (default), ``'-dynamic'``: ``K u + C v + M a - P``
+        (inertia and Rayleigh damping included), ``'-rayleigh'``: the Rayleigh damping forces only."""
+        asm, state = self._state("reactions")
+        a = Args("reactions", args)
+        flag = "-static"
+        while a.more():
+            flag = a.option(("-dynamic", "-rayleigh"))
+        if flag == "-dynamic":
+            r = asm.K_full @ state.u + asm.C_full @ state.v + asm.M_full @ state.a - self._applied_loads(asm)
+        else:
+            own = np.zeros(asm.n_full)   # elements' resisting forces K u + C_el v
+            own_damping = np.zeros(asm.n_full)
+            for etype, _tags, coords, params, dofs in asm.blocks:
+                u_e, v_e = state.u[dofs], state.v[dofs]
+                f = np.asarray(etype.response("force", coords, params, u_e, v_e))
+                np.add.at(own, dofs, f)
+                c_v = np.einsum("eij,ej->ei", etype.damping(coords, params), v_e)
+                np.add.at(own_damping, dofs, c_v)
+            if flag == "-rayleigh":
+                r = asm.C_full @ state.v - own_damping
+            else:
+                r = own - self._applied_loads(asm)
+        self._reactions = r
+

@@ -1,0 +1,245 @@
+"""Recorder commands: ``recorder Node|EnvelopeNode|Element|EnvelopeElement`` (``Contact`` and
+``Train`` in :mod:`.train_commands`), kept open across ``analyze`` calls as in OpenSees, their
+sinks (``-file`` OpenSees text, ``-h5``/``-hdf5``) and OpenSees's element-response columns."""
+import os
+
+import numpy as np
+
+from vtsi import recorders as rec
+from vtsi.errors import CommandError
+from vtsi.recorders import ElementRecorder
+
+from .args import Args
+from .base import SessionBase
+from .responses import ELEMENT_RESPONSE_ALIASES, apply_layout, opensees_layout
+
+RECORDER_COMMANDS = ("recorder",)
+NODE_RESPONSES = ("disp", "vel", "accel", "reaction", "reactionIncInertia")
+RECORDER_TYPES = ("Node", "EnvelopeNode", "Element", "EnvelopeElement", "Contact", "Train")
+
+
+class KeptOpen:
+    """One command-layer recorder across many ``analyze`` calls, as in OpenSees: its record is
+    opened once (again only when the model or its load patterns change) and closed by
+    ``remove('recorder', tag)``, ``wipe()`` or the end of the process, not at the end of every
+    ``analyze`` (scripts often call ``analyze(1, dt)`` in a loop). Follows the recorder
+    contract of :mod:`vtsi.recorders.base` and delegates to the wrapped ``recorder``."""
+
+    def __init__(self, recorder):
+        self.recorder = recorder
+        self._requests = None     # (assembly, requests)
+        self._started = None      # (assembly, [(tag, pattern, n_loads)])
+
+    @property
+    def dt(self):
+        return self.recorder.dt
+
+    def requests(self, assembly):
+        if self._requests is None or self._requests[0] is not assembly:
+            self._requests = (assembly, self.recorder.requests(assembly))
+        return self._requests[1]
+
+    def start(self, assembly, model, info=None):
+        patterns = [(tag, p, len(p.nodal)) for tag, p in model.patterns.items()]
+        if self._started is not None:
+            asm, old = self._started
+            same = asm is assembly and len(old) == len(patterns) and all(
+                a[0] == b[0] and a[1] is b[1] and a[2] == b[2] for a, b in zip(old, patterns))
+            if same:
+                return
+            self.recorder.close()
+        self.recorder.start(assembly, model, info)
+        self._started = (assembly, patterns)
+
+    def write(self, times, columns, assembly):
+        self.recorder.write(times, columns, assembly)
+
+    def close(self):
+        """End of one analysis run: nothing to do (the sinks flush every chunk)."""
+
+    def finish(self):
+        """Close the record for good (OpenSees: the recorder is destroyed)."""
+        if self._started is not None:
+            self._started = None
+            self.recorder.close()
+
+
+class CommandElementRecorder(ElementRecorder):
+    """Records the vtsi response the layouts need (``deformation`` for a zeroLength's
+    basic quantities, also on the velocities) and rearranges its columns."""
+
+    def __init__(self, elements, response, layouts, **kw):
+        self.opensees_response = response
+        self._layouts = layouts
+        source = {layout[0] for layout in layouts if layout is not None}
+        if len(source) > 1 or (source and any(layout is None for layout in layouts)):
+            raise CommandError(f"recorder Element {response}: the elements {list(elements)} need different "
+                               "responses; record them with separate recorders")
+        super().__init__(elements, source.pop() if source else response, **kw)
+        self._rate_columns = None
+
+    def requests(self, assembly):
+        requests = super().requests(assembly)
+        index = {key: k for k, key in enumerate(requests)}
+        # the same columns with every displacement replaced by its velocity
+        self._rate_columns = np.array([index.get(("v", full), k) if q == "u" else k
+                                       for k, (q, full) in enumerate(requests)], dtype=np.int64)
+        return requests
+
+    def _spans(self):
+        start, spans = 0, []
+        for k in range(len(self.elements)):
+            width = int(self._widths[k])
+            spans.append((start, width))
+            start += width
+        return spans
+
+    def prepare(self, assembly, model):
+        layout = super().prepare(assembly, model)
+        if all(x is None for x in self._layouts):
+            return layout
+        ref, names = [], []
+        for (start, width), lay, tag in zip(self._spans(), self._layouts, self.elements):
+            for j, (src, _cu, _cv) in enumerate(lay[1]):
+                ref.append(start + (src if src >= 0 else 0))
+                names.append(f"{self.opensees_response}_{j + 1}")
+        layout["response"] = self.opensees_response
+        layout["units"] = [layout["units"][r] for r in ref]
+        columns = {name: np.asarray(col)[ref] for name, col in layout["columns"].items()}
+        if "component_name" in columns:
+            columns["component_name"] = np.array(names)
+        if "component" in columns:
+            columns["component"] = np.concatenate([np.arange(1, len(lay[1]) + 1) for lay in self._layouts])
+        layout["columns"] = columns
+        return layout
+
+    def compute(self, times, columns, assembly):
+        values = super().compute(times, columns, assembly)
+        if all(x is None for x in self._layouts):
+            return values
+        rates = None
+        if any(lay[2] for lay in self._layouts):
+            rates = super().compute(times, columns[:, self._rate_columns], assembly)
+        parts = []
+        for (start, width), lay in zip(self._spans(), self._layouts):
+            block = values[:, start: start + width]
+            parts.append(apply_layout(lay, block, None if rates is None else rates[:, start: start + width]))
+        return np.hstack(parts)
+
+
+def command_element_recorder(session, elements, response, **kwargs):
+    """A :class:`CommandElementRecorder` of ``elements`` whose columns are laid out as OpenSees
+    writes them (:func:`~vtsi.commands.responses.opensees_layout`)."""
+    asm = session.domain.build()
+    layouts = []
+    for tag in elements:
+        b, _ = asm.element_location[tag]
+        layouts.append(opensees_layout(asm.blocks[b][0], response, asm.ndf, session._zero_length.get(tag)))
+    return CommandElementRecorder(elements, response, layouts, **kwargs)
+
+
+class RecorderCommands(SessionBase):
+    """``recorder``: the recorders of a session, tagged by a counter that ``wipe`` does not reset."""
+
+    def _recorder_list(self):
+        """The recorders handed to an analysis (kept open across ``analyze`` calls)."""
+        return list(self._kept.values())
+
+    def recorder(self, *args):
+        """``recorder('Node'|'EnvelopeNode'|'Element'|'EnvelopeElement', ...)``; returns its tag.
+        Options: ``-file f`` (OpenSees text), vtsi's ``-h5 f``/``-hdf5 f`` (HDF5), ``-time``,
+        ``-precision p``, ``-dT dt``, ``-closeOnWrite``, ``-node``, ``-nodeRange a b``, ``-dof``,
+        ``-ele``, ``-eleRange a b``; then the response."""
+        if args and args[0] in ("Contact", "Train"):
+            return self._vehicle_recorder(*args)
+        model = self._model("recorder")
+        a = Args("recorder", args)
+        kind = a.word("recorder type", RECORDER_TYPES)
+        name = f"recorder {kind}"
+        a.command = name
+        is_node = kind.endswith("Node")
+        valid = ["-file", "-h5", "-hdf5", "-time", "-precision", "-dT", "-closeOnWrite"]
+        valid += ["-node", "-nodeRange", "-dof"] if is_node else ["-ele", "-eleRange"]
+        opts = {"-time": False, "-precision": 6, "-dT": None, "-closeOnWrite": False}
+        targets = []
+        response = []
+        while a.more():
+            x = a.peek()
+            if isinstance(x, str) and x.startswith("-") and not response:
+                opt = a.option(valid)
+                if opt in ("-file", "-h5", "-hdf5"):
+                    if "sink" in opts:
+                        raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
+                    opts["sink"] = (opt, os.fspath(a.word(f"{opt} file name")))
+                elif opt in ("-time", "-closeOnWrite"):
+                    opts[opt] = True
+                elif opt == "-precision":
+                    opts[opt] = a.int("-precision")
+                elif opt == "-dT":
+                    opts[opt] = a.float("-dT")
+                elif opt in ("-node", "-ele"):
+                    targets += a.ints(f"{opt} tag")
+                elif opt in ("-nodeRange", "-eleRange"):
+                    lo, hi = a.int(f"{opt} start"), a.int(f"{opt} end")
+                    pool = model.nodes if is_node else model.element_tags()
+                    targets += [t for t in sorted(pool) if lo <= t <= hi]
+                else:
+                    opts["-dof"] = a.ints("-dof")
+            else:
+                response.append(a.take("response"))
+        if not response:
+            raise CommandError(f"{name}: no response given (e.g. 'disp' or 'force')")
+        if len(response) > 1 or not isinstance(response[0], str):
+            raise CommandError(f"{name}: response {' '.join(map(str, response))!r} is not supported; supported: "
+                               + (", ".join(NODE_RESPONSES) if is_node else "force, globalForce, localForce, "
+                                  "basicForce, deformation, axialForce (as the element type offers)"))
+        response = response[0]
+        envelope = kind.startswith("Envelope")
+        if is_node:
+            if response not in NODE_RESPONSES:
+                raise CommandError(f"{name}: response {response!r} is not supported; supported: "
+                                   f"{', '.join(NODE_RESPONSES)}")
+            nodes = targets or sorted(model.nodes)
+            for n in nodes:
+                self._node(name, n)
+            dofs = opts.get("-dof")
+            if not dofs:
+                raise CommandError(f"{name}: no dofs (-dof 1 2 ...)")
+            for d in dofs:
+                if not 1 <= d <= model.ndf:
+                    raise CommandError(f"{name}: dof {d} is out of range 1..{model.ndf}")
+            make = lambda s: rec.NodeRecorder(nodes, dofs, response, sink=s, dt=opts["-dT"],
+                                              envelope=envelope, history=not envelope)
+        else:
+            response = ELEMENT_RESPONSE_ALIASES.get(response, response)
+            elements = targets or model.element_tags()
+            if not elements:
+                raise CommandError(f"{name}: no elements to record")
+            for e in elements:
+                if e not in model._element_owner:
+                    raise CommandError(f"{name}: element {e} does not exist")
+            make = lambda s: command_element_recorder(self, elements, response, sink=s, dt=opts["-dT"],
+                                                       envelope=envelope, history=not envelope)
+        return self._register_recorder(make(self._recorder_sink(name, opts)))
+
+    def _register_recorder(self, recorder):
+        """Give ``recorder`` the next tag (OpenSees: a counter wipe() does not reset), keep it open
+        across analyze() calls, and return the tag."""
+        tag = self._recorder_count
+        self._recorder_count += 1
+        recorder.tag = tag
+        self.recorders[tag] = recorder
+        self._kept[tag] = KeptOpen(recorder)
+        return tag
+
+    def _recorder_sink(self, name, opts):
+        if "sink" not in opts:
+            return rec.MemorySink()
+        opt, path = opts["sink"]
+        if opt == "-file":
+            if opts["-precision"] < 1:
+                raise CommandError(f"{name}: -precision must be >= 1, got {opts['-precision']}")
+            return rec.TextSink(path, time=opts["-time"], precision=opts["-precision"],
+                                close_on_write=opts["-closeOnWrite"])
+        return rec.HDF5Sink(path)
+
