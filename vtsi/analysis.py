@@ -14,7 +14,7 @@ from vtsi.banded import pad, solve_band
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import make_integrator
 from vtsi.subdomain import FEStages, factor
-from vtsi.timeloop import run_linear_steps
+from vtsi.timeloop import run_from_state, run_linear_steps
 
 
 log = logging.getLogger(__name__)
@@ -105,28 +105,33 @@ def pattern_factors(patterns, times, cache=None):
     are evaluated together from their stacked values, kept in ``cache`` (a dict) from call to
     call with the grouping itself, so that a call costs no Python per pattern."""
     cache = {} if cache is None else cache
-    ids = tuple(id(p.series) for p in patterns)
+    key = tuple((id(p.series), p.factor * getattr(p.series, "factor", 1.0)) for p in patterns)
     plan = cache.get("plan")
-    if plan is None or plan[0] != ids or any(p.constant_time is not None for p in patterns):
+    if plan is None or plan[0] != key or any(p.constant_time is not None for p in patterns):
         groups, single = {}, []
         for p, pattern in enumerate(patterns):
-            key = pattern.series.stack_key() if pattern.constant_time is None else None
-            if key is None:
+            stack = pattern.series.stack_key() if pattern.constant_time is None else None
+            if stack is None:
                 single.append(p)
             else:
-                groups.setdefault((type(pattern.series), key), []).append(p)
+                groups.setdefault((type(pattern.series), stack), []).append(p)
         stacked = []
-        for (cls, key), members in groups.items():
+        for (cls, stack), members in groups.items():
             table = np.stack([patterns[p].series.values for p in members], axis=1)
-            stacked.append((cls, key, np.array(members), table))
-        plan = cache["plan"] = (ids, single, stacked)
+            scale = np.array([patterns[p].series.factor for p in members])
+            outer = np.array([patterns[p].factor for p in members])
+            whole = members == list(range(len(patterns)))
+            stacked.append((cls, stack, slice(None) if whole else np.array(members), table, scale, outer))
+        plan = cache["plan"] = (key, single, stacked)
     _, single, stacked = plan
+    if not single and len(stacked) == 1 and isinstance(stacked[0][2], slice):
+        cls, stack, _, table, scale, outer = stacked[0]
+        return cls.stack_factors(stack, table, times, scale, outer)      # one grid for all: no copy
     out = np.empty((len(times), len(patterns)))
     for p in single:
         out[:, p] = patterns[p].factors(times)
-    for cls, key, members, table in stacked:
-        scale = np.array([patterns[p].factor * patterns[p].series.factor for p in members])
-        out[:, members] = cls.stack_factors(key, table, times) * scale
+    for cls, stack, columns, table, scale, outer in stacked:
+        out[:, columns] = cls.stack_factors(stack, table, times, scale, outer)
     return out
 
 
@@ -169,10 +174,15 @@ class _RecorderFeed:
                 for lst, value in zip(groups.setdefault(group, ([], [], [])), (i, slot, k)):
                     lst.append(value)
         self.groups = {g: tuple(np.array(x, dtype=np.int64) for x in v) for g, v in groups.items()}
+        self.assembly, self.model = assembly, model
+        self.start(info)
+
+    def start(self, info=None):
+        """Start the recorders for a run (again for each run of a kept feed)."""
         started = []
         try:
             for rec in self.recorders:
-                rec.start(assembly, model, info)
+                rec.start(self.assembly, self.model, info)
                 started.append(rec)
         except Exception:
             for rec in started:
@@ -311,11 +321,14 @@ def load_factor_table(patterns, starts, dt, load_points, cache=None):
     [s]: stage s takes Σ weight × factor(t + θ Δt) over its ``load_points[s]`` ((θ, weight)
     pairs, :mod:`vtsi.integrators.base`); ``cache`` as for :func:`pattern_factors`. The one
     builder of every time loop's load table."""
-    table = np.zeros((len(starts), len(load_points), len(patterns)))
-    for s, points in enumerate(load_points):
-        for theta, weight in points:
-            if weight != 0.0:
-                table[:, s, :] += weight * pattern_factors(patterns, starts + theta * dt, cache)
+    if len(load_points) == 1 and load_points[0] == [(1.0, 1.0)]:      # one stage, loads at the step's end
+        table = pattern_factors(patterns, starts + dt, cache)[:, None, :]
+    else:
+        table = np.zeros((len(starts), len(load_points), len(patterns)))
+        for s, points in enumerate(load_points):
+            for theta, weight in points:
+                if weight != 0.0:
+                    table[:, s, :] += weight * pattern_factors(patterns, starts + theta * dt, cache)
     if not np.all(np.isfinite(table)):
         raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
     return table
@@ -361,8 +374,9 @@ class TransientAnalysis:
         self.dt = None
         self.stages = None
         self._loaded_for = None
-        self._loads = None
-        self._path_tables = {}
+        self._kept_plan = None
+        self._path_tables = {}         # the stacked Path values (pattern_factors' cache), across plans
+        self.last_step_start = None    # start time [s] of the last step run
         if dt is not None:
             self.set_dt(dt)
 
@@ -404,62 +418,141 @@ class TransientAnalysis:
         """The free dofs the FE bridge integrates (after a run)."""
         return self.stages.active
 
-    def step_starts(self, t0, n):
-        """``(n,)`` start times [s] of the next ``n`` steps from ``t0`` (the load table is
-        evaluated from them); a subclass may keep another time bookkeeping."""
-        return t0 + self.dt * np.arange(n, dtype=float)
+    def step_times(self, t0, n):
+        """``(n + 1,)`` times [s] ``t_0 .. t_n`` of the next ``n`` steps from ``t0`` (the load table
+        is evaluated from them); a subclass may keep another time bookkeeping."""
+        return t0 + self.dt * np.arange(n + 1, dtype=float)
 
-    def chunk_end(self, t0, n):
-        """The time [s] after ``n`` steps from ``t0``."""
-        return t0 + n * self.dt
+    def _plan(self):
+        """What a run needs, kept from run to run while the assembly, the patterns
+        (``Model.load_version``), dt and the bridge stages stay the same (the recorder feed while
+        the recorders do)."""
+        asm = self.model.build()
+        key = (asm, self.model.load_version, self.dt)
+        recorders = tuple(self.recorders)
+        plan = self._kept_plan
+        if plan is not None and plan.key == key and plan.bridge is self.stages:
+            if plan.recorders != recorders:
+                plan.recorders, plan.feed = recorders, None
+            return plan
+        patterns = list(self.model.patterns.values())
+        loads = _pattern_loads(asm, patterns)
+        asm = self._prepare(loads[1])
+        plan = self._kept_plan = _RunPlan(self, key, asm, patterns, loads)
+        return plan
 
     def run(self, n_steps):
-        """Advance ``n_steps`` steps from the model's committed state; returns the state."""
+        """Advance ``n_steps`` steps from the model's committed state; returns the state.
+
+        Repeated short runs (a script's ``analyze(1, dt)`` loop) cost one compiled step and a
+        constant: the plan of a run (stages, loads, recorder columns) and the load factors of the
+        coming steps are kept while the model, its patterns, dt and the recorders stay the same."""
         if self.dt is None:
             raise AnalysisError("transient analysis: no time step set")
-        n_steps = _integer("transient analysis", "number of steps", n_steps, 0)
-        patterns = list(self.model.patterns.values())
-        asm = self.model.build()
-        key = (asm, tuple((id(p), p.version) for p in patterns))
-        if self._loads is None or self._loads[0] != key:
-            self._loads = (key, _pattern_loads(asm, patterns), None, None)
-        _, (load_ptr, load_dof, load_val), stages, mapped = self._loads
-        asm = self._prepare(load_dof)
-        bridge = self.stages
-        if stages is not bridge:      # the loads on this bridge's coordinates, once per model, patterns, stages
-            mapped = bridge.loads(load_ptr, load_dof, load_val)
-            self._loads = (key, (load_ptr, load_dof, load_val), bridge, mapped)
-        load_ptr, load_dof, load_val = mapped
+        if not (type(n_steps) is int and n_steps >= 0):
+            n_steps = _integer("transient analysis", "number of steps", n_steps, 0)
+        plan = self._plan()
         state = domain_state(self.model)
-        bank = bridge.bank(state, asm.full_of_free, self.integrator.n_slots)
-        load_points = [st.load for st in self.integrator.stages(self.dt)]
-        feed = _RecorderFeed(asm, self.model, self.recorders,
-                             {"analysis": "transient", "integrator": repr(self.integrator), "dt": self.dt,
-                              "loads": "the load patterns"})
-        rec_slot, rec_index = bridge.record_plan(feed.rec_slot, feed.rec_index)
-        work = np.zeros((3, bank.shape[1]))
-        done = 0
+        feed = plan.start_feed()
         try:
+            done = 0
             while done < n_steps:
                 chunk = min(self.chunk_steps, n_steps - done)
                 t0 = state.time
-                starts = self.step_starts(t0, chunk)
-                table = load_factor_table(patterns, starts, self.dt, load_points, self._path_tables)
-                out = np.zeros((chunk, len(rec_slot)))
-                bad = run_linear_steps(bank, bridge.du, bridge.dv, bridge.fac, bridge.ops, bridge.slots, table,
-                                       load_ptr, load_dof, load_val, rec_slot, rec_index,
-                                       out, self.divergence_limit, work, bridge.band)
+                times, table = plan.load_rows(t0, chunk)
+                out = np.zeros((chunk, len(plan.rec_slot))) if feed.recorders else plan.no_columns[:chunk]
+                bad = plan.advance(state, table, out)
+                if bad == -2:        # a dof at rest has moved (the state was set): integrate it too
+                    self._prepare(plan.loads[1])
+                    plan = self._plan().adopt_feed(feed)
+                    continue
                 good = chunk if bad < 0 else bad
-                times = t0 + self.dt * np.arange(1, good + 1)
-                feed.deliver(times, bridge.recorded(out[:good]), asm)
+                if feed.recorders:
+                    feed.deliver(times[1: good + 1], plan.bridge.recorded(out[:good]), plan.asm)
                 if bad >= 0:
                     step = done + bad + 1
                     raise DivergenceError(
-                        f"transient analysis diverged at step {step}, t = {t0 + (bad + 1) * self.dt:.6g} s "
+                        f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s "
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
-                        step, t0 + (bad + 1) * self.dt)
-                bridge.commit(state, bank, asm.full_of_free, self.chunk_end(t0, chunk))
+                        step, times[bad + 1])
+                state.time = float(times[chunk])
+                self.last_step_start = float(times[chunk - 1])
                 done += chunk
         finally:
             feed.close()
         return state
+
+
+class _RunPlan:
+    """One :class:`TransientAnalysis`'s prepared run: the bridge stages and its loads, the load
+    points of the integrator's stages, the recorder columns, a state bank and scratch vectors,
+    and a block of the load factors of the coming steps (:meth:`load_rows`)."""
+
+    BLOCK_STEPS = 512    # steps of load factors evaluated ahead for runs shorter than that
+
+    def __init__(self, analysis, key, asm, patterns, loads):
+        self.analysis, self.key, self.asm, self.patterns, self.loads = analysis, key, asm, patterns, loads
+        self.recorders = tuple(analysis.recorders)
+        self.bridge = bridge = analysis.stages
+        self.mapped = bridge.loads(*loads)
+        self.load_points = [st.load for st in analysis.integrator.stages(analysis.dt)]
+        self.info = {"analysis": "transient", "integrator": repr(analysis.integrator), "dt": analysis.dt,
+                     "loads": "the load patterns"}
+        self.feed = None
+        state = domain_state(analysis.model)
+        self.bank = bridge.bank(state, asm.full_of_free, analysis.integrator.n_slots)
+        self.work = np.zeros((3, self.bank.shape[1]))
+        self.fe = isinstance(bridge, FEStages)
+        if self.fe:
+            self.coords_full = asm.full_of_free[bridge.active]
+            self.rest_full = analysis._rest_full
+        self.block = None        # (times (B + 1,), table (B, n_stages, n_patterns), position)
+        self.no_columns = np.zeros((analysis.chunk_steps, 0))
+
+    def start_feed(self):
+        """The recorder feed of a run: built (and its recorders started) once, restarted after."""
+        if self.feed is None:
+            a = self.analysis
+            self.feed = _RecorderFeed(self.asm, a.model, self.recorders, self.info)
+            self.rec_slot, self.rec_index = self.bridge.record_plan(self.feed.rec_slot, self.feed.rec_index)
+        else:
+            self.feed.start(self.info)
+        return self.feed
+
+    def adopt_feed(self, feed):
+        """Take over the started ``feed`` of a run that this plan continues; returns self."""
+        self.feed = feed
+        self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
+        return self
+
+    def load_rows(self, t0, n):
+        """``(times (n + 1,), table (n, n_stages, n_patterns))`` of the ``n`` steps from ``t0``,
+        from the kept block when the run continues where the last one ended."""
+        block = self.block
+        if block is not None:
+            times, table, pos = block
+            if pos + n < len(times) and times[pos] == t0:
+                self.block = (times, table, pos + n)
+                return times[pos: pos + n + 1], table[pos: pos + n]
+        m = n if n >= self.BLOCK_STEPS else self.BLOCK_STEPS
+        times = self.analysis.step_times(t0, m)
+        table = load_factor_table(self.patterns, times[:-1], self.analysis.dt, self.load_points,
+                                  self.analysis._path_tables)
+        self.block = (times, table, n)
+        return times[: n + 1], table[:n]
+
+    def advance(self, state, table, out):
+        """Run the steps of ``table`` from ``state`` (written back unless they diverge); returns
+        -1, the index of the diverging step, or -2 if a dof at rest has moved."""
+        a, b = self.analysis, self.bridge
+        ptr, dof, val = self.mapped
+        if self.fe:
+            return run_from_state(state.u, state.v, state.a, self.coords_full, self.rest_full, self.bank, b.du, b.dv,
+                                  b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot, self.rec_index, out,
+                                  a.divergence_limit, self.work, b.band)
+        bank = b.bank(state, self.asm.full_of_free, a.integrator.n_slots)
+        bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot,
+                               self.rec_index, out, a.divergence_limit, self.work, b.band)
+        if bad < 0:
+            b.commit(state, bank, self.asm.full_of_free, state.time)
+        return bad

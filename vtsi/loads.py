@@ -23,10 +23,36 @@ class LoadPattern:
             raise ModelError(f"pattern {tag}: factor must be a number, got {factor!r}") from None
         if not np.isfinite(factor):
             raise ModelError(f"pattern {tag}: factor must be finite, got {factor}")
-        self.tag, self.series, self.factor = tag, series, factor
+        self.tag, self.series, self._factor = tag, series, factor
         self.nodal = {}
-        self.version = 0            # counts the changes of the nodal loads (analyses cache them)
-        self.constant_time = None   # set by loadConst: the factor frozen at this time
+        self.version = 0            # counts the changes of the loads, factor and freezing (analyses cache them)
+        self._constant_time = None
+        self.on_change = None       # set by the owning model: called after every change
+
+    def _changed(self):
+        self.version += 1
+        if self.on_change is not None:
+            self.on_change()
+
+    @property
+    def factor(self):
+        """The pattern's scale on its series [-]."""
+        return self._factor
+
+    @factor.setter
+    def factor(self, value):
+        self._factor = float(value)
+        self._changed()
+
+    @property
+    def constant_time(self):
+        """None, or the time [s] at which ``loadConst`` froze the factor."""
+        return self._constant_time
+
+    @constant_time.setter
+    def constant_time(self, value):
+        self._constant_time = value
+        self._changed()
 
     def load(self, node, *values):
         try:
@@ -36,7 +62,7 @@ class LoadPattern:
         if not np.all(np.isfinite(values)):
             raise ModelError(f"pattern {self.tag}: load on node {node} has NaN or inf: {values.tolist()}")
         self.nodal[node] = self.nodal.get(node, 0.0) + values
-        self.version += 1
+        self._changed()
 
     def factors(self, t):
         """Load factor at the times ``t`` (array); a NaN or inf factor raises a ModelError naming

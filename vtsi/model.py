@@ -37,12 +37,22 @@ class Model:
         self._element_owner = {}
         self.time_series = {}
         self.patterns = {}
+        self.load_version = 0       # counts the changes of the patterns (their loads, factors, freezing)
         self.rayleigh_factors = (0.0, 0.0)
         self._assembly = None
 
     # -- definition -----------------------------------------------------------------------
     def _changed(self):
         self._assembly = None
+
+    def _loads_changed(self):
+        self.load_version += 1
+
+    def _add_pattern(self, pattern):
+        self.patterns[pattern.tag] = pattern
+        pattern.on_change = self._loads_changed
+        self._loads_changed()
+        return pattern
 
     def node(self, tag, *coords, mass=None):
         tag = _tag("node", tag)
@@ -118,15 +128,13 @@ class Model:
     def pattern(self, tag, series, factor=1.0):
         """Create and return a :class:`LoadPattern`; ``series`` is a TimeSeries or its tag."""
         tag, series = self._new_pattern(tag, series)
-        p = self.patterns[tag] = LoadPattern(tag, series, factor)
-        return p
+        return self._add_pattern(LoadPattern(tag, series, factor))
 
     def uniform_excitation(self, tag, direction, series, factor=1.0):
         """Create and return a :class:`~vtsi.loads.UniformExcitation` (ground acceleration
         ``factor * series(t)`` [m/s²] along dof ``direction``)."""
         tag, series = self._new_pattern(tag, series)
-        p = self.patterns[tag] = UniformExcitation(tag, direction, series, factor)
-        return p
+        return self._add_pattern(UniformExcitation(tag, direction, series, factor))
 
     def _new_pattern(self, tag, series):
         """A new pattern's tag (checked free) and its series (a TimeSeries, or resolved from its tag)."""
@@ -150,7 +158,8 @@ class Model:
     def remove_pattern(self, tag):
         if tag not in self.patterns:
             raise ModelError(f"remove loadPattern: pattern {tag} does not exist")
-        del self.patterns[tag]
+        self.patterns.pop(tag).on_change = None
+        self._loads_changed()
 
     def rayleigh(self, alpha_m, beta_k, beta_k_init=0.0, beta_k_comm=0.0):
         """Rayleigh damping ``C = alpha_m M + (beta_k + beta_k_init + beta_k_comm) K`` (linear model:

@@ -231,3 +231,32 @@ def run_linear_steps(bank, du, dv, factors, ops, op_slots,
         for r in range(rec_slot.shape[0]):
             out[step, r] = bank[rec_slot[r], lo + rec_index[r]] if rec_index[r] >= 0 else 0.0
     return -1
+
+
+@njit(cache=True)
+def run_from_state(u, v, a, coords_full, rest_full, bank, du, dv, factors, ops, op_slots,
+                   load_factors, load_ptr, load_dof, load_val, rec_slot, rec_index, out, limit, work, band):
+    """:func:`run_linear_steps` from and back to the full-dof state ``u, v, a`` (n_full,): the
+    bank's coordinate k is full dof ``coords_full[k]``; read into slots 0..2 first, written back
+    after the steps unless they diverged (then the state is left as it was). The dofs
+    ``rest_full`` are not integrated and must be at rest: if one is not, nothing is done and -2
+    is returned (the caller integrates them too). Otherwise returns as run_linear_steps."""
+    for i in rest_full:
+        if u[i] != 0.0 or v[i] != 0.0 or a[i] != 0.0:
+            return -2
+    kd = len(band)
+    for k in range(coords_full.shape[0]):
+        i = coords_full[k]
+        bank[0, kd + k] = u[i]
+        bank[1, kd + k] = v[i]
+        bank[2, kd + k] = a[i]
+    bad = run_linear_steps(bank, du, dv, factors, ops, op_slots, load_factors, load_ptr, load_dof, load_val,
+                           rec_slot, rec_index, out, limit, work, band)
+    if bad >= 0:
+        return bad
+    for k in range(coords_full.shape[0]):
+        i = coords_full[k]
+        u[i] = bank[0, kd + k]
+        v[i] = bank[1, kd + k]
+        a[i] = bank[2, kd + k]
+    return -1

@@ -5,6 +5,7 @@ Rectangular / Pulse``) to the last bit: a :class:`Path` is OpenSees's PathSeries
 PathTimeSeries (``time``).
 """
 import numpy as np
+from numba import njit
 
 from vtsi.errors import ModelError
 
@@ -14,8 +15,10 @@ class TimeSeries:
 
     Optional, for series of samples that many patterns share the grid of (a Path per loaded
     node): ``stack_key()`` (hashable; series with equal keys are evaluated together, None: not
-    stackable), ``values`` and the classmethod ``stack_factors(key, table, times)`` -> the
-    unscaled factors (len(times), n) of the stacked values ``table`` (n_samples, n)."""
+    stackable), ``values``, ``factor`` and the classmethod ``stack_factors(key, table, times,
+    scale, outer)`` -> the factors (len(times), n) ``outer[j] * (scale[j] * f_j(t))`` of the
+    stacked values ``table`` (n_samples, n): ``scale`` the series' factors, ``outer`` the
+    patterns' (in OpenSees's order of the products, so that the results are OpenSees's to the bit)."""
 
     tag = None
 
@@ -200,39 +203,26 @@ class Path(TimeSeries):
         return key
 
     @classmethod
-    def stack_factors(cls, key, table, times):
-        """Unscaled factors ``(len(times), n)`` of the stacked ``table`` (n_samples, n) on the grid
-        of ``key`` at ``times``, with the rules of the class docstring."""
+    def stack_factors(cls, key, table, times, scale, outer):
+        """Factors ``(len(times), n)``, ``outer[j] (scale[j] v_j(t))``, of the stacked ``table``
+        (n_samples, n) on the grid of ``key`` at ``times``, with the rules of the class docstring
+        (compiled: one pass)."""
         size, use_last, grid = key
-        times = np.asarray(times, dtype=float)
+        times = np.ascontiguousarray(times, dtype=float)
+        table = np.ascontiguousarray(table, dtype=float)
+        scale, outer = np.asarray(scale, dtype=float), np.asarray(outer, dtype=float)
         out = np.zeros((len(times), table.shape[1]))
         if grid[0] == "dt":
-            _, dt, start = grid
-            x = (times - start) / dt
-            i = np.floor(x)
-            started = times >= start
-            inside = started & (i + 1 < size)
-            k = i[inside].astype(np.int64)
-            out[inside] = interpolate_rows(table, k, x[inside] - k)
-            beyond = started & ~inside
+            _dt_grid_factors(table, times, grid[2], grid[1], use_last, scale, outer, out)
         else:
-            time = np.frombuffer(grid[1])
-            k = np.searchsorted(time, times, side="right") - 1
-            inside = (k >= 0) & (k < size - 1)
-            kk = k[inside]
-            w = (times[inside] - time[kk]) / (time[kk + 1] - time[kk])
-            out[inside] = interpolate_rows(table, kk, w)
-            out[times == time[-1]] = table[-1]
-            beyond = times > time[-1]
-        if use_last:
-            out[beyond] = table[-1]
+            _time_grid_factors(table, times, np.frombuffer(grid[1]), use_last, scale, outer, out)
         return out
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
         flat = t.reshape(-1)
-        out = self.stack_factors(self.stack_key(), self.values[:, None], flat)[:, 0]
-        return self.factor * out.reshape(t.shape)
+        out = self.stack_factors(self.stack_key(), self.values[:, None], flat, [self.factor], [1.0])[:, 0]
+        return out.reshape(t.shape)
 
 
 def _numbers(name, what, values):
@@ -243,18 +233,44 @@ def _numbers(name, what, values):
         raise ModelError(f"{name}: {what} must be numbers, got {values!r}") from None
 
 
-def interpolate_rows(table, index, weight):
-    """Rows of ``table`` ``(n_points, n_series)`` at the fractional positions ``index + weight``
-    (``index`` int array, ``0 <= weight <= 1``), computed as ``np.interp`` does:
-    ``left + (right - left) * weight``, exact at the points. Returns ``(len(index), n_series)``.
-    Many series sampled on one grid (a Path per loaded node) are thus evaluated in one gather of
-    contiguous rows; times on consecutive grid points (the usual case) are a slice of ``table``."""
-    if not np.any(weight) and len(index) and index[-1] - index[0] == len(index) - 1 \
-            and np.all(np.diff(index) == 1):
-        return table[index[0]: index[-1] + 1]
-    left = table[index]
-    right = table[np.minimum(index + 1, table.shape[0] - 1)]
-    return left + (right - left) * weight[:, None]
+@njit(cache=True)
+def _dt_grid_factors(table, times, start, dt, use_last, scale, outer, out):
+    """``out[r, j] = outer[j] (scale[j] v)`` with ``v`` column j of ``table`` at ``times[r]`` on
+    the grid ``start + k dt`` as ``PathSeries::getFactor``: ``x = (t - start)/dt``, ``i =
+    floor(x)``, ``v[i] + (v[i+1] - v[i]) (x - i)`` while ``i + 1 < n``; zero before ``start``;
+    after, zero or (``use_last``) the last row."""
+    n = table.shape[0]
+    for r in range(times.shape[0]):
+        t = times[r]
+        if t < start:
+            continue
+        x = (t - start) / dt
+        i = np.floor(x)
+        if i + 1 < n:
+            k = int(i)
+            w = x - i
+            for j in range(table.shape[1]):
+                out[r, j] = outer[j] * (scale[j] * (table[k, j] + (table[k + 1, j] - table[k, j]) * w))
+        elif use_last:
+            for j in range(table.shape[1]):
+                out[r, j] = outer[j] * (scale[j] * table[n - 1, j])
+
+
+@njit(cache=True)
+def _time_grid_factors(table, times, grid, use_last, scale, outer, out):
+    """As :func:`_dt_grid_factors` on the sample times ``grid`` (``PathTimeSeries::getFactor``):
+    linear inside, the last row at the last time, after it zero or (``use_last``) the last row."""
+    n = grid.shape[0]
+    for r in range(times.shape[0]):
+        t = times[r]
+        k = np.searchsorted(grid, t, side="right") - 1
+        if 0 <= k < n - 1:
+            w = (t - grid[k]) / (grid[k + 1] - grid[k])
+            for j in range(table.shape[1]):
+                out[r, j] = outer[j] * (scale[j] * (table[k, j] + (table[k + 1, j] - table[k, j]) * w))
+        elif t == grid[n - 1] or (t > grid[n - 1] and use_last):
+            for j in range(table.shape[1]):
+                out[r, j] = outer[j] * (scale[j] * table[n - 1, j])
 
 
 def _finite(kind, tag, name, value):

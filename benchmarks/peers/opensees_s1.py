@@ -40,6 +40,7 @@ with exactly the same nodal loads.
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import tempfile
@@ -130,16 +131,17 @@ def linear_newmark_analysis(ops, gamma=0.5, beta=0.25):
     ops.analysis("Transient")
 
 
-def run(n_elements, dt=1e-3, style="step", n_steps=None):
+def run(n_elements, dt=1e-3, style="step", n_steps=None, module="openseespy.opensees"):
     """Run S1 in OpenSeesPy.
 
     Returns dict(midspan=(n_steps,) vertical displacement of the midspan node after
     steps 1..n_steps [m, negative = downward], time=(n_steps,) the analysis time after
     each step (from getTime() in 'step' style, from the recorder's time column in 'bulk'
     style), seconds=wall time of the time loop only, us_per_step=1e6*seconds/n_steps,
-    plus n_elements, n_steps, dt, style).
+    plus n_elements, n_steps, dt, style). ``module``: the command module the script imports,
+    ``'openseespy.opensees'`` or ``'vtsi.opensees'`` (the one line a user changes).
     """
-    import openseespy.opensees as ops
+    ops = importlib.import_module(module)
 
     if style not in ("step", "bulk"):
         raise ValueError("style must be 'step' or 'bulk'")

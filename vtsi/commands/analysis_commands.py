@@ -43,10 +43,6 @@ class CommandTransient(TransientAnalysis):
     (``t += Δt`` each step; HHT: ``t += αΔt`` then ``t += (1-α)Δt``), so that a Path series
     evaluated at its last sample gives OpenSees's value to the last bit."""
 
-    def __init__(self, model, integrator, bridge=None):
-        super().__init__(model, integrator, bridge=bridge)
-        self._times = None
-
     def _increments(self):
         if isinstance(self.integrator, HHT):
             a = self.integrator.alpha
@@ -54,23 +50,12 @@ class CommandTransient(TransientAnalysis):
         return (self.dt,)
 
     def step_times(self, t0, n):
-        """``(n + 1,)`` times ``t_0 .. t_n`` accumulated in floating point like OpenSees (the last
-        call's are kept: a run asks for them twice)."""
+        """``(n + 1,)`` times ``t_0 .. t_n`` [s] accumulated in floating point like OpenSees."""
         inc = self._increments()
-        if self._times is not None and self._times[0] == (t0, n, inc):
-            return self._times[1]
         seq = np.empty(n * len(inc) + 1)
         seq[0] = t0
         seq[1:] = np.tile(inc, n)
-        times = np.cumsum(seq)[:: len(inc)]
-        self._times = ((t0, n, inc), times)
-        return times
-
-    def step_starts(self, t0, n):
-        return self.step_times(t0, n)[:-1]
-
-    def chunk_end(self, t0, n):
-        return self.step_times(t0, n)[-1]
+        return np.cumsum(seq)[:: len(inc)]
 
 
 class OpenSeesTRBDF2:
@@ -184,6 +169,7 @@ class AnalysisCommands(SessionBase):
         self._analysis = None
         self._transient = None
         self._trbdf2 = None
+        self._repeat, self._repeat_run = None, None    # the last transient analyze (see _repeat_key)
 
     def constraints(self, *args):
         """``constraints('Plain'|'Transformation')`` (only single-point constraints exist: both
@@ -285,9 +271,21 @@ class AnalysisCommands(SessionBase):
         """Forget the analysis settings (the model, its state and the recorders stay)."""
         self._clear_analysis()
 
+    def _repeat_key(self, args):
+        """What a transient ``analyze`` call resolves to besides the model's own state: the same
+        key as the last call's means the same checks pass and the same analysis runs (a per-step
+        loop), so :meth:`analyze` goes straight to it."""
+        model = self.domain
+        settings = (self._transient_integrator, self._constraint, self._modal_damping)
+        return (args, model, model.build() if model is not None and model.nodes else None, self._analysis,
+                tuple((id(x), x) for x in settings), self._recorder_count, len(self._kept))
+
     def analyze(self, *args):
         """``analyze(numSteps)`` (static) or ``analyze(numSteps, dt)`` (transient); returns 0.
         A failure raises (an :class:`~vtsi.errors.AnalysisError`) instead of returning a code."""
+        key = self._repeat_key(args)
+        if key == self._repeat:
+            return self._run_transient(*self._repeat_run)
         model = self._model("analyze")
         a = Args("analyze", args)
         n = a.int("number of steps") if a.more() else 1
@@ -322,20 +320,24 @@ class AnalysisCommands(SessionBase):
             return 0
         bridge = self._modal_bridge("analyze")
         if self._transient is None or self._transient.bridge is not bridge:
-            self._transient = CommandTransient(model, integ, bridge)
+            self._transient = CommandTransient(model, integ, bridge=bridge)
         analysis = self._transient
         analysis.set_dt(dt)
         analysis.recorders = self._recorder_list()
-        t0 = domain_state(model).time
-        analysis.run(n)
+        self._repeat, self._repeat_run = None, (analysis, n, kind, integ, dt)
+        self._run_transient(*self._repeat_run)
+        self._repeat = key
+        return 0
+
+    def _run_transient(self, analysis, n, kind, integ, dt):
+        state = analysis.run(n)
         if n > 0:   # when the domain last applied its loads (OpenSees: the nodes' unbalanced load)
-            times = analysis.step_times(t0, n)
             if kind == "HHT":
-                self._load_time = times[-2] + integ.alpha * dt
+                self._load_time = analysis.last_step_start + integ.alpha * dt
             elif kind == "CentralDifference":
-                self._load_time = times[-2]
+                self._load_time = analysis.last_step_start
             else:
-                self._load_time = times[-1]
+                self._load_time = state.time
         return 0
 
     def eigen(self, *args):

@@ -13,16 +13,23 @@ class UnknownCommand(CommandError, AttributeError):
     """A command (or module attribute) that this layer does not offer."""
 
 
+_SCALARS = (int, float, str)
+_NUMBERS = (int, float)
+
+
 def is_int(x):
-    return isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_))
+    return type(x) is int or (isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_)))
 
 
 def is_number(x):
-    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
+    return type(x) in _NUMBERS or (isinstance(x, (int, float, np.integer, np.floating))
+                                   and not isinstance(x, (bool, np.bool_)))
 
 
 def flatten(args):
     """Arguments with lists, tuples and arrays spread out (Tcl lists arrive as Python lists)."""
+    if all(type(a) in _SCALARS for a in args):
+        return list(args)
     out = []
     for a in args:
         if isinstance(a, (list, tuple)):
@@ -109,6 +116,8 @@ class Args:
 
 def dof_value(values, dof, what):
     """``values`` (list) or its 1-based component ``dof`` (-1: all), as OpenSeesPy returns them."""
+    if type(dof) is int and 1 <= dof <= len(values):
+        return float(values[dof - 1])
     if dof == -1:
         return [float(v) for v in values]
     if not is_int(dof) or not 1 <= dof <= len(values):

@@ -32,6 +32,16 @@ class SessionBase:
         return int(tag)
 
     def _node_values(self, command, tag, vector):
-        asm, _ = self._state(command)
-        i = asm.node_index[self._node(command, tag)] * asm.ndf
+        """The entries of full-dof ``vector`` (an array, or the name of a state vector: 'u', 'v',
+        'a') at node ``tag``."""
+        model = self._model(command)
+        asm = model.build()
+        i = asm.node_index.get(tag) if type(tag) is int else None
+        if i is None:
+            if not model.nodes:
+                raise CommandError(f"{command}: the model has no nodes")
+            i = asm.node_index[self._node(command, tag)]
+        if isinstance(vector, str):
+            vector = getattr(domain_state(model), vector)
+        i *= asm.ndf
         return vector[i: i + asm.ndf]

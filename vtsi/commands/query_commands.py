@@ -25,18 +25,15 @@ class QueryCommands(SessionBase):
 
     def nodeDisp(self, node, dof=-1):
         """Displacement of ``node`` [m, rad]: a list over its dofs, or one 1-based ``dof``."""
-        _, state = self._state("nodeDisp")
-        return dof_value(self._node_values("nodeDisp", node, state.u), dof, f"nodeDisp {node}")
+        return dof_value(self._node_values("nodeDisp", node, "u"), dof, f"nodeDisp {node}")
 
     def nodeVel(self, node, dof=-1):
         """Velocity of ``node`` [m/s, rad/s]."""
-        _, state = self._state("nodeVel")
-        return dof_value(self._node_values("nodeVel", node, state.v), dof, f"nodeVel {node}")
+        return dof_value(self._node_values("nodeVel", node, "v"), dof, f"nodeVel {node}")
 
     def nodeAccel(self, node, dof=-1):
         """Acceleration of ``node`` [m/s², rad/s²]."""
-        _, state = self._state("nodeAccel")
-        return dof_value(self._node_values("nodeAccel", node, state.a), dof, f"nodeAccel {node}")
+        return dof_value(self._node_values("nodeAccel", node, "a"), dof, f"nodeAccel {node}")
 
     def nodeCoord(self, node, dim=-1):
         """Coordinates ``[x, y]`` of ``node`` [m], or one 1-based coordinate."""

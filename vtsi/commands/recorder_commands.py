@@ -28,7 +28,7 @@ class KeptOpen:
     def __init__(self, recorder):
         self.recorder = recorder
         self._requests = None     # (assembly, requests)
-        self._started = None      # (assembly, [(tag, pattern, n_loads)])
+        self._started = None      # (assembly, model.load_version, [(tag, pattern, n_loads)])
 
     @property
     def dt(self):
@@ -40,16 +40,19 @@ class KeptOpen:
         return self._requests[1]
 
     def start(self, assembly, model, info=None):
+        if self._started is not None and self._started[0] is assembly and self._started[1] == model.load_version:
+            return        # nothing changed since the last analyze (a per-step loop)
         patterns = [(tag, p, len(p.nodal)) for tag, p in model.patterns.items()]
         if self._started is not None:
-            asm, old = self._started
+            asm, _, old = self._started
             same = asm is assembly and len(old) == len(patterns) and all(
                 a[0] == b[0] and a[1] is b[1] and a[2] == b[2] for a, b in zip(old, patterns))
             if same:
+                self._started = (assembly, model.load_version, patterns)
                 return
             self.recorder.close()
         self.recorder.start(assembly, model, info)
-        self._started = (assembly, patterns)
+        self._started = (assembly, model.load_version, patterns)
 
     def write(self, times, columns, assembly):
         self.recorder.write(times, columns, assembly)

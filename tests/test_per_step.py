@@ -1,0 +1,144 @@
+"""OpenSees scripts that step with ``analyze(1, dt)`` in a Python loop (most published scripts):
+each call costs one compiled step and a constant. What a run needs is kept from call to call
+(stages, loads, recorder columns, a block of the coming load factors) and given up when the
+model, its patterns, the time, dt, the integrator or a dof at rest change; the loop gives the
+numbers of one ``analyze(n, dt)`` to the last bit, and OpenSeesPy's when the script changes
+things between the steps."""
+import numpy as np
+import pytest
+
+import vtsi.opensees as vops
+from vtsi.analysis import domain_state
+from vtsi.timeseries import Path
+
+oracle = pytest.importorskip("openseespy.opensees")
+
+N_EL, SPAN, DT = 10, 20.0, 2e-3
+
+
+def beam(ops, n_steps=300):
+    """A simply supported beam with one Path pattern per interior node (a force crossing at
+    20 m/s, shared by the hat functions), as OpenSees moving-load scripts are written."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    x = np.linspace(0.0, SPAN, N_EL + 1)
+    for i, xi in enumerate(x):
+        ops.node(i + 1, float(xi), 0.0)
+    ops.fix(1, 1, 1, 0)
+    ops.fix(N_EL + 1, 0, 1, 0)
+    ops.geomTransf("Linear", 1)
+    for e in range(N_EL):
+        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, 3.0e10, 1.5, 1, "-mass", 2.0e4, "-cMass")
+    t = DT * np.arange(n_steps + 1)
+    pos = 20.0 * t
+    h = SPAN / N_EL
+    for i in range(1, N_EL):
+        share = np.clip(1.0 - np.abs(pos - x[i]) / h, 0.0, None) * 1e5
+        ops.timeSeries("Path", i + 1, "-dt", DT, "-values", *share.tolist())
+        ops.pattern("Plain", i + 1, i + 1)
+        ops.load(i + 1, 0.0, -1.0, 0.0)
+    ops.rayleigh(0.1, 0.0, 0.0, 1e-4)
+
+
+def transient(ops, integrator=("Newmark", 0.5, 0.25)):
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    ops.integrator(*integrator)
+    ops.analysis("Transient")
+
+
+@pytest.mark.parametrize("integrator", [("Newmark", 0.5, 0.25), ("HHT", 0.9), ("Bathe",)], ids=lambda i: i[0])
+def test_a_per_step_loop_equals_one_analyze(integrator):
+    """200 calls of analyze(1, dt) (reading nodeDisp, nodeVel, nodeAccel and getTime each step)
+    and one analyze(200, dt) with a recorder give identical histories."""
+    session = vops.Session()
+    beam(session)
+    transient(session, integrator)
+    rows, times = [], []
+    for _ in range(200):
+        session.analyze(1, DT)
+        rows.append([session.nodeDisp(6, 2), session.nodeVel(6, 2), session.nodeAccel(6, 2)])
+        times.append(session.getTime())
+    beam(session)
+    transient(session, integrator)
+    tags = [session.recorder("Node", "-node", 6, "-dof", 2, q) for q in ("disp", "vel", "accel")]
+    session.analyze(200, DT)
+    bulk = np.column_stack([session.recorders[t].values[:, 0] for t in tags])
+    np.testing.assert_array_equal(np.array(rows), bulk)
+    np.testing.assert_array_equal(times, session.recorders[tags[0]].time)
+
+
+def test_a_per_step_call_does_no_work_per_pattern(monkeypatch):
+    """The series are evaluated a block of steps at a time, not at every call: 300 calls of a
+    model with 9 Path patterns evaluate the stacked Paths once per 512-step block."""
+    calls = []
+    original = Path.stack_factors.__func__
+    monkeypatch.setattr(Path, "stack_factors", classmethod(lambda cls, *a: calls.append(1) or original(cls, *a)))
+    session = vops.Session()
+    beam(session)
+    transient(session)
+    for _ in range(300):
+        session.analyze(1, DT)
+    assert len(calls) == 1
+    assert session._transient._kept_plan.block[2] == 300      # the block's position: one step per call
+
+
+def scripted_changes(ops):
+    """A per-step loop whose script changes things between the steps: a load added to a
+    pattern that exists, the time set back, the patterns frozen (loadConst) with a new constant pattern,
+    another dt and another integrator. Returns the midspan history."""
+    beam(ops)
+    transient(ops)
+    out = []
+    for k in range(240):
+        if k == 40:
+            ops.load(4, 0.0, -0.5, 0.0)       # to the last pattern defined (10), as in OpenSees
+        if k == 80:
+            ops.setTime(ops.getTime() - 0.02)
+        if k == 120:
+            ops.loadConst()
+            ops.timeSeries("Constant", 50)
+            ops.pattern("Plain", 50, 50)
+            ops.load(3, 0.0, 2e4, 0.0)
+        if k == 160:
+            ops.integrator("HHT", 0.85)
+        dt = DT if k < 200 else 0.5 * DT
+        ops.analyze(1, dt)
+        out.append([ops.getTime(), ops.nodeDisp(6, 2), ops.nodeAccel(4, 2)])
+    return np.array(out)
+
+
+def test_changes_between_steps_are_taken_into_account_as_in_opensees():
+    ref = scripted_changes(oracle)
+    session = vops.Session()
+    val = scripted_changes(session)
+    np.testing.assert_allclose(val[:, 0], ref[:, 0], rtol=0, atol=1e-12)
+    scale = np.abs(ref[:, 1:]).max(axis=0)
+    assert np.max(np.abs(val[:, 1:] - ref[:, 1:]) / scale) < 1e-9
+
+
+def test_a_dof_at_rest_set_between_steps_is_integrated():
+    """The beam's axial dofs are at rest, so they are not integrated; a script (or the object
+    API) that gives one a displacement between two steps gets it integrated from then on, as
+    a fresh analysis from that state would."""
+    runs = []
+    for fresh in (False, True):
+        session = vops.Session()
+        beam(session)
+        transient(session)
+        for _ in range(20):
+            session.analyze(1, DT)
+        asm = session.domain.build()
+        domain_state(session.domain).u[asm.full_dof(N_EL + 1, 1)] = 1e-4     # the roller's axial dof
+        if fresh:
+            session.wipeAnalysis()
+            transient(session)
+            session.analyze(30, DT)
+        else:
+            for _ in range(30):
+                session.analyze(1, DT)
+        runs.append(domain_state(session.domain).u.copy())
+    assert np.abs(runs[0][asm.full_dof(N_EL + 1, 1)]) > 1e-6            # the axial wave moved it
+    np.testing.assert_allclose(runs[0], runs[1], rtol=0, atol=1e-15 * np.abs(runs[1]).max())
