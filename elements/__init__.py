@@ -8,8 +8,9 @@ from .base import ELEMENT_TYPES, ElementType, command_element_types, element_typ
 from .beam_column import ElasticBeamColumn2d
 from .kernels import rotate_to_global
 from .point_mass import PointMass2d
+from .timoshenko import ElasticTimoshenkoBeam2d
 from .truss import Truss2d
 from .zero_length import ZeroLength2d
 
 __all__ = ["ELEMENT_TYPES", "ElementType", "command_element_types", "element_type", "register", "rotation_2d", "rotate_to_global",
-           "ElasticBeamColumn2d", "Truss2d", "ZeroLength2d", "PointMass2d"]
+           "ElasticBeamColumn2d", "ElasticTimoshenkoBeam2d", "Truss2d", "ZeroLength2d", "PointMass2d"]

@@ -120,5 +120,6 @@ def test_the_new_type_command_through_vtsi_opensees(custom_element):
         ops.element("timoshenkoBeam", 2, 1, 2, 1.0, 2.0, 3.0, 4.0, 0.8, "-rho", 5.0)
     with pytest.raises(vtsi.CommandError, match=r"^element 2 \(timoshenkoBeam\): G must be > 0, got 0$"):
         ops.element("timoshenkoBeam", 2, 1, 2, 1.0, 2.0, 3.0, 0.0, 0.8)
-    with pytest.raises(vtsi.CommandError, match="supported: elasticBeamColumn, truss, zeroLength, .*timoshenkoBeam"):
+    with pytest.raises(vtsi.CommandError, match="supported: elasticBeamColumn, ElasticTimoshenkoBeam, truss, "
+                                                "zeroLength, .*timoshenkoBeam"):
         ops.element("noSuchBeam", 2, 1, 2)

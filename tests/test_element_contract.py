@@ -27,6 +27,9 @@ SAMPLES = {
                    ((P2, P2), dict(ky=5e5, angle=-2.0, do_rayleigh=1)),
                    (((0.0, 0.0), (0.0, 0.0)), dict(cx=3.0))],
     "pointMass": [((P1,), dict(m=120.0, J=7.0)), ((P2,), dict(m=3.0))],
+    "ElasticTimoshenkoBeam": [(LINE[0], dict(A=0.02, E=2.1e11, G=8e10, I=3e-4, Avy=0.016, rho=150.0, cmass=0)),
+                              (LINE[1], dict(A=0.5, E=3e10, G=1.2e10, I=0.1, Avy=0.42, rho=1200.0, cmass=1)),
+                              (LINE[2], dict(A=0.3, E=3e10, G=1.2e10, I=0.02, Avy=0.25))],
     "timoshenkoBeam": [(LINE[0], dict(A=0.02, E=2.1e11, I=3e-4, G=8e10, kappa=5 / 6, rho=150.0)),
                        (LINE[1], dict(A=0.5, E=3e10, I=0.1, G=1.2e10, kappa=0.85, rho=1200.0))],
 }

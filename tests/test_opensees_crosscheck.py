@@ -337,3 +337,45 @@ def test_uniform_excitation(direction):
     ref, val = ground_shaken_frame(oracle, direction), ground_shaken_frame(vops, direction)
     assert np.abs(ref).max() > 1e-5
     assert relative_difference(ref, val) < RTOL
+
+
+def printed_frame(ops, path):
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for tag, x, y in ((1, 0.0, 0.0), (2, 0.0, 4.0), (3, 6.0, 4.0), (4, 6.0, 0.0)):
+        ops.node(tag, x, y)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(4, 1, 1, 0)
+    ops.mass(2, 500.0, 500.0, 0.0)
+    ops.geomTransf("Linear", 1)
+    for e, (i, j) in enumerate(((1, 2), (2, 3), (3, 4)), start=1):
+        ops.element("elasticBeamColumn", e, i, j, 0.02, 2.1e11, 8e-5, 1)
+    ops.remove("element", 2)
+    ops.element("elasticBeamColumn", 7, 2, 3, 0.02, 2.1e11, 8e-5, 1)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(2, 1000.0, 0.0, 0.0)
+    ops.printModel("-node", 2, 3)
+    ops.printModel("-ele", 7)
+    ops.printModel("-file", str(path))
+    return ops.getNodeTags(), ops.getEleTags()
+
+
+def test_print_model_and_tags(tmp_path, capsys):
+    """The same printModel calls pass in both codes (OpenSees's text is its own; vtsi's is checked
+    for what it must say), and the tags after a removal and a new element are OpenSees's."""
+    ref = printed_frame(oracle, tmp_path / "ops.txt")
+    capsys.readouterr()
+    val = printed_frame(vops, tmp_path / "vtsi.txt")
+    assert val == ref == ([1, 2, 3, 4], [1, 3, 7])
+    first, whole = capsys.readouterr().out, (tmp_path / "vtsi.txt").read_text()
+    assert "node 2: x 0 y 4" in first and "node 3: x 6 y 4" in first and "node 1:" not in first
+    assert "element 7: elasticBeamColumn, nodes 2 3, A 0.02, E 2.1e+11, I 8e-05" in first
+    assert "Model: 2-D, 3 dofs per node, 4 nodes, 3 elements, 1 load patterns" in whole and "fix 1 1 1" in whole
+    assert "pattern 1: series Linear 1, factor 1, node 2: 1000 0 0" in whole
+    with pytest.raises(vops.CommandError, match="'-JSON' is not supported"):
+        vops.printModel("-JSON")
+    with pytest.raises(vops.CommandError, match="printModel: node 9 does not exist"):
+        vops.printModel("-node", 9)
+    with pytest.raises(vops.CommandError, match="getEleTags: option '-mesh' is not supported"):
+        vops.getEleTags("-mesh", 1)

@@ -513,8 +513,7 @@ class _RunPlan:
         """The recorder feed of a run: built (and its recorders started) once, restarted after."""
         if self.feed is None:
             a = self.analysis
-            self.feed = _RecorderFeed(self.asm, a.model, self.recorders, self.info)
-            self.rec_slot, self.rec_index = self.bridge.record_plan(self.feed.rec_slot, self.feed.rec_index)
+            self.adopt_feed(_RecorderFeed(self.asm, a.model, self.recorders, self.info))
         else:
             self.feed.start(self.info)
         return self.feed
@@ -523,6 +522,11 @@ class _RunPlan:
         """Take over the started ``feed`` of a run that this plan continues; returns self."""
         self.feed = feed
         self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
+        if self.fe:        # run_from_state's arguments around (u, v, a), the load table and the output
+            b = self.bridge
+            self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.slots),
+                                self.mapped + (self.rec_slot, self.rec_index),
+                                (self.analysis.divergence_limit, self.work, b.band))
         return self
 
     def load_rows(self, t0, n):
@@ -544,12 +548,11 @@ class _RunPlan:
     def advance(self, state, table, out):
         """Run the steps of ``table`` from ``state`` (written back unless they diverge); returns
         -1, the index of the diverging step, or -2 if a dof at rest has moved."""
+        if self.fe:
+            head, loads, tail = self.kernel_args
+            return run_from_state(state.u, state.v, state.a, *head, table, *loads, out, *tail)
         a, b = self.analysis, self.bridge
         ptr, dof, val = self.mapped
-        if self.fe:
-            return run_from_state(state.u, state.v, state.a, self.coords_full, self.rest_full, self.bank, b.du, b.dv,
-                                  b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot, self.rec_index, out,
-                                  a.divergence_limit, self.work, b.band)
         bank = b.bank(state, self.asm.full_of_free, a.integrator.n_slots)
         bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot,
                                self.rec_index, out, a.divergence_limit, self.work, b.band)

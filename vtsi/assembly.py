@@ -32,6 +32,16 @@ def scatter_add(data, positions, matrices, weights):
                 data[positions[e, i, j]] += w * matrices[e, i, j]
 
 
+def principal(coo, dofs, n):
+    """Rows and columns ``dofs`` (in that order) of the ``n × n`` COO matrix ``coo``, as a COO
+    matrix: one mask and one renumbering instead of two sparse slicings."""
+    position = np.full(n, -1, dtype=np.int64)
+    position[dofs] = np.arange(len(dofs))
+    r, c = position[coo.row], position[coo.col]
+    keep = (r >= 0) & (c >= 0)
+    return sp.coo_matrix((coo.data[keep], (r[keep], c[keep])), shape=(len(dofs), len(dofs)))
+
+
 class Assembly:
     """The assembled linear model: matrices, dof maps and element data, built by :meth:`Model.build`.
 
@@ -120,13 +130,14 @@ class Assembly:
         free = np.flatnonzero(~fixed)
         if free.size == 0:
             raise ModelError("every dof of the model is fixed: nothing to analyse")
-        pattern = abs(self.K_full[free][:, free]) + abs(self.M_full[free][:, free]) + abs(self.C_full[free][:, free])
+        n = self.n_full
+        pattern = principal(sp.coo_matrix(abs(self.K_full) + abs(self.M_full) + abs(self.C_full)), free, n).tocsr()
         pattern.eliminate_zeros()
-        order = reverse_cuthill_mckee(sp.csr_matrix(pattern), symmetric_mode=True)
+        order = reverse_cuthill_mckee(pattern, symmetric_mode=True)
         self.full_of_free = free[order].astype(np.int64)
         self.free_of_full = -np.ones(self.n_full, dtype=np.int64)
         self.free_of_full[self.full_of_free] = np.arange(len(self.full_of_free))
-        sub = lambda a: a[self.full_of_free][:, self.full_of_free].tocsr()
+        sub = lambda a: principal(sp.coo_matrix(a), self.full_of_free, n).tocsr()
         self.K, self.M, self.C = sub(self.K_full), sub(self.M_full), sub(self.C_full)
         for a in (self.K, self.M, self.C):
             a.eliminate_zeros()   # exact structural zeros (e.g. axial-bending of a straight beam)

@@ -54,8 +54,8 @@ def set_session(new):
 def _delegate(name):
     method = getattr(Session, name)
 
-    def command(*args, **kwargs):
-        return getattr(session, name)(*args, **kwargs)
+    def command(*args):
+        return getattr(session, name)(*args)
 
     command.__name__ = command.__qualname__ = name
     command.__doc__ = method.__doc__

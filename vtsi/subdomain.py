@@ -28,22 +28,24 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from vtsi.assembly import principal
 from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, inverse_columns, ldl_band, pad_solve
 from vtsi.errors import AnalysisError
 from vtsi.timeloop import stage_operators
 
 
-def factor(assembly, matrix, what, cause=None, dofs=None):
+def factor(assembly, matrix, what, cause=None, dofs=None, kd=None):
     """Banded Cholesky factor of a free-dof matrix, or of its rows and columns ``dofs`` (the
-    matrix given already restricted to them), with the half bandwidth of K, M and C there; a
-    failure names the dof at fault (``cause``: the explanation that follows, by default "a
-    mechanism or a dof with neither stiffness nor mass")."""
+    matrix given already restricted to them), with the half bandwidth ``kd`` (default: that of K,
+    M and C there); a failure names the dof at fault (``cause``: the explanation that follows, by
+    default "a mechanism or a dof with neither stiffness nor mass")."""
     parts = (assembly.K, assembly.M, assembly.C)
     if dofs is None:
         dofs = np.arange(assembly.n_free)
-    else:
+    elif kd is None:
         parts = (m[dofs][:, dofs] for m in parts)
-    kd = max(half_bandwidth(m) for m in parts)
+    if kd is None:
+        kd = max(half_bandwidth(m) for m in parts)
     try:
         return ldl_band(matrix, kd)
     except NotPositiveDefinite as exc:
@@ -54,13 +56,18 @@ def factor(assembly, matrix, what, cause=None, dofs=None):
 
 def factor_stage(assembly, active, kv, ku, what, cause=None):
     """Banded factor of the effective matrix M + kv C + ku K on the moving dofs ``active``
-    (:func:`vtsi.analysis.moving_dofs`). The dofs at rest are checked too: a dof with neither stiffness nor
-    mass is a modelling error even where nothing moves, and is named as everywhere else."""
-    full = (assembly.M + kv * assembly.C + ku * assembly.K).tocsr()
-    rest = np.setdiff1d(np.arange(assembly.n_free), active)
+    (:func:`vtsi.analysis.moving_dofs`), with the half bandwidth of K, M and C there (every stage's
+    the same). The dofs at rest are checked too: a dof with neither stiffness nor mass is a
+    modelling error even where nothing moves, and is named as everywhere else."""
+    full = sp.coo_matrix(assembly.M + kv * assembly.C + ku * assembly.K)
+    pattern = sp.coo_matrix(abs(assembly.M) + abs(assembly.C) + abs(assembly.K))
+    n = assembly.n_free
+    rest = np.setdiff1d(np.arange(n), active)
     if len(rest):
-        factor(assembly, full[rest][:, rest], what, cause, dofs=rest)
-    return factor(assembly, full[active][:, active], what, cause, dofs=active)
+        factor(assembly, principal(full, rest, n), what, cause, dofs=rest,
+               kd=half_bandwidth(principal(pattern, rest, n)))
+    return factor(assembly, principal(full, active, n), what, cause, dofs=active,
+                  kd=half_bandwidth(principal(pattern, active, n)))
 
 
 def max_frequency(assembly):
@@ -146,7 +153,7 @@ class FEStages(BridgeStages):
                 raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
                                     f"{limit / omega_max:.6g} s (= {limit:.4g}/omega_max, omega_max = "
                                     f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
-        K, C = (m[active][:, active].tocsr() for m in (assembly.K, assembly.C))
+        K, C = (principal(sp.coo_matrix(m), active, assembly.n_free).tocsr() for m in (assembly.K, assembly.C))
         self._stepping(integrator, dt, K, C, factors)
         self.stiffness = assembly.K
         if track is not None:

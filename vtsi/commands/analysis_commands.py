@@ -276,9 +276,10 @@ class AnalysisCommands(SessionBase):
         key as the last call's means the same checks pass and the same analysis runs (a per-step
         loop), so :meth:`analyze` goes straight to it."""
         model = self.domain
-        settings = (self._transient_integrator, self._constraint, self._modal_damping)
+        integrator, constraint, modal = self._transient_integrator, self._constraint, self._modal_damping
         return (args, model, model.build() if model is not None and model.nodes else None, self._analysis,
-                tuple((id(x), x) for x in settings), self._recorder_count, len(self._kept))
+                id(integrator), integrator, id(constraint), constraint, id(modal), modal, self._recorder_count,
+                len(self._kept))
 
     def analyze(self, *args):
         """``analyze(numSteps)`` (static) or ``analyze(numSteps, dt)`` (transient); returns 0.

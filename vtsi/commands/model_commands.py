@@ -16,7 +16,7 @@ from .base import SessionBase
 
 MODEL_COMMANDS = ("model", "node", "fix", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
                   "pattern", "load", "rayleigh")
-ELEMENT_TYPES = ("elasticBeamColumn", "truss", "zeroLength")
+ELEMENT_TYPES = ("elasticBeamColumn", "ElasticTimoshenkoBeam", "truss", "zeroLength")
 MATERIAL_TYPES = ("Elastic", "Viscous")
 SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
 
@@ -212,6 +212,27 @@ class ModelCommands(SessionBase):
             else:
                 cmass = 1
         model.element("elasticBeamColumn", tag, (i, j), A=A, E=E, I=Iz, rho=rho, cmass=cmass)
+
+    def _element_ElasticTimoshenkoBeam(self, model, a, name, tag, i, j):
+        """``element('ElasticTimoshenkoBeam', tag, i, j, E, G, A, Iz, Avy, transfTag, ['-mass', m],
+        ['-cMass'])`` (OpenSees's argument order)."""
+        if model.ndf != 3:
+            raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
+        a.command = name
+        E, G, A, Iz, Avy = (a.float(p) for p in ("E", "G", "A", "Iz", "Avy"))
+        transf = a.int("transfTag")
+        if transf not in self._transforms:
+            raise CommandError(f"{name}: geomTransf {transf} does not exist")
+        rho, cmass = 0.0, 0
+        while a.more():
+            if a.option(("-mass", "-cMass")) == "-mass":
+                rho = a.float("-mass")
+            else:
+                cmass = 1
+        try:
+            model.element("ElasticTimoshenkoBeam", tag, (i, j), A=A, E=E, G=G, I=Iz, Avy=Avy, rho=rho, cmass=cmass)
+        except ModelError as exc:
+            raise CommandError(str(exc)) from None
 
     def _element_truss(self, model, a, name, tag, i, j):
         A = a.float(f"{name}: A")

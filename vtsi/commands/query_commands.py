@@ -9,9 +9,10 @@ from vtsi.errors import CommandError
 
 from .args import Args, dof_value, is_int, is_number
 from .base import SessionBase
+from .model_text import model_text
 from .responses import ELEMENT_RESPONSE_ALIASES, apply_layout, opensees_layout
 
-QUERY_COMMANDS = ("nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce", "eleResponse",
+QUERY_COMMANDS = ("printModel", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce", "eleResponse",
                   "getTime", "setTime", "loadConst", "nodeCoord", "nodeEigenvector", "nodeResponse", "getNodeTags",
                   "getEleTags", "getLoadFactor", "nodeMass", "nodeBounds")
 NODE_RESPONSE_IDS = {1: "disp", 2: "vel", 3: "accel", 6: "reaction", 7: "unbalance"}
@@ -134,13 +135,61 @@ class QueryCommands(SessionBase):
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         return [float(lo[0]), float(lo[1]), 0.0, float(hi[0]), float(hi[1]), 0.0]
 
-    def getNodeTags(self):
-        """Node tags, ascending."""
+    def getNodeTags(self, *args):
+        """Node tags, ascending (OpenSees's ``'-mesh', tag`` is refused: vtsi has no meshes)."""
+        self._no_mesh("getNodeTags", args)
         return sorted(self.domain.nodes) if self.domain is not None else []
 
-    def getEleTags(self):
-        """Element tags, ascending."""
+    def getEleTags(self, *args):
+        """Element tags, ascending (OpenSees's ``'-mesh', tag`` is refused: vtsi has no meshes)."""
+        self._no_mesh("getEleTags", args)
         return self.domain.element_tags() if self.domain is not None else []
+
+    @staticmethod
+    def _no_mesh(command, args):
+        a = Args(command, args)
+        if a.more():
+            if a.option(("-mesh",)) == "-mesh":
+                raise CommandError(f"{command}: option '-mesh' is not supported (vtsi has no mesh command); "
+                                   "call it without options for every tag")
+
+    def printModel(self, *args):
+        """``printModel(['-node', *tags], ['-ele', *tags], ['-file', name])``: a readable dump of the
+        model (its units, nodes with fixities, masses and committed response, elements with their
+        type, nodes and parameters, patterns with their series and loads, damping, time) to
+        stdout or appended to a file. Without ``-node``/``-ele`` everything is printed; with them,
+        just those nodes and elements (as OpenSees). OpenSees's ``-JSON`` is refused (its schema
+        is OpenSees's own)."""
+        model = self._model("printModel")
+        a = Args("printModel", args)
+        nodes, elements, path = None, None, None
+        while a.more():
+            opt = a.option(("-node", "-ele", "-file", "-JSON"))
+            if opt == "-JSON":
+                raise CommandError("printModel: option '-JSON' is not supported (OpenSees's own JSON schema); "
+                                   "use the text form, or vtsi.Model and its assembly from Python")
+            if opt == "-file":
+                path = a.word("-file name")
+            else:
+                tags = a.ints(f"{opt} tag")
+                for t in tags:
+                    if opt == "-node":
+                        self._node("printModel", t)
+                    elif t not in model._element_owner:
+                        raise CommandError(f"printModel: element {t} does not exist")
+                if opt == "-node":
+                    nodes = tags
+                else:
+                    elements = tags
+        text = model_text(model, domain_state(model) if model.nodes else None, nodes, elements)
+        if path is None:
+            print(text)
+        else:
+            try:
+                with open(path, "a") as fh:
+                    fh.write(text + "\n")
+            except OSError as exc:
+                raise CommandError(f"printModel: cannot write {path}: {exc.strerror}") from None
 
     # -- forces ------------------------------------------------------------------------------------
     def _applied_loads(self, asm):
