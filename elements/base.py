@@ -194,6 +194,21 @@ class ElementType:
         raise ModelError(f"element type {self.name}: unknown response {kind!r}; "
                          f"valid: {', '.join(self.response_kinds)}")
 
+    def equivalent_loads(self, coords, params, kind, values):
+        """Optional (beams): the global nodal loads ``(ndof,)`` [N, N·m] equivalent to an element
+        load (:meth:`vtsi.loads.LoadPattern.beam_load`) on one element (``coords (n_nodes, 2)``,
+        ``params (n_par,)``); the element's end forces then lack these (fixed-end forces)."""
+        raise ModelError(f"element type {self.name} takes no element loads (eleLoad): load its nodes instead")
+
+    def end_force_response(self, kind, coords, forces):
+        """The columns of response ``kind`` of global end forces ``forces (n_el, ndof)``, to
+        correct a response by the fixed-end forces of element loads; default: 'force' and
+        'globalForce' are the forces themselves."""
+        if kind in ("force", "globalForce"):
+            return forces
+        raise ModelError(f"element type {self.name}: response {kind!r} of an element with element loads is not "
+                         "available; record 'force' or 'globalForce'")
+
 
 def rotation_2d(coords):
     """Direction cosines and lengths of 2-node line elements: ``(c, s, L)`` each ``(n_el,)``."""

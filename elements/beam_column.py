@@ -89,12 +89,38 @@ class ElasticBeamColumn2d(ElementType):
         """``localForce``: ``[N1, V1, M1, N2, V2, M2]`` in element axes (forces the nodes exert
         on the element); other kinds as in the base class."""
         if kind == "localForce":
-            c, s, _ = rotation_2d(coords)
-            g = super().response("force", coords, params, u_e, v_e)
-            out = np.empty_like(g)
-            for o in (0, 3):
-                out[:, o] = c * g[:, o] + s * g[:, o + 1]
-                out[:, o + 1] = -s * g[:, o] + c * g[:, o + 1]
-                out[:, o + 2] = g[:, o + 2]
-            return out
+            return self.end_force_response(kind, coords, super().response("force", coords, params, u_e, v_e))
         return super().response(kind, coords, params, u_e, v_e)
+
+    def end_force_response(self, kind, coords, forces):
+        """Global end forces ``(n_el, 6)`` as response ``kind``: 'localForce' rotates them into
+        element axes."""
+        if kind != "localForce":
+            return super().end_force_response(kind, coords, forces)
+        c, s, _ = rotation_2d(coords)
+        out = np.empty_like(forces)
+        for o in (0, 3):
+            out[:, o] = c * forces[:, o] + s * forces[:, o + 1]
+            out[:, o + 1] = -s * forces[:, o] + c * forces[:, o + 1]
+            out[:, o + 2] = forces[:, o + 2]
+        return out
+
+    def equivalent_loads(self, coords, params, kind, values):
+        """Consistent (fixed-end) nodal loads, global [N, N·m], of a ``'uniform'`` ``(w_y, w_x)``
+        [N/m] or ``'point'`` ``(P_y, x/L, P_x)`` [N] load in element axes: uniform w_y L/2 and
+        ±w_y L²/12, w_x L/2; a point load at a = x L (b = L − a) P_y b²(3a + b)/L³, P_y a b²/L²,
+        P_y a²(a + 3b)/L³, −P_y a² b/L², axial P_x b/L and P_x a/L (OpenSees ``ElasticBeam2d``)."""
+        (c, s, L), = zip(*rotation_2d(coords[None]))
+        if kind == "uniform":
+            wy, wx = values
+            local = np.array([wx * L / 2, wy * L / 2, wy * L * L / 12, wx * L / 2, wy * L / 2, -wy * L * L / 12])
+        else:
+            py, x, px = values
+            a, b = x * L, (1.0 - x) * L
+            local = np.array([px * b / L, py * b * b * (3 * a + b) / L ** 3, py * a * b * b / L ** 2,
+                              px * a / L, py * a * a * (a + 3 * b) / L ** 3, -py * a * a * b / L ** 2])
+        out = local.copy()
+        for o in (0, 3):        # to global axes: [x, y] = R^T [local x, local y]
+            out[o] = c * local[o] - s * local[o + 1]
+            out[o + 1] = s * local[o] + c * local[o + 1]
+        return out

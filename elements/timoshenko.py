@@ -14,6 +14,8 @@ OpenSees ``SRC/element/elasticBeamColumn/ElasticTimoshenkoBeam2d.cpp`` (``setUp`
 import numpy as np
 from numba import njit
 
+from vtsi.errors import ModelError
+
 from .base import register, rotation_2d
 from .beam_column import ElasticBeamColumn2d
 from .kernels import rotate_to_global
@@ -88,6 +90,15 @@ class ElasticTimoshenkoBeam2d(ElasticBeamColumn2d):
         c, s, L = rotation_2d(coords)
         A, E, G, I, Avy = (np.ascontiguousarray(params[:, k]) for k in range(5))
         return rotate_to_global(_local_stiffness(A, E, G, I, Avy, L), c, s, 2, 3)
+
+    def equivalent_loads(self, coords, params, kind, values):
+        """As ``elasticBeamColumn``'s for a ``'uniform'`` load (the fixed-end forces of a uniform
+        load do not depend on the shear flexibility); a ``'point'`` load is refused (its fixed-end
+        moments do)."""
+        if kind != "uniform":
+            raise ModelError(f"element type {self.name}: a point element load is not supported (its fixed-end "
+                             "forces depend on the shear flexibility); split the element at the load")
+        return super().equivalent_loads(coords, params, kind, values)
 
     def mass(self, coords, params):
         c, s, L = rotation_2d(coords)

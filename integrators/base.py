@@ -3,21 +3,24 @@
 Every step of every integrator is a sequence of *stages* (Newmark and HHT: one; Bathe: two).
 A stage solves, for its acceleration ``a_s``,
 
-    M a_s + C ṽ + K ũ = P̃,    ũ = Σ_j ku[j] X_j + ku[A] a_s,   ṽ = Σ_j kv[j] X_j + kv[A] a_s,
-    P̃ = Σ_q w_q P(t_n + θ_q Δt),
+    M (a_s + Σ_j km[j] X_j) + C ṽ + K ũ = P̃,
+    ũ = Σ_j ku[j] X_j + ku[A] a_s,   ṽ = Σ_j kv[j] X_j + kv[A] a_s,   P̃ = Σ_q w_q P(t_n + θ_q Δt),
 
 then sets ``u_s = Σ_j du[j] X_j + du[A] a_s`` and ``v_s = Σ_j dv[j] X_j + dv[A] a_s``. The
 *bank* ``X`` holds the known vectors: slots 0, 1, 2 are ``u_n, v_n, a_n``; stage ``s`` writes
 its ``u_s, v_s, a_s`` to slots ``3 + 3 s, 4 + 3 s, 5 + 3 s``; index ``A = n_slots`` is the
 coefficient of the unknown ``a_s``. The last stage's slots are the state at ``t_n + Δt``. The
 effective matrix of a stage is ``K̂_s = M + kv[A] C + ku[A] K``, constant for a linear model and a
-constant step, so the analysis factors it once.
+constant step, so the analysis factors it once. ``km`` (zero but for the generalized-α method,
+which weights the inertia of the step start) holds the mass's coefficients on known slots; the
+load weights then sum to ``1 + Σ km`` (a constant load balances a constant acceleration).
 
 Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
 -----------------------------------------------------------------------------
 1. ``name`` (str) and ``n_stages`` (int) class attributes; register with :func:`register`.
 2. ``stages(dt)`` returns ``n_stages`` :class:`Stage` objects; coefficient arrays have length
-   ``n_slots + 1`` with ``n_slots = 3 + 3 n_stages``, and a stage only reads slots already written.
+   ``n_slots + 1`` with ``n_slots = 3 + 3 n_stages`` (``km[A] = 0``), and a stage only reads
+   slots already written.
 3. ``stability_limit(dt)``: ``None`` if unconditionally stable, else the largest stable
    ``ω Δt`` (undamped); the analysis compares it with ``ω_max Δt`` and refuses to run beyond it.
 4. ``explicit``: True when ``ku[A] = 0`` in every stage, so that ``K̂ = M + kv[A] C`` holds no
@@ -69,6 +72,11 @@ class Stage:
     load: list = field(default_factory=lambda: [(1.0, 1.0)])
     theta: float = 1.0
     force_weight: float = 1.0
+    km: np.ndarray = None
+
+    def __post_init__(self):
+        if self.km is None:
+            self.km = np.zeros_like(self.ku)
 
 
 class Integrator:

@@ -276,7 +276,7 @@ ANALYSIS_CASES = [
      AnalysisError, r"^integrator HHT: gamma = 0.5 is below 3/2 - alpha = 0.7"),
     ("Bathe gamma = 1", lambda: Bathe(1.0), AnalysisError, r"^integrator Bathe: gamma = 1 is outside \(0, 1\)$"),
     ("unknown integrator lists the valid ones", lambda: vtsi.TransientAnalysis(loaded_beam(), "Newmrk", 1e-3),
-     AnalysisError, r"^unknown integrator 'Newmrk'; known: Bathe, CentralDifference, HHT, Newmark$"),
+     AnalysisError, r"^unknown integrator 'Newmrk'; known: Bathe, CentralDifference, GeneralizedAlpha, HHT, Newmark, TRBDF2$"),
     ("eigen: more modes than dofs", lambda: vtsi.eigen(loaded_beam(), 100),
      AnalysisError, r"^eigen: number of modes must be between 1 and 12 \(the free dofs\), got 100$"),
     ("eigen: zero modes", lambda: vtsi.eigen(loaded_beam(), 0),
@@ -634,7 +634,7 @@ def session():
 
 COMMAND_CASES = [
     ("unknown element type", lambda s: s.element("elasticBeam", 1, 1, 2, 1.0, 1.0, 1.0, 1),
-     r"^element: type 'elasticBeam' is not supported; supported: elasticBeamColumn, truss, zeroLength"),
+     r"^element: type 'elasticBeam' is not supported; supported: elasticBeamColumn, ElasticTimoshenkoBeam, truss, zeroLength"),
     ("unknown element option", lambda s: s.element("elasticBeamColumn", 1, 1, 2, 1.0, 1.0, 1.0, 1, "-massDens", 1.0),
      r"option '-massDens' is not supported; supported: -mass, -cMass"),
     ("unknown time series type", lambda s: s.timeSeries("Sine", 1),

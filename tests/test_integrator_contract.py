@@ -36,19 +36,21 @@ def test_class_attributes(integrator):
 def test_stages_have_the_declared_shape(integrator, dt):
     """Item 2: ``n_stages`` Stage objects, four float64 coefficient vectors of length
     ``n_slots + 1``, finite; stage end times increase to 1; load points in [0, 1] with weights
-    summing to 1 (a constant load is applied in full)."""
+    summing to the equation's total mass coefficient ``1 + Σ km`` (a constant load balances a
+    constant acceleration)."""
     stages = integrator.stages(dt)
     assert isinstance(stages, list) and len(stages) == integrator.n_stages
     thetas = []
     for st in stages:
         assert isinstance(st, Stage)
-        for name in ("du", "dv", "ku", "kv"):
+        for name in ("du", "dv", "ku", "kv", "km"):
             c = getattr(st, name)
             assert isinstance(c, np.ndarray) and c.dtype == np.float64 and c.shape == (integrator.n_slots + 1,)
             assert np.all(np.isfinite(c))
+        assert st.km[-1] == 0.0
         assert len(st.load) >= 1
         assert all(0.0 <= theta <= 1.0 for theta, _ in st.load)
-        assert sum(w for _, w in st.load) == pytest.approx(1.0, rel=1e-14)
+        assert sum(w for _, w in st.load) == pytest.approx(1.0 + st.km.sum(), rel=1e-14)
         thetas.append(st.theta)
     assert np.all(np.diff(thetas) > 0.0) and 0.0 < thetas[0] and thetas[-1] == 1.0
 
@@ -59,7 +61,7 @@ def test_a_stage_reads_only_earlier_slots(integrator, dt):
     and the unknown's column ``A``, nothing it has not written yet."""
     A = integrator.n_slots
     for s, st in enumerate(integrator.stages(dt)):
-        for name in ("du", "dv", "ku", "kv"):
+        for name in ("du", "dv", "ku", "kv", "km"):
             c = getattr(st, name)
             assert not np.any(c[3 + 3 * s: A]), f"stage {s + 1} {name} reads a later slot: {c}"
 
@@ -82,14 +84,14 @@ def test_explicit_flag_matches_coefficients(integrator):
 @pytest.mark.parametrize("dt", STEPS)
 def test_constant_acceleration_is_integrated_exactly(integrator, dt):
     """Consistency: for ``ü = f`` (M = 1, K = C = 0, constant load f) every stage solves
-    ``a_s = f`` and must give ``u = u0 + v0 θΔt + f (θΔt)²/2``, ``v = v0 + f θΔt`` at its end
+    ``a_s + Σ km X = f Σ w``, i.e. ``a_s = f``, and must give ``u = u0 + v0 θΔt + f (θΔt)²/2``, ``v = v0 + f θΔt`` at its end
     time θΔt, to roundoff (1e-13 relative)."""
     u0, v0, f = 0.7, -1.3, 2.9
     n, A = integrator.n_slots, integrator.n_slots
     bank = np.zeros(n)
     bank[:3] = u0, v0, f
     for s, st in enumerate(integrator.stages(dt)):
-        a = f * sum(w for _, w in st.load)
+        a = f * sum(w for _, w in st.load) - st.km[:A] @ bank
         u = st.du[:A] @ bank + st.du[A] * a
         v = st.dv[:A] @ bank + st.dv[A] * a
         h = st.theta * dt

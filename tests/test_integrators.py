@@ -30,7 +30,7 @@ import vtsi
 import vtsi.recorders
 from vtsi.elements import ELEMENT_TYPES, ElementType, register
 from vtsi.errors import AnalysisError, DivergenceError
-from vtsi.integrators import INTEGRATORS, HHT, Bathe, CentralDifference, Newmark, make_integrator
+from vtsi.integrators import INTEGRATORS, HHT, Bathe, CentralDifference, GeneralizedAlpha, Newmark, make_integrator
 
 
 # -- the test-local element and the oscillator ---------------------------------------------------
@@ -96,7 +96,7 @@ def simulate(integrator, omega, dt, n_steps, xi=0.0, u0=1.0, v0=0.0, ramp=0.0, *
 def amplification(integrator, omega_dt, xi=0.0, dt=1.0):
     """3×3 matrix ``A`` with ``(u, v, a)_{n+1} = A (u, v, a)_n`` for ``ü + 2ξω u̇ + ω² u = 0``,
     built by running the stages on the bank of the SDOF symbolically (one column per initial
-    value): stage s solves ``(1 + c kv[A] + k ku[A]) a_s = -c Σ kv[j] X_j - k Σ ku[j] X_j``."""
+    value): stage s solves ``(1 + c kv[A] + k ku[A]) a_s = -Σ km[j] X_j - c Σ kv[j] X_j - k Σ ku[j] X_j``."""
     integrator = make_integrator(integrator)
     omega = omega_dt / dt
     k, c = omega ** 2, 2.0 * xi * omega
@@ -104,7 +104,7 @@ def amplification(integrator, omega_dt, xi=0.0, dt=1.0):
     bank = np.zeros((n, 3))
     bank[:3] = np.eye(3)
     for s, st in enumerate(integrator.stages(dt)):
-        a = -(c * st.kv[:n] @ bank + k * st.ku[:n] @ bank) / (1.0 + c * st.kv[n] + k * st.ku[n])
+        a = -(st.km[:n] @ bank + c * st.kv[:n] @ bank + k * st.ku[:n] @ bank) / (1.0 + c * st.kv[n] + k * st.ku[n])
         bank[3 + 3 * s] = st.du[:n] @ bank + st.du[n] * a
         bank[4 + 3 * s] = st.dv[:n] @ bank + st.dv[n] * a
         bank[5 + 3 * s] = a
@@ -637,3 +637,36 @@ def test_dofs_at_rest_are_left_out_and_read_zero(name):
     assert np.abs(runs["axial velocity"][:, 2]).max() > 1e-8          # v / ω_axial ~ 3.7e-7 m
     for extra in ("axial load", "axial velocity"):
         assert np.array_equal(runs[extra][:, [1, 3]], runs["none"][:, [1, 3]])
+
+
+# -- the generalized-α method ---------------------------------------------------------------------------
+def test_special_cases_newmark_and_hht():
+    """αM = αF = 1 is Newmark's method, αM = 1 is HHT(αF), with their default γ, β."""
+    pi2 = 2.0 * np.pi
+    np.testing.assert_allclose(simulate(GeneralizedAlpha(1.0, 1.0), pi2, 0.05, 60),
+                               simulate(Newmark(0.5, 0.25), pi2, 0.05, 60), rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(simulate(GeneralizedAlpha(1.0, 0.85), pi2, 0.05, 60),
+                               simulate(HHT(0.85), pi2, 0.05, 60), rtol=1e-13, atol=1e-15)
+
+
+@pytest.mark.parametrize("rho", [0.0, 0.5, 0.8, 1.0])
+def test_spectral_radius_at_infinity(rho):
+    """With αM = (2 − ρ∞)/(1 + ρ∞), αF = 1/(1 + ρ∞) and the default γ, β the spectral radius
+    tends to ρ∞ as ωΔt → ∞ and stays ≤ 1 everywhere (unconditional stability)."""
+    integ = GeneralizedAlpha((2.0 - rho) / (1.0 + rho), 1.0 / (1.0 + rho))
+    assert spectral_radius(integ, 1e8) == pytest.approx(rho, abs=1e-5)
+    assert max(spectral_radius(integ, om) for om in np.logspace(-3, 6, 60)) <= 1.0 + 1e-12
+
+
+def test_second_order():
+    """The error of a damped oscillator falls by 4 per halving of Δt (default γ, β)."""
+    omega, xi, T = 2.0 * np.pi, 0.05, 2.0
+    t = np.linspace(0.0, T, 9)[1:]
+    wd = omega * np.sqrt(1.0 - xi ** 2)
+    exact = np.exp(-xi * omega * t) * (np.cos(wd * t) + xi * omega / wd * np.sin(wd * t))
+    errors = []
+    for n in (200, 400, 800):
+        u = simulate(GeneralizedAlpha(0.8, 0.6), omega, T / n, n, xi=xi)
+        errors.append(np.max(np.abs(u[n // 8:: n // 8] - exact)))
+    rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(rates > 1.9), rates

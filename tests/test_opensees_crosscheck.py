@@ -379,3 +379,80 @@ def test_print_model_and_tags(tmp_path, capsys):
         vops.printModel("-node", 9)
     with pytest.raises(vops.CommandError, match="getEleTags: option '-mesh' is not supported"):
         vops.getEleTags("-mesh", 1)
+
+
+def element_loaded_frame(ops, outdir, transient):
+    """A portal with an inclined rafter: uniform and point element loads (transverse and axial)
+    on the beams, static (LoadControl) or ramped in time (Newmark)."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for tag, x, y in ((1, 0.0, 0.0), (2, 0.0, 5.0), (3, 4.0, 6.5), (4, 8.0, 5.0), (5, 8.0, 0.0)):
+        ops.node(tag, x, y)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(5, 1, 1, 0)
+    ops.geomTransf("Linear", 1)
+    for e, (i, j) in enumerate(((1, 2), (2, 3), (3, 4), (4, 5)), start=1):
+        ops.element("elasticBeamColumn", e, i, j, 0.05, 3.0e10, 4e-3, 1, "-mass", 120.0)
+    ops.timeSeries("Linear", 1, "-factor", 20.0 if transient else 1.0)
+    ops.pattern("Plain", 1, 1)
+    ops.eleLoad("-ele", 2, 3, "-type", "-beamUniform", -12e3, 1.5e3)
+    ops.eleLoad("-range", 1, 1, "-type", "-beamPoint", 8e3, 0.3, -2e3)
+    ops.eleLoad("-ele", 3, "-type", "-beamPoint", -5e3, 0.75)
+    ops.load(3, 1e3, 0.0, 0.0)
+    ops.recorder("Element", "-file", str(outdir / "ele.out"), "-time", "-ele", 2, 3, "localForce")
+    ops.recorder("Element", "-file", str(outdir / "glob.out"), "-ele", 1, 4, "globalForce")
+    ops.constraints("Plain")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    if transient:
+        ops.rayleigh(0.5, 0.0, 0.0, 1e-3)
+        ops.integrator("Newmark", 0.5, 0.25)
+        ops.analysis("Transient")
+    else:
+        ops.integrator("LoadControl", 0.25)
+        ops.analysis("Static")
+    rows = []
+    for _ in range(8):
+        ops.analyze(1, 5e-3) if transient else ops.analyze(1)
+        ops.reactions()
+        rows.append(ops.nodeDisp(3) + ops.eleForce(2) + ops.eleResponse(1, "localForce") + ops.eleResponse(3, "force")
+                    + ops.nodeReaction(1) + ops.nodeReaction(5))
+    ops.wipe()
+    return np.array(rows)
+
+
+@pytest.mark.parametrize("transient", [False, True], ids=["static", "transient"])
+def test_element_loads(tmp_path, transient):
+    """eleLoad -beamUniform / -beamPoint: displacements, reactions and the element forces (which
+    include the fixed-end forces), queried and recorded, equal OpenSeesPy's."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    ref = element_loaded_frame(oracle, tmp_path / "a", transient)
+    val = element_loaded_frame(vops, tmp_path / "b", transient)
+    assert relative_difference(ref, val) < RTOL
+    compare_files(tmp_path / "a", tmp_path / "b", min_identical=0.0)
+
+
+def test_element_load_refusals():
+    vops.wipe()
+    vops.model("basic", "-ndm", 2, "-ndf", 3)
+    vops.node(1, 0.0, 0.0)
+    vops.node(2, 3.0, 0.0)
+    vops.uniaxialMaterial("Elastic", 1, 1e6)
+    vops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
+    vops.geomTransf("Linear", 1)
+    vops.element("elasticBeamColumn", 2, 1, 2, 1.0, 1.0, 1.0, 1)
+    with pytest.raises(vops.CommandError, match="eleLoad: no load pattern"):
+        vops.eleLoad("-ele", 2, "-type", "-beamUniform", 1.0)
+    vops.timeSeries("Constant", 1)
+    vops.pattern("Plain", 1, 1)
+    with pytest.raises(vops.CommandError, match="eleLoad on element 1: element type zeroLength takes no element loads"):
+        vops.eleLoad("-ele", 2, 1, "-type", "-beamUniform", 1.0)
+    assert vops.session.domain.patterns[1].element_loads == []      # nothing added when one is refused
+    with pytest.raises(vops.CommandError, match="x/L = 1.5, outside"):
+        vops.eleLoad("-ele", 2, "-type", "-beamPoint", 1.0, 1.5)
+    with pytest.raises(vops.CommandError, match="'-beamThermal' is not supported"):
+        vops.eleLoad("-ele", 2, "-type", "-beamThermal", 1.0)
+    with pytest.raises(vops.CommandError, match="eleLoad: element 9 does not exist"):
+        vops.eleLoad("-ele", 9, "-type", "-beamUniform", 1.0)

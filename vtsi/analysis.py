@@ -508,6 +508,7 @@ class _RunPlan:
             self.rest_full = analysis._rest_full
         self.block = None        # (times (B + 1,), table (B, n_stages, n_patterns), position)
         self.no_columns = np.zeros((analysis.chunk_steps, 0))
+        self.span = np.array([0, analysis.integrator.n_stages, 0], dtype=np.int64)   # whole steps
 
     def start_feed(self):
         """The recorder feed of a run: built (and its recorders started) once, restarted after."""
@@ -526,7 +527,7 @@ class _RunPlan:
             b = self.bridge
             self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.slots),
                                 self.mapped + (self.rec_slot, self.rec_index),
-                                (self.analysis.divergence_limit, self.work, b.band))
+                                (self.analysis.divergence_limit, self.work, b.band, self.span))
         return self
 
     def load_rows(self, t0, n):
@@ -555,7 +556,7 @@ class _RunPlan:
         ptr, dof, val = self.mapped
         bank = b.bank(state, self.asm.full_of_free, a.integrator.n_slots)
         bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot,
-                               self.rec_index, out, a.divergence_limit, self.work, b.band)
+                               self.rec_index, out, a.divergence_limit, self.work, b.band, self.span)
         if bad < 0:
             b.commit(state, bank, self.asm.full_of_free, state.time)
         return bad

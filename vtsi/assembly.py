@@ -162,9 +162,26 @@ class Assembly:
             raise ModelError(f"node {node_tag}: dof {dof} out of range 1..{self.ndf}")
         return self.node_index[node_tag] * self.ndf + dof - 1
 
+    def element_equivalent_loads(self, pattern):
+        """``{element tag: (ndof,) global nodal loads}`` equivalent to the element loads of
+        ``pattern`` (factor 1; :meth:`vtsi.loads.LoadPattern.beam_load`)."""
+        out = {}
+        for tag, kind, values in pattern.element_loads:
+            if tag not in self.element_location:
+                raise ModelError(f"pattern {pattern.tag}: load on element {tag}, which does not exist")
+            b, i = self.element_location[tag]
+            etype, _, coords, params, _dofs = self.blocks[b]
+            try:
+                f = etype.equivalent_loads(coords[i], params[i], kind, values)
+            except ModelError as exc:
+                raise ModelError(f"pattern {pattern.tag}: element {tag}: {exc}") from None
+            out[tag] = out.get(tag, 0.0) + f
+        return out
+
     def load_vector(self, pattern):
-        """Free-dof load vector ``(n_free,)`` of a pattern's nodal loads (factor 1); of a ground
-        acceleration (``pattern.ground_direction``), −M r with r the unit translation along it."""
+        """Free-dof load vector ``(n_free,)`` of a pattern's nodal and element loads (factor 1);
+        of a ground acceleration (``pattern.ground_direction``), −M r with r the unit translation
+        along it."""
         if pattern.ground_direction is not None:
             r = np.zeros(self.n_full)
             r[pattern.ground_direction - 1::self.ndf] = 1.0
@@ -178,6 +195,9 @@ class Assembly:
                                  f"ndf is {self.ndf}")
             i = self.node_index[tag]
             p[i * self.ndf: i * self.ndf + len(values)] += values
+        for tag, f in self.element_equivalent_loads(pattern).items():
+            b, i = self.element_location[tag]
+            p[self.blocks[b][4][i]] += f
         return p[self.full_of_free]
 
     def element_state(self, tags, u_full, v_full):

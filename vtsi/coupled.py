@@ -59,6 +59,9 @@ def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
     if integrator is None:
         integrator = HHT(LCP_DEFAULT_ALPHA) if contact == "lcp" else "Newmark"
     integ = make_integrator(integrator)
+    if any(np.any(st.km) for st in integ.stages(1.0)):
+        raise AnalysisError(f"{who}: {integ!r} weights the inertia of the step start (generalized-α), which the "
+                            "coupled time loop does not take; use Newmark, HHT or Bathe")
     if contact == "lcp" and isinstance(integ, Newmark) and integ.gamma == 0.5:
         raise AnalysisError(f"{who}: contact='lcp' needs a dissipative integrator; {integ!r} (γ = 1/2) lets the "
                             "contact force ring after a jump of the rail's curvature and gives spurious lift-offs. "

@@ -25,6 +25,7 @@ class LoadPattern:
             raise ModelError(f"pattern {tag}: factor must be finite, got {factor}")
         self.tag, self.series, self._factor = tag, series, factor
         self.nodal = {}
+        self.element_loads = []     # (element tag, 'uniform' (w_y, w_x) | 'point' (P_y, x/L, P_x))
         self.version = 0            # counts the changes of the loads, factor and freezing (analyses cache them)
         self._constant_time = None
         self.on_change = None       # set by the owning model: called after every change
@@ -64,6 +65,26 @@ class LoadPattern:
         self.nodal[node] = self.nodal.get(node, 0.0) + values
         self._changed()
 
+    def beam_load(self, element, kind, *values):
+        """A load on beam ``element`` (OpenSees ``eleLoad``), in element axes: ``'uniform'``
+        ``(w_y, w_x)`` [N/m] (transverse, axial from node i to j) or ``'point'`` ``(P_y, x/L, P_x)``
+        [N] at the fraction ``x/L`` of the length from node i. Loads on the same element add up."""
+        if kind not in ("uniform", "point"):
+            raise ModelError(f"pattern {self.tag}: element load kind {kind!r} on element {element}; valid: "
+                             "'uniform', 'point'")
+        try:
+            values = tuple(float(v) for v in values)
+        except (TypeError, ValueError):
+            raise ModelError(f"pattern {self.tag}: load on element {element} must be numbers, got {values!r}") from None
+        if len(values) != (2 if kind == "uniform" else 3) or not np.all(np.isfinite(values)):
+            raise ModelError(f"pattern {self.tag}: {kind} load on element {element} needs "
+                             f"{'(w_y, w_x)' if kind == 'uniform' else '(P_y, x/L, P_x)'} finite, got {list(values)}")
+        if kind == "point" and not 0.0 <= values[1] <= 1.0:
+            raise ModelError(f"pattern {self.tag}: point load on element {element} at x/L = {values[1]:g}, "
+                             "outside [0, 1]")
+        self.element_loads.append((int(element), kind, values))
+        self._changed()
+
     def factors(self, t):
         """Load factor at the times ``t`` (array); a NaN or inf factor raises a ModelError naming
         the pattern, its series and the first such time (never a silent NaN load)."""
@@ -93,4 +114,7 @@ class UniformExcitation(LoadPattern):
 
     def load(self, node, *values):
         raise ModelError(f"pattern UniformExcitation {self.tag}: takes no nodal loads (its load is −M r a_g)")
+
+    def beam_load(self, element, kind, *values):
+        raise ModelError(f"pattern UniformExcitation {self.tag}: takes no element loads (its load is −M r a_g)")
 

@@ -189,7 +189,8 @@ class ModalStages(BridgeStages):
                                 f"{modal.frequencies.max():.6g} Hz); reduce dt or keep fewer modes")
         stages = integrator.stages(dt)
         k_hat = [1.0 + st.kv[A] * c + st.ku[A] * k for st in stages]
-        self._stepping(integrator, dt, sp.diags(k), sp.diags(c), [ldl_band(sp.diags(d), 0) for d in k_hat])
+        self._stepping(integrator, dt, sp.diags(k), sp.diags(c), sp.identity(self.n),
+                       [ldl_band(sp.diags(d), 0) for d in k_hat])
         self.stiffness = sp.diags(k).tocsc()
         if track is not None:
             self.track_index = np.zeros(track.n_track, dtype=np.int64)

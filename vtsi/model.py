@@ -155,6 +155,16 @@ class Model:
             raise ModelError(f"load on node {node}: needs {self.ndf} values, got {len(values)}")
         self.patterns[pattern_tag].load(node, *values)
 
+    def beam_load(self, pattern_tag, element, kind, *values):
+        """An element load on beam ``element`` in pattern ``pattern_tag``: ``'uniform'`` ``(w_y,
+        w_x)`` [N/m] or ``'point'`` ``(P_y, x/L, P_x)`` [N], in element axes
+        (:meth:`vtsi.loads.LoadPattern.beam_load`; OpenSees ``eleLoad``)."""
+        if pattern_tag not in self.patterns:
+            raise ModelError(f"beam_load: pattern {pattern_tag} does not exist")
+        if element not in self._element_owner:
+            raise ModelError(f"beam_load in pattern {pattern_tag}: element {element} does not exist")
+        self.patterns[pattern_tag].beam_load(element, kind, *values)
+
     def remove_pattern(self, tag):
         if tag not in self.patterns:
             raise ModelError(f"remove loadPattern: pattern {tag} does not exist")

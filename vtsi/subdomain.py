@@ -94,14 +94,17 @@ class BridgeStages:
     flex = np.zeros((0, 0, 0))
     track_sag = None
 
-    def _stepping(self, integrator, dt, K, C, factors):
-        """Set fac, ops, slots, band from the stage factors and K, C on the coordinates."""
+    def _stepping(self, integrator, dt, K, C, M, factors):
+        """Set fac, ops, slots, band from the stage factors and K, C, M on the coordinates."""
         self.fac = np.ascontiguousarray(np.stack(factors))
         self.kd = self.fac.shape[2] - 1
         self.band = band_type(self.kd)
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in integrator.stages(dt)]))
         self.du, self.dv = pack("du"), pack("dv")
-        self.ops, self.slots = stage_operators(band_rows(K, self.kd), band_rows(C, self.kd), pack("ku"), pack("kv"))
+        km = pack("km")
+        m_rows = band_rows(M, self.kd) if np.any(km) else None
+        self.ops, self.slots = stage_operators(band_rows(K, self.kd), band_rows(C, self.kd), pack("ku"), pack("kv"),
+                                               m_rows, km)
 
     def bank(self, state, full_of_free, n_slots):
         """A padded bank ``(n_slots, n + 2 kd)`` holding the committed ``state`` in slots 0..2."""
@@ -153,8 +156,9 @@ class FEStages(BridgeStages):
                 raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
                                     f"{limit / omega_max:.6g} s (= {limit:.4g}/omega_max, omega_max = "
                                     f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
-        K, C = (principal(sp.coo_matrix(m), active, assembly.n_free).tocsr() for m in (assembly.K, assembly.C))
-        self._stepping(integrator, dt, K, C, factors)
+        K, C, M = (principal(sp.coo_matrix(m), active, assembly.n_free).tocsr()
+                   for m in (assembly.K, assembly.C, assembly.M))
+        self._stepping(integrator, dt, K, C, M, factors)
         self.stiffness = assembly.K
         if track is not None:
             self.track_index = self.position[track.free_index]

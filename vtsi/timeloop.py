@@ -72,17 +72,20 @@ def add_pattern_loads(rhs, factors, load_ptr, load_dof, load_val, offset):
                 rhs[offset + load_dof[k]] += f * load_val[k]
 
 
-def stage_operators(k_rows, c_rows, ku, kv):
-    """The known part of each stage's equation as band matrices: ``B_j = ku[s, j] K + kv[s, j] C``
-    for every bank slot j the stage reads (ku, kv (n_stages, n_slots + 1), see
-    :mod:`vtsi.integrators.base`), so that the stage's right-hand side is ``P − Σ_j B_j X_j`` in
-    one pass (:func:`stage_rhs`; one pass instead of a combination and a band product for K and
-    another for C: these short vectors cost per pass, not per flop).
+def stage_operators(k_rows, c_rows, ku, kv, m_rows=None, km=None):
+    """The known part of each stage's equation as band matrices: ``B_j = ku[s, j] K + kv[s, j] C
+    + km[s, j] M`` for every bank slot j the stage reads (ku, kv, km (n_stages, n_slots + 1), see
+    :mod:`vtsi.integrators.base`; M's band rows ``m_rows`` needed only where km ≠ 0), so that the
+    stage's right-hand side is ``P − Σ_j B_j X_j`` in one pass (:func:`stage_rhs`; one pass
+    instead of a combination and a band product for K and another for C: these short vectors cost
+    per pass, not per flop).
 
     Returns ``ops (n_stages, n_terms, n, 2 kd + 1)`` and ``slots (n_stages, n_terms)`` int64
     (-1 pads a stage with fewer terms)."""
     n_stages, width = ku.shape
-    terms = [[j for j in range(width - 1) if ku[s, j] != 0.0 or (kv[s, j] != 0.0 and np.any(c_rows))]
+    km = np.zeros_like(ku) if km is None else km
+    terms = [[j for j in range(width - 1)
+              if ku[s, j] != 0.0 or km[s, j] != 0.0 or (kv[s, j] != 0.0 and np.any(c_rows))]
              for s in range(n_stages)]
     n_terms = max(1, max(len(t) for t in terms))
     ops = np.zeros((n_stages, n_terms) + k_rows.shape)
@@ -90,6 +93,8 @@ def stage_operators(k_rows, c_rows, ku, kv):
     for s, t in enumerate(terms):
         for q, j in enumerate(t):
             ops[s, q] = ku[s, j] * k_rows + kv[s, j] * c_rows
+            if km[s, j] != 0.0:
+                ops[s, q] += km[s, j] * m_rows
             slots[s, q] = j
     return np.ascontiguousarray(ops), slots
 
@@ -193,8 +198,8 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
 @njit(cache=True)
 def run_linear_steps(bank, du, dv, factors, ops, op_slots,
                      load_factors, load_ptr, load_dof, load_val,
-                     rec_slot, rec_index, out, limit, work, band):
-    """Advance ``out.shape[0]`` steps in place.
+                     rec_slot, rec_index, out, limit, work, band, span):
+    """Advance ``load_factors.shape[0]`` steps in place.
 
     bank : (n_slots, n + 2 kd) padded state bank; slots 0..2 = u, v, a at the chunk start
         (the last stage writes the new state there; stage s < last writes 3 + 3 s ...).
@@ -205,11 +210,20 @@ def run_linear_steps(bank, du, dv, factors, ops, op_slots,
     load_ptr, load_dof, load_val : CSR of the pattern load vectors (free dof indices).
     rec_slot, rec_index : slot (0 u, 1 v, 2 a) and dof (index into the bank; -1: a dof at rest,
         read as 0) of each output column.
+    out : (n_rows, n_columns) the recorded columns, a row per step (or per stage, see ``span``).
     work : (3, n + 2 kd) zeroed scratch vectors.
     band : ``band_type(kd)``, the half bandwidth as a type (the kernel is compiled for it).
+    span : int64 array ``(first stage, stages of the last step, every stage)``: the first step
+        starts at stage ``span[0]`` (the earlier ones already in the bank), the last runs
+        ``span[1]`` stages (its state is then in the slots of its last stage), and with
+        ``span[2] = 1`` a row is recorded after every stage (OpenSees's TRBDF2 counts the two
+        sub-steps of a composite step as two steps). ``(0, n_stages, 0)``: whole steps.
+
+    Returns the index of the first row whose response is non-finite or exceeds ``limit`` in
+    absolute value, or -1.
     """
     kd = len(band)
-    n_steps = out.shape[0]
+    n_steps = load_factors.shape[0]
     n_stages, width = du.shape
     A = width - 1
     n = ops.shape[2]
@@ -217,46 +231,55 @@ def run_linear_steps(bank, du, dv, factors, ops, op_slots,
     rhs, xk, xc = work[0], work[1], work[2]
     su, vu, cu = sparse_coefficients(du)
     sv, vv, cv = sparse_coefficients(dv)
+    row = 0
     for step in range(n_steps):
-        worst = 0.0
-        for s in range(n_stages):
+        first = span[0] if step == 0 else 0
+        stop = span[1] if step == n_steps - 1 else n_stages
+        base = 0
+        for s in range(first, stop):
             rhs[lo:hi] = 0.0
             add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
             solve_stage(bank, rhs, factors, ops, op_slots, s, band)
-            out_base = 0 if s == n_stages - 1 else 3 + 3 * s
-            worst = update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi,
-                                 xk, xc)
-        if not (worst <= limit and worst < np.inf):   # NaN and ±inf diverge even with limit = inf
-            return step
-        for r in range(rec_slot.shape[0]):
-            out[step, r] = bank[rec_slot[r], lo + rec_index[r]] if rec_index[r] >= 0 else 0.0
+            base = 0 if s == n_stages - 1 else 3 + 3 * s
+            worst = update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi, xk, xc)
+            if span[2] == 1 or s == stop - 1:
+                if not (worst <= limit and worst < np.inf):   # NaN and ±inf diverge even with limit = inf
+                    return row
+                for r in range(rec_slot.shape[0]):
+                    out[row, r] = bank[base + rec_slot[r], lo + rec_index[r]] if rec_index[r] >= 0 else 0.0
+                row += 1
     return -1
 
 
 @njit(cache=True)
 def run_from_state(u, v, a, coords_full, rest_full, bank, du, dv, factors, ops, op_slots,
-                   load_factors, load_ptr, load_dof, load_val, rec_slot, rec_index, out, limit, work, band):
+                   load_factors, load_ptr, load_dof, load_val, rec_slot, rec_index, out, limit, work, band, span):
     """:func:`run_linear_steps` from and back to the full-dof state ``u, v, a`` (n_full,): the
-    bank's coordinate k is full dof ``coords_full[k]``; read into slots 0..2 first, written back
-    after the steps unless they diverged (then the state is left as it was). The dofs
-    ``rest_full`` are not integrated and must be at rest: if one is not, nothing is done and -2
-    is returned (the caller integrates them too). Otherwise returns as run_linear_steps."""
+    bank's coordinate k is full dof ``coords_full[k]``; read into slots 0..2 first (unless the
+    run resumes a step, ``span[0] > 0``: the bank holds its start and earlier stages), written
+    back after the steps (from the slots of the last stage run) unless they diverged (then the
+    state is left as it was). The dofs ``rest_full`` are not integrated and must be at rest: if
+    one is not, nothing is done and -2 is returned (the caller integrates them too). Otherwise
+    returns as run_linear_steps."""
     for i in rest_full:
         if u[i] != 0.0 or v[i] != 0.0 or a[i] != 0.0:
             return -2
     kd = len(band)
-    for k in range(coords_full.shape[0]):
-        i = coords_full[k]
-        bank[0, kd + k] = u[i]
-        bank[1, kd + k] = v[i]
-        bank[2, kd + k] = a[i]
+    if span[0] == 0:
+        for k in range(coords_full.shape[0]):
+            i = coords_full[k]
+            bank[0, kd + k] = u[i]
+            bank[1, kd + k] = v[i]
+            bank[2, kd + k] = a[i]
     bad = run_linear_steps(bank, du, dv, factors, ops, op_slots, load_factors, load_ptr, load_dof, load_val,
-                           rec_slot, rec_index, out, limit, work, band)
+                           rec_slot, rec_index, out, limit, work, band, span)
     if bad >= 0:
         return bad
+    last = span[1] - 1
+    base = 0 if last == du.shape[0] - 1 else 3 + 3 * last
     for k in range(coords_full.shape[0]):
         i = coords_full[k]
-        u[i] = bank[0, kd + k]
-        v[i] = bank[1, kd + k]
-        a[i] = bank[2, kd + k]
+        u[i] = bank[base, kd + k]
+        v[i] = bank[base + 1, kd + k]
+        a[i] = bank[base + 2, kd + k]
     return -1

@@ -5,11 +5,11 @@ import logging
 
 import numpy as np
 
-from vtsi.analysis import StaticAnalysis, TransientAnalysis, _RecorderFeed, domain_state, factor
+from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors
 from vtsi.analysis import eigen as _eigen
-from vtsi.banded import solve_band
 from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
-from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
+from vtsi.timeloop import run_from_state
+from vtsi.integrators import HHT, TRBDF2, Bathe, CentralDifference, GeneralizedAlpha, Newmark
 from vtsi.modal_bridge import ModalBridge
 
 from .args import Args
@@ -33,19 +33,30 @@ ALGORITHMS = {   # name -> accepted flags (a linear model is solved exactly in o
     "BFGS": (),
     "Broyden": (),
 }
-INTEGRATORS = ("LoadControl", "Newmark", "HHT", "CentralDifference", "TRBDF2", "Bathe")
+INTEGRATORS = ("LoadControl", "Newmark", "HHT", "GeneralizedAlpha", "CentralDifference", "TRBDF2", "Bathe")
 ANALYSES = ("Static", "Transient")
 EIGEN_SOLVERS = ("-genBandArpack", "-fullGenLapack")
 
 
+def equilibrium_point(integrator):
+    """The fraction α of the step where HHT (α) and the generalized-α method (αF) balance the
+    loads, None for the other schemes."""
+    if isinstance(integrator, HHT):
+        return integrator.alpha
+    if isinstance(integrator, GeneralizedAlpha):
+        return integrator.alpha_f
+    return None
+
+
 class CommandTransient(TransientAnalysis):
     """A :class:`~vtsi.TransientAnalysis` whose step times are accumulated as OpenSees does
-    (``t += Δt`` each step; HHT: ``t += αΔt`` then ``t += (1-α)Δt``), so that a Path series
-    evaluated at its last sample gives OpenSees's value to the last bit."""
+    (``t += Δt`` each step; HHT and GeneralizedAlpha: ``t += αΔt`` then ``t += (1-α)Δt``, α
+    their equilibrium point αF), so that a Path series evaluated at its last sample gives
+    OpenSees's value to the last bit."""
 
     def _increments(self):
-        if isinstance(self.integrator, HHT):
-            a = self.integrator.alpha
+        a = equilibrium_point(self.integrator)
+        if a is not None:
             return (a * self.dt, (1.0 - a) * self.dt)
         return (self.dt,)
 
@@ -59,98 +70,60 @@ class CommandTransient(TransientAnalysis):
 
 
 class OpenSeesTRBDF2:
-    """OpenSees's ``integrator TRBDF2``: every ``analyze`` step is one sub-step of Bathe's scheme
-    (γ = ½) of size Δt, alternating trapezoidal and three-point backward (BDF2) sub-steps; a
-    trapezoidal sub-step comes first and whenever Δt changes (``TRBDF2::newStep``). Loads at
-    ``t_{n+1}``. (vtsi's own ``Bathe``/``TRBDF2`` integrators take both sub-steps in one step.)
+    """OpenSees's ``integrator TRBDF2``: every ``analyze`` step is one sub-step of size Δt,
+    trapezoidal and BDF2 (three-point backward) alternating; a trapezoidal sub-step comes first
+    and whenever Δt changes (``TRBDF2::newStep``); loads at each sub-step's end, time
+    accumulated ``t += Δt``. A trapezoidal and the BDF2 sub-step after it are one composite step of
+    :class:`vtsi.integrators.TRBDF2` (Bathe, γ = ½) of size 2Δt, so the compiled loop steps them,
+    recording every sub-step; a run may start or end between the two, the bank keeping the
+    composite step's start and first sub-step in between (as long as nothing changed: then
+    OpenSees's rule of a trapezoidal sub-step after a new Δt applies here to any change)."""
 
-    Trapezoidal:  ``(K + 2/Δt C + 4/Δt² M) u₁ = P + M (4u/Δt² + 4v/Δt + a) + C (2u/Δt + v)``,
-    ``v₁ = 2(u₁ - u)/Δt - v``, ``a₁ = 4(u₁ - u)/Δt² - 4v/Δt - a``.
-    BDF2: ``(K + 1.5/Δt C + 2.25/Δt² M) u₁ = P - M [3(u₋ - 4u)/(4Δt²) + (v₋ - 4v)/(2Δt)] - C (u₋ - 4u)/(2Δt)``,
-    ``v₁ = (3u₁ - 4u + u₋)/(2Δt)``, ``a₁ = (3v₁ - 4v + v₋)/(2Δt)``; ``u₋, v₋`` at the start of the
-    previous sub-step.
-    """
+    def __init__(self, model):
+        self.analysis = CommandTransient(model, TRBDF2())
+        self.resume = None      # (plan, time [s]) after a run that ended on a trapezoidal sub-step
 
-    name = "TRBDF2"
-
-    def __init__(self):
-        self.dt = 0.0
-        self.step = 0          # kind of the last sub-step: 0 trapezoidal, 1 BDF2
-        self.previous = None   # full-dof (u, v) at the start of the last sub-step
-        self._factors = {}
-
-    def run(self, model, n_steps, dt, recorders, info):
-        asm = model.build()
-        state = domain_state(model)
-        if self.previous is not None and self.previous[0].shape != state.u.shape:
-            self.previous = None
-        patterns = list(model.patterns.values())
-        loads = [asm.load_vector(p) for p in patterns]
-        free = asm.full_of_free
-        C, M = asm.C, asm.M
-        feed = _RecorderFeed(asm, model, recorders, info)
-        chunk_t, chunk_rows = [], []
+    def run(self, n, dt, recorders):
+        """``n`` sub-steps of ``dt`` [s] from the model's committed state; returns the state."""
+        analysis = self.analysis
+        if 2.0 * dt != analysis.dt:
+            self.resume = None
+        analysis.set_dt(2.0 * dt)
+        analysis.recorders = recorders
+        plan = analysis._plan()
+        state = domain_state(analysis.model)
+        if not plan.fe:
+            raise CommandError("analyze: integrator TRBDF2 does not step a modal bridge (modalDamping); "
+                               "use Newmark, HHT or Bathe")
+        first = 1 if self.resume == (plan, state.time) else 0
+        plan.info.update(dt=dt, integrator="TRBDF2 (OpenSees: a sub-step per step)")
+        feed = plan.start_feed()
         try:
-            for step in range(n_steps):
-                kind = 0 if (dt != self.dt or self.step == 1) else 1
-                self.dt = dt
-                if kind == 1 and self.previous is None:
-                    kind = 0
-                u, v, a = state.u[free], state.v[free], state.a[free]
-                t = state.time + dt
-                rhs = np.zeros(asm.n_free)
-                for p, vec in zip(patterns, loads):
-                    rhs += p.factors(np.array([t]))[0] * vec
-                if kind == 0:
-                    c2, c3 = 2.0 / dt, 4.0 / (dt * dt)
-                    rhs += M @ (c3 * u + (4.0 / dt) * v + a) + C @ (c2 * u + v)
-                else:
-                    um, vm = self.previous[0][free], self.previous[1][free]
-                    c2, c3 = 1.5 / dt, 2.25 / (dt * dt)
-                    rhs -= M @ (3.0 * (um - 4.0 * u) / (4.0 * dt * dt) + (vm - 4.0 * v) / (2.0 * dt))
-                    rhs -= C @ ((um - 4.0 * u) / (2.0 * dt))
-                lower = self._factor(asm, kind, c2, c3)
-                kd = lower.shape[1] - 1
-                padded = np.zeros(asm.n_free + 2 * kd)
-                padded[kd: kd + asm.n_free] = rhs
-                solve_band(lower, padded)
-                u1 = padded[kd: kd + asm.n_free].copy()
-                if kind == 0:
-                    v1 = 2.0 * (u1 - u) / dt - v
-                    a1 = 4.0 * (u1 - u) / (dt * dt) - 4.0 * v / dt - a
-                else:
-                    v1 = (3.0 * u1 - 4.0 * u + um) / (2.0 * dt)
-                    a1 = (3.0 * v1 - 4.0 * v + vm) / (2.0 * dt)
-                if not np.all(np.isfinite(u1)):
-                    raise DivergenceError(f"TRBDF2 diverged at step {step + 1}, t = {t:.6g} s (NaN or inf)",
-                                          step + 1, t)
-                self.previous = (state.u.copy(), state.v.copy())
-                self.step = kind
-                state.u[free], state.v[free], state.a[free] = u1, v1, a1
-                state.time = t
-                chunk_t.append(t)
-                chunk_rows.append(feed.state_row(state, asm))
-                if len(chunk_t) >= 2000:
-                    feed.deliver(np.array(chunk_t), np.array(chunk_rows), asm)
-                    chunk_t, chunk_rows = [], []
-            if chunk_t:
-                feed.deliver(np.array(chunk_t), np.array(chunk_rows), asm)
+            if n == 0:
+                return state
+            n_steps = (first + n + 1) // 2
+            times = np.cumsum(np.r_[state.time, np.full(n, dt)])      # sub-step ends, as OpenSees adds them
+            g = first + np.arange(n)                                  # (composite step, stage) of each sub-step
+            table = np.zeros((n_steps, 2, len(plan.patterns)))
+            table[g // 2, g % 2] = pattern_factors(plan.patterns, times[1:], analysis._path_tables)
+            span = np.array([first, (first + n) - 2 * (n_steps - 1), 1], dtype=np.int64)
+            out = np.zeros((n, len(plan.rec_slot)))
+            head, loads, tail = plan.kernel_args
+            bad = run_from_state(state.u, state.v, state.a, *head, table, *loads, out, *tail[:-1], span)
+            if bad == -2:
+                raise CommandError("analyze: integrator TRBDF2: a dof at rest was moved between two analyze calls; "
+                                   "call wipeAnalysis() and define the analysis again")
+            good = n if bad < 0 else bad
+            if feed.recorders:
+                feed.deliver(times[1: good + 1], plan.bridge.recorded(out[:good]), plan.asm)
+            if bad >= 0:
+                raise DivergenceError(f"TRBDF2 diverged at step {bad + 1}, t = {times[bad + 1]:.6g} s (NaN or inf)",
+                                      bad + 1, times[bad + 1])
+            state.time = float(times[-1])
+            self.resume = (plan, state.time) if (first + n) % 2 == 1 else None
         finally:
             feed.close()
         return state
-
-    def _factor(self, asm, kind, c2, c3):
-        key = (kind, c2, c3)
-        cached = self._factors.get(key)
-        if cached is not None and cached[0] is asm:
-            return cached[1]
-        if any(entry[0] is not asm for entry in self._factors.values()):
-            self._factors = {}
-        k_hat = (asm.K + c2 * asm.C + c3 * asm.M).tocsr()
-        lower = factor(asm, k_hat, f"effective matrix of TRBDF2 ({'trapezoidal' if kind == 0 else 'BDF2'} sub-step)")
-        self._factors[key] = (asm, lower)
-        return lower
-
 
 
 class AnalysisCommands(SessionBase):
@@ -215,7 +188,7 @@ class AnalysisCommands(SessionBase):
 
     def integrator(self, *args):
         """``integrator('LoadControl', dλ)``, ``('Newmark', gamma, beta)``, ``('HHT', alpha, [gamma,
-        beta])``, ``('CentralDifference')``, ``('TRBDF2')`` or vtsi's ``('Bathe', [gamma])``."""
+        beta])``, ``('GeneralizedAlpha', alphaM, alphaF, [beta, gamma])`` (OpenSees's order), ``('CentralDifference')``, ``('TRBDF2')`` or vtsi's ``('Bathe', [gamma])``."""
         a = Args("integrator", args)
         kind = a.word("integrator", INTEGRATORS)
         name = f"integrator {kind}"
@@ -242,6 +215,14 @@ class AnalysisCommands(SessionBase):
                 spec = (kind, HHT(alpha, gamma, beta))
             else:
                 spec = (kind, HHT(alpha))
+        elif kind == "GeneralizedAlpha":
+            # OpenSees reads the optional pair as beta then gamma (its usage message says gamma beta)
+            alpha_m, alpha_f = a.float("alphaM"), a.float("alphaF")
+            beta, gamma = (a.float("beta"), a.float("gamma")) if a.more() else (None, None)
+            try:
+                spec = (kind, GeneralizedAlpha(alpha_m, alpha_f, gamma, beta))
+            except AnalysisError as exc:
+                raise CommandError(str(exc)) from None
         elif kind == "CentralDifference":
             spec = (kind, CentralDifference())
         elif kind == "TRBDF2":
@@ -251,7 +232,7 @@ class AnalysisCommands(SessionBase):
         a.done()
         self._transient_integrator = spec
         self._transient = None
-        self._trbdf2 = OpenSeesTRBDF2() if kind == "TRBDF2" else None
+        self._trbdf2 = None
 
     def analysis(self, *args):
         """``analysis('Static'|'Transient')``."""
@@ -314,10 +295,10 @@ class AnalysisCommands(SessionBase):
         if self._constraint is not None:
             return self._analyze_coupled(n, dt)
         kind, integ = self._transient_integrator
-        info = {"analysis": "transient", "integrator": kind, "dt": dt}
         if kind == "TRBDF2":
-            self._trbdf2.run(model, n, dt, self._recorder_list(), info)
-            self._load_time = domain_state(model).time
+            if self._trbdf2 is None or self._trbdf2.analysis.model is not model:
+                self._trbdf2 = OpenSeesTRBDF2(model)
+            self._load_time = self._trbdf2.run(n, dt, self._recorder_list()).time
             return 0
         bridge = self._modal_bridge("analyze")
         if self._transient is None or self._transient.bridge is not bridge:
@@ -333,8 +314,8 @@ class AnalysisCommands(SessionBase):
     def _run_transient(self, analysis, n, kind, integ, dt):
         state = analysis.run(n)
         if n > 0:   # when the domain last applied its loads (OpenSees: the nodes' unbalanced load)
-            if kind == "HHT":
-                self._load_time = analysis.last_step_start + integ.alpha * dt
+            if kind in ("HHT", "GeneralizedAlpha"):
+                self._load_time = analysis.last_step_start + equilibrium_point(integ) * dt
             elif kind == "CentralDifference":
                 self._load_time = analysis.last_step_start
             else:

@@ -15,7 +15,7 @@ from .args import Args, is_int, read_numbers, tcl_words
 from .base import SessionBase
 
 MODEL_COMMANDS = ("model", "node", "fix", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
-                  "pattern", "load", "rayleigh")
+                  "pattern", "load", "eleLoad", "rayleigh")
 ELEMENT_TYPES = ("elasticBeamColumn", "ElasticTimoshenkoBeam", "truss", "zeroLength")
 MATERIAL_TYPES = ("Elastic", "Viscous")
 SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
@@ -461,6 +461,49 @@ class ModelCommands(SessionBase):
         if pattern is None or pattern not in model.patterns:
             raise CommandError(f"load on node {tag}: no load pattern; define one with pattern('Plain', tag, tsTag)")
         model.load(pattern, tag, *values)
+
+    def eleLoad(self, *args):
+        """``eleLoad('-ele', *tags | '-range', first, last, '-type', '-beamUniform', Wy, [Wx])`` or
+        ``(..., '-type', '-beamPoint', Py, xL, [Px])``: loads in element axes on beams of the
+        last pattern defined (Wy, Py transverse, + along local y; Wx, Px axial, from node i to j;
+        xL the fraction of the length from node i) [N/m, N]."""
+        model = self._model("eleLoad")
+        a = Args("eleLoad", args)
+        tags = []
+        while a.more() and a.peek() in ("-ele", "-range"):
+            if a.option(("-ele", "-range")) == "-ele":
+                tags += a.ints("element tag")
+            else:
+                lo, hi = a.int("-range first"), a.int("-range last")
+                tags += [t for t in model.element_tags() if lo <= t <= hi]
+        if not tags:
+            raise CommandError("eleLoad: no elements (give '-ele', tags... or '-range', first, last)")
+        a.option(("-type",))
+        kind = a.word("load type", ("-beamUniform", "-beamPoint"))
+        if kind == "-beamUniform":
+            values = (a.float("Wy"), a.float("Wx") if a.more() else 0.0)
+        else:
+            values = (a.float("Py"), a.float("xL"), a.float("Px") if a.more() else 0.0)
+        a.done()
+        pattern = self._current_pattern
+        if pattern is None or pattern not in model.patterns:
+            raise CommandError("eleLoad: no load pattern; define one with pattern('Plain', tag, tsTag)")
+        for tag in tags:
+            if tag not in model._element_owner:
+                raise CommandError(f"eleLoad: element {tag} does not exist")
+        build, shape = model.build(), "uniform" if kind == "-beamUniform" else "point"
+        for tag in tags:            # each element type says whether it takes the load, before any is added
+            b, i = build.element_location[tag]
+            etype, _, coords, params, _ = build.blocks[b]
+            try:
+                etype.equivalent_loads(coords[i], params[i], shape, values)
+            except ModelError as exc:
+                raise CommandError(f"eleLoad on element {tag}: {exc}") from None
+        try:
+            for tag in tags:
+                model.patterns[pattern].beam_load(tag, shape, *values)
+        except ModelError as exc:
+            raise CommandError(f"eleLoad: {exc}") from None
 
     def rayleigh(self, *args):
         """``rayleigh(alphaM, betaK, betaKinit, betaKcomm)``: ``C = αM M + (βK + βK0 + βKc) K``."""

@@ -5,7 +5,7 @@
 import numpy as np
 
 from vtsi.analysis import domain_state
-from vtsi.errors import CommandError
+from vtsi.errors import CommandError, ModelError
 
 from .args import Args, dof_value, is_int, is_number
 from .base import SessionBase
@@ -208,8 +208,22 @@ class QueryCommands(SessionBase):
                     p[i: i + ndf] += f * np.asarray(values)[:ndf]
         return p
 
+    def _element_loads_now(self, asm):
+        """``{element tag: (ndof,) global nodal loads}`` equivalent to the element loads at the
+        last load time (the fixed-end forces, negated, that OpenSees counts in element forces)."""
+        out = {}
+        if self._load_time is None:
+            return out
+        for pattern in self.domain.patterns.values():
+            if pattern.element_loads:
+                f = float(pattern.factors(np.array([self._load_time]))[0])
+                for tag, eq in asm.element_equivalent_loads(pattern).items():
+                    out[tag] = out.get(tag, 0.0) + f * eq
+        return out
+
     def _element_response(self, command, tag, kind, u, v):
-        """One element's response as OpenSees returns it (see :meth:`_layout`)."""
+        """One element's response as OpenSees returns it (:func:`~.responses.opensees_layout`), its
+        element loads' fixed-end forces included."""
         asm = self.domain.build()
         kind = ELEMENT_RESPONSE_ALIASES.get(kind, kind)
         if tag not in asm.element_location:
@@ -224,6 +238,12 @@ class QueryCommands(SessionBase):
         d = dofs[i]
         c, p, u_e, v_e = coords[i: i + 1], params[i: i + 1], u[d][None, :], v[d][None, :]
         values = np.asarray(etype.response(source, c, p, u_e, v_e), dtype=float)
+        loaded = self._element_loads_now(asm).get(tag)
+        if loaded is not None:
+            try:
+                values = values - np.asarray(etype.end_force_response(source, c, loaded[None, :]), dtype=float)
+            except ModelError as exc:
+                raise CommandError(f"{command}: element {tag}: {exc}") from None
         if layout is None:
             return values[0]
         rates = np.asarray(etype.response(source, c, p, v_e, v_e), dtype=float) if layout[2] else None
@@ -257,8 +277,12 @@ class QueryCommands(SessionBase):
         flag = "-static"
         while a.more():
             flag = a.option(("-dynamic", "-rayleigh"))
+        loads = self._applied_loads(asm)
+        for tag, eq in self._element_loads_now(asm).items():   # element loads: their equivalent nodal loads
+            b, i = asm.element_location[tag]
+            loads[asm.blocks[b][4][i]] += eq
         if flag == "-dynamic":
-            r = asm.K_full @ state.u + asm.C_full @ state.v + asm.M_full @ state.a - self._applied_loads(asm)
+            r = asm.K_full @ state.u + asm.C_full @ state.v + asm.M_full @ state.a - loads
         else:
             own = np.zeros(asm.n_full)   # elements' resisting forces K u + C_el v
             own_damping = np.zeros(asm.n_full)
@@ -271,6 +295,6 @@ class QueryCommands(SessionBase):
             if flag == "-rayleigh":
                 r = asm.C_full @ state.v - own_damping
             else:
-                r = own - self._applied_loads(asm)
+                r = own - loads
         self._reactions = r
 

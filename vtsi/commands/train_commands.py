@@ -258,7 +258,7 @@ class TrainCommands(SessionBase):
             raise CommandError(f"{command}: no movingLoadConstraint defined")
         model = self._model(command)
         kind, integ = self._transient_integrator or ("Newmark", None)
-        if kind in ("TRBDF2", "CentralDifference"):
+        if kind in ("TRBDF2", "CentralDifference", "GeneralizedAlpha"):
             raise CommandError(f"{command}: integrator {kind} is not available for a coupled analysis; "
                                "use Newmark, HHT or Bathe")
         bridge = self._modal_bridge(command)

@@ -41,6 +41,7 @@ class ElementRecorder(Recorder):
         super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
         self._groups = None
         self._widths = None
+        self._element_loads = []     # [(pattern, [equivalent loads (n_g, ndof) or None per group])]
 
     def requests(self, assembly):
         keys, requests = {}, []
@@ -83,6 +84,19 @@ class ElementRecorder(Recorder):
         return requests
 
     def prepare(self, assembly, model):
+        # element loads on the recorded elements: their fixed-end forces are part of the element forces
+        self._element_loads = []
+        for pattern in model.patterns.values():
+            loads = assembly.element_equivalent_loads(pattern) if pattern.element_loads else {}
+            per_group = []
+            for etype, coords, _params, ucols, _vcols, order, _width, _cols in self._groups:
+                eq = np.zeros(ucols.shape)
+                for row, k in enumerate(order):
+                    if self.elements[k] in loads:
+                        eq[row] = loads[self.elements[k]]
+                per_group.append(eq if eq.any() else None)
+            if any(eq is not None for eq in per_group):
+                self._element_loads.append((pattern, per_group))
         labels, units, element, component = [], [], [], []
         per_element = [None] * len(self.elements)
         for etype, *_rest, order, width, _cols in self._groups:
@@ -104,7 +118,8 @@ class ElementRecorder(Recorder):
     def compute(self, times, columns, assembly):
         n = len(times)
         out = np.empty((n, self._n_columns))
-        for etype, coords, params, ucols, vcols, _order, width, out_cols in self._groups:
+        loads = [(pattern.factors(times), per_group) for pattern, per_group in self._element_loads]
+        for g, (etype, coords, params, ucols, vcols, _order, width, out_cols) in enumerate(self._groups):
             n_g, nd = ucols.shape
             per = max(1, BATCH_ROWS // n_g)
             for s in range(0, n, per):
@@ -114,6 +129,10 @@ class ElementRecorder(Recorder):
                 c = np.broadcast_to(coords, (m,) + coords.shape).reshape((m * n_g,) + coords.shape[1:])
                 p = np.broadcast_to(params, (m,) + params.shape).reshape(m * n_g, params.shape[1])
                 f = np.asarray(etype.response(self.response, c, p, u, v)).reshape(m, n_g, width)
+                for factors, per_group in loads:      # minus the element loads' equivalent nodal loads
+                    if per_group[g] is not None:
+                        eq = (factors[s: s + m, None, None] * per_group[g][None]).reshape(m * n_g, nd)
+                        f = f - np.asarray(etype.end_force_response(self.response, c, eq)).reshape(m, n_g, width)
                 out[s: s + m][:, out_cols] = f
         return out
 

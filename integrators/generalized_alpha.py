@@ -1,0 +1,59 @@
+"""The generalized-α method (Chung & Hulbert) in OpenSees's convention.
+
+Newmark's update of ``u`` and ``v`` with equilibrium at intermediate points,
+
+    M a_{n+αM} + C v_{n+αF} + K u_{n+αF} = P(t_n + αF Δt),   x_{n+α} = (1 - α) x_n + α x_{n+1},
+
+so that ``αM = αF = 1`` is Newmark's method and ``αM = 1`` is HHT (OpenSees's α). In the stage
+form of :mod:`.base` the equation is divided by ``αM``: the unknown is ``a_{n+1}`` with mass
+coefficient 1, the mass also weights ``a_n`` by ``km = (1 - αM)/αM`` and the load by ``1/αM``.
+
+Defaults ``γ = ½ + αM − αF``, ``β = ¼ (1 + αM − αF)²`` give second order; with
+``αM ≥ αF ≥ ½`` the method is unconditionally stable. For a spectral radius ``ρ∞`` in [0, 1]:
+``αM = (2 − ρ∞)/(1 + ρ∞)``, ``αF = 1/(1 + ρ∞)`` (OpenSees's convention of Chung & Hulbert's).
+
+References
+----------
+Chung, J., Hulbert, G.M. (1993) A time integration algorithm for structural dynamics with improved
+numerical dissipation: the generalized-α method. J. Appl. Mech. 60, 371-375.
+OpenSees ``SRC/analysis/integrator/GeneralizedAlpha.cpp``.
+"""
+from vtsi.errors import AnalysisError
+
+from .base import Stage, check_parameter, number, register
+from .newmark import Newmark
+
+
+@register
+class GeneralizedAlpha(Newmark):
+    """``GeneralizedAlpha(alpha_m, alpha_f, [gamma, beta])``, OpenSees's argument order; the
+    defaults are ``ρ∞ = 0.8`` (αM = 2/3, αF = 5/9)."""
+
+    name = "GeneralizedAlpha"
+
+    def __init__(self, alpha_m=2.0 / 3.0, alpha_f=5.0 / 9.0, gamma=None, beta=None):
+        self.alpha_m = number(self.name, "alpha_m", alpha_m)
+        self.alpha_f = number(self.name, "alpha_f", alpha_f)
+        check_parameter(self.name, "alpha_f", self.alpha_f, 0.5, 1.0, why="1 gives equilibrium at t_{n+1}")
+        check_parameter(self.name, "alpha_m", self.alpha_m, self.alpha_f, 2.0,
+                        why="alpha_m >= alpha_f keeps the method unconditionally stable; 2 is rho_inf = 0")
+        d = self.alpha_m - self.alpha_f
+        gamma = 0.5 + d if gamma is None else number(self.name, "gamma", gamma)
+        beta = 0.25 * (1.0 + d) ** 2 if beta is None else number(self.name, "beta", beta)
+        if gamma < 0.5 + d - 1e-12 or beta < 0.5 * gamma - 1e-12:
+            raise AnalysisError(f"integrator {self.name}: gamma = {gamma:g}, beta = {beta:g} are outside the "
+                                f"unconditionally stable range gamma >= 1/2 + alpha_m - alpha_f = {0.5 + d:g}, "
+                                "beta >= gamma/2 (omit them for the second-order defaults)")
+        self.gamma, self.beta = gamma, beta      # Newmark's update; its own range of gamma does not apply
+        self.explicit = False
+
+    def stages(self, dt):
+        du, dv = self._newmark_update(dt)
+        am, af = self.alpha_m, self.alpha_f
+        ku = (af * du + self.coefficients(u_n=1.0 - af)) / am
+        kv = (af * dv + self.coefficients(v_n=1.0 - af)) / am
+        km = self.coefficients(a_n=(1.0 - am) / am)
+        return [Stage(du=du, dv=dv, ku=ku, kv=kv, km=km, load=[(af, 1.0 / am)], force_weight=af)]
+
+    def stability_limit(self, dt):
+        return None
