@@ -89,7 +89,7 @@ def test_refusals():
     vops.wipe()
     with pytest.raises(CommandError, match="integrator GeneralizedAlpha: missing alphaF"):
         vops.integrator("GeneralizedAlpha", 0.9)
-    with pytest.raises(CommandError, match="alpha_m = 0.5 is outside"):
+    with pytest.raises(AnalysisError, match="alpha_m = 0.5 is outside"):
         vops.integrator("GeneralizedAlpha", 0.5, 0.7)
     from vtsi.coupled import coupled_integrator
     with pytest.raises(AnalysisError, match="generalized-α.*use Newmark, HHT or Bathe"):

@@ -64,11 +64,11 @@ def rel(a, b):
 
 # -- module, sessions, unknown commands ---------------------------------------------------------
 def test_unknown_command_names_it():
-    with pytest.raises(AttributeError, match="eleLoad"):
-        ops.eleLoad
+    with pytest.raises(AttributeError, match="'section'"):
+        ops.section
     with pytest.raises(CommandError, match="'foo'"):
         ops.foo()
-    assert not hasattr(ops, "sp")
+    assert not hasattr(ops, "fiber")
     assert set(ops.COMMANDS) <= set(dir(ops))
 
 

@@ -456,3 +456,158 @@ def test_element_load_refusals():
         vops.eleLoad("-ele", 2, "-type", "-beamThermal", 1.0)
     with pytest.raises(vops.CommandError, match="eleLoad: element 9 does not exist"):
         vops.eleLoad("-ele", 9, "-type", "-beamUniform", 1.0)
+
+
+def constrained_bridge(ops, outdir, analysis):
+    """A two-span deck on two piers: the deck rests on the pier tops through equalDOF (ux, uy),
+    an overhang is a rigidLink beam from the deck end, a strut's top follows a pier top through a
+    rigidLink bar; loads ramp on the deck, the overhang and the strut's top (Transformation
+    handler)."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(9):
+        ops.node(1 + i, 3.0 * i, 6.0)                        # deck 1..9
+    for tag, x, y in ((10, 6.0, 0.0), (11, 18.0, 0.0), (12, 6.0, 5.0), (13, 18.0, 5.0), (14, 27.0, 7.5),
+                      (15, 28.5, 7.5), (16, 18.0, 4.0)):
+        ops.node(tag, x, y)
+    ops.fix(1, 0, 1, 0)
+    ops.fix(10, 1, 1, 1)
+    ops.fix(11, 1, 1, 1)
+    ops.geomTransf("Linear", 1)
+    for e in range(8):
+        ops.element("elasticBeamColumn", 1 + e, 1 + e, 2 + e, 0.8, 3.2e10, 0.12, 1, "-mass", 2000.0)
+    ops.element("elasticBeamColumn", 20, 10, 12, 1.2, 3.2e10, 0.2, 1, "-mass", 3000.0)
+    ops.element("elasticBeamColumn", 21, 11, 13, 1.2, 3.2e10, 0.2, 1, "-mass", 3000.0)
+    ops.element("elasticBeamColumn", 22, 14, 15, 0.3, 3.2e10, 0.01, 1, "-mass", 500.0)
+    ops.element("elasticBeamColumn", 23, 11, 16, 0.2, 3.2e10, 0.004, 1, "-mass", 400.0)
+    ops.mass(14, 800.0, 800.0, 50.0)
+    ops.equalDOF(12, 3, 1, 2)
+    ops.equalDOF(13, 7, 1, 2)
+    ops.rigidLink("beam", 9, 14)
+    ops.rigidLink("bar", 13, 16)
+    ops.mass(9, 100.0, 100.0, 10.0)
+    omega2 = ops.eigen("-fullGenLapack", 5)
+    ops.timeSeries("Linear", 1, "-factor", 1.0 if analysis == "static" else 25.0)
+    ops.pattern("Plain", 1, 1)
+    ops.load(5, 2e3, -4e5, 0.0)
+    ops.load(15, 0.0, -1e5, 0.0)
+    ops.load(16, 3e3, -2e4, 500.0)                         # on a constrained node: to its master, as OpenSees
+    ops.recorder("Node", "-file", str(outdir / "nodes.out"), "-time", "-precision", 10, "-node", 3, 7, 14, 15,
+                 "-dof", 1, 2, "disp")
+    ops.recorder("Element", "-file", str(outdir / "pier.out"), "-ele", 20, 22, "localForce")
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    if analysis == "static":
+        ops.integrator("LoadControl", 0.5)
+        ops.analysis("Static")
+    else:
+        ops.rayleigh(0.3, 0.0, 0.0, 2e-3)
+        ops.integrator("Newmark", 0.5, 0.25)
+        ops.analysis("Transient")
+    rows = []
+    for _ in range(6):
+        ops.analyze(1, 0.01) if analysis != "static" else ops.analyze(1)
+        ops.reactions()
+        rows.append(ops.nodeDisp(3) + ops.nodeDisp(14) + ops.nodeAccel(14) + ops.nodeVel(7) + ops.nodeDisp(16)
+                    + ops.eleForce(23) + ops.eleForce(20)
+                    + ops.eleResponse(22, "localForce") + ops.nodeReaction(10) + ops.nodeReaction(1))
+    ops.wipe()
+    return np.array(omega2), np.array(rows)
+
+
+@pytest.mark.parametrize("analysis", ["static", "transient"])
+def test_equal_dof_and_rigid_links(tmp_path, analysis):
+    """equalDOF and rigidLink (bar, beam): eigenvalues, the constrained nodes' displacements,
+    velocities and accelerations, element forces, reactions and recorder files equal
+    OpenSeesPy's (Transformation handler)."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    omega_ref, ref = constrained_bridge(oracle, tmp_path / "a", analysis)
+    omega_val, val = constrained_bridge(vops, tmp_path / "b", analysis)
+    np.testing.assert_allclose(omega_val, omega_ref, rtol=1e-9)
+    assert relative_difference(ref, val) < RTOL
+    compare_files(tmp_path / "a", tmp_path / "b", min_identical=0.0)
+
+
+def test_constraint_refusals():
+    vops.wipe()
+    vops.model("basic", "-ndm", 2, "-ndf", 3)
+    for tag in (1, 2, 3):
+        vops.node(tag, float(tag), 0.0)
+    vops.fix(1, 1, 1, 1)
+    vops.equalDOF(2, 3, 2)
+    with pytest.raises(vops.ModelError, match="node 3 dof 2 is already constrained"):
+        vops.equalDOF(1, 3, 2)
+    with pytest.raises(vops.ModelError, match="node 1 dof 1 is fixed; it cannot also be constrained"):
+        vops.equalDOF(2, 1, 1)
+    with pytest.raises(vops.ModelError, match="fix node 3: dof 2 is constrained"):
+        vops.fix(3, 0, 1, 0)
+    with pytest.raises(vops.ModelError, match=r"dofs must be among 1..3, got \[4\]"):
+        vops.equalDOF(2, 3, 4)
+    with pytest.raises(vops.CommandError, match="'slider' is not supported"):
+        vops.rigidLink("slider", 2, 3)
+    vops.equalDOF(3, 2, 1)
+    model = vops.session.domain
+    model.equal_dof(3, 2, 3)
+    model.equal_dof(2, 3, 3)
+    with pytest.raises(vtsi.ModelError, match="constrained in a circle"):
+        model.build()
+
+
+def settling_support(ops, outdir, transient, lumped=True):
+    """A three-span continuous beam whose middle support settles (sp on its vertical dof, ramped
+    by a series) and whose end rotation is prescribed too (Transformation handler)."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(13):
+        ops.node(1 + i, 2.5 * i, 0.0)
+    ops.fix(1, 1, 1, 0)
+    ops.fix(13, 0, 1, 0)
+    ops.fix(9, 0, 1, 0)
+    ops.geomTransf("Linear", 1)
+    mass = ("-mass", 4000.0) if lumped else ("-mass", 4000.0, "-cMass")
+    for e in range(12):
+        ops.element("elasticBeamColumn", 1 + e, 1 + e, 2 + e, 0.9, 3.0e10, 0.3, 1, *mass)
+    if transient:
+        ops.timeSeries("Path", 1, "-dt", 0.02, "-values", 0.0, 0.4, 1.0, 1.0, 0.6, 0.6)
+    else:
+        ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.sp(5, 2, -0.012)
+    ops.sp(13, 3, 0.002)
+    ops.load(7, 0.0, -2e5, 0.0)
+    ops.recorder("Node", "-file", str(outdir / "sp.out"), "-time", "-precision", 12, "-node", 5, 7, 13, "-dof", 2, 3,
+                 "disp")
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    if transient:
+        ops.integrator("Newmark", 0.5, 0.25)
+        ops.analysis("Transient")
+    else:
+        ops.integrator("LoadControl", 0.25)
+        ops.analysis("Static")
+    rows = []
+    for _ in range(8):
+        ops.analyze(1, 0.01) if transient else ops.analyze(1)
+        ops.reactions()
+        rows.append(ops.nodeDisp(5) + ops.nodeDisp(7) + ops.nodeDisp(13) + ops.eleForce(4) + ops.nodeReaction(9)
+                    + ops.nodeReaction(1))
+    ops.wipe()
+    return np.array(rows)
+
+
+@pytest.mark.parametrize("transient, lumped", [(False, True), (True, True), (True, False)],
+                         ids=["static", "transient lumped", "transient consistent"])
+def test_prescribed_displacements(tmp_path, transient, lumped):
+    """sp: a settling support and a prescribed end rotation give OpenSeesPy's displacements,
+    element forces, reactions and recorder file (Transformation handler)."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    ref = settling_support(oracle, tmp_path / "a", transient, lumped)
+    val = settling_support(vops, tmp_path / "b", transient, lumped)
+    assert relative_difference(ref, val) < RTOL
+    compare_files(tmp_path / "a", tmp_path / "b", min_identical=0.0)

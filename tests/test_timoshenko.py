@@ -113,7 +113,7 @@ def test_bad_arguments_name_the_element():
     vops.node(1, 0.0, 0.0)
     vops.node(2, 1.0, 0.0)
     vops.geomTransf("Linear", 1)
-    with pytest.raises(CommandError, match=r"^element 5 \(ElasticTimoshenkoBeam\): G must be > 0, got 0$"):
+    with pytest.raises(ModelError, match=r"^element 5 \(ElasticTimoshenkoBeam\): G must be > 0, got 0$"):
         vops.element("ElasticTimoshenkoBeam", 5, 1, 2, E, 0.0, 1.0, 1.0, 0.8, 1)
     with pytest.raises(CommandError, match="element ElasticTimoshenkoBeam 5: geomTransf 9 does not exist"):
         vops.element("ElasticTimoshenkoBeam", 5, 1, 2, E, G, 1.0, 1.0, 0.8, 9)

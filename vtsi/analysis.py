@@ -135,6 +135,15 @@ def pattern_factors(patterns, times, cache=None):
     return out
 
 
+def prescribe(prescribed, state):
+    """Set the dofs of prescribed displacements (sp; ``Assembly.prescribed_dofs``) at the
+    committed time: ``u_c = Σ value × factor(t)``; their velocity and acceleration stay 0."""
+    for pattern, dofs, values in prescribed:
+        state.u[dofs] = 0.0
+    for pattern, dofs, values in prescribed:
+        state.u[dofs] += float(pattern.factors(np.array([state.time]))[0]) * values
+
+
 class _RecorderFeed:
     """Maps the recorders' requests to output columns and hands chunks over.
 
@@ -161,7 +170,22 @@ class _RecorderFeed:
                         raise ModelError(f"recorder: {label} {index} out of range 0..{size - 1}")
                 cols.append(keys.setdefault((quantity, int(index)), len(keys)))
             self.columns.append(np.array(cols, dtype=np.int64))
+        # a constrained dof (equalDOF / rigidLink) is recorded as its row of T over free dofs
+        self.derived = []
+        if assembly.constrained_rows is not None:
+            row_of = {int(k): r for r, k in enumerate(assembly.constrained_dofs)}
+            for (q, k), i in list(keys.items()):
+                if q in QUANTITY_SLOT and k in row_of:
+                    row = assembly.constrained_rows[row_of[k]]
+                    sources = [keys.setdefault((q, int(assembly.full_of_free[j])), len(keys)) for j in row.indices]
+                    self.derived.append((i, np.array(sources, dtype=np.int64), row.data.copy()))
         self.items = sorted(keys, key=keys.get)
+        # a prescribed displacement (sp) is recorded as value × factor(t) (its v and a as 0)
+        self.prescribed = []
+        for pattern, dofs, values in assembly.prescribed_dofs(model.patterns.values()):
+            for k, value in zip(dofs, values):
+                if ("u", int(k)) in keys:
+                    self.prescribed.append((keys[("u", int(k))], pattern, value))
         free = [(i, QUANTITY_SLOT[q], assembly.free_of_full[k]) for i, (q, k) in enumerate(self.items)
                 if q in QUANTITY_SLOT and assembly.free_of_full[k] >= 0]
         self.bridge_cols = np.array([i for i, _, _ in free], dtype=np.int64)
@@ -208,6 +232,10 @@ class _RecorderFeed:
         for name, values in groups.items():
             if name in self.groups:
                 full[:, self.groups[name][0]] = values
+        for i, sources, coefficients in self.derived:
+            full[:, i] = full[:, sources] @ coefficients
+        for i, pattern, value in self.prescribed:
+            full[:, i] += value * pattern.factors(times)
         for rec, cols in zip(self.recorders, self.columns):
             rec.write(times, full[:, cols], assembly)
 
@@ -249,11 +277,11 @@ class StaticAnalysis:
                 kd = lower.shape[1] - 1
                 padded = pad(rhs, kd)
                 solve_band(lower, padded)
-                state.u[:] = 0.0
-                state.u[asm.full_of_free] = padded[kd: kd + asm.n_free]
+                state.u[:] = asm.expand(padded[kd: kd + asm.n_free])
                 state.v[:] = 0.0
                 state.a[:] = 0.0
                 state.time = t
+                prescribe(asm.prescribed_dofs(patterns), state)
                 out = feed.state_row(state, asm)[None, :]
                 feed.deliver(np.array([t]), out, asm)
         finally:
@@ -295,6 +323,8 @@ def eigen(model, n_modes):
     vec = vec / np.sqrt(np.einsum("ij,ij->j", vec, asm.M @ vec))
     shapes = np.zeros((asm.n_full, n_modes))
     shapes[asm.full_of_free] = vec
+    if asm.constrained_rows is not None:      # equalDOF / rigidLink dofs follow their retained ones
+        shapes[asm.constrained_dofs] = asm.constrained_rows @ vec
     return omega2, shapes
 
 
@@ -475,7 +505,10 @@ class TransientAnalysis:
                         f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s "
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, times[bad + 1])
+                for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
+                    plan.asm.complete(vec)
                 state.time = float(times[chunk])
+                prescribe(plan.prescribed, state)
                 self.last_step_start = float(times[chunk - 1])
                 done += chunk
         finally:
@@ -508,6 +541,7 @@ class _RunPlan:
             self.rest_full = analysis._rest_full
         self.block = None        # (times (B + 1,), table (B, n_stages, n_patterns), position)
         self.no_columns = np.zeros((analysis.chunk_steps, 0))
+        self.prescribed = asm.prescribed_dofs(patterns)
         self.span = np.array([0, analysis.integrator.n_stages, 0], dtype=np.int64)   # whole steps
 
     def start_feed(self):

@@ -127,21 +127,87 @@ class Assembly:
         for tag, flags in model.fixities.items():
             i = self.node_index[tag]
             fixed[i * self.ndf: (i + 1) * self.ndf] |= np.asarray(flags[: self.ndf], dtype=bool)
-        free = np.flatnonzero(~fixed)
+        for pattern in model.patterns.values():       # prescribed displacements (sp) constrain their dofs
+            for node, d in pattern.prescribed:
+                fixed[self.node_index[node] * self.ndf + d] = True
+        constrained = np.zeros(self.n_full, dtype=bool)
+        for node, d in model.mp_constraints:
+            constrained[self.node_index[node] * self.ndf + d] = True
+        free = np.flatnonzero(~fixed & ~constrained)
         if free.size == 0:
             raise ModelError("every dof of the model is fixed: nothing to analyse")
         n = self.n_full
-        pattern = principal(sp.coo_matrix(abs(self.K_full) + abs(self.M_full) + abs(self.C_full)), free, n).tocsr()
+        # T (n_full, len(free)): full dofs from the free ones (the identity, and the constrained rows)
+        T = self._transformation(model, free) if model.mp_constraints else None
+        reduce = (lambda a: principal(sp.coo_matrix(a), free, n)) if T is None else \
+            (lambda a: sp.coo_matrix(T.T @ a @ T))
+        pattern = (abs(reduce(self.K_full)) + abs(reduce(self.M_full)) + abs(reduce(self.C_full))).tocsr()
         pattern.eliminate_zeros()
         order = reverse_cuthill_mckee(pattern, symmetric_mode=True)
         self.full_of_free = free[order].astype(np.int64)
         self.free_of_full = -np.ones(self.n_full, dtype=np.int64)
         self.free_of_full[self.full_of_free] = np.arange(len(self.full_of_free))
-        sub = lambda a: principal(sp.coo_matrix(a), self.full_of_free, n).tocsr()
+        if T is None:
+            self.transformation = self.constrained_rows = self.constrained_dofs = None
+            sub = lambda a: principal(sp.coo_matrix(a), self.full_of_free, n).tocsr()
+        else:
+            self.transformation = T = T[:, order].tocsr()
+            self.constrained_dofs = np.flatnonzero(constrained)
+            self.constrained_rows = T[self.constrained_dofs]
+            sub = lambda a: (T.T @ a @ T).tocsr()
         self.K, self.M, self.C = sub(self.K_full), sub(self.M_full), sub(self.C_full)
         for a in (self.K, self.M, self.C):
             a.eliminate_zeros()   # exact structural zeros (e.g. axial-bending of a straight beam)
             a.sort_indices()
+
+    def _transformation(self, model, free):
+        """``T`` (n_full, len(free)), ``u_full = T u_free``, of the equalDOF / rigidLink constraints
+        (OpenSees's Transformation handler): a constrained dof's row is its coefficients times
+        the rows of its retained dofs (free ones, fixed ones: zero, constrained ones in turn)."""
+        column = -np.ones(self.n_full, dtype=np.int64)
+        column[free] = np.arange(len(free))
+        full = lambda node, d: self.node_index[node] * self.ndf + d
+        rows, resolving = {}, set()
+
+        def row(k):
+            if k in rows:
+                return rows[k]
+            if column[k] >= 0:
+                return {int(column[k]): 1.0}
+            node, d = int(self.node_tags[k // self.ndf]), k % self.ndf
+            if (node, d) not in model.mp_constraints:
+                return {}                                     # fixed
+            if k in resolving:
+                raise ModelError(f"equalDOF/rigidLink: node {node} dof {d + 1} is constrained in a circle")
+            resolving.add(k)
+            out = {}
+            for r_node, r_d, coef in model.mp_constraints[(node, d)]:
+                for j, c in row(full(r_node, r_d)).items():
+                    out[j] = out.get(j, 0.0) + coef * c
+            resolving.discard(k)
+            rows[k] = out
+            return out
+
+        r, c, v = list(free), list(range(len(free))), [1.0] * len(free)
+        for node, d in model.mp_constraints:
+            k = full(node, d)
+            for j, coef in row(k).items():
+                r.append(k)
+                c.append(j)
+                v.append(coef)
+        return sp.csr_matrix((v, (r, c)), shape=(self.n_full, len(free)))
+
+    def complete(self, vector):
+        """Set the constrained dofs of the full-dof ``vector`` from its free dofs (in place)."""
+        if self.constrained_rows is not None:
+            vector[self.constrained_dofs] = self.constrained_rows @ vector[self.full_of_free]
+
+    def expand(self, free_vector):
+        """The full-dof vector ``(n_full,)`` of a free-dof one (constrained dofs included)."""
+        out = np.zeros(self.n_full)
+        out[self.full_of_free] = free_vector
+        self.complete(out)
+        return out
 
     # -- helpers --------------------------------------------------------------------------
     @property
@@ -185,7 +251,7 @@ class Assembly:
         if pattern.ground_direction is not None:
             r = np.zeros(self.n_full)
             r[pattern.ground_direction - 1::self.ndf] = 1.0
-            return -(self.M_full @ r)[self.full_of_free]
+            return self.reduce(-(self.M_full @ r))
         p = np.zeros(self.n_full)
         for tag, values in pattern.nodal.items():
             if tag not in self.node_index:
@@ -198,7 +264,21 @@ class Assembly:
         for tag, f in self.element_equivalent_loads(pattern).items():
             b, i = self.element_location[tag]
             p[self.blocks[b][4][i]] += f
-        return p[self.full_of_free]
+        for (node, d), value in pattern.prescribed.items():   # −K_fc u_c of a prescribed displacement
+            if node not in self.node_index:
+                raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
+            c = self.node_index[node] * self.ndf + d
+            p -= value * self.K_full[:, c].toarray().ravel()
+        return self.reduce(p)
+
+    def prescribed_dofs(self, patterns):
+        """``[(pattern, full dofs, values)]`` of the patterns' prescribed displacements (sp)."""
+        return [(p, np.array([self.node_index[n] * self.ndf + d for n, d in p.prescribed], dtype=np.int64),
+                 np.array(list(p.prescribed.values()))) for p in patterns if p.prescribed]
+
+    def reduce(self, full_load):
+        """The free-dof load ``Tᵀ p`` of a full-dof load (its free entries without constraints)."""
+        return full_load[self.full_of_free] if self.transformation is None else self.transformation.T @ full_load
 
     def element_state(self, tags, u_full, v_full):
         """Group element tags by type: yields ``(etype, coords, params, u_e, v_e, order)``."""

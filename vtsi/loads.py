@@ -26,6 +26,7 @@ class LoadPattern:
         self.tag, self.series, self._factor = tag, series, factor
         self.nodal = {}
         self.element_loads = []     # (element tag, 'uniform' (w_y, w_x) | 'point' (P_y, x/L, P_x))
+        self.prescribed = {}        # (node, dof 0-based) -> displacement [m, rad] at factor 1 (OpenSees sp)
         self.version = 0            # counts the changes of the loads, factor and freezing (analyses cache them)
         self._constant_time = None
         self.on_change = None       # set by the owning model: called after every change

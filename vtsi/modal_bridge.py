@@ -62,6 +62,9 @@ class ModalBridge:
 
     def __init__(self, model, track=None, f_max=None, zeta=None, n_modes=None):
         asm = model.build()
+        if asm.transformation is not None:
+            raise ModelError("modal bridge: the model has equalDOF/rigidLink constraints, which the modal bridge does "
+                             "not take; model the connections with elements (zeroLength, stiff beams)")
         if n_modes is not None:
             if f_max is not None:
                 raise ModelError("modal bridge: give f_max or n_modes, not both")

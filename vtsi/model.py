@@ -32,6 +32,7 @@ class Model:
         self.ndm, self.ndf = ndm, ndf
         self.nodes = {}
         self.fixities = {}
+        self.mp_constraints = {}    # (constrained node, dof 0-based) -> [(retained node, dof, coefficient)]
         self.nodal_mass = {}
         self.element_types = {}
         self._element_owner = {}
@@ -83,7 +84,51 @@ class Model:
         if len(flags) != self.ndf or any(f not in (0, 1) for f in flags):
             raise ModelError(f"fix node {tag}: needs {self.ndf} flags of 0 or 1, got {list(flags)}")
         old = self.fixities.get(tag, (0,) * self.ndf)
+        for d, f in enumerate(flags):
+            if f and (tag, d) in self.mp_constraints:
+                raise ModelError(f"fix node {tag}: dof {d + 1} is constrained (equalDOF/rigidLink); it cannot also be fixed")
         self.fixities[tag] = tuple(int(a or b) for a, b in zip(old, flags))
+        self._changed()
+
+    def equal_dof(self, retained, constrained, *dofs):
+        """``u(constrained, d) = u(retained, d)`` for each 1-based dof ``d`` (OpenSees ``equalDOF``)."""
+        self._node(retained, "equalDOF")
+        self._node(constrained, "equalDOF")
+        if retained == constrained:
+            raise ModelError(f"equalDOF: retained and constrained node are both {retained}")
+        if not dofs or any(d not in range(1, self.ndf + 1) for d in dofs):
+            raise ModelError(f"equalDOF {retained} {constrained}: dofs must be among 1..{self.ndf}, got {list(dofs)}")
+        self._constrain(constrained, {d - 1: [(retained, d - 1, 1.0)] for d in dofs}, f"equalDOF {retained} {constrained}")
+
+    def rigid_link(self, kind, master, slave):
+        """A rigid link from ``master`` to ``slave`` (OpenSees ``rigidLink``): ``'bar'`` equal
+        translations; ``'beam'`` (ndf 3) a rigid body, ``u_s = u_m − (y_s − y_m) θ_m``,
+        ``v_s = v_m + (x_s − x_m) θ_m``, ``θ_s = θ_m``."""
+        what = f"rigidLink {kind} {master} {slave}"
+        self._node(master, "rigidLink")
+        self._node(slave, "rigidLink")
+        if master == slave:
+            raise ModelError(f"{what}: master and slave are the same node")
+        if kind == "bar":
+            rows = {0: [(master, 0, 1.0)], 1: [(master, 1, 1.0)]}
+        elif kind == "beam":
+            if self.ndf != 3:
+                raise ModelError(f"{what}: a beam link needs 3 dofs per node (the model has {self.ndf})")
+            dx, dy = self.nodes[slave] - self.nodes[master]
+            rows = {0: [(master, 0, 1.0), (master, 2, -dy)], 1: [(master, 1, 1.0), (master, 2, dx)],
+                    2: [(master, 2, 1.0)]}
+        else:
+            raise ModelError(f"rigidLink: type {kind!r} is not supported; supported: bar, beam")
+        self._constrain(slave, rows, what)
+
+    def _constrain(self, node, rows, what):
+        for d in rows:
+            if (node, d) in self.mp_constraints:
+                raise ModelError(f"{what}: node {node} dof {d + 1} is already constrained")
+            if self.fixities.get(node, (0,) * self.ndf)[d]:
+                raise ModelError(f"{what}: node {node} dof {d + 1} is fixed; it cannot also be constrained")
+        for d, row in rows.items():
+            self.mp_constraints[(node, d)] = [(int(n), int(k), float(c)) for n, k, c in row]
         self._changed()
 
     def mass(self, tag, *values):
@@ -164,6 +209,29 @@ class Model:
         if element not in self._element_owner:
             raise ModelError(f"beam_load in pattern {pattern_tag}: element {element} does not exist")
         self.patterns[pattern_tag].beam_load(element, kind, *values)
+
+    def sp(self, pattern_tag, node, dof, value):
+        """A prescribed displacement ``value × factor(t)`` [m, rad] of ``node``'s 1-based ``dof``
+        in pattern ``pattern_tag`` (OpenSees ``sp``): the dof is then constrained like a fixed
+        one, and its motion loads the free dofs through the stiffness (``−K_fc u_c``), as
+        OpenSees's Transformation handler does (the moving support's velocity and acceleration
+        stay 0, so no damping or inertia coupling: for a support motion with inertia, use
+        ``uniform_excitation``)."""
+        if pattern_tag not in self.patterns:
+            raise ModelError(f"sp: pattern {pattern_tag} does not exist")
+        self._node(node, f"sp in pattern {pattern_tag}")
+        if not 1 <= dof <= self.ndf:
+            raise ModelError(f"sp node {node}: dof must be 1..{self.ndf}, got {dof}")
+        value = float(value)
+        if not np.isfinite(value):
+            raise ModelError(f"sp node {node} dof {dof}: value must be finite, got {value}")
+        if self.fixities.get(node, (0,) * self.ndf)[dof - 1] or (node, dof - 1) in self.mp_constraints:
+            raise ModelError(f"sp node {node} dof {dof}: the dof is already fixed or constrained")
+        if any((node, dof - 1) in p.prescribed for p in self.patterns.values()):
+            raise ModelError(f"sp node {node} dof {dof}: the dof already has a prescribed displacement")
+        self.patterns[pattern_tag].prescribed[(node, dof - 1)] = value
+        self._loads_changed()
+        self._changed()
 
     def remove_pattern(self, tag):
         if tag not in self.patterns:

@@ -31,6 +31,9 @@ class Track:
 
     def __init__(self, model, elements):
         asm = model.build()
+        if asm.transformation is not None:
+            raise ModelError("track: the model has equalDOF/rigidLink constraints, which the train analyses do not "
+                             "take; model the connections with elements (zeroLength, stiff beams)")
         bad = [e for e in elements if isinstance(e, (bool, np.bool_)) or not isinstance(e, (int, np.integer))]
         if bad:
             raise ModelError(f"track: element tags must be integers, got {bad[0]!r}")

@@ -119,6 +119,8 @@ class OpenSeesTRBDF2:
             if bad >= 0:
                 raise DivergenceError(f"TRBDF2 diverged at step {bad + 1}, t = {times[bad + 1]:.6g} s (NaN or inf)",
                                       bad + 1, times[bad + 1])
+            for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
+                plan.asm.complete(vec)
             state.time = float(times[-1])
             self.resume = (plan, state.time) if (first + n) % 2 == 1 else None
         finally:
@@ -145,8 +147,9 @@ class AnalysisCommands(SessionBase):
         self._repeat, self._repeat_run = None, None    # the last transient analyze (see _repeat_key)
 
     def constraints(self, *args):
-        """``constraints('Plain'|'Transformation')`` (only single-point constraints exist: both
-        eliminate the fixed dofs)."""
+        """``constraints('Plain'|'Transformation')``: both eliminate the fixed dofs, and the dofs of
+        ``equalDOF``/``rigidLink`` by OpenSees's transformation (OpenSees's Plain handler would
+        refuse those; vtsi accepts them under either name)."""
         a = Args("constraints", args)
         self._settings["constraints"] = a.word("handler", CONSTRAINT_HANDLERS)
         a.done()
@@ -219,10 +222,7 @@ class AnalysisCommands(SessionBase):
             # OpenSees reads the optional pair as beta then gamma (its usage message says gamma beta)
             alpha_m, alpha_f = a.float("alphaM"), a.float("alphaF")
             beta, gamma = (a.float("beta"), a.float("gamma")) if a.more() else (None, None)
-            try:
-                spec = (kind, GeneralizedAlpha(alpha_m, alpha_f, gamma, beta))
-            except AnalysisError as exc:
-                raise CommandError(str(exc)) from None
+            spec = (kind, GeneralizedAlpha(alpha_m, alpha_f, gamma, beta))
         elif kind == "CentralDifference":
             spec = (kind, CentralDifference())
         elif kind == "TRBDF2":

@@ -14,8 +14,8 @@ from vtsi.timeseries import Constant, Linear, Path, Pulse, Rectangular, Triangle
 from .args import Args, is_int, read_numbers, tcl_words
 from .base import SessionBase
 
-MODEL_COMMANDS = ("model", "node", "fix", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
-                  "pattern", "load", "eleLoad", "rayleigh")
+MODEL_COMMANDS = ("model", "node", "fix", "equalDOF", "rigidLink", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
+                  "pattern", "load", "sp", "eleLoad", "rayleigh")
 ELEMENT_TYPES = ("elasticBeamColumn", "ElasticTimoshenkoBeam", "truss", "zeroLength")
 MATERIAL_TYPES = ("Elastic", "Viscous")
 SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
@@ -94,6 +94,29 @@ class ModelCommands(SessionBase):
         a.done()
         self._node("mass", tag)
         model.mass(tag, *values)
+
+    def equalDOF(self, *args):
+        """``equalDOF(rNode, cNode, *dofs)``: the constrained node's dofs equal the retained
+        node's (1-based dofs; OpenSees's Transformation handler)."""
+        model = self._model("equalDOF")
+        a = Args("equalDOF", args)
+        retained, constrained = a.int("retained node"), a.int("constrained node")
+        dofs = a.ints("dof")
+        a.done()
+        for n in (retained, constrained):
+            self._node("equalDOF", n)
+        model.equal_dof(retained, constrained, *dofs)
+
+    def rigidLink(self, *args):
+        """``rigidLink('bar'|'beam', rNode, cNode)``: equal translations, or a rigid beam (ndf 3)."""
+        model = self._model("rigidLink")
+        a = Args("rigidLink", args)
+        kind = a.word("link type", ("bar", "beam"))
+        master, slave = a.int("retained node"), a.int("constrained node")
+        a.done()
+        for n in (master, slave):
+            self._node("rigidLink", n)
+        model.rigid_link(kind, master, slave)
 
     def geomTransf(self, *args):
         """``geomTransf('Linear', tag)`` (vtsi is linear: PDelta and Corotational are refused)."""
@@ -187,10 +210,7 @@ class ModelCommands(SessionBase):
                 params[target[0]] = target[1]
             else:
                 params[target] = a.float(opt)
-        try:
-            model.element(cls.name, tag, nodes, **params)
-        except ModelError as exc:
-            raise CommandError(str(exc)) from None
+        model.element(cls.name, tag, nodes, **params)
 
     def _element_elasticBeamColumn(self, model, a, name, tag, i, j):
         if model.ndf != 3:
@@ -229,10 +249,7 @@ class ModelCommands(SessionBase):
                 rho = a.float("-mass")
             else:
                 cmass = 1
-        try:
-            model.element("ElasticTimoshenkoBeam", tag, (i, j), A=A, E=E, G=G, I=Iz, Avy=Avy, rho=rho, cmass=cmass)
-        except ModelError as exc:
-            raise CommandError(str(exc)) from None
+        model.element("ElasticTimoshenkoBeam", tag, (i, j), A=A, E=E, G=G, I=Iz, Avy=Avy, rho=rho, cmass=cmass)
 
     def _element_truss(self, model, a, name, tag, i, j):
         A = a.float(f"{name}: A")
@@ -461,6 +478,20 @@ class ModelCommands(SessionBase):
         if pattern is None or pattern not in model.patterns:
             raise CommandError(f"load on node {tag}: no load pattern; define one with pattern('Plain', tag, tsTag)")
         model.load(pattern, tag, *values)
+
+    def sp(self, *args):
+        """``sp(node, dof, value)``: a prescribed displacement [m, rad] of the last pattern defined,
+        ``value × factor(t)`` (1-based dof); the dof is then constrained (OpenSees's Transformation
+        handler: the support's motion loads the structure through the stiffness)."""
+        model = self._model("sp")
+        a = Args("sp", args)
+        node, dof, value = a.int("node tag"), a.int("dof"), a.float("value")
+        a.done()
+        self._node("sp", node)
+        pattern = self._current_pattern
+        if pattern is None or pattern not in model.patterns:
+            raise CommandError(f"sp node {node}: no load pattern; define one with pattern('Plain', tag, tsTag)")
+        model.sp(pattern, node, dof, value)
 
     def eleLoad(self, *args):
         """``eleLoad('-ele', *tags | '-range', first, last, '-type', '-beamUniform', Wy, [Wx])`` or
