@@ -611,3 +611,86 @@ def test_prescribed_displacements(tmp_path, transient, lumped):
     val = settling_support(vops, tmp_path / "b", transient, lumped)
     assert relative_difference(ref, val) < RTOL
     compare_files(tmp_path / "a", tmp_path / "b", min_identical=0.0)
+
+
+def removals(ops):
+    """remove 'mp', 'timeSeries' and 'node' between two static analyses."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(5):
+        ops.node(i + 1, 2.0 * i, 0.0)
+    ops.node(9, 4.0, 3.0)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(5, 0, 0, 1)
+    ops.fix(9, 1, 1, 1)
+    ops.geomTransf("Linear", 1)
+    for e in range(3):
+        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, 0.1, 2e11, 1e-4, 1)
+    ops.equalDOF(4, 5, 1, 2)
+    ops.timeSeries("Constant", 1)
+    ops.timeSeries("Linear", 2)
+    ops.pattern("Plain", 1, 1)
+    ops.sp(4, 2, -0.003)
+    ops.load(3, 0.0, -1e4, 0.0)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    ops.analyze(1)
+    rows = [ops.nodeDisp(3) + ops.nodeDisp(5)]
+    ops.remove("mp", 5)
+    ops.remove("timeSeries", 2)
+    ops.remove("node", 9)
+    ops.fix(5, 1, 1, 0)
+    ops.analyze(1)
+    rows.append(ops.nodeDisp(3) + ops.nodeDisp(4))
+    tags = ops.getNodeTags()
+    ops.wipe()
+    return np.array(rows), tags
+
+
+def test_remove_mp_series_node_and_sp():
+    """The removals OpenSeesPy does alike; and ``remove('sp', node, dof, [pattern])``, which
+    OpenSeesPy 3.7.1 accepts but leaves the pattern's prescribed displacement in place (measured),
+    frees the dof in vtsi: the result is the model's without the sp."""
+    (ref, ref_tags), (val, val_tags) = removals(oracle), removals(vops)
+    assert val_tags == ref_tags == [1, 2, 3, 4, 5]
+    assert relative_difference(ref, val) < RTOL
+    tips = []
+    for remove in (True, False):
+        vops.wipe()
+        vops.model("basic", "-ndm", 2, "-ndf", 3)
+        for i in range(3):
+            vops.node(i + 1, 2.0 * i, 0.0)
+        vops.fix(1, 1, 1, 1)
+        vops.geomTransf("Linear", 1)
+        for e in range(2):
+            vops.element("elasticBeamColumn", e + 1, e + 1, e + 2, 0.1, 2e11, 1e-4, 1)
+        vops.timeSeries("Constant", 1)
+        vops.pattern("Plain", 1, 1)
+        if remove:
+            vops.sp(3, 2, -0.003)
+        vops.load(2, 0.0, -1e4, 0.0)
+        vops.integrator("LoadControl", 1.0)
+        vops.analysis("Static")
+        if remove:
+            vops.analyze(1)
+            assert vops.nodeDisp(3, 2) == -0.003
+            vops.remove("sp", 3, 2, 1)
+        vops.analyze(1)
+        tips.append(vops.nodeDisp(3))
+    np.testing.assert_allclose(tips[0], tips[1], rtol=1e-12)
+    vops.wipe()
+    vops.model("basic", "-ndm", 2, "-ndf", 3)
+    vops.node(1, 0.0, 0.0)
+    vops.node(2, 1.0, 0.0)
+    vops.geomTransf("Linear", 1)
+    vops.element("elasticBeamColumn", 1, 1, 2, 1.0, 1.0, 1.0, 1)
+    with pytest.raises(vops.ModelError, match="remove node 2: used by element 1; remove that first"):
+        vops.remove("node", 2)
+    with pytest.raises(vops.ModelError, match="remove sp: node 2 dof 1 has no prescribed displacement"):
+        vops.remove("sp", 2, 1)
+    with pytest.raises(vops.CommandError, match="'parameter' is not supported"):
+        vops.remove("parameter", 1)

@@ -177,8 +177,10 @@ class _RecorderFeed:
             for (q, k), i in list(keys.items()):
                 if q in QUANTITY_SLOT and k in row_of:
                     row = assembly.constrained_rows[row_of[k]]
+                    tied = assembly.constrained_prescribed[row_of[k]]
                     sources = [keys.setdefault((q, int(assembly.full_of_free[j])), len(keys)) for j in row.indices]
-                    self.derived.append((i, np.array(sources, dtype=np.int64), row.data.copy()))
+                    sources += [keys.setdefault((q, int(assembly.prescribed_full[j])), len(keys)) for j in tied.indices]
+                    self.derived.append((i, np.array(sources, dtype=np.int64), np.r_[row.data, tied.data]))
         self.items = sorted(keys, key=keys.get)
         # a prescribed displacement (sp) is recorded as value × factor(t) (its v and a as 0)
         self.prescribed = []
@@ -232,10 +234,10 @@ class _RecorderFeed:
         for name, values in groups.items():
             if name in self.groups:
                 full[:, self.groups[name][0]] = values
-        for i, sources, coefficients in self.derived:
-            full[:, i] = full[:, sources] @ coefficients
         for i, pattern, value in self.prescribed:
             full[:, i] += value * pattern.factors(times)
+        for i, sources, coefficients in self.derived:
+            full[:, i] = full[:, sources] @ coefficients
         for rec, cols in zip(self.recorders, self.columns):
             rec.write(times, full[:, cols], assembly)
 
@@ -282,6 +284,7 @@ class StaticAnalysis:
                 state.a[:] = 0.0
                 state.time = t
                 prescribe(asm.prescribed_dofs(patterns), state)
+                asm.complete(state.u)
                 out = feed.state_row(state, asm)[None, :]
                 feed.deliver(np.array([t]), out, asm)
         finally:
@@ -505,10 +508,10 @@ class TransientAnalysis:
                         f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s "
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, times[bad + 1])
-                for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
-                    plan.asm.complete(vec)
                 state.time = float(times[chunk])
                 prescribe(plan.prescribed, state)
+                for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
+                    plan.asm.complete(vec)
                 self.last_step_start = float(times[chunk - 1])
                 done += chunk
         finally:

@@ -127,9 +127,12 @@ class Assembly:
         for tag, flags in model.fixities.items():
             i = self.node_index[tag]
             fixed[i * self.ndf: (i + 1) * self.ndf] |= np.asarray(flags[: self.ndf], dtype=bool)
+        prescribed = np.zeros(self.n_full, dtype=bool)
         for pattern in model.patterns.values():       # prescribed displacements (sp) constrain their dofs
             for node, d in pattern.prescribed:
-                fixed[self.node_index[node] * self.ndf + d] = True
+                prescribed[self.node_index[node] * self.ndf + d] = True
+        fixed |= prescribed
+        self.prescribed_full = np.flatnonzero(prescribed)
         constrained = np.zeros(self.n_full, dtype=bool)
         for node, d in model.mp_constraints:
             constrained[self.node_index[node] * self.ndf + d] = True
@@ -138,7 +141,10 @@ class Assembly:
             raise ModelError("every dof of the model is fixed: nothing to analyse")
         n = self.n_full
         # T (n_full, len(free)): full dofs from the free ones (the identity, and the constrained rows)
-        T = self._transformation(model, free) if model.mp_constraints else None
+        T, S = (None, None)
+        if model.mp_constraints:
+            TS = self._transformation(model, free, self.prescribed_full).tocsc()
+            T, S = TS[:, :len(free)], TS[:, len(free):]
         reduce = (lambda a: principal(sp.coo_matrix(a), free, n)) if T is None else \
             (lambda a: sp.coo_matrix(T.T @ a @ T))
         pattern = (abs(reduce(self.K_full)) + abs(reduce(self.M_full)) + abs(reduce(self.C_full))).tocsr()
@@ -148,24 +154,27 @@ class Assembly:
         self.free_of_full = -np.ones(self.n_full, dtype=np.int64)
         self.free_of_full[self.full_of_free] = np.arange(len(self.full_of_free))
         if T is None:
-            self.transformation = self.constrained_rows = self.constrained_dofs = None
+            self.transformation = self.constrained_rows = self.constrained_dofs = self.constrained_prescribed = None
             sub = lambda a: principal(sp.coo_matrix(a), self.full_of_free, n).tocsr()
         else:
             self.transformation = T = T[:, order].tocsr()
             self.constrained_dofs = np.flatnonzero(constrained)
             self.constrained_rows = T[self.constrained_dofs]
+            self.constrained_prescribed = S.tocsr()[self.constrained_dofs]    # on prescribed_full
             sub = lambda a: (T.T @ a @ T).tocsr()
         self.K, self.M, self.C = sub(self.K_full), sub(self.M_full), sub(self.C_full)
         for a in (self.K, self.M, self.C):
             a.eliminate_zeros()   # exact structural zeros (e.g. axial-bending of a straight beam)
             a.sort_indices()
 
-    def _transformation(self, model, free):
-        """``T`` (n_full, len(free)), ``u_full = T u_free``, of the equalDOF / rigidLink constraints
-        (OpenSees's Transformation handler): a constrained dof's row is its coefficients times
-        the rows of its retained dofs (free ones, fixed ones: zero, constrained ones in turn)."""
+    def _transformation(self, model, free, prescribed):
+        """``[T S]`` (n_full, len(free) + len(prescribed)), ``u_full = T u_free + S u_prescribed``,
+        of the equalDOF / rigidLink constraints (OpenSees's Transformation handler): a constrained
+        dof's row is its coefficients times the rows of its retained dofs (free and prescribed
+        ones: their column, fixed ones: zero, constrained ones in turn)."""
         column = -np.ones(self.n_full, dtype=np.int64)
         column[free] = np.arange(len(free))
+        column[prescribed] = len(free) + np.arange(len(prescribed))
         full = lambda node, d: self.node_index[node] * self.ndf + d
         rows, resolving = {}, set()
 
@@ -195,12 +204,17 @@ class Assembly:
                 r.append(k)
                 c.append(j)
                 v.append(coef)
-        return sp.csr_matrix((v, (r, c)), shape=(self.n_full, len(free)))
+        r += list(prescribed)
+        c += list(len(free) + np.arange(len(prescribed)))
+        v += [1.0] * len(prescribed)
+        return sp.csr_matrix((v, (r, c)), shape=(self.n_full, len(free) + len(prescribed)))
 
     def complete(self, vector):
-        """Set the constrained dofs of the full-dof ``vector`` from its free dofs (in place)."""
+        """Set the constrained dofs of the full-dof ``vector`` from its free and prescribed dofs
+        (in place)."""
         if self.constrained_rows is not None:
-            vector[self.constrained_dofs] = self.constrained_rows @ vector[self.full_of_free]
+            vector[self.constrained_dofs] = (self.constrained_rows @ vector[self.full_of_free]
+                                             + self.constrained_prescribed @ vector[self.prescribed_full])
 
     def expand(self, free_vector):
         """The full-dof vector ``(n_full,)`` of a free-dof one (constrained dofs included)."""
@@ -264,11 +278,14 @@ class Assembly:
         for tag, f in self.element_equivalent_loads(pattern).items():
             b, i = self.element_location[tag]
             p[self.blocks[b][4][i]] += f
-        for (node, d), value in pattern.prescribed.items():   # −K_fc u_c of a prescribed displacement
-            if node not in self.node_index:
-                raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
-            c = self.node_index[node] * self.ndf + d
-            p -= value * self.K_full[:, c].toarray().ravel()
+        if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
+            g = np.zeros(self.n_full)
+            for (node, d), value in pattern.prescribed.items():
+                if node not in self.node_index:
+                    raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
+                g[self.node_index[node] * self.ndf + d] = value
+            self.complete(g)
+            p -= self.K_full @ g
         return self.reduce(p)
 
     def prescribed_dofs(self, patterns):

@@ -233,6 +233,50 @@ class Model:
         self._loads_changed()
         self._changed()
 
+    def remove_node(self, tag):
+        """Remove node ``tag`` with its fixity and mass; refused while an element, a constraint
+        or a load uses it."""
+        self._node(tag, "remove node")
+        users = [f"element {e}" for et in self.element_types.values() for e, nodes in zip(et.tags, et.nodes)
+                 if tag in nodes]
+        users += [f"a constraint on node {n}" for (n, _), row in self.mp_constraints.items()
+                  if n == tag or any(r == tag for r, _, _ in row)]
+        users += [f"pattern {p.tag}" for p in self.patterns.values() if tag in p.nodal or
+                  any(n == tag for n, _ in p.prescribed)]
+        if users:
+            raise ModelError(f"remove node {tag}: used by {users[0]}; remove that first")
+        del self.nodes[tag]
+        self.fixities.pop(tag, None)
+        self.nodal_mass.pop(tag, None)
+        self._changed()
+
+    def remove_time_series(self, tag):
+        """Forget series ``tag`` (the patterns made with it keep it, as in OpenSees)."""
+        if tag not in self.time_series:
+            raise ModelError(f"remove timeSeries: series {tag} does not exist")
+        del self.time_series[tag]
+
+    def remove_sp(self, node, dof, pattern_tag=None):
+        """Remove the prescribed displacement of ``node``'s 1-based ``dof`` (in ``pattern_tag``,
+        or in whichever pattern holds it)."""
+        holders = [p for p in self.patterns.values() if (node, dof - 1) in p.prescribed
+                   and (pattern_tag is None or p.tag == pattern_tag)]
+        if not holders:
+            raise ModelError(f"remove sp: node {node} dof {dof} has no prescribed displacement"
+                             + (f" in pattern {pattern_tag}" if pattern_tag is not None else ""))
+        del holders[0].prescribed[(node, dof - 1)]
+        self._loads_changed()
+        self._changed()
+
+    def remove_mp(self, node):
+        """Remove the equalDOF / rigidLink constraints of constrained node ``node``."""
+        keys = [k for k in self.mp_constraints if k[0] == node]
+        if not keys:
+            raise ModelError(f"remove mp: node {node} has no equalDOF/rigidLink constraint")
+        for k in keys:
+            del self.mp_constraints[k]
+        self._changed()
+
     def remove_pattern(self, tag):
         if tag not in self.patterns:
             raise ModelError(f"remove loadPattern: pattern {tag} does not exist")

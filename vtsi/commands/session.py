@@ -55,9 +55,22 @@ class Session(ModelCommands, AnalysisCommands, QueryCommands, RecorderCommands, 
 
     def remove(self, *args):
         """``remove('recorders')`` (every recorder, files closed), ``remove('recorder', tag)``,
-        ``remove('loadPattern', tag)`` or ``remove('element', tag)``."""
+        ``remove('loadPattern', tag)``, ``remove('element', tag)``, ``remove('node', tag)``,
+        ``remove('timeSeries', tag)``, ``remove('sp', node, dof, [patternTag])`` or
+        ``remove('mp', node)`` (the constraints of a constrained node)."""
         a = Args("remove", args)
-        what = a.word("object type", ("recorders", "recorder", "loadPattern", "element"))
+        what = a.word("object type", ("recorders", "recorder", "loadPattern", "element", "node", "timeSeries", "sp",
+                                      "mp"))
+        if what in ("node", "timeSeries", "sp", "mp"):
+            model = self._model("remove")
+            tag = a.int("node tag" if what != "timeSeries" else "series tag")
+            if what == "sp":
+                dof = a.int("dof")
+                pattern = a.int("pattern tag") if a.more() else None
+                a.done()
+                return model.remove_sp(tag, dof, pattern)
+            a.done()
+            return {"node": model.remove_node, "timeSeries": model.remove_time_series, "mp": model.remove_mp}[what](tag)
         if what == "recorders":
             a.done()
             for tag in list(self.recorders):
