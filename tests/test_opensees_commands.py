@@ -670,8 +670,8 @@ def test_remove_and_wipe_analysis():
         ops.remove("loadPattern", 2)
     ops.remove("element", 4)
     assert ops.getEleTags() == [1, 2, 3]
-    with pytest.raises(CommandError, match="'node'"):
-        ops.remove("node", 5)
+    with pytest.raises(CommandError, match="'parameter'"):
+        ops.remove("parameter", 5)
     ops.wipeAnalysis()
     with pytest.raises(CommandError, match="no analysis defined"):
         ops.analyze(1)
