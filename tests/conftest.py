@@ -4,7 +4,8 @@ The user-defined element type of ``examples/custom_element.py`` (``timoshenkoBea
 once per session, as a user's script would import it, before the test modules are collected: the
 contract tests (tests/test_element_contract.py) are parametrised over the registry and so check
 it like the shipped types; tests/test_custom_element.py gets the module from the
-``custom_element`` fixture.
+``custom_element`` fixture. ``moving_load_beam`` gives the builders of the moving-force script
+that several tests run through OpenSeesPy and vtsi.
 """
 import importlib.util
 import os
@@ -33,6 +34,16 @@ _load_custom_element_example()
 def custom_element():
     """The imported ``examples/custom_element.py`` module."""
     return _load_custom_element_example()
+
+
+@pytest.fixture(scope="session")
+def moving_load_beam():
+    """``tests/scripts/moving_load_beam.py``: the Path-per-node moving force script's builders."""
+    spec = importlib.util.spec_from_file_location("vtsi_test_moving_load_beam",
+                                                  Path(__file__).parent / "scripts" / "moving_load_beam.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 # In CI (CI=true, as .ci/run sets it) or with VTSI_REQUIRE_ORACLES=1, a test that skips because a

@@ -13,33 +13,12 @@ from vtsi.modal_bridge import ModalBridge
 oracle = pytest.importorskip("openseespy.opensees")
 
 
-def moving_load_beam(ops, integrator, n_el=10, span=20.0, dt=2e-3, steps=250):
-    """A simply supported beam, one Path pattern per interior node (a force at 25 m/s),
-    Rayleigh damping; returns the midspan displacement and acceleration and an end force."""
-    ops.wipe()
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    x = np.linspace(0.0, span, n_el + 1)
-    for i, xi in enumerate(x):
-        ops.node(i + 1, float(xi), 0.0)
-    ops.fix(1, 1, 1, 0)
-    ops.fix(n_el + 1, 0, 1, 0)
-    ops.geomTransf("Linear", 1)
-    for e in range(n_el):
-        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, 3.0e10, 1.2, 1, "-mass", 2.0e4, "-cMass")
-    t = dt * np.arange(steps + 1)
-    h = span / n_el
-    for i in range(1, n_el):
-        share = np.clip(1.0 - np.abs(25.0 * t - x[i]) / h, 0.0, None) * 1e5
-        ops.timeSeries("Path", i + 1, "-dt", dt, "-values", *share.tolist())
-        ops.pattern("Plain", i + 1, i + 1)
-        ops.load(i + 1, 0.0, -1.0, 0.0)
-    ops.rayleigh(0.15, 0.0, 0.0, 2e-4)
-    ops.constraints("Plain")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.algorithm("Linear")
-    ops.integrator(*integrator)
-    ops.analysis("Transient")
+def run_script(script, ops, integrator, steps=250, dt=2e-3):
+    """The moving-force script (``tests/scripts/moving_load_beam.py``, 10 elements, 20 m, a force
+    at 25 m/s) with ``integrator``; returns the midspan displacement and acceleration, a
+    rotation rate, an end moment and the time, every step."""
+    script.build(ops, 10, 20.0, 1.2, dt, steps, 25.0, rayleigh=(0.15, 2e-4))
+    script.transient(ops, integrator)
     rows = []
     for _ in range(steps):
         ops.analyze(1, dt)
@@ -51,10 +30,10 @@ def moving_load_beam(ops, integrator, n_el=10, span=20.0, dt=2e-3, steps=250):
 @pytest.mark.parametrize("integrator", [("GeneralizedAlpha", 1.0, 0.8), ("GeneralizedAlpha", 0.9, 0.7),
                                         ("GeneralizedAlpha", 2.0 / 3.0, 5.0 / 9.0),
                                         ("GeneralizedAlpha", 0.95, 0.8, 0.4, 0.7)], ids=str)
-def test_equals_opensees(integrator):
+def test_equals_opensees(integrator, moving_load_beam):
     """The optional pair is (β, γ) in OpenSees's reading of its arguments (β = 0.4, γ = 0.7 here)."""
-    ref = moving_load_beam(oracle, integrator)
-    val = moving_load_beam(vops, integrator)
+    ref = run_script(moving_load_beam, oracle, integrator)
+    val = run_script(moving_load_beam, vops, integrator)
     np.testing.assert_array_equal(val[:, -1], ref[:, -1])          # the time, accumulated as OpenSees does
     scale = np.abs(ref[:, :-1]).max(axis=0)
     assert np.max(np.abs(val[:, :-1] - ref[:, :-1]) / scale) < 1e-9

@@ -381,6 +381,21 @@ def test_print_model_and_tags(tmp_path, capsys):
         vops.getEleTags("-mesh", 1)
 
 
+def linear_analysis(ops, transient, handler="Plain", d_lambda=0.25):
+    """The linear analysis settings of the scripts below: Newmark's average acceleration, or
+    LoadControl ``d_lambda``."""
+    ops.constraints(handler)
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.algorithm("Linear")
+    if transient:
+        ops.integrator("Newmark", 0.5, 0.25)
+        ops.analysis("Transient")
+    else:
+        ops.integrator("LoadControl", d_lambda)
+        ops.analysis("Static")
+
+
 def element_loaded_frame(ops, outdir, transient):
     """A portal with an inclined rafter: uniform and point element loads (transverse and axial)
     on the beams, static (LoadControl) or ramped in time (Newmark)."""
@@ -401,17 +416,9 @@ def element_loaded_frame(ops, outdir, transient):
     ops.load(3, 1e3, 0.0, 0.0)
     ops.recorder("Element", "-file", str(outdir / "ele.out"), "-time", "-ele", 2, 3, "localForce")
     ops.recorder("Element", "-file", str(outdir / "glob.out"), "-ele", 1, 4, "globalForce")
-    ops.constraints("Plain")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.algorithm("Linear")
     if transient:
         ops.rayleigh(0.5, 0.0, 0.0, 1e-3)
-        ops.integrator("Newmark", 0.5, 0.25)
-        ops.analysis("Transient")
-    else:
-        ops.integrator("LoadControl", 0.25)
-        ops.analysis("Static")
+    linear_analysis(ops, transient)
     rows = []
     for _ in range(8):
         ops.analyze(1, 5e-3) if transient else ops.analyze(1)
@@ -495,17 +502,9 @@ def constrained_bridge(ops, outdir, analysis):
     ops.recorder("Node", "-file", str(outdir / "nodes.out"), "-time", "-precision", 10, "-node", 3, 7, 14, 15,
                  "-dof", 1, 2, "disp")
     ops.recorder("Element", "-file", str(outdir / "pier.out"), "-ele", 20, 22, "localForce")
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.algorithm("Linear")
-    if analysis == "static":
-        ops.integrator("LoadControl", 0.5)
-        ops.analysis("Static")
-    else:
+    if analysis != "static":
         ops.rayleigh(0.3, 0.0, 0.0, 2e-3)
-        ops.integrator("Newmark", 0.5, 0.25)
-        ops.analysis("Transient")
+    linear_analysis(ops, analysis != "static", "Transformation", 0.5)
     rows = []
     for _ in range(6):
         ops.analyze(1, 0.01) if analysis != "static" else ops.analyze(1)
@@ -580,16 +579,7 @@ def settling_support(ops, outdir, transient, lumped=True):
     ops.load(7, 0.0, -2e5, 0.0)
     ops.recorder("Node", "-file", str(outdir / "sp.out"), "-time", "-precision", 12, "-node", 5, 7, 13, "-dof", 2, 3,
                  "disp")
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.algorithm("Linear")
-    if transient:
-        ops.integrator("Newmark", 0.5, 0.25)
-        ops.analysis("Transient")
-    else:
-        ops.integrator("LoadControl", 0.25)
-        ops.analysis("Static")
+    linear_analysis(ops, transient, "Transformation")
     rows = []
     for _ in range(8):
         ops.analyze(1, 0.01) if transient else ops.analyze(1)
