@@ -382,14 +382,14 @@ def test_print_model_and_tags(tmp_path, capsys):
 
 
 def linear_analysis(ops, transient, handler="Plain", d_lambda=0.25):
-    """The linear analysis settings of the scripts below: Newmark's average acceleration, or
-    LoadControl ``d_lambda``."""
+    """The linear analysis settings of the scripts below: the integrator ``transient`` (a tuple
+    of its arguments; True: Newmark's average acceleration), or LoadControl ``d_lambda``."""
     ops.constraints(handler)
     ops.numberer("RCM")
     ops.system("BandGeneral")
     ops.algorithm("Linear")
     if transient:
-        ops.integrator("Newmark", 0.5, 0.25)
+        ops.integrator(*(("Newmark", 0.5, 0.25) if transient is True else transient))
         ops.analysis("Transient")
     else:
         ops.integrator("LoadControl", d_lambda)
@@ -429,10 +429,15 @@ def element_loaded_frame(ops, outdir, transient):
     return np.array(rows)
 
 
-@pytest.mark.parametrize("transient", [False, True], ids=["static", "transient"])
+TRANSIENTS = [False, True, ("HHT", 0.85), ("GeneralizedAlpha", 0.9, 0.75)]
+
+
+@pytest.mark.parametrize("transient", TRANSIENTS, ids=["static", "Newmark", "HHT", "GeneralizedAlpha"])
 def test_element_loads(tmp_path, transient):
     """eleLoad -beamUniform / -beamPoint: displacements, reactions and the element forces (which
-    include the fixed-end forces), queried and recorded, equal OpenSeesPy's."""
+    include the fixed-end forces), queried and recorded, equal OpenSeesPy's; with HHT and the
+    generalized-α method the loads apply at t_n + αΔt, and ``reactions()`` applies them again at
+    the committed time (``Domain::calculateNodalReactions``)."""
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     ref = element_loaded_frame(oracle, tmp_path / "a", transient)
@@ -590,11 +595,13 @@ def settling_support(ops, outdir, transient, lumped=True):
     return np.array(rows)
 
 
-@pytest.mark.parametrize("transient, lumped", [(False, True), (True, True), (True, False)],
-                         ids=["static", "transient lumped", "transient consistent"])
+@pytest.mark.parametrize("transient, lumped", [(False, True), (True, True), (True, False), (("HHT", 0.85), False),
+                                               (("GeneralizedAlpha", 0.9, 0.75), False)],
+                         ids=["static", "Newmark lumped", "Newmark consistent", "HHT", "GeneralizedAlpha"])
 def test_prescribed_displacements(tmp_path, transient, lumped):
     """sp: a settling support and a prescribed end rotation give OpenSeesPy's displacements,
-    element forces, reactions and recorder file (Transformation handler)."""
+    element forces, reactions and recorder file (Transformation handler); with HHT and the
+    generalized-α method the prescribed displacement is the value at t_n + αΔt, as OpenSees's."""
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     ref = settling_support(oracle, tmp_path / "a", transient, lumped)

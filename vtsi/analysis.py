@@ -135,13 +135,14 @@ def pattern_factors(patterns, times, cache=None):
     return out
 
 
-def prescribe(prescribed, state):
-    """Set the dofs of prescribed displacements (sp; ``Assembly.prescribed_dofs``) at the
-    committed time: ``u_c = Σ value × factor(t)``; their velocity and acceleration stay 0."""
+def prescribe(prescribed, state, at):
+    """Set the dofs of prescribed displacements (sp; ``Assembly.prescribed_dofs``) to their value
+    at the time ``at`` [s] the last step applied its loads (OpenSees: ``t_n + αΔt`` for HHT):
+    ``u_c = Σ value × factor(at)``; their velocity and acceleration stay 0."""
     for pattern, dofs, values in prescribed:
         state.u[dofs] = 0.0
     for pattern, dofs, values in prescribed:
-        state.u[dofs] += float(pattern.factors(np.array([state.time]))[0]) * values
+        state.u[dofs] += float(pattern.factors(np.array([at]))[0]) * values
 
 
 class _RecorderFeed:
@@ -184,6 +185,7 @@ class _RecorderFeed:
         self.items = sorted(keys, key=keys.get)
         # a prescribed displacement (sp) is recorded as value × factor(t) (its v and a as 0)
         self.prescribed = []
+        self.load_lag = 0.0    # [s] before the record times where the loads apply (HHT: (1 − α)Δt)
         for pattern, dofs, values in assembly.prescribed_dofs(model.patterns.values()):
             for k, value in zip(dofs, values):
                 if ("u", int(k)) in keys:
@@ -235,10 +237,11 @@ class _RecorderFeed:
             if name in self.groups:
                 full[:, self.groups[name][0]] = values
         for i, pattern, value in self.prescribed:
-            full[:, i] += value * pattern.factors(times)
+            full[:, i] += value * pattern.factors(times - self.load_lag)
         for i, sources, coefficients in self.derived:
             full[:, i] = full[:, sources] @ coefficients
         for rec, cols in zip(self.recorders, self.columns):
+            rec.load_lag = self.load_lag
             rec.write(times, full[:, cols], assembly)
 
     def close(self):
@@ -283,7 +286,7 @@ class StaticAnalysis:
                 state.v[:] = 0.0
                 state.a[:] = 0.0
                 state.time = t
-                prescribe(asm.prescribed_dofs(patterns), state)
+                prescribe(asm.prescribed_dofs(patterns), state, t)
                 asm.complete(state.u)
                 out = feed.state_row(state, asm)[None, :]
                 feed.deliver(np.array([t]), out, asm)
@@ -509,7 +512,7 @@ class TransientAnalysis:
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, times[bad + 1])
                 state.time = float(times[chunk])
-                prescribe(plan.prescribed, state)
+                prescribe(plan.prescribed, state, times[chunk - 1] + plan.load_lag * self.dt)
                 for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
                     plan.asm.complete(vec)
                 self.last_step_start = float(times[chunk - 1])
@@ -545,13 +548,17 @@ class _RunPlan:
         self.block = None        # (times (B + 1,), table (B, n_stages, n_patterns), position)
         self.no_columns = np.zeros((analysis.chunk_steps, 0))
         self.prescribed = asm.prescribed_dofs(patterns)
+        last = self.load_points[-1]      # where the last stage applies its loads, as a fraction of the step
+        self.load_lag = last[0][0] if len(last) == 1 else 1.0
         self.span = np.array([0, analysis.integrator.n_stages, 0], dtype=np.int64)   # whole steps
 
     def start_feed(self):
         """The recorder feed of a run: built (and its recorders started) once, restarted after."""
         if self.feed is None:
             a = self.analysis
-            self.adopt_feed(_RecorderFeed(self.asm, a.model, self.recorders, self.info))
+            feed = _RecorderFeed(self.asm, a.model, self.recorders, self.info)
+            feed.load_lag = (1.0 - self.load_lag) * a.dt
+            self.adopt_feed(feed)
         else:
             self.feed.start(self.info)
         return self.feed

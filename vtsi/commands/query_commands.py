@@ -271,12 +271,16 @@ class QueryCommands(SessionBase):
     def reactions(self, *args):
         """Compute the nodal reactions (read them with :meth:`nodeReaction`): ``R = F_resisting - P``
         with the elements' static resisting forces (default), ``'-dynamic'``: ``K u + C v + M a - P``
-        (inertia and Rayleigh damping included), ``'-rayleigh'``: the Rayleigh damping forces only."""
+        (inertia and Rayleigh damping included), ``'-rayleigh'``: the Rayleigh damping forces only.
+        As OpenSees (``Domain::calculateNodalReactions``), the loads are first applied again at the
+        committed time, which then is the load time of the queries after (``getLoadFactor``, the
+        element loads in ``eleForce``; HHT and GeneralizedAlpha applied them at ``t_n + αΔt``)."""
         asm, state = self._state("reactions")
         a = Args("reactions", args)
         flag = "-static"
         while a.more():
             flag = a.option(("-dynamic", "-rayleigh"))
+        self._load_time = state.time     # OpenSees applies the loads again at the committed time first
         loads = self._applied_loads(asm)
         for tag, eq in self._element_loads_now(asm).items():   # element loads: their equivalent nodal loads
             b, i = asm.element_location[tag]

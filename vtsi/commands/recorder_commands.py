@@ -57,6 +57,14 @@ class KeptOpen:
     def write(self, times, columns, assembly):
         self.recorder.write(times, columns, assembly)
 
+    @property
+    def load_lag(self):
+        return self.recorder.load_lag
+
+    @load_lag.setter
+    def load_lag(self, value):
+        self.recorder.load_lag = value
+
     def close(self):
         """End of one analysis run: nothing to do (the sinks flush every chunk)."""
 

@@ -65,6 +65,8 @@ class Recorder:
     tag = None
     dt = None
     name = "Recorder"
+    load_lag = 0.0      # [s] set by the analysis: how long before the record times the steps applied their
+                        # loads (HHT, generalized-α: (1 − α)Δt); element loads are taken then
 
     def __init__(self, sink=None, dt=None, envelope=False, history=True, tag=None):
         if sink is None:

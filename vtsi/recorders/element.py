@@ -118,7 +118,7 @@ class ElementRecorder(Recorder):
     def compute(self, times, columns, assembly):
         n = len(times)
         out = np.empty((n, self._n_columns))
-        loads = [(pattern.factors(times), per_group) for pattern, per_group in self._element_loads]
+        loads = [(pattern.factors(times - self.load_lag), per_group) for pattern, per_group in self._element_loads]
         for g, (etype, coords, params, ucols, vcols, _order, width, out_cols) in enumerate(self._groups):
             n_g, nd = ucols.shape
             per = max(1, BATCH_ROWS // n_g)
