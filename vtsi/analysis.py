@@ -512,7 +512,7 @@ class TransientAnalysis:
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, times[bad + 1])
                 state.time = float(times[chunk])
-                prescribe(plan.prescribed, state, times[chunk - 1] + plan.load_lag * self.dt)
+                prescribe(plan.prescribed, state, times[chunk - 1] + plan.load_point * self.dt)
                 for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
                     plan.asm.complete(vec)
                 self.last_step_start = float(times[chunk - 1])
@@ -549,7 +549,7 @@ class _RunPlan:
         self.no_columns = np.zeros((analysis.chunk_steps, 0))
         self.prescribed = asm.prescribed_dofs(patterns)
         last = self.load_points[-1]      # where the last stage applies its loads, as a fraction of the step
-        self.load_lag = last[0][0] if len(last) == 1 else 1.0
+        self.load_point = last[0][0] if len(last) == 1 else 1.0
         self.span = np.array([0, analysis.integrator.n_stages, 0], dtype=np.int64)   # whole steps
 
     def start_feed(self):
@@ -557,7 +557,7 @@ class _RunPlan:
         if self.feed is None:
             a = self.analysis
             feed = _RecorderFeed(self.asm, a.model, self.recorders, self.info)
-            feed.load_lag = (1.0 - self.load_lag) * a.dt
+            feed.load_lag = (1.0 - self.load_point) * a.dt
             self.adopt_feed(feed)
         else:
             self.feed.start(self.info)
