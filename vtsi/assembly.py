@@ -42,6 +42,16 @@ def principal(coo, dofs, n):
     return sp.coo_matrix((coo.data[keep], (r[keep], c[keep])), shape=(len(dofs), len(dofs)))
 
 
+def _renumbered(rows, cols, dofs, n):
+    """The entries ``(rows, cols)`` of an ``n × n`` pattern in rows and columns ``dofs``,
+    renumbered by their position there: ``(rows, cols, kept mask)``."""
+    position = np.full(n, -1, dtype=np.int64)
+    position[dofs] = np.arange(len(dofs))
+    r, c = position[rows], position[cols]
+    keep = (r >= 0) & (c >= 0)
+    return r[keep], c[keep], keep
+
+
 class Assembly:
     """The assembled linear model: matrices, dof maps and element data, built by :meth:`Model.build`.
 
@@ -120,6 +130,9 @@ class Assembly:
         c_data += alpha_m * mr_data + beta_k * kr_data   # Rayleigh only on elements that take it
         make = lambda data: sp.csr_matrix((data, indices, indptr), shape=(n, n))
         self.K_full, self.M_full, self.C_full = make(k_data), make(m_data), make(c_data)
+        # the one sparsity pattern of K, M, C (entries where any is nonzero), as (row, column) pairs
+        used = (k_data != 0.0) | (m_data != 0.0) | (c_data != 0.0)
+        self._pattern = (np.repeat(np.arange(n), np.diff(indptr))[used], indices[used], used)
         self.has_damping = bool(np.any(c_data != 0.0))
 
     def _number_free_dofs(self, model):
@@ -145,17 +158,23 @@ class Assembly:
         if model.mp_constraints:
             TS = self._transformation(model, free, self.prescribed_full).tocsc()
             T, S = TS[:, :len(free)], TS[:, len(free):]
-        reduce = (lambda a: principal(sp.coo_matrix(a), free, n)) if T is None else \
-            (lambda a: sp.coo_matrix(T.T @ a @ T))
-        pattern = (abs(reduce(self.K_full)) + abs(reduce(self.M_full)) + abs(reduce(self.C_full))).tocsr()
-        pattern.eliminate_zeros()
+        if T is None:       # the free rows and columns of the one pattern of K, M, C
+            rows, cols, _ = self._pattern
+            r, c, _ = _renumbered(rows, cols, free, n)
+            pattern = sp.csr_matrix((np.ones(len(r)), (r, c)), shape=(len(free), len(free)))
+        else:
+            pattern = (abs(T.T @ self.K_full @ T) + abs(T.T @ self.M_full @ T) + abs(T.T @ self.C_full @ T)).tocsr()
+            pattern.eliminate_zeros()
         order = reverse_cuthill_mckee(pattern, symmetric_mode=True)
         self.full_of_free = free[order].astype(np.int64)
         self.free_of_full = -np.ones(self.n_full, dtype=np.int64)
         self.free_of_full[self.full_of_free] = np.arange(len(self.full_of_free))
         if T is None:
             self.transformation = self.constrained_rows = self.constrained_dofs = self.constrained_prescribed = None
-            sub = lambda a: principal(sp.coo_matrix(a), self.full_of_free, n).tocsr()
+            rows, cols, used = self._pattern
+            r, c, keep = _renumbered(rows, cols, self.full_of_free, n)
+            shape = (len(free), len(free))
+            sub = lambda a: sp.csr_matrix((a.data[used][keep], (r, c)), shape=shape)
         else:
             self.transformation = T = T[:, order].tocsr()
             self.constrained_dofs = np.flatnonzero(constrained)
