@@ -35,11 +35,8 @@ def scatter_add(data, positions, matrices, weights):
 def principal(coo, dofs, n):
     """Rows and columns ``dofs`` (in that order) of the ``n × n`` COO matrix ``coo``, as a COO
     matrix: one mask and one renumbering instead of two sparse slicings."""
-    position = np.full(n, -1, dtype=np.int64)
-    position[dofs] = np.arange(len(dofs))
-    r, c = position[coo.row], position[coo.col]
-    keep = (r >= 0) & (c >= 0)
-    return sp.coo_matrix((coo.data[keep], (r[keep], c[keep])), shape=(len(dofs), len(dofs)))
+    r, c, keep = _renumbered(coo.row, coo.col, dofs, n)
+    return sp.coo_matrix((coo.data[keep], (r, c)), shape=(len(dofs), len(dofs)))
 
 
 def _renumbered(rows, cols, dofs, n):
