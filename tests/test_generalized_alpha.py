@@ -63,8 +63,14 @@ def test_refusals():
         GeneralizedAlpha(0.6, 0.7)
     with pytest.raises(AnalysisError, match="alpha_f = 0.4 is outside"):
         GeneralizedAlpha(0.9, 0.4)
-    with pytest.raises(AnalysisError, match="unconditionally stable range"):
+    with pytest.raises(AnalysisError, match=r"gamma = 0.5 is outside \[0.7, inf\] \(the unconditionally stable range"):
         GeneralizedAlpha(0.9, 0.7, 0.5, 0.3)
+    with pytest.raises(AnalysisError, match=r"beta = 0.3 is outside \[0.375, inf\]"):
+        GeneralizedAlpha(0.9, 0.7, 0.75, 0.3)
+    with pytest.raises(AnalysisError, match="gamma = nan is outside"):
+        GeneralizedAlpha(0.9, 0.7, float("nan"), 0.4)
+    with pytest.raises(AnalysisError, match="beta must be a number, got 'x'"):
+        GeneralizedAlpha(0.9, 0.7, 0.75, "x")
     vops.wipe()
     with pytest.raises(CommandError, match="integrator GeneralizedAlpha: missing alphaF"):
         vops.integrator("GeneralizedAlpha", 0.9)
