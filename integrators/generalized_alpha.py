@@ -7,6 +7,8 @@ Newmark's update of ``u`` and ``v`` with equilibrium at intermediate points,
 so that ``αM = αF = 1`` is Newmark's method and ``αM = 1`` is HHT (OpenSees's α). In the stage
 form of :mod:`.base` the equation is divided by ``αM``: the unknown is ``a_{n+1}`` with mass
 coefficient 1, the mass also weights ``a_n`` by ``km = (1 - αM)/αM`` and the load by ``1/αM``.
+In a coupled analysis the contact forces enter like every other force, at ``t_n + αF Δt`` and
+divided by αM: ``(αF λ_{n+1} + (1 − αF) λ_n)/αM`` (``force_weight`` αF/αM, mass weight 1/αM).
 
 Defaults ``γ = ½ + αM − αF``, ``β = ¼ (1 + αM − αF)²`` give second order; with
 ``αM ≥ αF ≥ ½`` the method is unconditionally stable. For a spectral radius ``ρ∞`` in [0, 1]:
@@ -60,7 +62,8 @@ class GeneralizedAlpha(Newmark):
         ku = (af * du + self.coefficients(u_n=1.0 - af)) / am
         kv = (af * dv + self.coefficients(v_n=1.0 - af)) / am
         km = self.coefficients(a_n=(1.0 - am) / am)
-        return [Stage(du=du, dv=dv, ku=ku, kv=kv, km=km, load=[(af, 1.0 / am)], force_weight=af)]
+        # a coupled analysis's constraint forces at αF like every force: (αF λ_{n+1} + (1 − αF) λ_n)/αM
+        return [Stage(du=du, dv=dv, ku=ku, kv=kv, km=km, load=[(af, 1.0 / am)], force_weight=af / am)]
 
     def stability_limit(self, dt):
         return None

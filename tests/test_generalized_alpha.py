@@ -1,6 +1,6 @@
 """The generalized-α method (``integrator GeneralizedAlpha αM αF [β γ]``): OpenSeesPy's numbers
-through the same script, the modal bridge, and the refusals (its special cases, spectral radius
-and order are in test_integrators.py)."""
+through the same script, the modal bridge, the refusals and the coupled analysis's weights (its
+special cases, spectral radius and order are in test_integrators.py)."""
 import numpy as np
 import pytest
 
@@ -76,6 +76,14 @@ def test_refusals():
         vops.integrator("GeneralizedAlpha", 0.9)
     with pytest.raises(AnalysisError, match="alpha_m = 0.5 is outside"):
         vops.integrator("GeneralizedAlpha", 0.5, 0.7)
+
+
+def test_the_coupled_analysis_takes_it():
+    """The coupled analysis weights the contact forces like the other forces (αF/αM λ_{n+1} +
+    (1 − αF)/αM λ_n) and the train's weight by 1/αM (tests/test_coupled.py checks the numbers)."""
     from vtsi.coupled import coupled_integrator
-    with pytest.raises(AnalysisError, match="generalized-α.*use Newmark, HHT or Bathe"):
-        coupled_integrator(GeneralizedAlpha(0.9, 0.7), "bilateral")
+    integ = coupled_integrator(GeneralizedAlpha(0.9, 0.7), "bilateral")
+    (stage,) = integ.stages(1e-3)
+    assert stage.force_weight == pytest.approx(0.7 / 0.9, rel=1e-15)
+    assert stage.mass_weight == pytest.approx(1.0 / 0.9, rel=1e-15)
+    assert coupled_integrator(GeneralizedAlpha(0.9, 0.7), "lcp") is not None      # dissipative
