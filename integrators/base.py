@@ -13,7 +13,8 @@ coefficient of the unknown ``a_s``. The last stage's slots are the state at ``t_
 effective matrix of a stage is ``K̂_s = M + kv[A] C + ku[A] K``, constant for a linear model and a
 constant step, so the analysis factors it once. ``km`` (zero but for the generalized-α method,
 which weights the inertia of the step start) holds the mass's coefficients on known slots; the
-load weights then sum to ``1 + Σ km`` (a constant load balances a constant acceleration).
+load weights then sum to ``1 + Σ km`` (a constant load balances a constant acceleration), and so
+do the weights of the constraint forces of a coupled analysis (:attr:`Stage.mass_weight`).
 
 Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
 -----------------------------------------------------------------------------
@@ -27,6 +28,8 @@ Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
    stiffness (``K̂ = M`` for an undamped model; central difference has ``kv[A] = Δt/2``).
 5. Parameters are validated in ``__init__`` with an :class:`~vtsi.errors.AnalysisError`
    naming the integrator, the parameter and its stable range.
+6. Each stage's ``force_weight`` ω lies in ``(0, 1 + Σ km]``: a coupled analysis weights the
+   stage's own constraint forces by ω and the step start's by ``1 + Σ km − ω`` (>= 0).
 """
 from dataclasses import dataclass, field
 
@@ -63,7 +66,8 @@ class Stage:
     """Coefficients of one stage (see the module docstring); ``theta`` is the stage's end time
     as a fraction of the step, ``load`` the ``(θ_q, w_q)`` pairs of its load evaluation, and
     ``force_weight`` the weight ω of the stage's own constraint forces in its equation: the
-    stage balances ``ω Gᵀλ_s + (1 - ω) Gᵀλ_n`` (HHT: ω = α, as for every other force)."""
+    stage balances ``ω Gᵀλ_s + (m - ω) Gᵀλ_n`` with ``m`` its :attr:`mass_weight` (HHT: ω = α,
+    m = 1, as for every other force; generalized-α: ω = αF/αM, m = 1/αM)."""
 
     du: np.ndarray
     dv: np.ndarray
@@ -77,6 +81,13 @@ class Stage:
     def __post_init__(self):
         if self.km is None:
             self.km = np.zeros_like(self.ku)
+
+    @property
+    def mass_weight(self):
+        """``1 + Σ km``, the equation's total mass coefficient: the load weights and the weights
+        of the constraint forces sum to it (a constant force balances a constant acceleration);
+        exactly 1.0 when ``km`` is zero."""
+        return 1.0 + float(np.sum(self.km))
 
 
 class Integrator:

@@ -7,6 +7,8 @@ Newmark's update of ``u`` and ``v`` with equilibrium at intermediate points,
 so that ``αM = αF = 1`` is Newmark's method and ``αM = 1`` is HHT (OpenSees's α). In the stage
 form of :mod:`.base` the equation is divided by ``αM``: the unknown is ``a_{n+1}`` with mass
 coefficient 1, the mass also weights ``a_n`` by ``km = (1 - αM)/αM`` and the load by ``1/αM``.
+In a coupled analysis the contact forces enter like every other force, at ``t_n + αF Δt`` and
+divided by αM: ``(αF λ_{n+1} + (1 − αF) λ_n)/αM`` (``force_weight`` αF/αM, mass weight 1/αM).
 
 Defaults ``γ = ½ + αM − αF``, ``β = ¼ (1 + αM − αF)²`` give second order; with
 ``αM ≥ αF ≥ ½`` the method is unconditionally stable. For a spectral radius ``ρ∞`` in [0, 1]:
@@ -18,7 +20,7 @@ Chung, J., Hulbert, G.M. (1993) A time integration algorithm for structural dyna
 numerical dissipation: the generalized-α method. J. Appl. Mech. 60, 371-375.
 OpenSees ``SRC/analysis/integrator/GeneralizedAlpha.cpp``.
 """
-from vtsi.errors import AnalysisError
+import numpy as np
 
 from .base import Stage, check_parameter, number, register
 from .newmark import Newmark
@@ -26,8 +28,12 @@ from .newmark import Newmark
 
 @register
 class GeneralizedAlpha(Newmark):
-    """``GeneralizedAlpha(alpha_m, alpha_f, [gamma, beta])``, OpenSees's argument order; the
-    defaults are ``ρ∞ = 0.8`` (αM = 2/3, αF = 5/9)."""
+    """``GeneralizedAlpha(alpha_m, alpha_f, gamma=None, beta=None)``: αM, αF in OpenSees's order,
+    then γ, β as OpenSees documents them (``integrator GeneralizedAlpha αM αF <γ β>``; its parser
+    reads the third and fourth argument as β then γ, and :mod:`vtsi.opensees` follows the parser).
+    Defaults: ``ρ∞ = 0.8`` (αM = 2/3, αF = 5/9), γ, β of second order. Refused (AnalysisError
+    naming the parameter and its range): αF outside [½, 1], αM outside [αF, 2], γ < ½ + αM − αF,
+    β < γ/2, anything not finite."""
 
     name = "GeneralizedAlpha"
 
@@ -36,14 +42,17 @@ class GeneralizedAlpha(Newmark):
         self.alpha_f = number(self.name, "alpha_f", alpha_f)
         check_parameter(self.name, "alpha_f", self.alpha_f, 0.5, 1.0, why="1 gives equilibrium at t_{n+1}")
         check_parameter(self.name, "alpha_m", self.alpha_m, self.alpha_f, 2.0,
-                        why="alpha_m >= alpha_f keeps the method unconditionally stable; 2 is rho_inf = 0")
+                        why="alpha_m >= alpha_f keeps the method unconditionally stable; "
+                            "alpha_m = 2, alpha_f = 1 is rho_inf = 0")
         d = self.alpha_m - self.alpha_f
         gamma = 0.5 + d if gamma is None else number(self.name, "gamma", gamma)
         beta = 0.25 * (1.0 + d) ** 2 if beta is None else number(self.name, "beta", beta)
-        if gamma < 0.5 + d - 1e-12 or beta < 0.5 * gamma - 1e-12:
-            raise AnalysisError(f"integrator {self.name}: gamma = {gamma:g}, beta = {beta:g} are outside the "
-                                f"unconditionally stable range gamma >= 1/2 + alpha_m - alpha_f = {0.5 + d:g}, "
-                                "beta >= gamma/2 (omit them for the second-order defaults)")
+        # OpenSees: unconditionally stable for αM >= αF >= 1/2, β >= 1/4 + (αM - αF)/2 (= γ/2 at the
+        # second-order γ); a larger γ (first order, more damping) needs β >= γ/2 (Newmark's 2β >= γ).
+        why = ("the unconditionally stable range is gamma >= 1/2 + alpha_m - alpha_f, beta >= gamma/2; "
+               "omit gamma and beta for the second-order defaults")
+        check_parameter(self.name, "gamma", gamma, 0.5 + d - 1e-12, np.inf, why=why)
+        check_parameter(self.name, "beta", beta, 0.5 * gamma - 1e-12, np.inf, why=why)
         self.gamma, self.beta = gamma, beta      # Newmark's update; its own range of gamma does not apply
         self.explicit = False
 
@@ -53,7 +62,8 @@ class GeneralizedAlpha(Newmark):
         ku = (af * du + self.coefficients(u_n=1.0 - af)) / am
         kv = (af * dv + self.coefficients(v_n=1.0 - af)) / am
         km = self.coefficients(a_n=(1.0 - am) / am)
-        return [Stage(du=du, dv=dv, ku=ku, kv=kv, km=km, load=[(af, 1.0 / am)], force_weight=af)]
+        # a coupled analysis's constraint forces at αF like every force: (αF λ_{n+1} + (1 − αF) λ_n)/αM
+        return [Stage(du=du, dv=dv, ku=ku, kv=kv, km=km, load=[(af, 1.0 / am)], force_weight=af / am)]
 
     def stability_limit(self, dt):
         return None

@@ -29,6 +29,9 @@ Measured (this machine, numbers quoted in the tests below):
   every integrator. The car converges at order 1 at span entries and exits unless
   ``exact_events=True`` (then 2.0 on a span whose modes the steps resolve). Diagnosis:
   docs/theory/coupled_step.md §6.
+- The generalized-α method, GeneralizedAlpha(0.9, 0.7), runs in every test parametrised over
+  INTEGRATORS and in the convergence tests: car and λ second order on smooth data (2.01, 2.01),
+  S3 against R1 as HHT (1.43); (1, 1) and (1, α) are Newmark's and HHT(α)'s numbers to the bit.
 """
 import numpy as np
 import pytest
@@ -37,7 +40,7 @@ import vtsi
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import AnalysisError, ModelError
-from vtsi.integrators import HHT
+from vtsi.integrators import HHT, GeneralizedAlpha
 from vtsi.models import GRAVITY, Train, four_dof_car, moving_force
 from vtsi.models.bridges import simply_supported_beam
 from vtsi.models.scenes import S1, S2, S3, s2_model, s3_model
@@ -47,7 +50,8 @@ from vtsi.timeseries import Path
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
-INTEGRATORS = [("Newmark", "Newmark"), ("HHT(0.9)", HHT(0.9)), ("Bathe", "Bathe")]
+INTEGRATORS = [("Newmark", "Newmark"), ("HHT(0.9)", HHT(0.9)), ("Bathe", "Bathe"),
+               ("GeneralizedAlpha(0.9, 0.7)", GeneralizedAlpha(0.9, 0.7))]
 S3_CROSSING = (S3["L"] + S3["l_c"]) / S3["V"]      # front wheel enters at t = 0, rear leaves at 0.5685 s
 
 
@@ -192,7 +196,7 @@ def test_static_bridge_self_weight_is_the_beam_formula():
     assert np.allclose(st["contact_force"], train.static_wheel_loads, rtol=1e-12)
 
 
-def _dead_load_pair(train_kind, exact_events=False):
+def _dead_load_pair(train_kind, exact_events=False, integrator="Newmark"):
     """S3 bridge with the train 5.0123 m before it (no wheel crossing coincides with a step),
     run with and without the bridge's self weight; returns the dynamic increments."""
     out = []
@@ -201,7 +205,8 @@ def _dead_load_pair(train_kind, exact_events=False):
         bridge, train, _ = s3_model(model)
         if train_kind == "forces":
             train = Train.from_axle_table([0.0, S3["l_c"]], [3.0e5, 3.0e5], S3["V"])
-        analysis, mid, trec = _coupled(model, bridge, train, -5.0123, dt=1e-3, bridge_self_weight=self_weight,
+        analysis, mid, trec = _coupled(model, bridge, train, -5.0123, integrator, dt=1e-3,
+                                       bridge_self_weight=self_weight,
                                        train_dofs=("car0.body_y", "car0.body_rz"), exact_events=exact_events)
         st = analysis.static()
         asm = model.build()
@@ -220,15 +225,18 @@ def test_dead_load_superposition_moving_forces():
     assert _rel(with_sw["w"], without["w"], np.abs(without["w"]).max()) < 1e-9
 
 
+@pytest.mark.parametrize("integrator", ["Newmark", GeneralizedAlpha(0.9, 0.7)], ids=["Newmark", "GeneralizedAlpha"])
 @pytest.mark.parametrize("exact_events", [False, True])
-def test_dead_load_of_a_coupled_car_superposes(exact_events):
+def test_dead_load_of_a_coupled_car_superposes(exact_events, integrator):
     """With contact wheels too, the dynamic increment (total − static_state) under self weight
     equals the run without self weight: the rail is straight at the deck's self-weight state
     (the track is laid on the deflected deck), so the wheels follow only what the train and the
     dynamics add. (Following the sag instead, as a first version did, put a 1.35e-3 rad kink at
     each support and changed the midspan increment by 8.7 %.) Also with ``exact_events``, whose
-    crossing wheels keep the old line's rail data for a step."""
-    with_sw, without = _dead_load_pair("car", exact_events)
+    crossing wheels keep the old line's rail data for a step. With the generalized-α method the
+    self weight and the train's weight enter weighted 1/αM like every load (Stage.mass_weight):
+    otherwise the dead-load state would not be an equilibrium of its step."""
+    with_sw, without = _dead_load_pair("car", exact_events, integrator)
     assert _rel(with_sw["w"], without["w"], np.abs(without["w"]).max()) < 1e-9
     assert _rel(with_sw["train"], without["train"], np.abs(without["train"]).max()) < 1e-9
     assert _rel(with_sw["force"], without["force"], S3["m_c"] * GRAVITY) < 1e-9
@@ -260,11 +268,14 @@ def _moving_load_patterns(model, bridge, train, x_head0, times):
         pattern.load(int(node), *unit)
 
 
-@pytest.mark.parametrize("integrator, stage_fraction", [("Newmark", 1.0), ("Bathe", 0.5)])
+@pytest.mark.parametrize("integrator, stage_fraction", [("Newmark", 1.0), ("Bathe", 0.5),
+                                                       (GeneralizedAlpha(0.9, 0.7), None)], ids=str)
 def test_moving_forces_equal_the_core_moving_load_analysis(integrator, stage_fraction):
     """'The core's moving-load analysis of S1': a train of moving forces in a CoupledAnalysis
     gives the bridge response of vtsi.TransientAnalysis with the forces applied as Path
-    patterns (sampled at every stage time, so exact), to 1e-10 (measured ~1e-14)."""
+    patterns (sampled at every stage time, so exact), to 1e-10 (measured ~1e-14). The
+    generalized-α method evaluates the loads at t_n + αF Δt (``stage_fraction`` None: the Path is
+    sampled at the steps and at those times)."""
     dt, n = 2e-3, 700
     train = Train.from_axle_table([0.0, 3.0, 17.0], [1.0e5, 0.8e5, 1.2e5], S1["V"])
     runs = []
@@ -278,7 +289,11 @@ def test_moving_forces_equal_the_core_moving_load_analysis(integrator, stage_fra
             analysis.recorders.append(rec)
             analysis.static()
         else:
-            times = np.arange(int(round((n + 1) / stage_fraction)) + 1) * stage_fraction * dt
+            if stage_fraction is None:
+                steps = np.arange(n + 2) * dt
+                times = np.sort(np.concatenate([steps, steps[:-1] + integrator.alpha_f * dt]))
+            else:
+                times = np.arange(int(round((n + 1) / stage_fraction)) + 1) * stage_fraction * dt
             _moving_load_patterns(model, bridge, train, 0.0, times)
             analysis = vtsi.TransientAnalysis(model, integrator, dt, recorders=[rec])
         analysis.run(n)
@@ -458,7 +473,8 @@ def rigid_ground_reference():
 
 @pytest.mark.parametrize("name, integrator, interpolation", [
     ("Newmark", "Newmark", "hermite"), ("Newmark", "Newmark", "bspline"), ("HHT(0.9)", HHT(0.9), "hermite"),
-    ("Bathe", "Bathe", "hermite"), ("Bathe", "Bathe", "bspline")])
+    ("Bathe", "Bathe", "hermite"), ("Bathe", "Bathe", "bspline"),
+    ("GeneralizedAlpha(0.9, 0.7)", GeneralizedAlpha(0.9, 0.7), "hermite")])
 def test_second_order_on_smooth_data(rigid_ground_reference, name, integrator, interpolation):
     """The coupled step itself is second order: the 4-dof car over a smooth (Gaussian) bump on
     rigid ground, every input smooth, against Bathe at Δt = 62.5 µs. Car-body response slope
@@ -536,11 +552,14 @@ def test_s3_converges_to_r1(s3_r1, name, integrator, interpolation):
     assert all(a > b for a, b in zip(errors[:-1], errors[1:])), errors
 
 
+@pytest.mark.parametrize("integrator", [HHT(0.9), GeneralizedAlpha(0.9, 0.7)], ids=repr)
 @pytest.mark.parametrize("interpolation", ["hermite", "bspline"])
-def test_s3_hht_converges_to_r1(s3_r1, interpolation):
-    """As test_s3_converges_to_r1 for HHT(0.9). Measured ('hermite'): 3.64e-3, 1.74e-3, 5.48e-4,
-    1.93e-4 (slope 1.44); the first version, with λ at full weight, was first order (0.92)."""
-    errors = _r1_errors(s3_r1, HHT(0.9), interpolation)
+def test_s3_hht_converges_to_r1(s3_r1, interpolation, integrator):
+    """As test_s3_converges_to_r1 for HHT(0.9) and GeneralizedAlpha(0.9, 0.7), whose λ enter
+    their equations at t_n + αΔt with the other forces. Measured ('hermite'): HHT 3.64e-3,
+    1.74e-3, 5.48e-4, 1.93e-4 (slope 1.44); the first version, with λ at full weight, was first
+    order (0.92). Generalized-α 3.61e-3, 1.79e-3, 5.70e-4, 1.93e-4 (1.43; 'bspline' 1.47)."""
+    errors = _r1_errors(s3_r1, integrator, interpolation)
     assert _slope(R1_STEPS, errors) >= 1.35, errors
 
 
@@ -776,3 +795,18 @@ def test_a_train_starts_on_a_deflected_rail_without_a_jolt():
     assert np.abs(k_v[others]).max() <= 1e-9 * np.abs(an.train.K).max() * np.abs(v0).max()
     _, _, _, a_old = _start_on_the_span(True)
     assert a_new < 0.5 * a_old
+
+
+# -- the generalized-α method ----------------------------------------------------------------------
+def test_generalized_alpha_special_cases():
+    """GeneralizedAlpha(1, 1) is Newmark's average acceleration to the last bit (km = 0, ω = 1:
+    the same coefficients) and GeneralizedAlpha(1, α) is HHT(α) (γ, β equal to rounding; measured
+    bit for bit at α = 0.9), through the coupled step with contact wheels: bridge, car and λ. The
+    other settings of the method are in the parametrised tests above (INTEGRATORS)."""
+    for ga, ref in ((GeneralizedAlpha(1.0, 1.0), "Newmark"), (GeneralizedAlpha(1.0, 0.9), HHT(0.9))):
+        a, b = _s3_run(ga, dt=2e-3), _s3_run(ref, dt=2e-3)
+        for key in ("w", "body", "force"):
+            if isinstance(ref, str):
+                assert np.array_equal(a[key], b[key]), key
+            else:
+                assert _rel(a[key], b[key], np.abs(b[key]).max()) < 1e-13, key

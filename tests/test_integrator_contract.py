@@ -56,6 +56,18 @@ def test_stages_have_the_declared_shape(integrator, dt):
 
 
 @pytest.mark.parametrize("dt", STEPS)
+def test_force_weights(integrator, dt):
+    """Item 6: ``mass_weight = 1 + Σ km`` (exactly 1.0 when km = 0, so that the schemes without
+    km weight the train's constant load and the previous constraint forces as before) and
+    ``0 < force_weight <= mass_weight``."""
+    for st in integrator.stages(dt):
+        assert st.mass_weight == 1.0 + st.km.sum()
+        if not np.any(st.km):
+            assert st.mass_weight == 1.0
+        assert 0.0 < st.force_weight <= st.mass_weight * (1.0 + 1e-14)
+
+
+@pytest.mark.parametrize("dt", STEPS)
 def test_a_stage_reads_only_earlier_slots(integrator, dt):
     """Item 2: stage ``s`` may read slots ``0 .. 2 + 3 s`` (the step start and earlier stages)
     and the unknown's column ``A``, nothing it has not written yet."""

@@ -12,8 +12,8 @@ from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, Path
 from vtsi.version import __version__
-import vtsi.recorders  # noqa: E402,F401  (vtsi.recorders.NodeRecorder etc.)
+from vtsi import recorders  # vtsi.recorders.NodeRecorder etc.
 
-__all__ = ["__version__", "Model", "StaticAnalysis", "TransientAnalysis", "eigen", "domain_state",
+__all__ = ["__version__", "recorders", "Model", "StaticAnalysis", "TransientAnalysis", "eigen", "domain_state",
            "Constant", "Linear", "Path",
            "VtsiError", "ModelError", "AnalysisError", "DivergenceError", "CommandError"]

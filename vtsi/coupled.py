@@ -59,9 +59,6 @@ def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
     if integrator is None:
         integrator = HHT(LCP_DEFAULT_ALPHA) if contact == "lcp" else "Newmark"
     integ = make_integrator(integrator)
-    if any(np.any(st.km) for st in integ.stages(1.0)):
-        raise AnalysisError(f"{who}: {integ!r} weights the inertia of the step start (generalized-α), which the "
-                            "coupled time loop does not take; use Newmark, HHT or Bathe")
     if contact == "lcp" and isinstance(integ, Newmark) and integ.gamma == 0.5:
         raise AnalysisError(f"{who}: contact='lcp' needs a dissipative integrator; {integ!r} (γ = 1/2) lets the "
                             "contact force ring after a jump of the rail's curvature and gives spurious lift-offs. "
@@ -233,12 +230,14 @@ class CoupledAnalysis:
         self.wheel_response, self.response_range = _wheel_responses(response)
         kd_t = self.fac_t.shape[2] - 1
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
-        self.du, self.dv, ku, kv = pack("du"), pack("dv"), pack("ku"), pack("kv")
-        rows = (band_rows(train.K, kd_t), band_rows(train.C, kd_t)) if train.n_dof else (np.zeros((0, 1)),) * 2
-        self.ops_t, self.slots_t = stage_operators(*rows, ku, kv)
+        self.du, self.dv, ku, kv, km = pack("du"), pack("dv"), pack("ku"), pack("kv"), pack("km")
+        rows = ((band_rows(train.K, kd_t), band_rows(train.C, kd_t), band_rows(train.M, kd_t)) if train.n_dof
+                else (np.zeros((0, 1)),) * 3)
+        self.ops_t, self.slots_t = stage_operators(rows[0], rows[1], ku, kv, rows[2], km)
         self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.tflex, self.dv[:, A])
         self.stage_theta = np.array([st.theta for st in stages])
         self.force_weight = np.array([st.force_weight for st in stages])
+        self.mass_weight = np.array([st.mass_weight for st in stages])     # 1 but for generalized-α (1/αM)
         self.record_weights = np.ascontiguousarray(integ.force_record_weights(), dtype=np.float64)
         n_q = max(len(st.load) for st in stages)
         self.load_theta = np.zeros((len(stages), n_q))
@@ -389,7 +388,7 @@ class CoupledAnalysis:
         train, con, track = self.train, self.constraint, self.constraint.track
         con.check_travel(state.time, state.time + n_steps * self.dt, self.dt)
         bridge = self.stages
-        constant = self._bridge_constant_load(asm)     # a last pattern of factor 1
+        constant = self._bridge_constant_load(asm)     # a last pattern of factor 1 (× the stage's mass weight)
         nz = np.flatnonzero(constant)
         load_ptr, load_dof, load_val = bridge.loads(np.append(load_ptr, load_ptr[-1] + len(nz)),
                                                     np.concatenate([load_dof, nz]).astype(np.int64),
@@ -433,7 +432,8 @@ class CoupledAnalysis:
                 bridge.track_basis,
                 x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
                 con.knot(self.dt), r_part, rate_part, t0 + first * self.dt, self.dt, self.stage_theta,
-                self.load_theta, self.load_weight, self.force_weight, self.record_weights, self.contact == "lcp",
+                self.load_theta, self.load_weight, self.force_weight, self.mass_weight, self.record_weights,
+                self.contact == "lcp",
                 self.gap_tol,
                 self.in_contact, rec_slot, rec_index, out[0][first:last], t_slot, t_index, out[1][first:last],
                 out[2][first:last], out[4][first:last], out[3][first:last], self.divergence_limit, work_b, work_t, cols, vals, slopes,
@@ -448,7 +448,7 @@ class CoupledAnalysis:
                 t0 = state.time
                 starts = t0 + self.dt * np.arange(n, dtype=float)
                 table = np.concatenate([load_factor_table(patterns, starts, self.dt, load_points, self._path_tables),
-                                        np.ones((n, len(load_points), 1))], axis=2)
+                                        np.tile(self.mass_weight[None, :, None], (n, 1, 1))], axis=2)
                 r_table, rate_table = (np.ascontiguousarray(np.stack(
                     [con.irregularity_at(starts + th * self.dt, self.dt, nu) - self._rail_sag(starts + th * self.dt, nu)
                      for th in self.stage_theta], axis=1)) for nu in (0, 1))

@@ -213,7 +213,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free, track_basis,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
-                      t0, dt, stage_theta, load_theta, load_weight, force_weight, record_weights, lcp, gap_tol,
+                      t0, dt, stage_theta, load_theta, load_weight, force_weight, mass_weight, record_weights, lcp,
+                      gap_tol,
                       in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
                       out_force, out_force_end, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
@@ -229,9 +230,11 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
     load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
     (band_b, band_t: the half bandwidths of the bridge and train factors as types, see vtsi.banded).
-    ``force_weight`` (n_stages): ω of each stage (HHT: α): the stage solves for μ = ω λ_s with
-    (1 - ω) times the previous step's forces ``lam_prev`` on rows ``cols_prev``/``vals_prev``
-    as a known load; λ_s = μ / ω. Those three arrays are updated at every step.
+    ``force_weight`` (n_stages): ω of each stage (HHT: α; generalized-α: αF/αM): the stage solves
+    for μ = ω λ_s with (m - ω) times the previous step's forces ``lam_prev`` on rows
+    ``cols_prev``/``vals_prev`` as a known load; λ_s = μ / ω. Those three arrays are updated at
+    every step. ``mass_weight`` (n_stages): m = 1 + Σ km of each stage (1 but for generalized-α:
+    1/αM), the weight of the train's constant load ``p_train`` (:attr:`vtsi.integrators.base.Stage.mass_weight`).
     out_force/out_gap: contact force [N] and position gap [m] of each step: the force is the
     mean Σ record_weights · (λ_n, λ_stage 1, …) of the scheme's velocity update (n_stages + 1
     weights, :meth:`vtsi.integrators.base.Integrator.force_record_weights`; the last stage's λ
@@ -289,7 +292,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                         d = tdofs[e, a_]
                         if d >= 0:
                             _track_add(rb, kdb, track_free, track_basis, d, -w_q * force_f[f] * h[a_])
-            w_prev = 1.0 - force_weight[s]
+            w_prev = mass_weight[s] - force_weight[s]
             if w_prev != 0.0:
                 for i in range(n_c):
                     for a_ in range(cols_prev.shape[1]):
@@ -300,7 +303,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
             _free_stage(bank_b, base, fac_b, ops_b, slots_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
-                rt[kdt + i] = p_train[i]
+                rt[kdt + i] = mass_weight[s] * p_train[i]
             if w_prev != 0.0:
                 for i in range(n_c):
                     rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]

@@ -7,9 +7,8 @@ and the value at fault. :meth:`Model.build` numbers the dofs and assembles the m
 """
 import numpy as np
 
-import vtsi.elements  # noqa: F401  (registers the element library)
 from vtsi.assembly import Assembly
-from vtsi.elements.base import element_type
+from vtsi.elements import element_type  # the package: importing it registers the element library
 from vtsi.errors import ModelError
 from vtsi.loads import LoadPattern, UniformExcitation
 from vtsi.timeseries import TimeSeries
