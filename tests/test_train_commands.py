@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import vtsi
+from vtsi.integrators import GeneralizedAlpha
 import vtsi.opensees as ops
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
@@ -144,6 +145,23 @@ def test_bad_train_commands_name_the_object(command, args, message):
         return
     with pytest.raises(CommandError, match=message):
         getattr(session, command)(*args)
+
+
+def test_generalized_alpha_in_a_coupled_script_equals_the_object_api():
+    """``integrator GeneralizedAlpha`` runs the coupled analysis of a script as the object API's."""
+    session = ops.Session()
+    s2_commands(session)
+    session.integrator("GeneralizedAlpha", 0.9, 0.75)
+    force = session.recorder("Contact", "force")
+    session.analyze(STEPS, DT)
+    model = vtsi.Model()
+    bridge, train = s2_model(model, NE)
+    constraint = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train))
+    rec = ContactRecorder(constraint)
+    analysis = CoupledAnalysis(model, constraint, GeneralizedAlpha(0.9, 0.75), DT, recorders=[rec])
+    analysis.static()
+    analysis.run(STEPS)
+    np.testing.assert_allclose(session.recorders[force].values, rec.values, rtol=1e-12, atol=1e-9)
 
 
 def test_coupled_analysis_refuses_explicit_integrators():

@@ -165,7 +165,7 @@ def _sweep_options(p, check):
     settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
     settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001)")
     settings.add_argument("--integrator", metavar="NAME",
-                          help="Newmark, HHT or Bathe; default: Newmark, or HHT(0.9) with --contact lcp "
+                          help="Newmark, HHT, GeneralizedAlpha or Bathe; default: Newmark, or HHT(0.9) with --contact lcp "
                                "(which refuses an integrator without numerical damping)")
     settings.add_argument("--cars", choices=("force", "full"),
                           help="trains as moving axle forces (default) or multibody cars (catalogue trains with cars)")

@@ -258,9 +258,9 @@ class TrainCommands(SessionBase):
             raise CommandError(f"{command}: no movingLoadConstraint defined")
         model = self._model(command)
         kind, integ = self._transient_integrator or ("Newmark", None)
-        if kind in ("TRBDF2", "CentralDifference", "GeneralizedAlpha"):
+        if kind in ("TRBDF2", "CentralDifference"):
             raise CommandError(f"{command}: integrator {kind} is not available for a coupled analysis; "
-                               "use Newmark, HHT or Bathe")
+                               "use Newmark, HHT, GeneralizedAlpha or Bathe")
         bridge = self._modal_bridge(command)
         if self._coupled is None or self._coupled.model is not model or self._coupled.bridge is not bridge:
             spec = self._constraint
