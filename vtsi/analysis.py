@@ -135,14 +135,17 @@ def pattern_factors(patterns, times, cache=None):
     return out
 
 
-def prescribe(prescribed, state, at):
-    """Set the dofs of prescribed displacements (sp; ``Assembly.prescribed_dofs``) to their value
-    at the time ``at`` [s] the last step applied its loads (OpenSees: ``t_n + αΔt`` for HHT):
-    ``u_c = Σ value × factor(at)``; their velocity and acceleration stay 0."""
+def settle_dependent_dofs(assembly, prescribed, state, at):
+    """After a step whose free dofs are in ``state``: the dofs of prescribed displacements (sp;
+    ``Assembly.prescribed_dofs``) at the time ``at`` [s] the step applied its loads (OpenSees:
+    ``t_n + αΔt`` for HHT), ``u_c = Σ value × factor(at)``, their velocity and acceleration 0;
+    then the equalDOF / rigidLink dofs from the free and prescribed ones."""
     for pattern, dofs, values in prescribed:
         state.u[dofs] = 0.0
     for pattern, dofs, values in prescribed:
         state.u[dofs] += float(pattern.factors(np.array([at]))[0]) * values
+    for vec in (state.u, state.v, state.a):
+        assembly.complete(vec)
 
 
 class _RecorderFeed:
@@ -282,12 +285,12 @@ class StaticAnalysis:
                 kd = lower.shape[1] - 1
                 padded = pad(rhs, kd)
                 solve_band(lower, padded)
-                state.u[:] = asm.expand(padded[kd: kd + asm.n_free])
+                state.u[:] = 0.0
+                state.u[asm.full_of_free] = padded[kd: kd + asm.n_free]
                 state.v[:] = 0.0
                 state.a[:] = 0.0
                 state.time = t
-                prescribe(asm.prescribed_dofs(patterns), state, t)
-                asm.complete(state.u)
+                settle_dependent_dofs(asm, asm.prescribed_dofs(patterns), state, t)
                 out = feed.state_row(state, asm)[None, :]
                 feed.deliver(np.array([t]), out, asm)
         finally:
@@ -512,9 +515,7 @@ class TransientAnalysis:
                         f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
                         step, times[bad + 1])
                 state.time = float(times[chunk])
-                prescribe(plan.prescribed, state, times[chunk - 1] + plan.load_point * self.dt)
-                for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
-                    plan.asm.complete(vec)
+                settle_dependent_dofs(plan.asm, plan.prescribed, state, times[chunk - 1] + plan.load_point * self.dt)
                 self.last_step_start = float(times[chunk - 1])
                 done += chunk
         finally:

@@ -232,13 +232,6 @@ class Assembly:
             vector[self.constrained_dofs] = (self.constrained_rows @ vector[self.full_of_free]
                                              + self.constrained_prescribed @ vector[self.prescribed_full])
 
-    def expand(self, free_vector):
-        """The full-dof vector ``(n_full,)`` of a free-dof one (constrained dofs included)."""
-        out = np.zeros(self.n_full)
-        out[self.full_of_free] = free_vector
-        self.complete(out)
-        return out
-
     # -- helpers --------------------------------------------------------------------------
     @property
     def n_free(self):

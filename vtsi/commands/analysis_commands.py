@@ -5,7 +5,7 @@ import logging
 
 import numpy as np
 
-from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors, prescribe
+from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors, settle_dependent_dofs
 from vtsi.analysis import eigen as _eigen
 from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
 from vtsi.timeloop import run_from_state
@@ -120,9 +120,7 @@ class OpenSeesTRBDF2:
                 raise DivergenceError(f"TRBDF2 diverged at step {bad + 1}, t = {times[bad + 1]:.6g} s (NaN or inf)",
                                       bad + 1, times[bad + 1])
             state.time = float(times[-1])
-            prescribe(plan.prescribed, state, state.time)
-            for vec in (state.u, state.v, state.a):     # equalDOF / rigidLink dofs, if any
-                plan.asm.complete(vec)
+            settle_dependent_dofs(plan.asm, plan.prescribed, state, state.time)
             self.resume = (plan, state.time) if (first + n) % 2 == 1 else None
         finally:
             feed.close()
