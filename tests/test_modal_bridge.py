@@ -118,7 +118,7 @@ def test_modal_stepping_converges_to_the_exact_passage_at_second_order():
     for dt in (2e-3, 1e-3, 5e-4):
         n = int(round(t_end / dt))
         x_head0 = -0.5
-        q, _, _ = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n, dt)
+        q, _, _ = modal.coordinates(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n, dt)
         exact_at[dt] = q @ modal.shapes[model.build().full_of_free][mid_dof]
         model.state = None
         con = MovingLoadConstraint(track, TrainSubdomain(train, x_head0))

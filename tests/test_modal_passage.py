@@ -32,7 +32,7 @@ def test_one_force_is_frybas_series_in_the_same_modes():
     model, beam, modal = bridge()
     assert modal.n_modes == 3 and modal.frequencies == pytest.approx([5.0, 20.0, 45.0], rel=1e-5)
     n, dt = 1440, 5e-4
-    q, _, qdd = modal.passage([0.0], [P], V, 0.0, n, dt)
+    q, _, qdd = modal.coordinates([0.0], [P], V, 0.0, n, dt)
     t = dt * np.arange(1, n + 1)
     mid = model.build().full_dof(beam.midspan_nodes[0], 2)
     w = lambda tt: moving_force_midspan(P, V, L, EI, MU, tt, n_modes=3)
@@ -48,7 +48,7 @@ def test_modal_damping_by_free_decay():
     model, beam, modal = bridge(n=10, zeta=[0.01, 0.02, 0.03])
     dt = 2e-4
     n = int(round((L / V + 2.0) / dt))
-    q, qd, _ = modal.passage([0.0], [P], V, 0.0, n, dt)
+    q, qd, _ = modal.coordinates([0.0], [P], V, 0.0, n, dt)
     t = dt * np.arange(1, n + 1)
     free = t > L / V + 1e-9
     for j, zeta in enumerate((0.01, 0.02, 0.03)):
@@ -119,3 +119,24 @@ def test_modal_bridge_settings():
         PassageSettings(bridge="shell")
     with pytest.raises(vtsi.ModelError, match="damping ratios"):
         bridge(n=10, zeta=[0.01, 0.02, 0.03, 0.04])
+
+
+def test_one_pass_gives_every_column_as_its_own_pass():
+    """The kernel sums weights on q, q̇ and q̈ per column (displacement, velocity and
+    acceleration columns of two nodes in one call): each column equals the modal coordinates
+    of the same passage times its weights, across breakpoints and the free vibration's long
+    pieces (more samples than one block of the power table)."""
+    model, beam, modal = bridge(n=10, zeta=[0.01, 0.02, 0.03])
+    offsets, loads = [0.0, 2.5, 5.0, 17.5], [170e3, 150e3, 170e3, 120e3]
+    n, dt = 2000, 7e-4
+    q = modal.coordinates(offsets, loads, V, 0.0, n, dt)
+    rng = np.random.default_rng(3)
+    rows = rng.normal(size=(3, modal.n_modes, 5))
+    rows[:, :, 0] *= [[1.0], [0.0], [0.0]]          # a pure displacement, velocity and acceleration column
+    rows[:, :, 1] *= [[0.0], [1.0], [0.0]]
+    rows[:, :, 2] *= [[0.0], [0.0], [1.0]]
+    out = modal.passage(offsets, loads, V, 0.0, n, dt, rows)
+    expected = sum(q[order] @ rows[order] for order in range(3))
+    assert np.max(np.abs(out - expected)) <= 1e-12 * np.max(np.abs(expected))
+    with pytest.raises(vtsi.ModelError, match=r"passage rows must be \(3, 3, n_columns\)"):
+        modal.passage(offsets, loads, V, 0.0, n, dt, rows[:2])

@@ -31,7 +31,7 @@ from vtsi.banded import inverse_columns, ldl_band
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.damping import vertical_frequencies
 from vtsi.errors import AnalysisError, ModelError
-from vtsi.modal_passage import add_static_correction, exact_passage
+from vtsi.modal_passage import add_static_correction, exact_response, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
 
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
@@ -57,7 +57,8 @@ class ModalBridge:
     Attributes
     ----------
     frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,), shapes (n_full, n) mass-normalised,
-    assembly (the model version the modes belong to), track_modes (n_track, n) with a track.
+    assembly (the model version the modes belong to), track_modes (n_track, n) and
+    track_shapes (n_el, n, 4) (:func:`~vtsi.modal_passage.shape_polynomials`) with a track.
     """
 
     def __init__(self, model, track=None, f_max=None, zeta=None, n_modes=None):
@@ -89,6 +90,7 @@ class ModalBridge:
         self.zeta = self._ratios(zeta)
         if track is not None:
             self.track_modes = np.ascontiguousarray(self.shapes[asm.full_of_free[track.free_index]])
+            self.track_shapes = shape_polynomials(self.track_modes, track.dofs, track.length)
 
     def _ratios(self, zeta):
         n = self.n_modes
@@ -154,24 +156,35 @@ class ModalBridge:
                               self.track.length, self.track.dofs, np.ascontiguousarray(G), float(dt), out)
         return out
 
-    def passage(self, offsets, loads, speed, x_head0, n_samples, dt):
-        """Modal coordinates of a passage of downward axle ``loads`` [N] at ``offsets`` [m] behind
-        the head (at ``x_head0`` [m] at t = 0), ``speed`` [m/s], from rest: ``(q, q̇, q̈)`` each
-        (n_samples, n_modes) at t = dt, 2 dt, … (the analyses' output times), exact
-        (:mod:`vtsi.modal_passage`)."""
+    def passage(self, offsets, loads, speed, x_head0, n_samples, dt, rows):
+        """Output columns of a passage of downward axle ``loads`` [N] at ``offsets`` [m] behind the
+        head (at ``x_head0`` [m] at t = 0), ``speed`` [m/s], from rest, exact
+        (:mod:`vtsi.modal_passage`): ``(n_samples, n_columns)`` at t = dt, 2 dt, … (the analyses'
+        output times), column c = Σ_j rows[0, j, c] q_j + rows[1, j, c] q̇_j + rows[2, j, c] q̈_j
+        (``rows (3, n_modes, n_columns)``: a node response is its row of Φ on q, q̇ or q̈)."""
         if self.track is None:
             raise ModelError("modal bridge: a passage needs the bridge's track (ModalBridge(model, track, ...))")
         if np.any(self.zeta >= 1.0):
             j = int(np.argmax(self.zeta >= 1.0))
             raise ModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
                              "an exact passage needs underdamped modes (lower f_max or give the ratios)")
-        x0 = np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float))
-        t_end = n_samples * dt
-        q, qd, qdd = (np.zeros((n_samples, self.n_modes)) for _ in range(3))
-        exact_passage(x0, np.ascontiguousarray(loads, dtype=float), float(speed), self.track.x_start,
-                      self.track.length, self.track.dofs, self.track_modes, self.omega, self.zeta, t_end,
-                      float(dt), q, qd, qdd)
-        return q, qd, qdd
+        rows = np.ascontiguousarray(rows, dtype=float)
+        if rows.ndim != 3 or rows.shape[:2] != (3, self.n_modes):
+            raise ModelError(f"modal bridge: passage rows must be (3, {self.n_modes}, n_columns), got {rows.shape}")
+        out = np.zeros((n_samples, rows.shape[2]))
+        exact_response(np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float)),
+                       np.ascontiguousarray(loads, dtype=float), float(speed), self.track.x_start, self.track.length,
+                       self.track_shapes, self.omega, self.zeta, float(dt), rows, out)
+        return out
+
+    def coordinates(self, offsets, loads, speed, x_head0, n_samples, dt):
+        """``(q, q̇, q̈)`` of a passage (arguments as :meth:`passage`), each (n_samples, n_modes)."""
+        n = self.n_modes
+        rows = np.zeros((3, n, 3 * n))
+        for order in range(3):
+            rows[order, :, order * n:(order + 1) * n] = np.eye(n)
+        out = self.passage(offsets, loads, speed, x_head0, n_samples, dt, rows)
+        return out[:, :n], out[:, n:2 * n], out[:, 2 * n:]
 
 
 class ModalStages(BridgeStages):

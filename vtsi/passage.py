@@ -314,7 +314,7 @@ class PassageRunner:
         self._profiles = {}
         self._trains = {}
         self._modes = {}
-        self._rows = {}
+        self._modal_plans = {}
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
@@ -457,53 +457,67 @@ class PassageRunner:
 
     def _modal_passage(self, name, train, speed_kmh, seed, outputs, clock):
         """A passage of moving forces over the modal bridge, exact in the modal coordinates
-        (:mod:`vtsi.modal_passage`); node outputs from the modes, sampled every Δt."""
+        (:mod:`vtsi.modal_passage`): every node output's columns from one pass, sampled every Δt."""
         s, modal = self.settings, self.modal
         n_steps = self.n_steps(train)
         x_head0 = self.track.x_begin - self.approach(train) + float(train.wheel_offsets[0])
-        q, qd, qdd = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt)
+        rows, parts = self._modal_plan(outputs)
+        values = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt, rows)
         times = s.dt * np.arange(1, n_steps + 1)
         result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)
-        for o in outputs:
-            if o.vehicle:
-                continue
-            nodes = self.output_nodes(o.nodes)
-            rows, residual = self._modal_rows(o.response, nodes)
-            coordinate = {"accel": qdd, "vel": qd}.get(o.response, q)
-            values = coordinate @ rows
+        for o, columns, nodes, residual in parts:
+            part = values[:, columns]
             if residual is not None and s.static_correction:   # the truncated modes' quasi-static part
-                values += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
-                                                  train.speed, x_head0, n_steps, s.dt)
-            result.envelopes[o.name] = peaks(times, values)
-            result.columns[o.name] = np.array(nodes, dtype=np.int64)
+                part += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
+                                                train.speed, x_head0, n_steps, s.dt)
+            result.envelopes[o.name] = peaks(times, part)
+            result.columns[o.name] = nodes
             if o.history:
-                result.histories[o.name] = (times, values)
+                result.histories[o.name] = (times, part)
         result.seconds = time.perf_counter() - clock
         return result
 
-    def _modal_rows(self, response, nodes):
-        """The node response ``response`` at ``nodes`` as a map of the modal coordinates
-        (n_modes, n_columns) and, for a displacement, rotation or moment, its residual
-        flexibility for the static correction (None for a velocity or acceleration);
-        computed once per response and nodes."""
-        key = (response, tuple(nodes))
-        if key not in self._rows:
-            asm, modal = self.model.build(), self.modal
-            if response == "moment":
-                free, P = moment_rows(asm, self.track, nodes)
-                output_map = np.zeros((asm.n_free, P.shape[1]))
-                output_map[free] = P
-            else:
-                dof = 3 if response == "rotation" else 2
-                output_map = np.zeros((asm.n_free, len(nodes)))
-                for c, n in enumerate(nodes):
-                    f = asm.free_of_full[asm.full_dof(n, dof)]
-                    if f >= 0:
-                        output_map[f, c] = 1.0
-            rows = modal.shapes[asm.full_of_free].T @ output_map
-            residual = modal.residual_flexibility(output_map) if response in ("disp", "rotation", "moment") else None
-            self._rows[key] = (rows, residual)
-        return self._rows[key]
+    def _modal_plan(self, outputs):
+        """The node outputs of ``outputs`` as one map of the modal coordinates for
+        :meth:`ModalBridge.passage <vtsi.modal_bridge.ModalBridge.passage>`: ``rows (3, n_modes,
+        n_columns)`` and per output (output, its column slice, node tags, residual flexibility
+        of the static correction or None); computed once per outputs."""
+        key = tuple(outputs)
+        if key not in self._modal_plans:
+            order = {"accel": 2, "vel": 1}
+            maps, parts, start = [], [], 0
+            for o in outputs:
+                if o.vehicle:
+                    continue
+                nodes = self.output_nodes(o.nodes)
+                output_map = self._output_map(o.response, nodes)
+                weights = np.zeros((3, self.modal.n_modes, output_map.shape[1]))
+                weights[order.get(o.response, 0)] = self.modal.shapes[self.model.build().full_of_free].T @ output_map
+                residual = self.modal.residual_flexibility(output_map) if o.response in ("disp", "rotation", "moment") \
+                    else None
+                maps.append(weights)
+                parts.append((o, slice(start, start + output_map.shape[1]), np.array(nodes, dtype=np.int64), residual))
+                start += output_map.shape[1]
+            rows = np.concatenate(maps, axis=2) if maps else np.zeros((3, self.modal.n_modes, 0))
+            self._modal_plans[key] = (np.ascontiguousarray(rows), parts)
+        return self._modal_plans[key]
+
+    def _output_map(self, response, nodes):
+        """``(n_free, n_columns)``: the node response ``response`` at ``nodes`` from the free dofs
+        (a selection for a displacement, velocity, acceleration or rotation; moment rows)."""
+        asm = self.model.build()
+        if response == "moment":
+            free, P = moment_rows(asm, self.track, nodes)
+            output_map = np.zeros((asm.n_free, P.shape[1]))
+            output_map[free] = P
+            return output_map
+        dof = 3 if response == "rotation" else 2
+        output_map = np.zeros((asm.n_free, len(nodes)))
+        for c, n in enumerate(nodes):
+            f = asm.free_of_full[asm.full_dof(n, dof)]
+            if f >= 0:
+                output_map[f, c] = 1.0
+        return output_map
 
     def output_nodes(self, nodes):
         """Node tags of an output's ``nodes`` ('deck', 'midspan' or tags)."""
