@@ -68,13 +68,20 @@ def peaks(times, values):
 @njit(cache=True)
 def _peaks(times, values, out):
     n, n_c = values.shape
+    extreme = np.empty(3, dtype=np.int64)
     for c in range(n_c):
+        k_min, k_max, k_abs = 0, 0, 0               # first extreme samples (as numpy's argmin/argmax)
+        for i in range(1, n):
+            y = values[i, c]
+            if y < values[k_min, c]:
+                k_min = i
+            if y > values[k_max, c]:
+                k_max = i
+            if abs(y) > abs(values[k_abs, c]):
+                k_abs = i
+        extreme[0], extreme[1], extreme[2] = k_min, k_max, k_abs
         for r in range(3):
-            k = 0
-            for i in range(1, n):                       # first extreme sample (as numpy's argmin/argmax)
-                y, best = values[i, c], values[k, c]
-                if (r == 0 and y < best) or (r == 1 and y > best) or (r == 2 and abs(y) > abs(best)):
-                    k = i
+            k = extreme[r]
             y1 = values[k, c] if r < 2 else abs(values[k, c])
             value, when = y1, times[k]
             if 0 < k < n - 1 and (r < 2 or np.sign(values[k - 1, c]) == np.sign(values[k + 1, c])):

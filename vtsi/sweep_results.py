@@ -260,8 +260,9 @@ class ResultsWriter:
                                         ("n_steps", np.int64, [r.n_steps for r in rs]),
                                         ("seconds", float, [r.seconds for r in rs])):
                 _append(g, name, values, dtype)
-            for name in rs[0].envelopes:
-                _append(g, name, np.stack([r.envelopes[name] for r in rs]))
+            stacked = {name: np.stack([r.envelopes[name] for r in rs]) for name in rs[0].envelopes}
+            for name, envelopes in stacked.items():
+                _append(g, name, envelopes)
                 if name in vehicle and name + "_columns" not in g:
                     g[name + "_columns"] = rs[0].columns[name]
             for r in rs:
@@ -269,15 +270,21 @@ class ResultsWriter:
                     h = g.require_group("histories").require_group(_speed_seed(r.speed_kmh, r.seed))
                     h[name + "_time"] = time
                     h.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
-        for r in results:
-            index = (trains.index(r.train), int(np.argmin(np.abs(speeds - r.speed_kmh))), seeds.index(r.seed))
+            # the cases' cells of the envelope tables: the extreme over the columns, where and when
+            case = np.arange(len(rs))
+            index = (np.full(len(rs), trains.index(train)),
+                     np.argmin(np.abs(speeds[None, :] - np.array([r.speed_kmh for r in rs])[:, None]), axis=1),
+                     np.array([seeds.index(r.seed) for r in rs], dtype=np.int64))
             for q, name, stat, _ in table:
-                if name not in r.envelopes:
+                if name not in stacked:
                     continue
-                env, row = r.envelopes[name], ENVELOPE_ROWS.index(stat)
-                j = int(np.argmin(env[row]) if stat == "min" else np.argmax(env[row]))
+                row = ENVELOPE_ROWS.index(stat)
+                extreme = stacked[name][:, row, :]
+                j = np.argmin(extreme, axis=1) if stat == "min" else np.argmax(extreme, axis=1)
                 values, where, when = tables[q]
-                values[index], where[index], when[index] = env[row, j], int(r.columns[name][j]), env[row + 3, j]
+                values[index] = extreme[case, j]
+                where[index] = np.asarray(rs[0].columns[name], dtype=np.int64)[j]
+                when[index] = stacked[name][case, row + 3, j]
         for q, (values, where, when) in tables.items():
             env_group[q][...] = values
             env_group[q + "_where"][...] = where
