@@ -18,6 +18,7 @@ import os
 import numpy as np
 
 from vtsi.errors import ModelError
+from vtsi.recorders.number_text import format_g_rows
 
 
 class Sink:
@@ -296,14 +297,12 @@ class TextSink(Sink):
 
 
 def format_rows(times, values, precision=6):
-    """Lines as OpenSees's DataFileStream writes them: ``[t] v1 v2 ...\\n`` with ``%.{p}g``."""
+    """Lines as OpenSees's DataFileStream writes them: ``[t] v1 v2 ...\\n`` with ``%.{p}g``
+    (compiled, :mod:`vtsi.recorders.number_text`)."""
     values = np.asarray(values, dtype=np.float64)
     if times is not None:
         values = np.column_stack([np.asarray(times, dtype=np.float64), values])
-    if values.shape[1] == 0:
-        return "\n" * values.shape[0]
-    line = " ".join([f"%.{precision}g"] * values.shape[1]) + "\n"
-    return "".join(line % tuple(row) for row in values.tolist())
+    return format_g_rows(values, precision)
 
 
 def format_envelope(envelope, echo_time=False, precision=6):
