@@ -51,3 +51,9 @@ def test_shapes():
     assert format_g_rows([[1.0, -2.5], [3e-7, 4e21]], 6) == "1 -2.5\n3e-07 4e+21\n"
     with pytest.raises(ValueError, match=r"values must be \(n, m\)"):
         format_g_rows(np.zeros(3), 6)
+
+
+def test_more_digits_than_a_double_holds():
+    """OpenSees accepts any -precision: beyond 17 digits the exact decimal expansion."""
+    values = np.array([[0.1, -2.0 ** -30]])
+    assert format_g_rows(values, 60) == python_rows(values, 60)

@@ -10,8 +10,8 @@ of double-double powers correctly rounded from exact fractions, the product by D
 splitting): y is known to a relative 2⁻¹⁰³, about 10⁻¹⁴ absolute at p = 17. Its integer part
 rounded half to even gives the p significant digits, unless the fraction lies within 10⁻⁹ of
 ½ (a tie or too near one to decide: e.g. 2⁻²⁴ = 5.9604644775390625e-08 at p = 16) or the value
-is outside the table's range (|X| > 280), not finite, or p > 17: those few values are formatted
-by Python instead. Then C's ``%g`` rules: fixed notation when −4 ≤ X < p (X after rounding),
+is outside the table's range (|X| > 280) or not finite: those few values are formatted by Python
+instead, as is everything when p > 17. Then C's ``%g`` rules: fixed notation when −4 ≤ X < p (X after rounding),
 exponential otherwise (``e±XX``, at least two exponent digits), trailing zeros and a trailing
 point removed, ``-0`` for negative zero.
 """
@@ -88,13 +88,13 @@ def _format_values(values, precision, pow_hi, pow_lo, chars, lengths):
     ``lengths``; length −1 where Python must format it."""
     digits = np.empty(MAX_PRECISION, dtype=np.uint8)
     top = np.int64(1)                       # 10^precision
-    for _ in range(min(precision, MAX_PRECISION)):
+    for _ in range(precision):
         top *= 10
     for idx in range(values.shape[0]):
         v = values[idx]
         row = chars[idx]
         pos = 0
-        if v != v or v == np.inf or v == -np.inf or precision > MAX_PRECISION:
+        if v != v or v == np.inf or v == -np.inf:
             lengths[idx] = -1
             continue
         if math.copysign(1.0, v) < 0.0:
@@ -193,16 +193,16 @@ def format_g_rows(values, precision=6):
     n, m = values.shape
     if m == 0:
         return "\n" * n
-    flat = np.ascontiguousarray(values).ravel()
     precision = max(int(precision), 1)      # C: a precision of 0 is taken as 1 for %g
+    if precision > MAX_PRECISION:           # more digits than an int64 carries: Python's text
+        line = " ".join([f"%.{precision}g"] * m) + "\n"
+        return (line * n) % tuple(values.ravel().tolist())
+    flat = np.ascontiguousarray(values).ravel()
     chars = np.empty((flat.shape[0], SLOT), dtype=np.uint8)
     lengths = np.empty(flat.shape[0], dtype=np.int64)
     _format_values(flat, precision, POW_HI, POW_LO, chars, lengths)
     for idx in np.flatnonzero(lengths < 0):
-        text = (f"%.{precision}g" % flat[idx]).encode("ascii")
-        if len(text) > SLOT:
-            raise ValueError(f"format_g_rows: precision {precision} gives {len(text)} characters for {flat[idx]!r}; "
-                             f"at most {SLOT}")
+        text = (f"%.{precision}g" % flat[idx]).encode("ascii")     # at most 24 characters for p <= 17
         chars[idx, :len(text)] = np.frombuffer(text, dtype=np.uint8)
         lengths[idx] = len(text)
     out = np.empty(int(lengths.sum()) + flat.shape[0], dtype=np.uint8)
