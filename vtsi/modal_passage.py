@@ -69,16 +69,21 @@ def peaks(times, values):
 def _peaks(times, values, out):
     n, n_c = values.shape
     extreme = np.empty(3, dtype=np.int64)
+    if n == 0:
+        out[:, :] = np.nan
+        return
     for c in range(n_c):
         k_min, k_max, k_abs = 0, 0, 0               # first extreme samples (as numpy's argmin/argmax)
+        low = high = values[0, c]
+        large = abs(low)
         for i in range(1, n):
             y = values[i, c]
-            if y < values[k_min, c]:
-                k_min = i
-            if y > values[k_max, c]:
-                k_max = i
-            if abs(y) > abs(values[k_abs, c]):
-                k_abs = i
+            if y < low:
+                low, k_min = y, i
+            if y > high:
+                high, k_max = y, i
+            if abs(y) > large:
+                large, k_abs = abs(y), i
         extreme[0], extreme[1], extreme[2] = k_min, k_max, k_abs
         for r in range(3):
             k = extreme[r]
