@@ -117,82 +117,90 @@ def _particular(c0, c1, c2, c3, w2, z2):
 
 
 @njit(cache=True)
-def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, rows, out):
-    """Add to ``out (n_samples, n_columns)`` the columns Σ_j rows[0, j, c] q_j + rows[1, j, c] q̇_j
-    + rows[2, j, c] q̈_j at t = dt, 2 dt, … of a passage from rest: axles of downward ``loads`` [N]
-    at ``x0`` [m] at t = 0 (decreasing: the train's order), ``speed`` [m/s]; the track's elements
-    ``x_start``, ``length`` [m] with the modes' :func:`shape_polynomials` ``shapes``; modes of
-    ``omega`` [rad/s] and ``zeta`` [-] (< 1); ``dt`` [s] the sampling step."""
-    n_el = x_start.shape[0]
-    n_ax = x0.shape[0]
+def _cubic(p, tau):
+    """Value and rate at τ of the cubic p[0] + p[1]τ + p[2]τ² + p[3]τ³."""
+    return p[0] + tau * (p[1] + tau * (p[2] + tau * p[3])), p[1] + tau * (2.0 * p[2] + 3.0 * tau * p[3])
+
+
+@njit(cache=True)
+def _rotate(re, im, lam_re, lam_im, s):
+    """(re + i im) e^(λ s), λ = lam_re + i lam_im."""
+    decay = math.exp(lam_re * s)
+    er, ei = decay * math.cos(lam_im * s), decay * math.sin(lam_im * s)
+    return re * er - im * ei, re * ei + im * er
+
+
+@njit(cache=True)
+def _modes(omega, zeta, dt):
+    """Per mode λ = −ζω + iω_d and the table of its powers ρ^i = e^(λ i dt), i = 0 … POWERS."""
     n_modes = omega.shape[0]
-    n_samples, n_cols = out.shape
-    x_begin = x_start[0]
-    # per mode: λ = −ζω + iω_d and the table rho[j, i] = e^(λ i dt), i <= POWERS
-    lam_re, lam_im = np.empty(n_modes), np.empty(n_modes)
-    rho_re, rho_im = np.empty((n_modes, POWERS + 1)), np.empty((n_modes, POWERS + 1))
+    lam_re, lam_im = -zeta * omega, omega * np.sqrt(1.0 - zeta * zeta)
+    power_re, power_im = np.empty((n_modes, POWERS + 1)), np.empty((n_modes, POWERS + 1))
     for j in range(n_modes):
-        lam_re[j], lam_im[j] = -zeta[j] * omega[j], omega[j] * math.sqrt(1.0 - zeta[j] * zeta[j])
-        decay = math.exp(lam_re[j] * dt)
-        sr, si = decay * math.cos(lam_im[j] * dt), decay * math.sin(lam_im[j] * dt)
-        rho_re[j, 0], rho_im[j, 0] = 1.0, 0.0
+        sr, si = _rotate(1.0, 0.0, lam_re[j], lam_im[j], dt)
+        power_re[j, 0], power_im[j, 0] = 1.0, 0.0
         for i in range(1, POWERS + 1):
-            rho_re[j, i] = rho_re[j, i - 1] * sr - rho_im[j, i - 1] * si
-            rho_im[j, i] = rho_re[j, i - 1] * si + rho_im[j, i - 1] * sr
-    # per element and mode: the particular solution b^e_j(τ) for a unit downward axle that
-    # entered the element at τ = 0 (its modal load −φ_j(Vτ/ℓ) is a cubic in τ)
+            power_re[j, i] = power_re[j, i - 1] * sr - power_im[j, i - 1] * si
+            power_im[j, i] = power_re[j, i - 1] * si + power_im[j, i - 1] * sr
+    return lam_re, lam_im, power_re, power_im
+
+
+@njit(cache=True)
+def _unit_axle(speed, length, shapes, omega, zeta, rows):
+    """A unit downward axle on each element e (entered at τ = 0): the particular solutions
+    ``part (n_el, n_modes, 4)`` of its modal loads −φ_j(Vτ/ℓ) (cubics in τ), and the output
+    columns' particular parts ``column (n_el, n_columns, 4)`` (cubics in τ)."""
+    n_el, n_modes, n_cols = length.shape[0], omega.shape[0], rows.shape[2]
     part = np.empty((n_el, n_modes, 4))
-    duration = np.empty(n_el)
-    for e in range(n_el):
-        rate = speed / length[e]
-        duration[e] = length[e] / speed
-        for j in range(n_modes):
-            w2, z2 = omega[j] * omega[j], 2.0 * zeta[j] * omega[j]
-            b0, b1, b2, b3 = _particular(-shapes[e, j, 0], -shapes[e, j, 1] * rate, -shapes[e, j, 2] * rate * rate,
-                                         -shapes[e, j, 3] * rate * rate * rate, w2, z2)
-            part[e, j, 0], part[e, j, 1], part[e, j, 2], part[e, j, 3] = b0, b1, b2, b3
-    # per element and column: the unit axle's particular part of the column, a cubic in τ
     column = np.zeros((n_el, n_cols, 4))
     for e in range(n_el):
+        rate = speed / length[e]
         for j in range(n_modes):
-            b0, b1, b2, b3 = part[e, j, 0], part[e, j, 1], part[e, j, 2], part[e, j, 3]
+            b0, b1, b2, b3 = _particular(-shapes[e, j, 0], -shapes[e, j, 1] * rate, -shapes[e, j, 2] * rate * rate,
+                                         -shapes[e, j, 3] * rate * rate * rate, omega[j] * omega[j],
+                                         2.0 * zeta[j] * omega[j])
+            part[e, j, 0], part[e, j, 1], part[e, j, 2], part[e, j, 3] = b0, b1, b2, b3
             for col in range(n_cols):
                 r0, r1, r2 = rows[0, j, col], rows[1, j, col], rows[2, j, col]
                 column[e, col, 0] += r0 * b0 + r1 * b1 + r2 * 2.0 * b2
                 column[e, col, 1] += r0 * b1 + r1 * 2.0 * b2 + r2 * 6.0 * b3
                 column[e, col, 2] += r0 * b2 + r1 * 3.0 * b3
                 column[e, col, 3] += r0 * b3
-    G = np.empty((n_modes, n_cols, 2))  # per column, the free part's weight G₀ + G₁λ on Z (complex)
-    for j in range(n_modes):
-        for col in range(n_cols):
-            g0 = rows[0, j, col] - omega[j] ** 2 * rows[2, j, col]
-            g1 = rows[1, j, col] - 2.0 * zeta[j] * omega[j] * rows[2, j, col]
-            G[j, col, 0], G[j, col, 1] = g0 + g1 * lam_re[j], g1 * lam_im[j]
-    # per edge b (0 … n_el): the unit axle's jump of the free part as it crosses it, a phasor
-    # (the change of the particular solution, negated), times e^(λη_b); the edge's time from the
-    # track's start is β_b dt − η_b, η_b in [0, dt)
-    edge_re, edge_im = np.empty((n_el + 1, n_modes)), np.empty((n_el + 1, n_modes))
+    return part, column
+
+
+@njit(cache=True)
+def _edges(speed, x_start, length, part, lam_re, lam_im, dt):
+    """Per edge b = 0 … n_el (the start of element b; n_el: the track's end): its time from
+    the track's start as β_b dt − η_b (η_b in [0, dt)), and the unit axle's jump of the free
+    part as it crosses the edge (minus the change of the particular solution), as a phasor
+    times e^(λη_b): ``(beta, edge_lag, edge_re, edge_im)``."""
+    n_el, n_modes = length.shape[0], lam_re.shape[0]
     beta = np.empty(n_el + 1, dtype=np.int64)
     edge_lag = np.empty(n_el + 1)
+    edge_re, edge_im = np.empty((n_el + 1, n_modes)), np.empty((n_el + 1, n_modes))
     for b in range(n_el + 1):
         edge = x_start[b] if b < n_el else x_start[n_el - 1] + length[n_el - 1]
-        s_b = (edge - x_begin) / speed
-        beta[b] = np.int64(math.ceil(s_b / dt))
-        edge_lag[b] = beta[b] * dt - s_b
+        since_start = (edge - x_start[0]) / speed
+        beta[b] = np.int64(math.ceil(since_start / dt))
+        edge_lag[b] = beta[b] * dt - since_start
         for j in range(n_modes):
             d0, d1 = 0.0, 0.0
-            if b > 0:                        # leaving element b − 1 at its end
-                e, tau = b - 1, duration[b - 1]
-                d0 += part[e, j, 0] + tau * (part[e, j, 1] + tau * (part[e, j, 2] + tau * part[e, j, 3]))
-                d1 += part[e, j, 1] + tau * (2.0 * part[e, j, 2] + 3.0 * tau * part[e, j, 3])
-            if b < n_el:                     # entering element b
+            if b > 0:                                   # leaving element b − 1 at its end
+                d0, d1 = _cubic(part[b - 1, j], length[b - 1] / speed)
+            if b < n_el:                                # entering element b
                 d0 -= part[b, j, 0]
                 d1 -= part[b, j, 1]
-            pr, pi = d0, -(d1 - lam_re[j] * d0) / lam_im[j]
-            decay = math.exp(lam_re[j] * edge_lag[b])
-            er, ei = decay * math.cos(lam_im[j] * edge_lag[b]), decay * math.sin(lam_im[j] * edge_lag[b])
-            edge_re[b, j], edge_im[b, j] = pr * er - pi * ei, pr * ei + pi * er
-    # per axle: its entry time α_i dt − ε_i and P e^(λε_i)
+            edge_re[b, j], edge_im[b, j] = _rotate(d0, -(d1 - lam_re[j] * d0) / lam_im[j], lam_re[j], lam_im[j],
+                                                   edge_lag[b])
+    return beta, edge_lag, edge_re, edge_im
+
+
+@njit(cache=True)
+def _axles(x0, loads, speed, x_begin, lam_re, lam_im, dt):
+    """Per axle: its entry time on the track α_i dt − ε_i (ε_i in [0, dt)) and P_i e^(λε_i):
+    ``(alpha, entry_lag, axle_re, axle_im)``."""
+    n_ax, n_modes = x0.shape[0], lam_re.shape[0]
     alpha = np.empty(n_ax, dtype=np.int64)
     entry_lag = np.empty(n_ax)
     axle_re, axle_im = np.empty((n_ax, n_modes)), np.empty((n_ax, n_modes))
@@ -201,71 +209,76 @@ def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, r
         alpha[i] = np.int64(math.ceil(entry / dt))
         entry_lag[i] = alpha[i] * dt - entry
         for j in range(n_modes):
-            decay = loads[i] * math.exp(lam_re[j] * entry_lag[i])
-            axle_re[i, j] = decay * math.cos(lam_im[j] * entry_lag[i])
-            axle_im[i, j] = decay * math.sin(lam_im[j] * entry_lag[i])
-    back_re, back_im = np.empty(n_modes), np.empty(n_modes)     # e^(−λ dt)
-    for j in range(n_modes):
-        mod2 = rho_re[j, 1] ** 2 + rho_im[j, 1] ** 2
-        back_re[j], back_im[j] = rho_re[j, 1] / mod2, -rho_im[j, 1] / mod2
-    # the events (axle i crosses edge b), by the sample at which they act: m = α_i + β_b − wrap
-    n_ev = n_ax * (n_el + 1)
-    ev_m = np.empty(n_ev, dtype=np.int64)
-    count = np.zeros(n_samples + 2, dtype=np.int64)
-    for i in range(n_ax):
-        for b in range(n_el + 1):
-            k = i * (n_el + 1) + b
-            m = alpha[i] + beta[b]
-            if entry_lag[i] + edge_lag[b] >= dt:
-                m -= 1
+            axle_re[i, j], axle_im[i, j] = _rotate(loads[i], 0.0, lam_re[j], lam_im[j], entry_lag[i])
+    return alpha, entry_lag, axle_re, axle_im
+
+
+@njit(cache=True)
+def _events_by_sample(alpha, entry_lag, beta, edge_lag, dt, n_samples):
+    """The events k = i (n_el + 1) + b (axle i crosses edge b) by the first sample at or after
+    them, m = α_i + β_b (− 1 when ε_i + η_b >= dt; 0 for the events up to t = 0): those of
+    sample m are ``order[start[m]:start[m + 1]]``, in k order (an axle's edges in order)."""
+    n_edges = beta.shape[0]
+    start = np.zeros(n_samples + 2, dtype=np.int64)
+    sample = np.empty(alpha.shape[0] * n_edges, dtype=np.int64)
+    for i in range(alpha.shape[0]):
+        for b in range(n_edges):
+            m = alpha[i] + beta[b] - (1 if entry_lag[i] + edge_lag[b] >= dt else 0)
             m = max(m, np.int64(0))
-            ev_m[k] = m
+            sample[i * n_edges + b] = m
             if m <= n_samples:
-                count[m + 1] += 1
+                start[m + 1] += 1
     for m in range(1, n_samples + 2):
-        count[m] += count[m - 1]
-    order = np.empty(count[n_samples + 1], dtype=np.int64)
-    fill = count.copy()
-    for k in range(n_ev):
-        m = ev_m[k]
+        start[m] += start[m - 1]
+    order = np.empty(start[n_samples + 1], dtype=np.int64)
+    fill = start.copy()
+    for k in range(sample.shape[0]):
+        m = sample[k]
         if m <= n_samples:
             order[fill[m]] = k
             fill[m] += 1
-    element = np.full(n_ax, -1, dtype=np.int64)   # the element under each axle (-1 before, n_el after)
-    entered, left = 0, 0                          # axles left … entered − 1 are on the track
-    z_re, z_im = np.zeros(n_modes), np.zeros(n_modes)   # the free part's phasor at the next sample
+    return start, order
+
+
+@njit(cache=True)
+def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, rows, out):
+    """Add to ``out (n_samples, n_columns)`` the columns Σ_j rows[0, j, c] q_j + rows[1, j, c] q̇_j
+    + rows[2, j, c] q̈_j at t = dt, 2 dt, … of a passage from rest: axles of downward ``loads`` [N]
+    at ``x0`` [m] at t = 0 (decreasing: the train's order), ``speed`` [m/s]; the track's elements
+    ``x_start``, ``length`` [m] with the modes' :func:`shape_polynomials` ``shapes``; modes of
+    ``omega`` [rad/s] and ``zeta`` [-] (< 1); ``dt`` [s] the sampling step."""
+    n_el, n_modes = x_start.shape[0], omega.shape[0]
+    n_samples, n_cols = out.shape
+    lam_re, lam_im, power_re, power_im = _modes(omega, zeta, dt)
+    part, column = _unit_axle(speed, length, shapes, omega, zeta, rows)
+    beta, edge_lag, edge_re, edge_im = _edges(speed, x_start, length, part, lam_re, lam_im, dt)
+    alpha, entry_lag, axle_re, axle_im = _axles(x0, loads, speed, x_start[0], lam_re, lam_im, dt)
+    start, order = _events_by_sample(alpha, entry_lag, beta, edge_lag, dt, n_samples)
+    back_re = power_re[:, 1] / (power_re[:, 1] ** 2 + power_im[:, 1] ** 2)      # e^(−λ dt)
+    back_im = -power_im[:, 1] / (power_re[:, 1] ** 2 + power_im[:, 1] ** 2)
+    weight = np.empty((n_modes, n_cols, 2))     # per column, the free part's weight G₀ + G₁λ on Z
+    for j in range(n_modes):
+        for col in range(n_cols):
+            g0 = rows[0, j, col] - omega[j] ** 2 * rows[2, j, col]
+            g1 = rows[1, j, col] - 2.0 * zeta[j] * omega[j] * rows[2, j, col]
+            weight[j, col, 0], weight[j, col, 1] = g0 + g1 * lam_re[j], g1 * lam_im[j]
+    element = np.full(x0.shape[0], -1, dtype=np.int64)   # the element under each axle (n_el: left)
+    entered, left = 0, 0                                  # axles left … entered − 1 are on the track
+    z_re, z_im = np.zeros(n_modes), np.zeros(n_modes)     # the free part's phasor at the next sample
     w_re, w_im = np.empty((n_modes, n_cols)), np.empty((n_modes, n_cols))
-    poly = np.zeros((n_cols, 4))
-    # events up to t = 0 only place the axles; the passage starts from rest: the free part
-    # starts as −(the particular solution at t = 0), carried to the first sample
-    for r in range(count[0], count[1]):
-        k = order[r]
-        i, b = k // (n_el + 1), k % (n_el + 1)
-        element[i] = b
-        if b == 0:
-            entered = max(entered, i + 1)
-        if b == n_el:
-            left = max(left, i + 1)
-    for i in range(left, entered):
-        e = element[i]
-        tau = -((x_start[e] - x0[i]) / speed)         # time since the axle entered its element
-        for j in range(n_modes):
-            b0 = part[e, j, 0] + tau * (part[e, j, 1] + tau * (part[e, j, 2] + tau * part[e, j, 3]))
-            b1 = part[e, j, 1] + tau * (2.0 * part[e, j, 2] + 3.0 * tau * part[e, j, 3])
-            pr, pi = -loads[i] * b0, loads[i] * (b1 - lam_re[j] * b0) / lam_im[j]
-            z_re[j] += pr * rho_re[j, 1] - pi * rho_im[j, 1]
-            z_im[j] += pr * rho_im[j, 1] + pi * rho_re[j, 1]
-    sample = 1
-    while sample <= n_samples:
-        for r in range(count[sample], count[sample + 1]):    # the events acting from this sample on
+    poly = np.empty((n_cols, 4))                          # the columns' particular part, τ from ta
+    for m in range(n_samples + 1):
+        if m > 1 and start[m + 1] == start[m]:
+            continue                                      # no event: the piece goes on
+        for r in range(start[m], start[m + 1]):           # the events acting from sample m on
             k = order[r]
             i, b = k // (n_el + 1), k % (n_el + 1)
             element[i] = b
-            if b == 0:
-                entered = max(entered, i + 1)
-            if b == n_el:
-                left = max(left, i + 1)
-            wrap = entry_lag[i] + edge_lag[b] >= dt      # the same test that placed the event
+            entered = max(entered, i + 1) if b == 0 else entered
+            left = max(left, i + 1) if b == n_el else left
+            if m == 0:
+                continue                                  # up to t = 0: the axles are only placed
+            wrap = entry_lag[i] + edge_lag[b] >= dt        # the test that placed the event
             for j in range(n_modes):
                 kr = axle_re[i, j] * edge_re[b, j] - axle_im[i, j] * edge_im[b, j]
                 ki = axle_re[i, j] * edge_im[b, j] + axle_im[i, j] * edge_re[b, j]
@@ -273,42 +286,50 @@ def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, r
                     kr, ki = kr * back_re[j] - ki * back_im[j], kr * back_im[j] + ki * back_re[j]
                 z_re[j] += kr
                 z_im[j] += ki
-        last = sample + 1                     # the piece: samples sample … last − 1
-        while last <= n_samples and count[last + 1] == count[last]:
+        if m == 0:          # from rest at t = 0: the free part starts as −(the particular solution)
+            for i in range(left, entered):
+                e = element[i]
+                tau = (x0[i] - x_start[e]) / speed           # time since the axle entered its element
+                for j in range(n_modes):
+                    b0, b1 = _cubic(part[e, j], tau)
+                    kr, ki = _rotate(-loads[i] * b0, loads[i] * (b1 - lam_re[j] * b0) / lam_im[j], lam_re[j],
+                                     lam_im[j], dt)
+                    z_re[j] += kr
+                    z_im[j] += ki
+            continue
+        last = m + 1                                      # the piece: samples m … last − 1
+        while last <= n_samples and start[last + 1] == start[last]:
             last += 1
-        ta = sample * dt
+        ta = m * dt
         poly[:, :] = 0.0
         for i in range(left, entered):
             e = element[i]
-            if e < 0 or e >= n_el:
-                continue
-            off = ta - (x_start[e] - x0[i]) / speed     # the axle's time in its element at ta
+            offset = ta - (x_start[e] - x0[i]) / speed    # the axle's time in its element at ta
             for col in range(n_cols):
                 c0, c1, c2, c3 = column[e, col, 0], column[e, col, 1], column[e, col, 2], column[e, col, 3]
-                poly[col, 0] += loads[i] * (c0 + off * (c1 + off * (c2 + off * c3)))
-                poly[col, 1] += loads[i] * (c1 + off * (2.0 * c2 + 3.0 * off * c3))
-                poly[col, 2] += loads[i] * (c2 + 3.0 * off * c3)
+                poly[col, 0] += loads[i] * (c0 + offset * (c1 + offset * (c2 + offset * c3)))
+                poly[col, 1] += loads[i] * (c1 + offset * (2.0 * c2 + 3.0 * offset * c3))
+                poly[col, 2] += loads[i] * (c2 + 3.0 * offset * c3)
                 poly[col, 3] += loads[i] * c3
-        k0 = sample
-        while k0 < last:
+        k0 = m
+        while k0 < last:                                  # blocks of at most POWERS samples
             n_block = min(last - k0, POWERS)
             for j in range(n_modes):
                 for col in range(n_cols):
-                    w_re[j, col] = z_re[j] * G[j, col, 0] - z_im[j] * G[j, col, 1]
-                    w_im[j, col] = z_re[j] * G[j, col, 1] + z_im[j] * G[j, col, 0]
+                    w_re[j, col] = z_re[j] * weight[j, col, 0] - z_im[j] * weight[j, col, 1]
+                    w_im[j, col] = z_re[j] * weight[j, col, 1] + z_im[j] * weight[j, col, 0]
             for i in range(n_block):
                 tau = (k0 + i) * dt - ta
                 for col in range(n_cols):
                     value = poly[col, 0] + tau * (poly[col, 1] + tau * (poly[col, 2] + tau * poly[col, 3]))
                     for j in range(n_modes):
-                        value += w_re[j, col] * rho_re[j, i] - w_im[j, col] * rho_im[j, i]
+                        value += w_re[j, col] * power_re[j, i] - w_im[j, col] * power_im[j, i]
                     out[k0 + i - 1, col] += value
             for j in range(n_modes):
                 zr, zi = z_re[j], z_im[j]
-                z_re[j] = zr * rho_re[j, n_block] - zi * rho_im[j, n_block]
-                z_im[j] = zr * rho_im[j, n_block] + zi * rho_re[j, n_block]
+                z_re[j] = zr * power_re[j, n_block] - zi * power_im[j, n_block]
+                z_im[j] = zr * power_im[j, n_block] + zi * power_re[j, n_block]
             k0 += n_block
-        sample = last
 
 
 @njit(cache=True)
