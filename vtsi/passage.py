@@ -496,7 +496,9 @@ class PassageRunner:
                 residual = self.modal.residual_flexibility(output_map) if o.response in ("disp", "rotation", "moment") \
                     else None
                 maps.append(weights)
-                parts.append((o, slice(start, start + output_map.shape[1]), np.array(nodes, dtype=np.int64), residual))
+                tags = np.array(nodes, dtype=np.int64)
+                tags.flags.writeable = False          # shared by every passage's result
+                parts.append((o, slice(start, start + output_map.shape[1]), tags, residual))
                 start += output_map.shape[1]
             rows = np.concatenate(maps, axis=2) if maps else np.zeros((3, self.modal.n_modes, 0))
             self._modal_plans[key] = (np.ascontiguousarray(rows), parts)
