@@ -24,7 +24,7 @@ from numba import njit
 POWER_RANGE = 300           # the table holds 10^k for |k| <= POWER_RANGE
 EXPONENT_LIMIT = 280        # values with |X| above this go to Python (then |p − 1 − X| <= 297)
 MAX_PRECISION = 17          # digits the int64 path carries (10^17 < 2^63)
-SLOT = 32                   # characters per value: '-' + 17 digits + '.' + 'e-308' fits
+SLOT = 32                   # characters per value at most: '-' + 17 digits + '.' + 'e-308' fits
 
 
 def _power_table():
@@ -83,104 +83,101 @@ def _scaled_digits(v, k, pow_hi, pow_lo):
 
 
 @njit(cache=True)
-def _format_values(values, precision, pow_hi, pow_lo, chars, lengths):
-    """Each value's ``%.{precision}g`` into its row of ``chars`` (n, SLOT), its length in
-    ``lengths``; length −1 where Python must format it."""
+def _format_value(v, precision, top, pow_hi, pow_lo, digits, out, pos):
+    """``%.{precision}g`` of ``v`` written into ``out`` from ``pos``; returns the position after
+    it, or −1 where Python must format it (``top`` = 10^precision, ``digits`` scratch)."""
+    if v != v or v == np.inf or v == -np.inf:
+        return -1
+    if math.copysign(1.0, v) < 0.0:
+        out[pos] = 45                       # '-'
+        pos += 1
+        v = -v
+    if v == 0.0:
+        out[pos] = 48
+        return pos + 1
+    x = int(np.floor(np.log10(v)))
+    if x < -EXPONENT_LIMIT or x > EXPONENT_LIMIT:
+        return -1
+    if _below_power(v, x, pow_hi, pow_lo):
+        x -= 1
+    elif not _below_power(v, x + 1, pow_hi, pow_lo):
+        x += 1
+    n, doubtful = _scaled_digits(v, precision - 1 - x, pow_hi, pow_lo)
+    if doubtful:
+        return -1
+    if n >= top:                            # rounded up to the next power of ten
+        n //= 10
+        x += 1
+    for d in range(precision - 1, -1, -1):
+        digits[d] = 48 + n % 10
+        n //= 10
+    used = precision
+    while used > 1 and digits[used - 1] == 48:
+        used -= 1
+    if -4 <= x < precision:                 # fixed notation
+        if x >= 0:
+            for d in range(x + 1):
+                out[pos] = digits[d] if d < used else 48
+                pos += 1
+            if used > x + 1:
+                out[pos] = 46               # '.'
+                pos += 1
+                for d in range(x + 1, used):
+                    out[pos] = digits[d]
+                    pos += 1
+        else:
+            out[pos] = 48
+            out[pos + 1] = 46
+            pos += 2
+            for _ in range(-x - 1):
+                out[pos] = 48
+                pos += 1
+            for d in range(used):
+                out[pos] = digits[d]
+                pos += 1
+    else:                                   # exponential notation
+        out[pos] = digits[0]
+        pos += 1
+        if used > 1:
+            out[pos] = 46
+            pos += 1
+            for d in range(1, used):
+                out[pos] = digits[d]
+                pos += 1
+        out[pos] = 101                      # 'e'
+        out[pos + 1] = 45 if x < 0 else 43
+        pos += 2
+        ax = -x if x < 0 else x
+        if ax >= 100:
+            out[pos] = 48 + ax // 100
+            pos += 1
+        out[pos] = 48 + (ax // 10) % 10
+        out[pos + 1] = 48 + ax % 10
+        pos += 2
+    return pos
+
+
+@njit(cache=True)
+def _format_rows(values, precision, pow_hi, pow_lo, out, gaps):
+    """The rows of ``values (n, m)`` into ``out``: numbers separated by a space, a newline after
+    each row. A value Python must format leaves a gap: ``gaps[g] = (position in out, row, column)``.
+    Returns (length used, number of gaps)."""
     digits = np.empty(MAX_PRECISION, dtype=np.uint8)
     top = np.int64(1)                       # 10^precision
     for _ in range(precision):
         top *= 10
-    for idx in range(values.shape[0]):
-        v = values[idx]
-        row = chars[idx]
-        pos = 0
-        if v != v or v == np.inf or v == -np.inf:
-            lengths[idx] = -1
-            continue
-        if math.copysign(1.0, v) < 0.0:
-            row[pos] = 45                   # '-'
-            pos += 1
-            v = -v
-        if v == 0.0:
-            row[pos] = 48
-            lengths[idx] = pos + 1
-            continue
-        x = int(np.floor(np.log10(v)))
-        if x < -EXPONENT_LIMIT or x > EXPONENT_LIMIT:
-            lengths[idx] = -1
-            continue
-        if _below_power(v, x, pow_hi, pow_lo):
-            x -= 1
-        elif not _below_power(v, x + 1, pow_hi, pow_lo):
-            x += 1
-        n, doubtful = _scaled_digits(v, precision - 1 - x, pow_hi, pow_lo)
-        if doubtful:
-            lengths[idx] = -1
-            continue
-        if n >= top:                        # rounded up to the next power of ten
-            n //= 10
-            x += 1
-        for d in range(precision - 1, -1, -1):
-            digits[d] = 48 + n % 10
-            n //= 10
-        used = precision
-        while used > 1 and digits[used - 1] == 48:
-            used -= 1
-        if -4 <= x < precision:             # fixed notation
-            if x >= 0:
-                for d in range(x + 1):
-                    row[pos] = digits[d] if d < used else 48
-                    pos += 1
-                if used > x + 1:
-                    row[pos] = 46           # '.'
-                    pos += 1
-                    for d in range(x + 1, used):
-                        row[pos] = digits[d]
-                        pos += 1
+    pos, n_gaps = 0, 0
+    for r in range(values.shape[0]):
+        for c in range(values.shape[1]):
+            end = _format_value(values[r, c], precision, top, pow_hi, pow_lo, digits, out, pos)
+            if end < 0:
+                gaps[n_gaps, 0], gaps[n_gaps, 1], gaps[n_gaps, 2] = pos, r, c
+                n_gaps += 1
             else:
-                row[pos] = 48
-                row[pos + 1] = 46
-                pos += 2
-                for _ in range(-x - 1):
-                    row[pos] = 48
-                    pos += 1
-                for d in range(used):
-                    row[pos] = digits[d]
-                    pos += 1
-        else:                               # exponential notation
-            row[pos] = digits[0]
+                pos = end
+            out[pos] = 10 if c == values.shape[1] - 1 else 32
             pos += 1
-            if used > 1:
-                row[pos] = 46
-                pos += 1
-                for d in range(1, used):
-                    row[pos] = digits[d]
-                    pos += 1
-            row[pos] = 101                  # 'e'
-            row[pos + 1] = 45 if x < 0 else 43
-            pos += 2
-            ax = -x if x < 0 else x
-            if ax >= 100:
-                row[pos] = 48 + ax // 100
-                pos += 1
-            row[pos] = 48 + (ax // 10) % 10
-            row[pos + 1] = 48 + ax % 10
-            pos += 2
-        lengths[idx] = pos
-
-
-@njit(cache=True)
-def _join_rows(chars, lengths, n_columns, out):
-    """The values' texts, ``n_columns`` per line, separated by a space, each line ended by a
-    newline, into ``out``; returns the length used."""
-    pos = 0
-    for idx in range(lengths.shape[0]):
-        for c in range(lengths[idx]):
-            out[pos] = chars[idx, c]
-            pos += 1
-        out[pos] = 10 if (idx + 1) % n_columns == 0 else 32
-        pos += 1
-    return pos
+    return pos, n_gaps
 
 
 def format_g_rows(values, precision=6):
@@ -197,14 +194,15 @@ def format_g_rows(values, precision=6):
     if precision > MAX_PRECISION:           # more digits than an int64 carries: Python's text
         line = " ".join([f"%.{precision}g"] * m) + "\n"
         return (line * n) % tuple(values.ravel().tolist())
-    flat = np.ascontiguousarray(values).ravel()
-    chars = np.empty((flat.shape[0], SLOT), dtype=np.uint8)
-    lengths = np.empty(flat.shape[0], dtype=np.int64)
-    _format_values(flat, precision, POW_HI, POW_LO, chars, lengths)
-    for idx in np.flatnonzero(lengths < 0):
-        text = (f"%.{precision}g" % flat[idx]).encode("ascii")     # at most 24 characters for p <= 17
-        chars[idx, :len(text)] = np.frombuffer(text, dtype=np.uint8)
-        lengths[idx] = len(text)
-    out = np.empty(int(lengths.sum()) + flat.shape[0], dtype=np.uint8)
-    used = _join_rows(chars, lengths, m, out)
-    return out[:used].tobytes().decode("ascii")
+    values = np.ascontiguousarray(values)
+    out = np.empty(values.size * (SLOT + 1), dtype=np.uint8)
+    gaps = np.empty((values.size, 3), dtype=np.int64)
+    used, n_gaps = _format_rows(values, precision, POW_HI, POW_LO, out, gaps)
+    if n_gaps == 0:
+        return out[:used].tobytes().decode("ascii")
+    pieces, done = [], 0
+    for position, r, c in gaps[:n_gaps].tolist():
+        pieces += [out[done:position].tobytes().decode("ascii"), f"%.{precision}g" % values[r, c]]
+        done = position
+    pieces.append(out[done:used].tobytes().decode("ascii"))
+    return "".join(pieces)
