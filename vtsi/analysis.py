@@ -7,8 +7,9 @@ import logging
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from scipy.sparse import csgraph
+from numba import njit
 
 from vtsi.banded import pad, solve_band
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
@@ -47,7 +48,28 @@ def domain_state(model):
 
 def component_labels(M, C, K):
     """Connected components of the couplings of M, C, K (their nonzeros): a label per dof."""
-    return csgraph.connected_components((abs(M) + abs(C) + abs(K)).tocsr(), directed=False)[1]
+    coo = sp.coo_matrix(abs(M) + abs(C) + abs(K))
+    return component_labels_of_entries(coo.row.astype(np.int64), coo.col.astype(np.int64), M.shape[0])
+
+
+@njit(cache=True)
+def component_labels_of_entries(rows, cols, n):
+    """Connected components of the ``n`` dofs coupled by the entries ``(rows, cols)`` (int64):
+    a label per dof (int64 (n,), the smallest dof of its component)."""
+    parent = np.arange(n)
+    for k in range(rows.shape[0]):
+        a, b = rows[k], cols[k]
+        while parent[a] != a:
+            a = parent[a]
+        while parent[b] != b:
+            b = parent[b]
+        if a < b:
+            parent[b] = a
+        elif b < a:
+            parent[a] = b
+    for i in range(n):            # parents come before their children: one pass settles every root
+        parent[i] = parent[parent[i]]
+    return parent
 
 
 def dofs_with(labels, seeds):
@@ -63,7 +85,8 @@ def moving_dofs(assembly, model, seeds=None, loaded=None):
     vertical loads; their recorders read 0."""
     labels = getattr(assembly, "_component_labels", None)
     if labels is None:
-        labels = assembly._component_labels = component_labels(assembly.M, assembly.C, assembly.K)
+        p = assembly.pattern
+        labels = assembly._component_labels = component_labels_of_entries(p.rows, p.cols, assembly.n_free)
     state = domain_state(model)
     moving = np.zeros(assembly.n_free, dtype=bool) if seeds is None else np.array(seeds, dtype=bool)
     if loaded is None:
