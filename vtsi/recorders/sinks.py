@@ -16,6 +16,7 @@ import datetime
 import os
 
 import numpy as np
+from numba import njit
 
 from vtsi.errors import ModelError
 
@@ -296,14 +297,198 @@ class TextSink(Sink):
 
 
 def format_rows(times, values, precision=6):
-    """Lines as OpenSees's DataFileStream writes them: ``[t] v1 v2 ...\\n`` with ``%.{p}g``."""
+    """Lines as OpenSees's DataFileStream writes them: ``[t] v1 v2 ...\\n`` with ``%.{p}g``
+    (Python's, which rounds correctly). Compiled (:func:`_format_block`) for precisions 1..17;
+    a block with a number it cannot certify is formatted by Python."""
     values = np.asarray(values, dtype=np.float64)
     if times is not None:
         values = np.column_stack([np.asarray(times, dtype=np.float64), values])
     if values.shape[1] == 0:
         return "\n" * values.shape[0]
+    if 1 <= precision <= MAX_COMPILED_PRECISION:
+        text, length = _format_block(np.ascontiguousarray(values), precision, *_powers_of_ten())
+        if length >= 0:
+            return text[:length].tobytes().decode("ascii")
     line = " ".join([f"%.{precision}g"] * values.shape[1]) + "\n"
-    return "".join(line % tuple(row) for row in values.tolist())
+    return (line * values.shape[0]) % tuple(values.ravel().tolist())
+
+
+MAX_COMPILED_PRECISION = 17
+POWER_RANGE = (-260, 275)      # exponents k of the table of 10**k
+CERTAIN_RANGE = (1e-250, 1e250)  # |x| formatted by the compiled path (outside: Python)
+_POWERS = []
+
+
+def _powers_of_ten():
+    """``(first k, hi, lo)``: 10**k = hi + lo (float64 (n,) each, hi correctly rounded, lo the
+    rest correctly rounded: |hi + lo - 10**k| <= 2**-105 10**k) for k in :data:`POWER_RANGE`;
+    computed with Python's exact integers once."""
+    if not _POWERS:
+        ks = range(POWER_RANGE[0], POWER_RANGE[1] + 1)
+        hi, lo = np.zeros(len(ks)), np.zeros(len(ks))
+        for j, k in enumerate(ks):
+            if k >= 0:
+                hi[j] = float(10 ** k)
+                lo[j] = float(10 ** k - int(hi[j]))
+            else:
+                hi[j] = 1 / 10 ** -k                                  # correctly rounded
+                num, den = float(hi[j]).as_integer_ratio()
+                lo[j] = (den - num * 10 ** -k) / (den * 10 ** -k)
+        _POWERS.append((POWER_RANGE[0], hi, lo))
+    return _POWERS[0]
+
+
+@njit(cache=True)
+def _two_product(a, b):
+    """``(p, e)`` with ``p = fl(a b)`` and ``p + e = a b`` exactly (Dekker; no overflow for
+    |a|, |b| < 1e290)."""
+    p = a * b
+    c = 134217729.0 * a
+    ah = c - (c - a)
+    al = a - ah
+    c = 134217729.0 * b
+    bh = c - (c - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+@njit(cache=True)
+def _digits(ax, precision, first, p_hi, p_lo):
+    """``(D, X)``: the ``precision`` significant digits of ``ax`` (> 0, in :data:`CERTAIN_RANGE`)
+    rounded to nearest as an integer 10**(p-1) <= D < 10**p, and the decimal exponent X of the
+    rounded value; ``(-1, 0)`` where that is not certain.
+
+    The scaled value y = ax 10**(p-1-E) is computed as hi + lo to |error| < 1e-13 (a double-double
+    product, with ``10**k`` from the table); a rounding is certain when y lies farther than 1e-9
+    from a half-integer (where to round) and from 10**(p-1) and 10**p (which exponent)."""
+    low = np.int64(10) ** (precision - 1)
+    high = low * 10
+    e = np.int64(np.floor(np.log10(ax)))
+    for _ in range(3):
+        j = precision - 1 - e - first
+        if j < 0 or j >= p_hi.shape[0]:
+            return np.int64(-1), np.int64(0)
+        hi, err = _two_product(ax, p_hi[j])
+        lo = err + ax * p_lo[j]
+        a = np.rint(hi)
+        r = (hi - a) + lo          # y - a: hi - a exact, |r| < 9
+        ia = np.int64(a)
+        if abs(ia - low) < 100:    # 10**(p-1) <= y ?
+            s = np.float64(ia - low) + r
+            if abs(s) < 1e-9:
+                return np.int64(-1), np.int64(0)
+            if s < 0.0:
+                e -= 1
+                continue
+        elif ia < low:
+            e -= 1
+            continue
+        if abs(ia - high) < 100:   # y < 10**p ?
+            s = np.float64(ia - high) + r
+            if abs(s) < 1e-9:
+                return np.int64(-1), np.int64(0)
+            if s >= 0.0:
+                e += 1
+                continue
+        elif ia > high:
+            e += 1
+            continue
+        t = np.floor(r + 0.5)
+        g = r + 0.5 - t
+        if g < 1e-9 or g > 1.0 - 1e-9:
+            return np.int64(-1), np.int64(0)
+        d = ia + np.int64(t)
+        if d == high:              # rounded up to the next power of ten
+            return low, e + 1
+        return d, e
+    return np.int64(-1), np.int64(0)
+
+
+@njit(cache=True)
+def _put(out, pos, text):
+    for c in text:
+        out[pos] = ord(c)
+        pos += 1
+    return pos
+
+
+@njit(cache=True)
+def _format_g(out, pos, x, precision, first, p_hi, p_lo, digits):
+    """Write ``'%.{precision}g' % x`` (Python's) at ``out[pos]``; returns the new position, -1
+    where the digits are not certain (:func:`_digits`)."""
+    if x != x:
+        return _put(out, pos, "nan")
+    if x < 0.0 or (x == 0.0 and np.copysign(1.0, x) < 0.0):
+        out[pos] = 45      # '-'
+        pos += 1
+    ax = abs(x)
+    if ax == np.inf:
+        return _put(out, pos, "inf")
+    if ax == 0.0:
+        out[pos] = 48
+        return pos + 1
+    if not (CERTAIN_RANGE[0] <= ax <= CERTAIN_RANGE[1]):
+        return -1
+    d, e = _digits(ax, precision, first, p_hi, p_lo)
+    if d < 0:
+        return -1
+    for i in range(precision - 1, -1, -1):
+        digits[i] = 48 + d % 10
+        d //= 10
+    n = precision                     # significant digits kept: trailing zeros of the fraction go
+    fixed = -4 <= e < precision
+    keep = e + 1 if fixed and e >= 0 else 1
+    while n > keep and digits[n - 1] == 48:
+        n -= 1
+    if fixed and e < 0:
+        pos = _put(out, pos, "0.")
+        for _ in range(-e - 1):
+            out[pos] = 48
+            pos += 1
+        for i in range(n):
+            out[pos] = digits[i]
+            pos += 1
+        return pos
+    point = e + 1 if fixed else 1     # digits before the decimal point
+    for i in range(n):
+        if i == point:
+            out[pos] = 46              # '.'
+            pos += 1
+        out[pos] = digits[i]
+        pos += 1
+    if fixed:
+        return pos
+    out[pos] = 101                     # 'e'
+    out[pos + 1] = 45 if e < 0 else 43
+    pos += 2
+    ae = abs(e)
+    if ae >= 100:
+        out[pos] = 48 + ae // 100
+        pos += 1
+    out[pos] = 48 + (ae // 10) % 10
+    out[pos + 1] = 48 + ae % 10
+    return pos + 2
+
+
+@njit(cache=True)
+def _format_block(values, precision, first, p_hi, p_lo):
+    """``(text uint8, length)``: the lines of :func:`format_rows` as ASCII; length -1 if a number
+    needs Python's formatting."""
+    n_rows, n_cols = values.shape
+    out = np.empty(n_rows * (n_cols * (precision + 10) + 1), dtype=np.uint8)
+    digits = np.empty(precision, dtype=np.uint8)
+    pos = 0
+    for i in range(n_rows):
+        for j in range(n_cols):
+            if j > 0:
+                out[pos] = 32
+                pos += 1
+            pos = _format_g(out, pos, values[i, j], precision, first, p_hi, p_lo, digits)
+            if pos < 0:
+                return out, -1
+        out[pos] = 10
+        pos += 1
+    return out, pos
 
 
 def format_envelope(envelope, echo_time=False, precision=6):
