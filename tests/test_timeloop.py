@@ -63,28 +63,36 @@ def test_update_stage_reports_nan_as_infinite():
     assert worst == np.inf
 
 
-@pytest.mark.parametrize("name", ["Newmark", "HHT", "Bathe"])
+@pytest.mark.parametrize("name", ["Newmark", "HHT", "Bathe", "GeneralizedAlpha", "undamped"])
 def test_stage_rhs_is_the_known_part_of_each_stage(name):
-    """``stage_rhs`` subtracts Σ_j (ku_j K + kv_j C) X_j, as numpy computes it from the stage
-    coefficients, for every stage of the integrator (Bathe's second stage reads more slots)."""
+    """``stage_rhs`` subtracts Σ_j (ku_j K + kv_j C + km_j M) X_j, as numpy computes it from the
+    stage coefficients, for every stage of the integrator (Bathe's second stage reads more slots,
+    the generalized-α method's M terms), also with C = 0 (left out of the operators)."""
     import scipy.sparse as sp
     from vtsi.banded import band_rows, band_type
-    from vtsi.integrators import make_integrator
+    from vtsi.integrators import GeneralizedAlpha, make_integrator
     from vtsi.timeloop import stage_operators, stage_rhs
     rng = np.random.default_rng(3)
     n, kd = 9, 2
     dense = lambda: sp.csr_matrix(np.triu(np.tril(rng.normal(size=(n, n)), kd), -kd))
-    K, C = dense(), dense()
-    integ = make_integrator(name)
+    K, C, M = dense(), dense(), dense()
+    if name == "undamped":
+        C = sp.csr_matrix((n, n))
+    integ = GeneralizedAlpha(0.9, 0.8) if name == "GeneralizedAlpha" else make_integrator(
+        "Newmark" if name == "undamped" else name)
     stages = integ.stages(1e-3)
-    ku, kv = (np.stack([getattr(st, k) for st in stages]) for k in ("ku", "kv"))
-    ops, slots = stage_operators(band_rows(K, kd), band_rows(C, kd), ku, kv)
+    ku, kv, km = (np.stack([getattr(st, k) for st in stages]) for k in ("ku", "kv", "km"))
+    ops, weights = stage_operators(band_rows(K, kd), band_rows(C, kd), ku, kv, band_rows(M, kd), km)
+    assert ops.shape == ((2 if name == "undamped" else 3) if np.any(km[:, :-1]) else (1 if name == "undamped" else 2),
+                         2 * kd + 1, n)
     bank = np.zeros((integ.n_slots, n + 2 * kd))
     bank[:, kd: kd + n] = rng.normal(size=(integ.n_slots, n))
     for s in range(len(stages)):
         rhs = np.zeros(n + 2 * kd)
         rhs[kd: kd + n] = rng.normal(size=n)
         expected = rhs[kd: kd + n] - sum(ku[s, j] * (K @ bank[j, kd: kd + n]) + kv[s, j] * (C @ bank[j, kd: kd + n])
-                                         for j in range(integ.n_slots))
-        stage_rhs(rhs, bank, ops, slots, s, band_type(kd))
+                                         + km[s, j] * (M @ bank[j, kd: kd + n]) for j in range(integ.n_slots))
+        scratch = np.zeros(n + 2 * kd)
+        stage_rhs(rhs, bank, ops, weights, s, band_type(kd), scratch)
         np.testing.assert_allclose(rhs[kd: kd + n], expected, rtol=1e-12, atol=1e-12)
+        assert not np.any(scratch[:kd]) and not np.any(scratch[kd + n:])

@@ -593,7 +593,7 @@ class _RunPlan:
         self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
         if self.fe:        # run_from_state's arguments around (u, v, a), the load table and the output
             b = self.bridge
-            self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.slots),
+            self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.weights),
                                 self.mapped + (self.rec_slot, self.rec_index),
                                 (self.analysis.divergence_limit, self.work, b.band, self.span))
         return self
@@ -623,7 +623,7 @@ class _RunPlan:
         a, b = self.analysis, self.bridge
         ptr, dof, val = self.mapped
         bank = b.bank(state, self.asm.full_of_free, a.integrator.n_slots)
-        bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot,
+        bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.weights, table, ptr, dof, val, self.rec_slot,
                                self.rec_index, out, a.divergence_limit, self.work, b.band, self.span)
         if bad < 0:
             b.commit(state, bank, self.asm.full_of_free, state.time)

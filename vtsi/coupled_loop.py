@@ -38,12 +38,12 @@ from vtsi.track import constraint_rows, hermite, host_element
 
 
 @njit(cache=True)
-def _free_stage(bank, base, fac, ops, op_slots, rhs, xk, xc, s, su, vu, cu, sv, vv, cv, ua, va, band):
+def _free_stage(bank, base, fac, ops, weights, rhs, xk, xc, s, su, vu, cu, sv, vv, cv, ua, va, band):
     """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots
     ``base..base + 2`` (slots 0..2 for the last stage: the step's result, in place)."""
     kd = len(band)
     lo, hi = kd, kd + ops.shape[2]
-    solve_stage(bank, rhs, fac, ops, op_slots, s, band)
+    solve_stage(bank, rhs, fac, ops, weights, s, band, xk)
     update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, xk, xc)
 
 
@@ -209,7 +209,7 @@ def _first_at_most(decreasing, value):
 
 @njit(cache=True)
 def run_coupled_steps(bank_b, bank_t, du, dv,
-                      fac_b, ops_b, slots_b, fac_t, ops_t, slots_t,
+                      fac_b, ops_b, weights_b, fac_t, ops_t, weights_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free, track_basis,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
@@ -225,7 +225,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
 
     The bridge is a subdomain of :mod:`vtsi.subdomain`: track dof c is the coordinate
     ``track_free[c]`` (FE) or ``track_basis[c] · q`` (modal, ``track_basis`` (n_track, n)).
-    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); ops_*, slots_* the
+    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); ops_*, weights_* the
     stages' known parts (:func:`vtsi.timeloop.stage_operators`); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
     load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
@@ -300,7 +300,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                         if c_ < 0:
                             break
                         _track_add(rb, kdb, track_free, track_basis, c_, -w_prev * lam_prev[i] * vals_prev[i, a_])
-            _free_stage(bank_b, base, fac_b, ops_b, slots_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
+            _free_stage(bank_b, base, fac_b, ops_b, weights_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
                 rt[kdt + i] = mass_weight[s] * p_train[i]
@@ -308,7 +308,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                 for i in range(n_c):
                     rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]
             if n_t > 0:
-                _free_stage(bank_t, base, fac_t, ops_t, slots_t, rt, xkt, xct, s, su, vu, cu, sv, vv, cv, ua, va,
+                _free_stage(bank_t, base, fac_t, ops_t, weights_t, rt, xkt, xct, s, su, vu, cu, sv, vv, cv, ua, va,
                             band_t)
             if n_c == 0:
                 continue

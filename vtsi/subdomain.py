@@ -5,7 +5,7 @@ advances a padded state bank ``(n_slots, n + 2 kd)`` of ``n`` coordinates: per i
 banded factor of the effective matrix ``M + kv C + ku K`` and the operators of the stage's known
 part. What a bridge gives the loops for one integrator and Δt is a :class:`BridgeStages`:
 
-- ``n``, ``du``, ``dv`` (the integrator's stage coefficients), ``fac`` (n_stages, n + kd, kd + 1), ``ops``, ``slots`` (:func:`vtsi.timeloop.stage_operators`),
+- ``n``, ``du``, ``dv`` (the integrator's stage coefficients), ``fac`` (n_stages, n + kd, kd + 1), ``ops``, ``weights`` (:func:`vtsi.timeloop.stage_operators`),
   ``band``: the stepping data;
 - :meth:`~BridgeStages.loads`: pattern loads (CSR over the free dofs) as loads on the coordinates;
 - :meth:`~BridgeStages.bank` / :meth:`~BridgeStages.commit`: the committed state in and out;
@@ -104,7 +104,7 @@ class BridgeStages:
     track_sag = None
 
     def _stepping(self, integrator, dt, K, C, M, factors):
-        """Set fac, ops, slots, band from the stage factors and K, C, M (sparse) on the coordinates."""
+        """Set fac, ops, weights, band from the stage factors and K, C, M (sparse) on the coordinates."""
         kd = factors[0].shape[1] - 1
         self._stepping_rows(integrator, dt, factors, *(band_rows(a, kd) for a in (K, C, M)))
 
@@ -113,11 +113,10 @@ class BridgeStages:
         self.fac = np.ascontiguousarray(np.stack(factors))
         self.kd = self.fac.shape[2] - 1
         self.band = band_type(self.kd)
-        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in integrator.stages(dt)]))
+        stages = integrator.stages(dt)
+        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
         self.du, self.dv = pack("du"), pack("dv")
-        km = pack("km")
-        self.ops, self.slots = stage_operators(k_rows, c_rows, pack("ku"), pack("kv"), m_rows if np.any(km) else None,
-                                               km)
+        self.ops, self.weights = stage_operators(k_rows, c_rows, pack("ku"), pack("kv"), m_rows, pack("km"))
 
     def bank(self, state, full_of_free, n_slots):
         """A padded bank ``(n_slots, n + 2 kd)`` holding the committed ``state`` in slots 0..2."""
