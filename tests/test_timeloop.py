@@ -4,7 +4,7 @@ the rows it reads (the last stage writes the new state in place)."""
 import numpy as np
 import pytest
 
-from vtsi.timeloop import combine, update_stage
+from vtsi.timeloop import combine, stage_updates, update_stage
 
 LO, HI = 2, 9
 
@@ -36,16 +36,15 @@ def test_update_stage(slots_u, slots_v, out_base):
     bank = _bank(1)
     before = bank.copy()
     rhs = np.random.default_rng(2).normal(size=11)
-    width = 6
-    su, sv = np.zeros((1, width), dtype=np.int64), np.zeros((1, width), dtype=np.int64)
-    vu, vv = np.zeros((1, width)), np.zeros((1, width))
-    su[0, :len(slots_u)], vu[0, :len(slots_u)] = slots_u, np.arange(1, len(slots_u) + 1) * 0.5
-    sv[0, :len(slots_v)], vv[0, :len(slots_v)] = slots_v, -np.arange(1, len(slots_v) + 1) * 0.25
-    cu, cv = np.array([len(slots_u)]), np.array([len(slots_v)])
     ua, va = 0.3, -0.7
-    worst = update_stage(bank, rhs, out_base, 0, su, vu, cu, sv, vv, cv, ua, va, LO, HI, np.zeros(11), np.zeros(11))
-    u = vu[0, :len(slots_u)] @ before[slots_u] + ua * rhs
-    v = vv[0, :len(slots_v)] @ before[slots_v] + va * rhs
+    du, dv = np.zeros((1, 7)), np.zeros((1, 7))          # 6 bank slots and the stage's acceleration
+    du[0, slots_u], du[0, 6] = np.arange(1, len(slots_u) + 1) * 0.5, ua
+    dv[0, slots_v], dv[0, 6] = -np.arange(1, len(slots_v) + 1) * 0.25, va
+    updates = stage_updates(du, dv)
+    assert updates.fits[0] == (len(set(slots_u) | set(slots_v)) <= 3)
+    worst = update_stage(bank, rhs, out_base, 0, updates, ua, va, LO, HI, np.zeros(11), np.zeros(11))
+    u = du[0, :6] @ before[:6] + ua * rhs
+    v = dv[0, :6] @ before[:6] + va * rhs
     np.testing.assert_allclose(bank[out_base, LO:HI], u[LO:HI], rtol=1e-14, atol=1e-14)
     np.testing.assert_allclose(bank[out_base + 1, LO:HI], v[LO:HI], rtol=1e-14, atol=1e-14)
     np.testing.assert_array_equal(bank[out_base + 2, LO:HI], rhs[LO:HI])
@@ -56,10 +55,8 @@ def test_update_stage_reports_nan_as_infinite():
     bank = _bank(3)
     rhs = np.zeros(11)
     rhs[5] = np.nan
-    su = np.array([[0, 1, 2]])
-    vu = np.array([[1.0, 1.0, 1.0]])
-    worst = update_stage(bank, rhs, 6, 0, su, vu, np.array([3]), su, vu, np.array([3]), 1.0, 1.0, LO, HI,
-                         np.zeros(11), np.zeros(11))
+    d = np.array([[1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0]])
+    worst = update_stage(bank, rhs, 6, 0, stage_updates(d, d), 1.0, 1.0, LO, HI, np.zeros(11), np.zeros(11))
     assert worst == np.inf
 
 

@@ -31,20 +31,20 @@ from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
 from vtsi.timeloop import (
     add_pattern_loads,
     solve_stage,
-    sparse_coefficients,
+    stage_updates,
     update_stage,
 )
 from vtsi.track import constraint_rows, hermite, host_element
 
 
 @njit(cache=True)
-def _free_stage(bank, base, fac, ops, weights, rhs, xk, xc, s, su, vu, cu, sv, vv, cv, ua, va, band):
+def _free_stage(bank, base, fac, ops, weights, rhs, xk, xc, s, updates, ua, va, band):
     """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots
     ``base..base + 2`` (slots 0..2 for the last stage: the step's result, in place)."""
     kd = len(band)
     lo, hi = kd, kd + ops.shape[2]
     solve_stage(bank, rhs, fac, ops, weights, s, band, xk)
-    update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, xk, xc)
+    update_stage(bank, rhs, base, s, updates, ua, va, lo, hi, xk, xc)
 
 
 @njit(cache=True)
@@ -257,8 +257,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
     n_f = x0_f.shape[0]
     rb, xkb, xcb = work_b[0], work_b[1], work_b[2]
     rt, xkt, xct = work_t[0], work_t[1], work_t[2]
-    su, vu, cu = sparse_coefficients(du)
-    sv, vv, cv = sparse_coefficients(dv)
+    updates = stage_updates(du, dv)
     x_begin, x_end = x_start[0], x_start[-1] + length[-1]
     x = np.empty(n_c)
     landing = np.zeros(n_c)
@@ -300,7 +299,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                         if c_ < 0:
                             break
                         _track_add(rb, kdb, track_free, track_basis, c_, -w_prev * lam_prev[i] * vals_prev[i, a_])
-            _free_stage(bank_b, base, fac_b, ops_b, weights_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
+            _free_stage(bank_b, base, fac_b, ops_b, weights_b, rb, xkb, xcb, s, updates, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
                 rt[kdt + i] = mass_weight[s] * p_train[i]
@@ -308,8 +307,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                 for i in range(n_c):
                     rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]
             if n_t > 0:
-                _free_stage(bank_t, base, fac_t, ops_t, weights_t, rt, xkt, xct, s, su, vu, cu, sv, vv, cv, ua, va,
-                            band_t)
+                _free_stage(bank_t, base, fac_t, ops_t, weights_t, rt, xkt, xct, s, updates, ua, va, band_t)
             if n_c == 0:
                 continue
             # 2. rows, free gap and contact flexibility

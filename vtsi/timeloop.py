@@ -6,6 +6,8 @@ writes the requested responses of every step to ``out``. All vectors are padded
 (:mod:`vtsi.banded`). It returns the 0-based index of the first step whose response is
 non-finite or exceeds ``limit`` in absolute value, or -1.
 """
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -163,23 +165,59 @@ def _merge_terms(k0, k1, k2, slots, values, count):
     return k0, k1, k2, c0, c1, c2, fits
 
 
+class StageUpdates(NamedTuple):
+    """The update coefficients of every stage (:func:`stage_updates`): ``su, vu, cu`` and ``sv,
+    vv, cv`` the nonzero terms of ``du`` and ``dv`` (:func:`sparse_coefficients`); where u and v
+    read at most three bank rows (``fits[s]``), ``rows[s]`` (3,) int64 those rows (-1: unused) and
+    ``coefs[s]`` (6,) the coefficients of u, then of v, on them."""
+    su: np.ndarray
+    vu: np.ndarray
+    cu: np.ndarray
+    sv: np.ndarray
+    vv: np.ndarray
+    cv: np.ndarray
+    rows: np.ndarray
+    coefs: np.ndarray
+    fits: np.ndarray
+
+
 @njit(cache=True)
-def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, tmp_u, tmp_v):
+def stage_updates(du, dv):
+    """The :class:`StageUpdates` of the stage coefficients ``du, dv`` (n_stages, n_slots + 1),
+    worked out once per run instead of once per step."""
+    su, vu, cu = sparse_coefficients(du)
+    sv, vv, cv = sparse_coefficients(dv)
+    n_stages = du.shape[0]
+    rows = np.full((n_stages, 3), -1, dtype=np.int64)
+    coefs = np.zeros((n_stages, 6))
+    fits = np.zeros(n_stages, dtype=np.bool_)
+    for s in range(n_stages):
+        k0, k1, k2, cu0, cu1, cu2, fits_u = _merge_terms(-1, -1, -1, su[s], vu[s], cu[s])
+        k0, k1, k2, cv0, cv1, cv2, fits_v = _merge_terms(k0, k1, k2, sv[s], vv[s], cv[s])
+        rows[s, 0], rows[s, 1], rows[s, 2] = k0, k1, k2
+        coefs[s, 0], coefs[s, 1], coefs[s, 2], coefs[s, 3], coefs[s, 4], coefs[s, 5] = cu0, cu1, cu2, cv0, cv1, cv2
+        fits[s] = fits_u and fits_v
+    return StageUpdates(su, vu, cu, sv, vv, cv, rows, coefs, fits)
+
+
+@njit(cache=True)
+def update_stage(bank, rhs, out_base, s, updates, ua, va, lo, hi, tmp_u, tmp_v):
     """Stage update: ``u = Σ du_j X_j + du_A a``, ``v = Σ dv_j X_j + dv_A a``, ``a`` into the
-    slots ``out_base..out_base+2``. Returns max |u| (inf if any entry is NaN).
+    slots ``out_base..out_base+2`` (``updates``: :func:`stage_updates`). Returns max |u| (inf if
+    any entry is NaN).
 
     One pass when u and v read at most three bank rows (Newmark, HHT, Bathe's first stage):
     entry i is written after it is read, so the last stage may overwrite the slots 0..2 it
     reads. Otherwise u and v are built in ``tmp_u``/``tmp_v`` first."""
-    k0, k1, k2, cu0, cu1, cu2, fits_u = _merge_terms(-1, -1, -1, su[s], vu[s], cu[s])
-    k0, k1, k2, cv0, cv1, cv2, fits_v = _merge_terms(k0, k1, k2, sv[s], vv[s], cv[s])
     u_out, v_out, a_out = bank[out_base], bank[out_base + 1], bank[out_base + 2]
     worst = 0.0
     bad = 0.0     # u · 0 summed: NaN if any u is NaN or infinite (no branch in the loop)
-    if fits_u and fits_v:
-        r0 = bank[max(k0, 0)]
-        r1 = bank[max(k1, 0)]
-        r2 = bank[max(k2, 0)]
+    if updates.fits[s]:
+        rows, c = updates.rows[s], updates.coefs[s]
+        r0 = bank[max(rows[0], 0)]
+        r1 = bank[max(rows[1], 0)]
+        r2 = bank[max(rows[2], 0)]
+        cu0, cu1, cu2, cv0, cv1, cv2 = c[0], c[1], c[2], c[3], c[4], c[5]
         for i in range(lo, hi):
             x0, x1, x2, a = r0[i], r1[i], r2[i], rhs[i]
             u = cu0 * x0 + cu1 * x1 + cu2 * x2 + ua * a
@@ -189,8 +227,8 @@ def update_stage(bank, rhs, out_base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi,
             worst = max(worst, abs(u))
             bad += u * 0.0
         return worst if bad == 0.0 else np.inf
-    combine(tmp_u, bank, su[s], vu[s], cu[s], lo, hi)
-    combine(tmp_v, bank, sv[s], vv[s], cv[s], lo, hi)
+    combine(tmp_u, bank, updates.su[s], updates.vu[s], updates.cu[s], lo, hi)
+    combine(tmp_v, bank, updates.sv[s], updates.vv[s], updates.cv[s], lo, hi)
     for i in range(lo, hi):
         a = rhs[i]
         u = tmp_u[i] + ua * a
@@ -236,8 +274,7 @@ def run_linear_steps(bank, du, dv, factors, ops, weights,
     n = ops.shape[2]
     lo, hi = kd, kd + n
     rhs, xk, xc = work[0], work[1], work[2]
-    su, vu, cu = sparse_coefficients(du)
-    sv, vv, cv = sparse_coefficients(dv)
+    updates = stage_updates(du, dv)
     row = 0
     for step in range(n_steps):
         first = span[0] if step == 0 else 0
@@ -248,7 +285,7 @@ def run_linear_steps(bank, du, dv, factors, ops, weights,
             add_pattern_loads(rhs, load_factors[step, s], load_ptr, load_dof, load_val, kd)
             solve_stage(bank, rhs, factors, ops, weights, s, band, xk)
             base = 0 if s == n_stages - 1 else 3 + 3 * s
-            worst = update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, du[s, A], dv[s, A], lo, hi, xk, xc)
+            worst = update_stage(bank, rhs, base, s, updates, du[s, A], dv[s, A], lo, hi, xk, xc)
             if span[2] == 1 or s == stop - 1:
                 if not (worst <= limit and worst < np.inf):   # NaN and ±inf diverge even with limit = inf
                     return row
