@@ -111,15 +111,11 @@ def _integer(who, what, value, low=None):
 
 def _pattern_loads(assembly, patterns):
     """CSR of the free-dof load vectors of ``patterns``: (ptr, dof, val)."""
-    ptr, dofs, vals = [0], [], []
-    for p in patterns:
-        vec = assembly.load_vector(p)
-        nz = np.flatnonzero(vec)
-        dofs.append(nz)
-        vals.append(vec[nz])
-        ptr.append(ptr[-1] + len(nz))
-    cat = lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
-    return np.array(ptr, dtype=np.int64), cat(dofs, np.int64), cat(vals, np.float64)
+    vectors = assembly.load_vectors(patterns)
+    rows, dofs = np.nonzero(vectors)
+    ptr = np.zeros(len(patterns) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=len(patterns)), out=ptr[1:])
+    return ptr, dofs.astype(np.int64), vectors[rows, dofs]
 
 
 def pattern_factors(patterns, times, cache=None):
@@ -295,7 +291,7 @@ class StaticAnalysis:
         lower = factor(asm, asm.K, "stiffness matrix K")
         state = domain_state(model)
         patterns = list(model.patterns.values())
-        loads = [asm.load_vector(p) for p in patterns]
+        loads = asm.load_vectors(patterns)
         feed = _RecorderFeed(asm, model, self.recorders,
                              {"analysis": "static", "integrator": "LoadControl", "dt": self.d_lambda,
                               "loads": "the load patterns"})

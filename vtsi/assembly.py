@@ -327,34 +327,41 @@ class Assembly:
         return out
 
     def load_vector(self, pattern):
-        """Free-dof load vector ``(n_free,)`` of a pattern's nodal and element loads (factor 1);
-        of a ground acceleration (``pattern.ground_direction``), −M r with r the unit translation
-        along it."""
-        if pattern.ground_direction is not None:
-            r = np.zeros(self.n_full)
-            r[pattern.ground_direction - 1::self.ndf] = 1.0
-            return self.reduce(-(self.M_full @ r))
-        p = np.zeros(self.n_full)
-        for tag, values in pattern.nodal.items():
-            if tag not in self.node_index:
-                raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
-            if len(values) > self.ndf:
-                raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, "
-                                 f"ndf is {self.ndf}")
-            i = self.node_index[tag]
-            p[i * self.ndf: i * self.ndf + len(values)] += values
-        for tag, f in self.element_equivalent_loads(pattern).items():
-            b, i = self.element_location[tag]
-            p[self.blocks[b][4][i]] += f
-        if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
-            g = np.zeros(self.n_full)
-            for (node, d), value in pattern.prescribed.items():
-                if node not in self.node_index:
-                    raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
-                g[self.node_index[node] * self.ndf + d] = value
-            self.complete(g)
-            p -= self.K_full @ g
-        return self.reduce(p)
+        """Free-dof load vector ``(n_free,)`` of a pattern (:meth:`load_vectors`)."""
+        return self.load_vectors([pattern])[0]
+
+    def load_vectors(self, patterns):
+        """Free-dof load vectors ``(len(patterns), n_free)`` of the patterns' nodal and element
+        loads (factor 1); of a ground acceleration (``pattern.ground_direction``), −M r with r the
+        unit translation along it."""
+        full = np.zeros((len(patterns), self.n_full))
+        for p, pattern in zip(full, patterns):
+            if pattern.ground_direction is not None:
+                r = np.zeros(self.n_full)
+                r[pattern.ground_direction - 1::self.ndf] = 1.0
+                p -= self.M_full @ r
+                continue
+            for tag, values in pattern.nodal.items():
+                if tag not in self.node_index:
+                    raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
+                if len(values) > self.ndf:
+                    raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, "
+                                     f"ndf is {self.ndf}")
+                i = self.node_index[tag]
+                p[i * self.ndf: i * self.ndf + len(values)] += values
+            if pattern.element_loads:
+                for tag, f in self.element_equivalent_loads(pattern).items():
+                    b, i = self.element_location[tag]
+                    p[self.blocks[b][4][i]] += f
+            if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
+                g = np.zeros(self.n_full)
+                for (node, d), value in pattern.prescribed.items():
+                    if node not in self.node_index:
+                        raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
+                    g[self.node_index[node] * self.ndf + d] = value
+                self.complete(g)
+                p -= self.K_full @ g
+        return self.reduce(full.T).T
 
     def prescribed_dofs(self, patterns):
         """``[(pattern, full dofs, values)]`` of the patterns' prescribed displacements (sp)."""
@@ -362,7 +369,8 @@ class Assembly:
                  np.array(list(p.prescribed.values()))) for p in patterns if p.prescribed]
 
     def reduce(self, full_load):
-        """The free-dof load ``Tᵀ p`` of a full-dof load (its free entries without constraints)."""
+        """The free-dof load ``Tᵀ p`` of a full-dof load ``(n_full, ...)`` (its free entries without
+        constraints)."""
         return full_load[self.full_of_free] if self.transformation is None else self.transformation.T @ full_load
 
     def element_state(self, tags, u_full, v_full):
