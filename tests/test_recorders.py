@@ -14,6 +14,7 @@ import vtsi
 from vtsi.errors import DivergenceError, ModelError
 from vtsi.recorders import (ElementRecorder, Envelope, HDF5Sink, MemorySink, NodeRecorder, ReactionRecorder,
                             TextSink)
+from vtsi.recorders import number_text
 from vtsi.recorders.sinks import format_envelope, format_rows
 
 DT = 0.01
@@ -364,6 +365,49 @@ def test_format_is_c_printf_g():
     assert format_rows(np.array([0.01]), np.array([[-0.0005195314986, 0.0, -0.0, 123456789.0, 1e-7]])) == \
         "0.01 -0.000519531 0 -0 1.23457e+08 1e-07\n"
     assert format_rows(None, np.array([[np.pi]]), precision=10) == "3.141592654\n"
+
+
+def _python_g(values, precision):
+    """Python's ``'%.{p}g'`` row by row: the reference of :func:`format_rows`."""
+    line = " ".join([f"%.{precision}g"] * values.shape[1]) + "\n"
+    return "".join(line % tuple(row) for row in values.tolist())
+
+
+def _python_formatted(values, precision):
+    """How many of ``values`` the compiled %g leaves to Python (vtsi.recorders.number_text)."""
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    out = np.empty(values.size * (number_text.SLOT + 1), dtype=np.uint8)
+    gaps = np.empty((values.size, 3), dtype=np.int64)
+    return number_text._format_rows(values, precision, number_text.POW_HI, number_text.POW_LO, out, gaps)[1]
+
+
+def test_compiled_format_is_pythons_for_every_kind_of_double():
+    """The compiled ``%.{p}g`` (precisions 1..17) writes what Python writes: random bit patterns
+    (every exponent, subnormals, nan payloads), log-uniform values, powers of ten and their
+    neighbours, exact ties (x.5, dyadic fractions, 17-digit integers), the fixed/exponent switch
+    at 1e-4 and 10**p, signed zeros, inf and nan; precisions 0 and 20 (Python's path)."""
+    rng = np.random.default_rng(11)
+    n = 3000
+    bits = rng.integers(0, 2 ** 64, n, dtype=np.uint64).view(np.float64)
+    log_uniform = rng.choice([-1.0, 1.0], n) * 10.0 ** rng.uniform(-30, 30, n)
+    powers = np.array([float(f"1e{k}") for k in range(-310, 309)])
+    powers = np.concatenate([powers, np.nextafter(powers, 0.0), np.nextafter(powers, np.inf)])
+    ties = np.concatenate([(np.arange(-300, 300) + 0.5) * 10.0 ** rng.integers(-5, 5, 600),
+                           np.arange(1, 64) / 64.0, rng.integers(-10 ** 17, 10 ** 17, 600).astype(float),
+                           [1234567890123456.5, 0.125, 0.375, 9.5, 99999.5]])
+    edges = np.array([0.0, -0.0, np.inf, -np.inf, np.nan, -np.nan, 5e-324, -2.2250738585072014e-308,
+                      1.7976931348623157e308, 1e-4, 9.9999999999999995e-5, 0.00010000000000000002, 1e16,
+                      9999999999999998.0, 1e17, 99999999999999984.0, 0.30000000000000004, 0.1, 1.0 / 3.0])
+    in_range = bits[(np.abs(bits) > 1e-250) & (np.abs(bits) < 1e250)]      # all on the compiled path
+    assert _python_formatted(in_range.reshape(-1, 1), 17) == 0
+    for values in (bits, in_range, log_uniform, powers, ties, edges):
+        block = values.reshape(-1, 1)
+        for precision in list(range(0, 18)) + [20]:
+            assert format_rows(None, block, precision) == _python_g(block, precision), precision
+    typical = np.column_stack([np.cumsum(np.full(500, 1e-3)), rng.normal(0.0, 1e-3, 500)])
+    assert _python_formatted(typical, 16) == 0                          # formatted by the compiled path
+    assert _python_formatted(np.array([[2.5]]), 1) == 1                 # a tie (2 or 3): Python formats
+    assert format_rows(typical[:, 0], typical[:, 1:], 16) == _python_g(typical, 16)
 
 
 def test_text_file_is_truncated_when_built_and_appended_across_runs(tmp_path):

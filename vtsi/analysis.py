@@ -7,8 +7,9 @@ import logging
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from scipy.sparse import csgraph
+from numba import njit
 
 from vtsi.banded import pad, solve_band
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
@@ -47,7 +48,28 @@ def domain_state(model):
 
 def component_labels(M, C, K):
     """Connected components of the couplings of M, C, K (their nonzeros): a label per dof."""
-    return csgraph.connected_components((abs(M) + abs(C) + abs(K)).tocsr(), directed=False)[1]
+    coo = sp.coo_matrix(abs(M) + abs(C) + abs(K))
+    return component_labels_of_entries(coo.row.astype(np.int64), coo.col.astype(np.int64), M.shape[0])
+
+
+@njit(cache=True)
+def component_labels_of_entries(rows, cols, n):
+    """Connected components of the ``n`` dofs coupled by the entries ``(rows, cols)`` (int64):
+    a label per dof (int64 (n,), the smallest dof of its component)."""
+    parent = np.arange(n)
+    for k in range(rows.shape[0]):
+        a, b = rows[k], cols[k]
+        while parent[a] != a:
+            a = parent[a]
+        while parent[b] != b:
+            b = parent[b]
+        if a < b:
+            parent[b] = a
+        elif b < a:
+            parent[a] = b
+    for i in range(n):            # parents come before their children: one pass settles every root
+        parent[i] = parent[parent[i]]
+    return parent
 
 
 def dofs_with(labels, seeds):
@@ -63,7 +85,8 @@ def moving_dofs(assembly, model, seeds=None, loaded=None):
     vertical loads; their recorders read 0."""
     labels = getattr(assembly, "_component_labels", None)
     if labels is None:
-        labels = assembly._component_labels = component_labels(assembly.M, assembly.C, assembly.K)
+        p = assembly.pattern
+        labels = assembly._component_labels = component_labels_of_entries(p.rows, p.cols, assembly.n_free)
     state = domain_state(model)
     moving = np.zeros(assembly.n_free, dtype=bool) if seeds is None else np.array(seeds, dtype=bool)
     if loaded is None:
@@ -88,15 +111,11 @@ def _integer(who, what, value, low=None):
 
 def _pattern_loads(assembly, patterns):
     """CSR of the free-dof load vectors of ``patterns``: (ptr, dof, val)."""
-    ptr, dofs, vals = [0], [], []
-    for p in patterns:
-        vec = assembly.load_vector(p)
-        nz = np.flatnonzero(vec)
-        dofs.append(nz)
-        vals.append(vec[nz])
-        ptr.append(ptr[-1] + len(nz))
-    cat = lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.zeros(0, dt)
-    return np.array(ptr, dtype=np.int64), cat(dofs, np.int64), cat(vals, np.float64)
+    vectors = assembly.load_vectors(patterns)
+    rows, dofs = np.nonzero(vectors)
+    ptr = np.zeros(len(patterns) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=len(patterns)), out=ptr[1:])
+    return ptr, dofs.astype(np.int64), vectors[rows, dofs]
 
 
 def pattern_factors(patterns, times, cache=None):
@@ -272,7 +291,7 @@ class StaticAnalysis:
         lower = factor(asm, asm.K, "stiffness matrix K")
         state = domain_state(model)
         patterns = list(model.patterns.values())
-        loads = [asm.load_vector(p) for p in patterns]
+        loads = asm.load_vectors(patterns)
         feed = _RecorderFeed(asm, model, self.recorders,
                              {"analysis": "static", "integrator": "LoadControl", "dt": self.d_lambda,
                               "loads": "the load patterns"})
@@ -570,7 +589,7 @@ class _RunPlan:
         self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
         if self.fe:        # run_from_state's arguments around (u, v, a), the load table and the output
             b = self.bridge
-            self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.slots),
+            self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.weights),
                                 self.mapped + (self.rec_slot, self.rec_index),
                                 (self.analysis.divergence_limit, self.work, b.band, self.span))
         return self
@@ -600,7 +619,7 @@ class _RunPlan:
         a, b = self.analysis, self.bridge
         ptr, dof, val = self.mapped
         bank = b.bank(state, self.asm.full_of_free, a.integrator.n_slots)
-        bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.slots, table, ptr, dof, val, self.rec_slot,
+        bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.weights, table, ptr, dof, val, self.rec_slot,
                                self.rec_index, out, a.divergence_limit, self.work, b.band, self.span)
         if bad < 0:
             b.commit(state, bank, self.asm.full_of_free, state.time)

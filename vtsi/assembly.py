@@ -9,6 +9,8 @@ Dof indices: a *full* index is ``node_index * ndf + d`` (d = 0 ux, 1 uy, 2 rz). 
 are renumbered for a small bandwidth (reverse Cuthill-McKee); ``free_of_full[j]`` is the free
 index of full dof ``j`` or -1 where the dof is fixed.
 """
+from typing import NamedTuple
+
 import numpy as np
 import scipy.sparse as sp
 from numba import njit
@@ -32,21 +34,51 @@ def scatter_add(data, positions, matrices, weights):
                 data[positions[e, i, j]] += w * matrices[e, i, j]
 
 
-def principal(coo, dofs, n):
-    """Rows and columns ``dofs`` (in that order) of the ``n × n`` COO matrix ``coo``, as a COO
-    matrix: one mask and one renumbering instead of two sparse slicings."""
-    r, c, keep = _renumbered(coo.row, coo.col, dofs, n)
-    return sp.coo_matrix((coo.data[keep], (r, c)), shape=(len(dofs), len(dofs)))
-
-
-def _renumbered(rows, cols, dofs, n):
+def renumbered(rows, cols, dofs, n):
     """The entries ``(rows, cols)`` of an ``n × n`` pattern in rows and columns ``dofs``,
-    renumbered by their position there: ``(rows, cols, kept mask)``."""
+    renumbered by their position there: ``(rows, cols, kept mask)`` (the principal submatrix on
+    ``dofs``, in that order, of a matrix given by its entries)."""
     position = np.full(n, -1, dtype=np.int64)
     position[dofs] = np.arange(len(dofs))
     r, c = position[rows], position[cols]
     keep = (r >= 0) & (c >= 0)
     return r[keep], c[keep], keep
+
+
+def csr_pointers(rows, n):
+    """CSR row pointers ``(n + 1,)`` int64 of entries sorted by their ``rows``."""
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=n), out=ptr[1:])
+    return ptr
+
+
+class FreePattern(NamedTuple):
+    """K, M and C over the free dofs (solver order) on their one sparsity pattern.
+
+    rows, cols : int64 (nnz,) the entries where any of the three is nonzero, sorted by row, then
+        column; K, M, C : float64 (nnz,) their values there [N/m, kg, N s/m and the rotational
+        counterparts]."""
+    rows: np.ndarray
+    cols: np.ndarray
+    K: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+
+
+def _union_pattern(matrices):
+    """``(rows, cols, values (len(matrices), nnz))`` of square sparse matrices on the entries
+    where any of them is nonzero, sorted by row, then column."""
+    coos = [sp.coo_matrix(a) for a in matrices]
+    n = matrices[0].shape[0]
+    keys = np.concatenate([a.row.astype(np.int64) * n + a.col for a in coos])
+    unique, inverse = np.unique(keys, return_inverse=True)
+    values = np.zeros((len(coos), len(unique)))
+    start = 0
+    for k, a in enumerate(coos):
+        np.add.at(values[k], inverse[start: start + a.nnz], a.data)
+        start += a.nnz
+    used = np.any(values != 0.0, axis=0)
+    return unique[used] // n, unique[used] % n, values[:, used]
 
 
 class Assembly:
@@ -56,6 +88,9 @@ class Assembly:
     ----------
     K_full, M_full, C_full : CSR (n_full, n_full) over all dofs (for reactions).
     K, M, C : CSR (n_free, n_free) over the free dofs in solver order.
+    pattern : :class:`FreePattern`, the values of K, M, C over the free dofs as arrays (what the
+        analyses factor and step; the CSR matrices above are built from it, and the full ones from
+        the element assembly, on first use).
     free_of_full : int64 (n_full,) free index of each full dof, -1 if fixed.
     full_of_free : int64 (n_free,) full index of each free dof.
     """
@@ -68,6 +103,7 @@ class Assembly:
         self.n_full = len(self.node_tags) * self.ndf
         if self.n_full == 0:
             raise ModelError("model has no nodes")
+        self._matrices = {}
         self._element_data(model)
         self._assemble(model)
         self._number_free_dofs(model)
@@ -125,11 +161,11 @@ class Assembly:
         mr_data[diag] += nodal_mass
         alpha_m, beta_k = model.rayleigh_factors
         c_data += alpha_m * mr_data + beta_k * kr_data   # Rayleigh only on elements that take it
-        make = lambda data: sp.csr_matrix((data, indices, indptr), shape=(n, n))
-        self.K_full, self.M_full, self.C_full = make(k_data), make(m_data), make(c_data)
+        self._full = (indptr, indices, {"K": k_data, "M": m_data, "C": c_data})
         # the one sparsity pattern of K, M, C (entries where any is nonzero), as (row, column) pairs
         used = (k_data != 0.0) | (m_data != 0.0) | (c_data != 0.0)
-        self._pattern = (np.repeat(np.arange(n), np.diff(indptr))[used], indices[used], used)
+        self._used = (np.repeat(np.arange(n), np.diff(indptr))[used], indices[used],
+                      np.stack((k_data[used], m_data[used], c_data[used])))
         self.has_damping = bool(np.any(c_data != 0.0))
 
     def _number_free_dofs(self, model):
@@ -149,39 +185,62 @@ class Assembly:
         free = np.flatnonzero(~fixed & ~constrained)
         if free.size == 0:
             raise ModelError("every dof of the model is fixed: nothing to analyse")
-        n = self.n_full
-        # T (n_full, len(free)): full dofs from the free ones (the identity, and the constrained rows)
-        T, S = (None, None)
+        n_free = len(free)
+        # the free rows and columns of K, M, C (T (n_full, n_free): full dofs from the free ones, the
+        # identity and the constrained rows), numbered as ``free``, on their one pattern
         if model.mp_constraints:
             TS = self._transformation(model, free, self.prescribed_full).tocsc()
-            T, S = TS[:, :len(free)], TS[:, len(free):]
-        if T is None:       # the free rows and columns of the one pattern of K, M, C
-            rows, cols, _ = self._pattern
-            r, c, _ = _renumbered(rows, cols, free, n)
-            pattern = sp.csr_matrix((np.ones(len(r)), (r, c)), shape=(len(free), len(free)))
+            T, S = TS[:, :n_free], TS[:, n_free:]
+            rows, cols, values = _union_pattern([T.T @ self._full_matrix(name) @ T for name in "KMC"])
         else:
-            pattern = (abs(T.T @ self.K_full @ T) + abs(T.T @ self.M_full @ T) + abs(T.T @ self.C_full @ T)).tocsr()
-            pattern.eliminate_zeros()
-        order = reverse_cuthill_mckee(pattern, symmetric_mode=True)
-        self.full_of_free = free[order].astype(np.int64)
+            rows, cols, values = self._used
+            rows, cols, keep = renumbered(rows, cols, free, self.n_full)   # ``free`` ascending: still sorted
+            values = values[:, keep]
+        order = reverse_cuthill_mckee(sp.csr_matrix((np.ones(len(rows)), cols, csr_pointers(rows, n_free)),
+                                                    shape=(n_free, n_free)), symmetric_mode=True).astype(np.int64)
+        self.full_of_free = free[order]
         self.free_of_full = -np.ones(self.n_full, dtype=np.int64)
-        self.free_of_full[self.full_of_free] = np.arange(len(self.full_of_free))
-        if T is None:
-            self.transformation = self.constrained_rows = self.constrained_dofs = self.constrained_prescribed = None
-            rows, cols, used = self._pattern
-            r, c, keep = _renumbered(rows, cols, self.full_of_free, n)
-            shape = (len(free), len(free))
-            sub = lambda a: sp.csr_matrix((a.data[used][keep], (r, c)), shape=shape)
-        else:
+        self.free_of_full[self.full_of_free] = np.arange(n_free)
+        position = np.empty(n_free, dtype=np.int64)
+        position[order] = np.arange(n_free)
+        rows, cols = position[rows], position[cols]
+        sort = np.argsort(rows * n_free + cols)
+        self.pattern = FreePattern(rows[sort], cols[sort], *values[:, sort])
+        if model.mp_constraints:
             self.transformation = T = T[:, order].tocsr()
             self.constrained_dofs = np.flatnonzero(constrained)
             self.constrained_rows = T[self.constrained_dofs]
             self.constrained_prescribed = S.tocsr()[self.constrained_dofs]    # on prescribed_full
-            sub = lambda a: (T.T @ a @ T).tocsr()
-        self.K, self.M, self.C = sub(self.K_full), sub(self.M_full), sub(self.C_full)
-        for a in (self.K, self.M, self.C):
-            a.eliminate_zeros()   # exact structural zeros (e.g. axial-bending of a straight beam)
-            a.sort_indices()
+        else:
+            self.transformation = self.constrained_rows = self.constrained_dofs = self.constrained_prescribed = None
+
+    def _full_matrix(self, name):
+        """CSR (n_full, n_full) of ``name`` ('K', 'M', 'C') over all dofs, built on first use."""
+        key = name + "_full"
+        if key not in self._matrices:
+            indptr, indices, data = self._full
+            self._matrices[key] = sp.csr_matrix((data[name], indices, indptr), shape=(self.n_full, self.n_full))
+        return self._matrices[key]
+
+    def _free_matrix(self, name):
+        """CSR (n_free, n_free) of ``name`` ('K', 'M', 'C') over the free dofs (its nonzeros of
+        :attr:`pattern`, sorted), built on first use."""
+        if name not in self._matrices:
+            p = self.pattern
+            values = getattr(p, name)
+            nonzero = values != 0.0    # exact structural zeros (e.g. axial-bending of a straight beam) left out
+            a = sp.csr_matrix((values[nonzero], p.cols[nonzero], csr_pointers(p.rows[nonzero], self.n_free)),
+                              shape=(self.n_free, self.n_free))
+            a.has_sorted_indices = True
+            self._matrices[name] = a
+        return self._matrices[name]
+
+    K = property(lambda self: self._free_matrix("K"))
+    M = property(lambda self: self._free_matrix("M"))
+    C = property(lambda self: self._free_matrix("C"))
+    K_full = property(lambda self: self._full_matrix("K"))
+    M_full = property(lambda self: self._full_matrix("M"))
+    C_full = property(lambda self: self._full_matrix("C"))
 
     def _transformation(self, model, free, prescribed):
         """``[T S]`` (n_full, len(free) + len(prescribed)), ``u_full = T u_free + S u_prescribed``,
@@ -268,34 +327,41 @@ class Assembly:
         return out
 
     def load_vector(self, pattern):
-        """Free-dof load vector ``(n_free,)`` of a pattern's nodal and element loads (factor 1);
-        of a ground acceleration (``pattern.ground_direction``), −M r with r the unit translation
-        along it."""
-        if pattern.ground_direction is not None:
-            r = np.zeros(self.n_full)
-            r[pattern.ground_direction - 1::self.ndf] = 1.0
-            return self.reduce(-(self.M_full @ r))
-        p = np.zeros(self.n_full)
-        for tag, values in pattern.nodal.items():
-            if tag not in self.node_index:
-                raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
-            if len(values) > self.ndf:
-                raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, "
-                                 f"ndf is {self.ndf}")
-            i = self.node_index[tag]
-            p[i * self.ndf: i * self.ndf + len(values)] += values
-        for tag, f in self.element_equivalent_loads(pattern).items():
-            b, i = self.element_location[tag]
-            p[self.blocks[b][4][i]] += f
-        if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
-            g = np.zeros(self.n_full)
-            for (node, d), value in pattern.prescribed.items():
-                if node not in self.node_index:
-                    raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
-                g[self.node_index[node] * self.ndf + d] = value
-            self.complete(g)
-            p -= self.K_full @ g
-        return self.reduce(p)
+        """Free-dof load vector ``(n_free,)`` of a pattern (:meth:`load_vectors`)."""
+        return self.load_vectors([pattern])[0]
+
+    def load_vectors(self, patterns):
+        """Free-dof load vectors ``(len(patterns), n_free)`` of the patterns' nodal and element
+        loads (factor 1); of a ground acceleration (``pattern.ground_direction``), −M r with r the
+        unit translation along it."""
+        full = np.zeros((len(patterns), self.n_full))
+        for p, pattern in zip(full, patterns):
+            if pattern.ground_direction is not None:
+                r = np.zeros(self.n_full)
+                r[pattern.ground_direction - 1::self.ndf] = 1.0
+                p -= self.M_full @ r
+                continue
+            for tag, values in pattern.nodal.items():
+                if tag not in self.node_index:
+                    raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
+                if len(values) > self.ndf:
+                    raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, "
+                                     f"ndf is {self.ndf}")
+                i = self.node_index[tag]
+                p[i * self.ndf: i * self.ndf + len(values)] += values
+            if pattern.element_loads:
+                for tag, f in self.element_equivalent_loads(pattern).items():
+                    b, i = self.element_location[tag]
+                    p[self.blocks[b][4][i]] += f
+            if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
+                g = np.zeros(self.n_full)
+                for (node, d), value in pattern.prescribed.items():
+                    if node not in self.node_index:
+                        raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
+                    g[self.node_index[node] * self.ndf + d] = value
+                self.complete(g)
+                p -= self.K_full @ g
+        return self.reduce(full.T).T
 
     def prescribed_dofs(self, patterns):
         """``[(pattern, full dofs, values)]`` of the patterns' prescribed displacements (sp)."""
@@ -303,7 +369,8 @@ class Assembly:
                  np.array(list(p.prescribed.values()))) for p in patterns if p.prescribed]
 
     def reduce(self, full_load):
-        """The free-dof load ``Tᵀ p`` of a full-dof load (its free entries without constraints)."""
+        """The free-dof load ``Tᵀ p`` of a full-dof load ``(n_full, ...)`` (its free entries without
+        constraints)."""
         return full_load[self.full_of_free] if self.transformation is None else self.transformation.T @ full_load
 
     def element_state(self, tags, u_full, v_full):

@@ -33,9 +33,15 @@ def half_bandwidth(a):
 def band_rows(a, kd):
     """Full band of the square sparse matrix ``a`` as ``(n, 2 kd + 1)`` rows."""
     coo = sp.coo_matrix(a)
-    rows = np.zeros((a.shape[0], 2 * kd + 1))
-    np.add.at(rows, (coo.row, kd + coo.col - coo.row), coo.data)
-    return rows
+    return band_rows_of_entries(coo.row, coo.col, coo.data, a.shape[0], kd)
+
+
+def band_rows_of_entries(rows, cols, values, n, kd):
+    """Full band ``(n, 2 kd + 1)`` of the ``n × n`` matrix with the entries ``values`` at
+    ``(rows, cols)`` (int arrays; an entry given twice counts twice)."""
+    out = np.zeros((n, 2 * kd + 1))
+    np.add.at(out, (rows, kd + cols - rows), values)
+    return out
 
 
 class NotPositiveDefinite(Exception):
@@ -48,11 +54,17 @@ class NotPositiveDefinite(Exception):
 
 def ldl_band(a, kd):
     """Banded LDLᵀ factor of the SPD sparse matrix ``a`` in the kernels' ``lower`` layout."""
-    n = a.shape[0]
     coo = sp.coo_matrix(a)
-    keep = coo.row >= coo.col
+    return ldl_band_of_entries(coo.row, coo.col, coo.data, a.shape[0], kd)
+
+
+def ldl_band_of_entries(rows, cols, values, n, kd):
+    """Banded LDLᵀ factor ``(n + kd, kd + 1)`` (the kernels' ``lower`` layout) of the SPD ``n × n``
+    matrix with the entries ``values`` at ``(rows, cols)`` (int arrays, both triangles or the
+    lower one; an entry given twice counts twice); raises :class:`NotPositiveDefinite`."""
+    keep = rows >= cols
     ab = np.zeros((kd + 1, n))
-    ab[coo.row[keep] - coo.col[keep], coo.col[keep]] += coo.data[keep]
+    np.add.at(ab, (rows[keep] - cols[keep], cols[keep]), values[keep])
     factor, info = lapack.dpbtrf(ab, lower=1)
     if info > 0:
         raise NotPositiveDefinite(info - 1)

@@ -233,7 +233,7 @@ class CoupledAnalysis:
         self.du, self.dv, ku, kv, km = pack("du"), pack("dv"), pack("ku"), pack("kv"), pack("km")
         rows = ((band_rows(train.K, kd_t), band_rows(train.C, kd_t), band_rows(train.M, kd_t)) if train.n_dof
                 else (np.zeros((0, 1)),) * 3)
-        self.ops_t, self.slots_t = stage_operators(rows[0], rows[1], ku, kv, rows[2], km)
+        self.ops_t, self.weights_t = stage_operators(rows[0], rows[1], ku, kv, rows[2], km)
         self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.tflex, self.dv[:, A])
         self.stage_theta = np.array([st.theta for st in stages])
         self.force_weight = np.array([st.force_weight for st in stages])
@@ -426,7 +426,7 @@ class CoupledAnalysis:
             counted in the chunk."""
             bad = run_coupled_steps(
                 bank_b, bank_t, self.du, self.dv,
-                bridge.fac, bridge.ops, bridge.slots, self.fac_t, self.ops_t, self.slots_t,
+                bridge.fac, bridge.ops, bridge.weights, self.fac_t, self.ops_t, self.weights_t,
                 table[first:last], load_ptr, load_dof, load_val, train.gravity_load,
                 bridge.flex, self.tflex, track.x_start, track.length, track.dofs, bridge.track_index,
                 bridge.track_basis,

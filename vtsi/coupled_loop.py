@@ -31,20 +31,20 @@ from vtsi.lcp import cholesky_in_place, cholesky_substitute, solve_lcp
 from vtsi.timeloop import (
     add_pattern_loads,
     solve_stage,
-    sparse_coefficients,
+    stage_updates,
     update_stage,
 )
 from vtsi.track import constraint_rows, hermite, host_element
 
 
 @njit(cache=True)
-def _free_stage(bank, base, fac, ops, op_slots, rhs, xk, xc, s, su, vu, cu, sv, vv, cv, ua, va, band):
+def _free_stage(bank, base, fac, ops, weights, rhs, xk, xc, s, updates, ua, va, band):
     """Solve the stage for the (already loaded) ``rhs``; write û, v̂, â to the stage slots
     ``base..base + 2`` (slots 0..2 for the last stage: the step's result, in place)."""
     kd = len(band)
     lo, hi = kd, kd + ops.shape[2]
-    solve_stage(bank, rhs, fac, ops, op_slots, s, band)
-    update_stage(bank, rhs, base, s, su, vu, cu, sv, vv, cv, ua, va, lo, hi, xk, xc)
+    solve_stage(bank, rhs, fac, ops, weights, s, band, xk)
+    update_stage(bank, rhs, base, s, updates, ua, va, lo, hi, xk, xc)
 
 
 @njit(cache=True)
@@ -209,7 +209,7 @@ def _first_at_most(decreasing, value):
 
 @njit(cache=True)
 def run_coupled_steps(bank_b, bank_t, du, dv,
-                      fac_b, ops_b, slots_b, fac_t, ops_t, slots_t,
+                      fac_b, ops_b, weights_b, fac_t, ops_t, weights_t,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free, track_basis,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
@@ -225,7 +225,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
 
     The bridge is a subdomain of :mod:`vtsi.subdomain`: track dof c is the coordinate
     ``track_free[c]`` (FE) or ``track_basis[c] · q`` (modal, ``track_basis`` (n_track, n)).
-    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); ops_*, slots_* the
+    Shapes: banks (n_slots, n + 2 kd); fac_* (n_stages, n + kd, kd + 1); ops_*, weights_* the
     stages' known parts (:func:`vtsi.timeloop.stage_operators`); flex (n_stages,
     n_track, n_track); tflex (n_stages, n_c, n_c); r_table (n_steps, n_stages, n_c);
     load_theta/load_weight (n_stages, n_q) (weight 0 pads); out_force/out_gap (n_steps, n_c)
@@ -257,8 +257,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
     n_f = x0_f.shape[0]
     rb, xkb, xcb = work_b[0], work_b[1], work_b[2]
     rt, xkt, xct = work_t[0], work_t[1], work_t[2]
-    su, vu, cu = sparse_coefficients(du)
-    sv, vv, cv = sparse_coefficients(dv)
+    updates = stage_updates(du, dv)
     x_begin, x_end = x_start[0], x_start[-1] + length[-1]
     x = np.empty(n_c)
     landing = np.zeros(n_c)
@@ -300,7 +299,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                         if c_ < 0:
                             break
                         _track_add(rb, kdb, track_free, track_basis, c_, -w_prev * lam_prev[i] * vals_prev[i, a_])
-            _free_stage(bank_b, base, fac_b, ops_b, slots_b, rb, xkb, xcb, s, su, vu, cu, sv, vv, cv, ua, va, band_b)
+            _free_stage(bank_b, base, fac_b, ops_b, weights_b, rb, xkb, xcb, s, updates, ua, va, band_b)
             rt[kdt: kdt + n_t] = 0.0
             for i in range(n_t):
                 rt[kdt + i] = mass_weight[s] * p_train[i]
@@ -308,8 +307,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                 for i in range(n_c):
                     rt[kdt + wheel_dof[i]] += w_prev * lam_prev[i]
             if n_t > 0:
-                _free_stage(bank_t, base, fac_t, ops_t, slots_t, rt, xkt, xct, s, su, vu, cu, sv, vv, cv, ua, va,
-                            band_t)
+                _free_stage(bank_t, base, fac_t, ops_t, weights_t, rt, xkt, xct, s, updates, ua, va, band_t)
             if n_c == 0:
                 continue
             # 2. rows, free gap and contact flexibility

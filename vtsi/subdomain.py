@@ -5,7 +5,7 @@ advances a padded state bank ``(n_slots, n + 2 kd)`` of ``n`` coordinates: per i
 banded factor of the effective matrix ``M + kv C + ku K`` and the operators of the stage's known
 part. What a bridge gives the loops for one integrator and Δt is a :class:`BridgeStages`:
 
-- ``n``, ``du``, ``dv`` (the integrator's stage coefficients), ``fac`` (n_stages, n + kd, kd + 1), ``ops``, ``slots`` (:func:`vtsi.timeloop.stage_operators`),
+- ``n``, ``du``, ``dv`` (the integrator's stage coefficients), ``fac`` (n_stages, n + kd, kd + 1), ``ops``, ``weights`` (:func:`vtsi.timeloop.stage_operators`),
   ``band``: the stepping data;
 - :meth:`~BridgeStages.loads`: pattern loads (CSR over the free dofs) as loads on the coordinates;
 - :meth:`~BridgeStages.bank` / :meth:`~BridgeStages.commit`: the committed state in and out;
@@ -28,8 +28,9 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from vtsi.assembly import principal
-from vtsi.banded import NotPositiveDefinite, band_rows, band_type, half_bandwidth, inverse_columns, ldl_band, pad_solve
+from vtsi.assembly import renumbered
+from vtsi.banded import (NotPositiveDefinite, band_rows, band_rows_of_entries, band_type, inverse_columns,
+                          ldl_band_of_entries, pad_solve)
 from vtsi.errors import AnalysisError
 from vtsi.timeloop import stage_operators
 
@@ -39,15 +40,21 @@ def factor(assembly, matrix, what, cause=None, dofs=None, kd=None):
     matrix given already restricted to them), with the half bandwidth ``kd`` (default: that of K,
     M and C there); a failure names the dof at fault (``cause``: the explanation that follows, by
     default "a mechanism or a dof with neither stiffness nor mass")."""
-    parts = (assembly.K, assembly.M, assembly.C)
+    coo = sp.coo_matrix(matrix)
+    return factor_entries(assembly, coo.row, coo.col, coo.data, what, cause, dofs, kd)
+
+
+def factor_entries(assembly, rows, cols, values, what, cause=None, dofs=None, kd=None):
+    """:func:`factor` of the matrix with the entries ``values`` at ``(rows, cols)`` (over the free
+    dofs, or renumbered over ``dofs``)."""
+    p = assembly.pattern
     if dofs is None:
         dofs = np.arange(assembly.n_free)
-    elif kd is None:
-        parts = (m[dofs][:, dofs] for m in parts)
     if kd is None:
-        kd = max(half_bandwidth(m) for m in parts)
+        r, c, _ = renumbered(p.rows, p.cols, dofs, assembly.n_free)
+        kd = int(np.max(np.abs(r - c), initial=0))
     try:
-        return ldl_band(matrix, kd)
+        return ldl_band_of_entries(rows, cols, values, len(dofs), kd)
     except NotPositiveDefinite as exc:
         raise AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(dofs[exc.pivot])}: "
                             + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
@@ -59,15 +66,17 @@ def factor_stage(assembly, active, kv, ku, what, cause=None):
     (:func:`vtsi.analysis.moving_dofs`), with the half bandwidth of K, M and C there (every stage's
     the same). The dofs at rest are checked too: a dof with neither stiffness nor mass is a
     modelling error even where nothing moves, and is named as everywhere else."""
-    full = sp.coo_matrix(assembly.M + kv * assembly.C + ku * assembly.K)
-    pattern = sp.coo_matrix(abs(assembly.M) + abs(assembly.C) + abs(assembly.K))
+    p = assembly.pattern
+    values = p.M + kv * p.C + ku * p.K
     n = assembly.n_free
-    rest = np.setdiff1d(np.arange(n), active)
-    if len(rest):
-        factor(assembly, principal(full, rest, n), what, cause, dofs=rest,
-               kd=half_bandwidth(principal(pattern, rest, n)))
-    return factor(assembly, principal(full, active, n), what, cause, dofs=active,
-                  kd=half_bandwidth(principal(pattern, active, n)))
+    at_rest = np.ones(n, dtype=bool)
+    at_rest[active] = False
+    rest = np.flatnonzero(at_rest)
+    for dofs in ((rest, active) if len(rest) else (active,)):
+        r, c, keep = renumbered(p.rows, p.cols, dofs, n)
+        lower = factor_entries(assembly, r, c, values[keep], what, cause, dofs,
+                               int(np.max(np.abs(r - c), initial=0)))
+    return lower
 
 
 def max_frequency(assembly):
@@ -95,16 +104,19 @@ class BridgeStages:
     track_sag = None
 
     def _stepping(self, integrator, dt, K, C, M, factors):
-        """Set fac, ops, slots, band from the stage factors and K, C, M on the coordinates."""
+        """Set fac, ops, weights, band from the stage factors and K, C, M (sparse) on the coordinates."""
+        kd = factors[0].shape[1] - 1
+        self._stepping_rows(integrator, dt, factors, *(band_rows(a, kd) for a in (K, C, M)))
+
+    def _stepping_rows(self, integrator, dt, factors, k_rows, c_rows, m_rows):
+        """:meth:`_stepping` from the band rows ``(n, 2 kd + 1)`` of K, C, M."""
         self.fac = np.ascontiguousarray(np.stack(factors))
         self.kd = self.fac.shape[2] - 1
         self.band = band_type(self.kd)
-        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in integrator.stages(dt)]))
+        stages = integrator.stages(dt)
+        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
         self.du, self.dv = pack("du"), pack("dv")
-        km = pack("km")
-        m_rows = band_rows(M, self.kd) if np.any(km) else None
-        self.ops, self.slots = stage_operators(band_rows(K, self.kd), band_rows(C, self.kd), pack("ku"), pack("kv"),
-                                               m_rows, km)
+        self.ops, self.weights = stage_operators(k_rows, c_rows, pack("ku"), pack("kv"), m_rows, pack("km"))
 
     def bank(self, state, full_of_free, n_slots):
         """A padded bank ``(n_slots, n + 2 kd)`` holding the committed ``state`` in slots 0..2."""
@@ -156,10 +168,11 @@ class FEStages(BridgeStages):
                 raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
                                     f"{limit / omega_max:.6g} s (= {limit:.4g}/omega_max, omega_max = "
                                     f"{omega_max:.6g} rad/s); reduce dt or use an unconditionally stable scheme")
-        K, C, M = (principal(sp.coo_matrix(m), active, assembly.n_free).tocsr()
-                   for m in (assembly.K, assembly.C, assembly.M))
-        self._stepping(integrator, dt, K, C, M, factors)
-        self.stiffness = assembly.K
+        p = assembly.pattern
+        r, c, keep = renumbered(p.rows, p.cols, active, assembly.n_free)
+        kd = factors[0].shape[1] - 1
+        self._stepping_rows(integrator, dt, factors,
+                            *(band_rows_of_entries(r, c, v[keep], self.n, kd) for v in (p.K, p.C, p.M)))
         if track is not None:
             self.track_index = self.position[track.free_index]
             self.track_basis = np.zeros((track.n_track, 0))
@@ -170,6 +183,11 @@ class FEStages(BridgeStages):
             if self_weight_load is not None:
                 sag = pad_solve(factor(assembly, assembly.K, "bridge stiffness K"), self_weight_load)
                 self.track_sag = sag[track.free_index]
+
+    @property
+    def stiffness(self):
+        """K over the free dofs (CSR)."""
+        return self.assembly.K
 
     def coordinates(self, free):
         return free[self.active]

@@ -1,0 +1,65 @@
+"""Assembly: the free-dof pattern of K, M, C (the arrays the analyses factor and step) against
+the CSR matrices built from it and the full-dof assembly; dof components."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+import vtsi
+from vtsi.analysis import component_labels, component_labels_of_entries
+
+
+def frame(tied):
+    """A two-span beam on a column (uy and rz of the beam, a tied node with ``tied``), with
+    Rayleigh damping: K, M and C with different nonzeros."""
+    m = vtsi.Model()
+    for i in range(5):
+        m.node(i + 1, 2.0 * i, 0.0)
+    m.node(6, 4.0, -3.0)
+    m.node(7, 4.0, 0.0)
+    m.fix(1, 1, 1, 0)
+    m.fix(5, 0, 1, 0)
+    m.fix(6, 1, 1, 1)
+    for i in range(4):
+        m.element("elasticBeamColumn", i + 1, (i + 1, i + 2), A=1.0, E=2e11, I=1e-3, rho=100.0, cmass=1)
+    m.element("elasticBeamColumn", 5, (6, 7), A=1.0, E=2e11, I=1e-3, rho=100.0)
+    if tied:
+        m.equal_dof(3, 7, 1, 2)
+    m.rayleigh(0.1, 0.0, 1e-4, 0.0)
+    return m
+
+
+@pytest.mark.parametrize("tied", [False, True])
+def test_free_pattern_holds_the_free_matrices(tied):
+    """Every nonzero of the free K, M and C sits in the pattern with its value, sorted by row
+    then column; without constraints they are the full matrices' free rows and columns."""
+    asm = frame(tied).build()
+    p = asm.pattern
+    n = asm.n_free
+    assert np.all(np.diff(p.rows * n + p.cols) > 0)
+    for name in "KMC":
+        dense = np.zeros((n, n))
+        dense[p.rows, p.cols] = getattr(p, name)
+        np.testing.assert_array_equal(getattr(asm, name).toarray(), dense)
+        assert getattr(asm, name).nnz == np.count_nonzero(getattr(p, name))
+        if not tied:
+            full = getattr(asm, name + "_full").toarray()
+            np.testing.assert_array_equal(full[np.ix_(asm.full_of_free, asm.full_of_free)], dense)
+    used = (p.K != 0) | (p.M != 0) | (p.C != 0)
+    assert np.all(used)
+
+
+def test_component_labels_match_scipy():
+    """The union-find labels give scipy's connected components (same partition), and the label
+    of a dof is the smallest dof of its component."""
+    rng = np.random.default_rng(5)
+    for n in (1, 7, 40):
+        a = sp.random(n, n, density=min(1.0, 2.0 / n), random_state=rng, format="coo")
+        a = a + a.T
+        labels = component_labels(a, a, a)
+        ref = connected_components(a, directed=False)[1]
+        assert len(set(zip(labels, ref))) == len(set(ref)) == len(set(labels))
+        for i in range(n):
+            assert labels[i] == np.flatnonzero(labels == labels[i])[0]
+    empty = component_labels_of_entries(np.zeros(0, np.int64), np.zeros(0, np.int64), 3)
+    np.testing.assert_array_equal(empty, [0, 1, 2])
