@@ -5,6 +5,7 @@ Speed is shown by the benchmarks, never asserted here: only the fields, the char
 agreement of the two implementations of S5 (same math: they agree to ~1e-12).
 """
 import json
+import math
 import pathlib
 import subprocess
 import sys
@@ -91,6 +92,12 @@ def test_s5_json_quick():
     assert result["max_wheels_on_bridge"] > 0                          # the run reaches the bridge
     assert result["max_rel_diff"] <= 1e-6                              # same math, two implementations
     assert result["max_rel_diff"] == max(result["deflection_rel_diff"], result["force_rel_diff"])
+    # the step's cost with no wheel and with the most wheels on the viaduct, FE and modal
+    pieces = [f"{b}_{p}_bridge_us_per_step" for b in ("fe", "modal") for p in ("off", "full")]
+    assert all(math.isfinite(result[k]) and result[k] > 0 for k in pieces), {k: result[k] for k in pieces}
+    common = result["modal_off_bridge_us_per_step"]
+    assert result["modal_ratio_bound"] == pytest.approx(
+        (result["fe_full_bridge_us_per_step"] - common) / (result["modal_full_bridge_us_per_step"] - common))
 
 
 def test_chart_option_is_refused_by_a_scene_without_charts(tmp_path):

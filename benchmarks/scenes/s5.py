@@ -33,7 +33,9 @@ feed of the three midspan deflections); the peer's loop (its splu factorisations
 ``--baseline`` adds the peer's slower variant that rebuilds the rows as scipy sparse matrices
 every step (``baseline_*`` fields). ``modal_*`` / ``modal_rich_*``: the same passage on the
 modal bridge (modes up to 1.1 × the EN cut-off / up to 300 Hz), µs per step and its differences
-from the FE bridge (:func:`run_modal`).
+from the FE bridge (:func:`run_modal`); ``fe_/modal_off_bridge_us_per_step``,
+``fe_/modal_full_bridge_us_per_step`` and ``modal_ratio_bound``: the step's cost with no wheel
+and with the most wheels on the viaduct, and the FE/modal ratio it allows (:func:`bridge_share`).
 """
 import math
 import time
@@ -104,6 +106,53 @@ def run_vtsi(scene, n_steps):
     return seconds, a.contact_force.copy(), np.asarray(rec.values).copy()
 
 
+def _run_seconds(scene, n_steps):
+    """CPU seconds of one ``run(n_steps)`` from the dead-load state, no recorder."""
+    from vtsi import domain_state
+
+    a = scene["analysis"]
+    domain_state(scene["model"]).time = 0.0
+    a.reset_records()
+    a.recorders = []
+    a.static()
+    t0 = CLOCK()
+    a.run(n_steps)
+    return CLOCK() - t0
+
+
+def bridge_share(scene, modal_analysis, n_steps, repeats):
+    """What the bridge costs in a step, FE against modal: the µs per step of the passage's part
+    with no wheel on the viaduct (the train on rigid ground: train, wheels, rails; the bridge
+    only vibrates freely) and of its part with the most wheels on it (within 2), each the
+    difference of two runs from the dead-load state (``run(b)`` − ``run(a)``, best of
+    ``repeats`` each, FE and modal interleaved: the fixed cost of a call cancels). ``modal_ratio_bound`` = (FE full − modal
+    off) / (modal full − modal off): the FE/modal ratio per step with the viaduct full if
+    everything else (the train, its wheels off the viaduct, the Python) cost nothing."""
+    con, length = scene["constraint"], scene["bridge"].length
+    x = con.positions(scene["dt"] * np.arange(1, n_steps + 1))
+    wheels = np.sum((x >= 0.0) & (x <= length), axis=1)
+    off_end = int(np.argmax(wheels > 0))
+    full = np.flatnonzero(wheels >= wheels.max() - 2)
+    pieces = {"off_bridge": (0, off_end), "full_bridge": (int(full[0]), int(full[-1]) + 1)}
+    ends = sorted({k for piece in pieces.values() for k in piece})
+    fe, out = scene["analysis"], {}
+    analyses = {"fe": fe, "modal": modal_analysis}
+    best = {(key, k): math.inf for key in analyses for k in ends}
+    for _ in range(repeats):           # interleaved: this VM's speed drifts over tens of seconds
+        for key, analysis in analyses.items():
+            scene["analysis"] = analysis
+            for k in ends:
+                best[key, k] = min(best[key, k], _run_seconds(scene, k))
+    scene["analysis"] = fe
+    for key in analyses:
+        for name, (lo, hi) in pieces.items():
+            out[f"{key}_{name}_us_per_step"] = 1e6 * (best[key, hi] - best[key, lo]) / (hi - lo)
+    common = out["modal_off_bridge_us_per_step"]
+    out["modal_ratio_bound"] = ((out["fe_full_bridge_us_per_step"] - common)
+                                / (out["modal_full_bridge_us_per_step"] - common))
+    return out
+
+
 def straightforward(scene):
     """The peer on vtsi's assembled matrices, and its initial state (vtsi's dead load)."""
     asm = scene["model"].build()
@@ -133,7 +182,8 @@ def _rel(a, b):
 def run_modal(scene, n_steps, repeats, w_fe, lam_fe):
     """The same passage on the modal bridge (``CoupledAnalysis(bridge=ModalBridge(...))``): the
     modes up to 1.1 × the EN cut-off (``modal_*``) and up to MODAL_RICH_HZ (``modal_rich_*``):
-    µs per step and the differences from the FE bridge's mid-span deflections and contact forces."""
+    µs per step and the differences from the FE bridge's mid-span deflections and contact forces;
+    and :func:`bridge_share` of the first."""
     from vtsi.coupled import CoupledAnalysis
     from vtsi.modal_bridge import ModalBridge
 
@@ -143,6 +193,8 @@ def run_modal(scene, n_steps, repeats, w_fe, lam_fe):
         modal = ModalBridge(scene["model"], scene["track"], f_max)
         scene["analysis"] = CoupledAnalysis(scene["model"], scene["constraint"], "Newmark", dt=scene["dt"], bridge=modal)
         run_vtsi(scene, 1)                        # warm-up
+        if key == "modal":
+            shown = scene["analysis"]
         best = math.inf
         for _ in range(repeats * VTSI_RUNS):
             seconds, lam, w = run_vtsi(scene, n_steps)
@@ -151,6 +203,7 @@ def run_modal(scene, n_steps, repeats, w_fe, lam_fe):
                     f"{key}_us_per_step": 1e6 * best / n_steps, f"{key}_deflection_rel_diff": _rel(w, w_fe),
                     f"{key}_force_rel_diff": _rel(lam, lam_fe)})
     scene["analysis"] = fe
+    out.update(bridge_share(scene, shown, n_steps, repeats * VTSI_RUNS))
     return out
 
 
@@ -212,6 +265,7 @@ class S5(Scene):
         ("speedup_vs_baseline", "vs sparse rows", "{:.0f}×"),
         ("modal_us_per_step", "modal bridge µs/step", "{:.1f}"),
         ("modal_force_rel_diff", "modal λ diff", "{:.1e}"),
+        ("modal_ratio_bound", "FE/modal bound", "{:.1f}×"),
     )
 
     def run(self, quick=False, baseline=False, repeats=3):
