@@ -61,17 +61,17 @@ def shape_polynomials(track_modes, dofs, length):
     return np.ascontiguousarray(np.einsum("esk,esj->ejk", hermite_coefficients, values))
 
 
-def peaks(times, values):
-    """Envelope rows (6, n_columns): min, max, absmax and their times of sampled ``values``
-    (n, n_columns), each refined by a parabola through the extreme sample and its neighbours
-    (the absmax only where both neighbours have the extreme's sign)."""
+def peaks(values, dt):
+    """Envelope rows (6, n_columns): min, max, absmax and their times [s] of ``values``
+    (n, n_columns) sampled at t = dt, 2 dt, …, each refined by a parabola through the extreme
+    sample and its neighbours (the absmax only where both neighbours have the extreme's sign)."""
     out = np.empty((6, values.shape[1]))
-    _peaks(np.ascontiguousarray(times, dtype=np.float64), np.ascontiguousarray(values, dtype=np.float64), out)
+    _peaks(np.ascontiguousarray(values, dtype=np.float64), float(dt), out)
     return out
 
 
 @njit(cache=True)
-def _peaks(times, values, out):
+def _peaks(values, dt, out):
     n, n_c = values.shape
     extreme = np.empty(3, dtype=np.int64)
     if n == 0:
@@ -93,17 +93,15 @@ def _peaks(times, values, out):
         for r in range(3):
             k = extreme[r]
             y1 = values[k, c] if r < 2 else abs(values[k, c])
-            value, when = y1, times[k]
+            value, shift = y1, 0.0
             if 0 < k < n - 1 and (r < 2 or np.sign(values[k - 1, c]) == np.sign(values[k + 1, c])):
                 y0 = values[k - 1, c] if r < 2 else abs(values[k - 1, c])
                 y2 = values[k + 1, c] if r < 2 else abs(values[k + 1, c])
                 den = y0 - 2.0 * y1 + y2
-                if den != 0.0:
+                if den != 0.0 and abs(0.5 * (y0 - y2) / den) <= 1.0:
                     shift = 0.5 * (y0 - y2) / den
-                    if abs(shift) <= 1.0:
-                        value = y1 - 0.25 * (y0 - y2) * shift
-                        when = times[k] + shift * (times[k + 1] - times[k])
-            out[r, c], out[r + 3, c] = value, when
+                    value = y1 - 0.25 * (y0 - y2) * shift
+            out[r, c], out[r + 3, c] = value, (k + 1 + shift) * dt
 
 
 @njit(cache=True)

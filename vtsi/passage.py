@@ -463,17 +463,16 @@ class PassageRunner:
         x_head0 = self.track.x_begin - self.approach(train) + float(train.wheel_offsets[0])
         rows, parts = self._modal_plan(outputs)
         values = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt, rows)
-        times = s.dt * np.arange(1, n_steps + 1)
         result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)
         for o, columns, nodes, residual in parts:
             part = values[:, columns]
             if residual is not None and s.static_correction:   # the truncated modes' quasi-static part
                 part += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
                                                 train.speed, x_head0, n_steps, s.dt)
-            result.envelopes[o.name] = peaks(times, part)
+            result.envelopes[o.name] = peaks(part, s.dt)
             result.columns[o.name] = nodes
             if o.history:
-                result.histories[o.name] = (times, part)
+                result.histories[o.name] = (s.dt * np.arange(1, n_steps + 1), part)
         result.seconds = time.perf_counter() - clock
         return result
 
