@@ -172,18 +172,27 @@ def test_results_file_layout_units_and_envelopes(tmp_path):
         assert list(f["outputs/acceleration"].attrs["rows"])[:3] == ["min", "max", "absmax"]
         nodes = f["outputs/acceleration/columns"][()]
         np.testing.assert_array_equal(nodes, sweep.runner.deck_nodes)
-        table = f["cases/HSLM-A4"]                 # a table of the train's cases
-        assert table.attrs["train"] == "HSLM-A4" and sorted(table["speed_kmh"][()]) == [200.0, 250.0, 300.0]
-        row = int(np.flatnonzero(table["speed_kmh"][()] == 250.0)[0])
+        assert f.attrs["format_version"] == 3
+        table = f["cases"]                         # one table of every case, a row each
+        assert sorted(table["train"][()]) == [0, 0, 0, 1, 1, 1]
+        mine = table["train"][()] == 1             # HSLM-A4, the second of /train
+        assert sorted(table["speed_kmh"][()][mine]) == [200.0, 250.0, 300.0]
+        row = int(np.flatnonzero(mine & (table["speed_kmh"][()] == 250.0))[0])
         assert table["seed"][row] == -1
         env = table["acceleration"][row]
+        assert env.shape == (6, len(nodes))
         assert f["envelopes/acceleration_absmax"][1, 1, 0] == env[2].max()
         assert f["envelopes/acceleration_absmax_where"][1, 1, 0] == nodes[np.argmax(env[2])]
-        case = table["histories/250kmh/smooth"]
+        case = table["histories/HSLM-A4/250kmh/smooth"]
         hist = case["midspan_values"][()]
         n_steps = table["n_steps"][row]
         assert hist.shape == (n_steps, 1) and case["midspan_time"].shape == (n_steps,)
         assert np.max(np.abs(hist)) == pytest.approx(table["midspan"][row][2, 0])
+        trains = f["trains"]                       # the trains' axles end to end, a row each
+        ptr = trains["axle_ptr"][()]
+        a4 = sweep.runner.train("HSLM-A4", 1.0)
+        np.testing.assert_array_equal(trains["axle_offsets_m"][ptr[1]:ptr[2]], a4.wheel_offsets)
+        assert trains["n_cars"][1] == len(a4.cars) and ptr[-1] == len(trains["static_wheel_loads_N"])
     reread = SweepResults(path).case("HSLM-A4", 250.0)
     np.testing.assert_array_equal(reread["acceleration"]["columns"], nodes)
     assert reread["midspan"]["values"].shape == hist.shape
@@ -267,7 +276,7 @@ sweep.run(sys.argv[1], workers=1, progress=False, resume=True, cases_per_task=3)
 def _done(path):
     try:
         with h5py.File(path, "r") as f:
-            return sum(g["speed_kmh"].shape[0] for g in f["cases"].values())
+            return f["cases"]["train"].shape[0]
     except (OSError, KeyError):
         return 0
 
@@ -305,7 +314,7 @@ def test_resume_skips_finished_cases(tmp_path):
     path = tmp_path / "r.h5"
     Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST).run(path, workers=1, progress=False)
     with h5py.File(path, "a") as f:        # forget one case, as a killed run would
-        table = f["cases/HSLM-A1"]
+        table = f["cases"]
         keep = np.flatnonzero(table["speed_kmh"][()] != 300.0)
         for name in list(table):
             if isinstance(table[name], h5py.Dataset) and table[name].ndim and table[name].shape[0] == 2:

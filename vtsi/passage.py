@@ -449,7 +449,7 @@ class PassageRunner:
             env = rec.envelope
             result.envelopes[output.name] = np.array([env.min, env.max, env.absmax, env.time_of_min,
                                                       env.time_of_max, env.time_of_absmax])
-            result.columns[output.name] = self._columns(output, sub)
+            result.columns[output.name] = self.columns(output, train)
             if output.history:
                 result.histories[output.name] = (np.asarray(rec.time).copy(), np.asarray(rec.values).copy())
         result.seconds = time.perf_counter() - clock
@@ -530,11 +530,14 @@ class PassageRunner:
             return list(self.support_nodes)
         return list(nodes)
 
-    def _columns(self, output, sub):
+    def columns(self, output, train):
+        """What the columns of ``output`` are for ``train``: node tags of a node output, the
+        contact-wheel indices (0 … n_c − 1) of a contact-force output, the indices of the cars
+        with a body of a car-body output (empty when the train has none: not produced)."""
         if output.response == "contact_force":
-            return np.arange(len(sub.contact_wheels))
+            return np.arange(int(np.count_nonzero(~train.force_wheels)), dtype=np.int64)
         if output.response == "car_body_accel":
-            return np.array([i for i, car in enumerate(sub.train.cars) if "body_y" in car.dof_names])
+            return np.array([i for i, car in enumerate(train.cars) if "body_y" in car.dof_names], dtype=np.int64)
         return np.array(self.output_nodes(output.nodes), dtype=np.int64)
 
     def _recorders(self, sub, tie, outputs):
@@ -558,7 +561,7 @@ class PassageRunner:
             elif o.response == "contact_force":
                 rec = ContactRecorder(tie, response="force", **kwargs)
             else:
-                dofs = [f"car{i}.body_y" for i in self._columns(o, sub)]
+                dofs = [f"car{i}.body_y" for i in self.columns(o, sub.train)]
                 if not dofs:
                     continue
                 rec = TrainRecorder(sub, dofs, "accel", **kwargs)

@@ -13,16 +13,21 @@ Layout (docs/sweeps.md)::
     /static/<name>         for displacement and rotation outputs: trains (n_train, 2, n_columns)
                            and lm71 (2, n_columns), static min and max under each train's static
                            axle loads and under Load Model 71 (α = 1) (vtsi.influence)
-    /trains/<train>        axle_offsets_m, static_wheel_loads_N [N], contact_wheels; attrs
-                           n_cars, n_dof, length_m, characteristic_length_m
+    /trains/               one row per train, in /train's order: name, n_cars, n_dof, length_m,
+                           characteristic_length_m (n_train,); axle_offsets_m and
+                           static_wheel_loads_N [N] of every train end to end, train i's axles
+                           the rows axle_ptr[i]:axle_ptr[i + 1]; contact_wheels by contact_ptr
     /outputs/<name>        attrs response, units, kind of column ('node', 'contact wheel', 'car'),
-                           rows (of an envelope); columns: the node tags of a node output
-    /cases/<train>/        one group per train (attr train), a table of its cases appended batch
-                           by batch: speed_kmh (n,), seed (n,), n_steps (n,), seconds (n,) and
-                           per output <name> (n, 6, n_columns), each case's envelope (rows min,
-                           max, absmax, time_of_min, time_of_max, time_of_absmax);
-                           <name>_columns for a vehicle output (wheel or car indices); with a
-                           history, histories/<speed>kmh/<seed>/<name>_time (m,) [s] and
+                           rows (of an envelope), history; columns: the node tags (n_columns,)
+                           of a node output, or per train its wheel or car indices (n_train,
+                           n_columns) of a vehicle output (-1 pads a train with fewer; none: the
+                           train does not produce it)
+    /cases/                one table of every case, appended batch by batch: train (n,) (its
+                           index in /train), speed_kmh, seed, n_steps, seconds (n,) and per
+                           output <name> (n, 6, n_columns), each case's envelope (rows min, max,
+                           absmax, time_of_min, time_of_max, time_of_absmax; NaN in the columns
+                           its train does not have); with a history,
+                           histories/<train>/<speed>kmh/<seed>/<name>_time (m,) [s] and
                            <name>_values (m, n_columns)
 
 Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements, rotations,
@@ -45,7 +50,7 @@ import numpy as np
 from vtsi import __version__
 from vtsi.errors import SweepError
 
-FORMAT, FORMAT_VERSION = "vtsi-sweep", 2
+FORMAT, FORMAT_VERSION = "vtsi-sweep", 3
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "moment": ("min", "max"),
@@ -57,7 +62,7 @@ UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment
 
 def case_key(train, speed_kmh, seed):
     """A case's name, '<train>/<speed>kmh/<seed>' ('smooth' for seed -1): its group path under
-    /histories, and under /cases/<train>/histories without the train."""
+    /histories and under /cases/histories."""
     return f"{train_key(train)}/{_speed_seed(speed_kmh, seed)}"
 
 
@@ -80,6 +85,29 @@ def _append(group, name, rows, dtype=float):
     n = ds.shape[0]
     ds.resize(n + rows.shape[0], axis=0)
     ds[n:] = rows
+
+
+def _column_table(per_train):
+    """Per train its vehicle-output columns as one (n_train, n_columns) table, -1 padding."""
+    table = np.full((len(per_train), max([len(c) for c in per_train] + [0])), -1, dtype=np.int64)
+    for i, columns in enumerate(per_train):
+        table[i, : len(columns)] = columns
+    return table
+
+
+def _train_table(group, trains):
+    """The trains' axle data as one row per train (ragged arrays end to end, with pointers)."""
+    group["name"] = np.array([t.name for t in trains], dtype=h5py.string_dtype())
+    group["n_cars"] = np.array([len(t.cars) for t in trains], dtype=np.int64)
+    group["n_dof"] = np.array([t.n_dof for t in trains], dtype=np.int64)
+    group["length_m"] = np.array([t.length for t in trains], dtype=float)
+    group["characteristic_length_m"] = np.array([t.characteristic_length or np.nan for t in trains], dtype=float)
+    group["axle_ptr"] = np.cumsum([0] + [len(t.wheel_offsets) for t in trains]).astype(np.int64)
+    group["axle_offsets_m"] = np.concatenate([np.asarray(t.wheel_offsets, dtype=float) for t in trains])
+    group["static_wheel_loads_N"] = np.concatenate([np.asarray(t.static_wheel_loads, dtype=float) for t in trains])
+    contact = [np.flatnonzero(~t.force_wheels).astype(np.int64) for t in trains]
+    group["contact_ptr"] = np.cumsum([0] + [len(c) for c in contact]).astype(np.int64)
+    group["contact_wheels"] = np.concatenate(contact)
 
 
 def quantities(outputs):
@@ -149,14 +177,15 @@ class ResultsWriter:
                                      "dims": ["train", "speed_kmh", "seed"]})
                     env.create_dataset(q + "_where", shape=shape, dtype=np.int64, fillvalue=-1)
                     env.create_dataset(q + "_time", shape=shape, dtype=float, fillvalue=np.nan).attrs["units"] = "s"
+                catalogue = [runner.train(name, 1.0) for name in ident["trains"]]
                 outs = f.create_group("outputs")
-                for o in ident["outputs"]:
+                for o, output in zip(ident["outputs"], runner.outputs):
                     g = outs.create_group(o["name"])
                     g.attrs.update({"response": o["response"], "units": UNITS[o["response"]],
                                     "kind": COLUMN_KIND.get(o["response"], "node"), "rows": list(ENVELOPE_ROWS),
                                     "history": bool(o["history"])})
-                    if o["response"] not in COLUMN_KIND:
-                        g["columns"] = np.asarray(runner.output_nodes(o["nodes"]), dtype=np.int64)
+                    g["columns"] = _column_table([runner.columns(output, train) for train in catalogue]) \
+                        if o["response"] in COLUMN_KIND else runner.columns(output, catalogue[0])
                 static = f.create_group("static")
                 static.attrs["note"] = ("static responses (influence lines): per train its static axle loads, "
                                         "and Load Model 71 (alpha = 1); rows min, max")
@@ -166,16 +195,7 @@ class ResultsWriter:
                         g = static.create_group(o.name)
                         g["trains"], g["lm71"] = env
                         g.attrs["units"] = UNITS[o.response]
-                trains = f.create_group("trains")
-                for name in ident["trains"]:
-                    train = runner.train(name, 1.0)
-                    g = trains.create_group(name.replace("/", "|"))
-                    g["axle_offsets_m"] = train.wheel_offsets
-                    g["static_wheel_loads_N"] = train.static_wheel_loads
-                    g["contact_wheels"] = np.flatnonzero(~train.force_wheels)
-                    g.attrs.update({"name": train.name, "n_cars": len(train.cars), "n_dof": train.n_dof,
-                                    "length_m": train.length,
-                                    "characteristic_length_m": train.characteristic_length or np.nan})
+                _train_table(f.create_group("trains"), catalogue)
                 f.create_group("cases")
                 if self.path is None:
                     self._memory = f
@@ -219,12 +239,13 @@ class ResultsWriter:
 
     def done(self):
         """Keys of the cases already in the file (:func:`case_key`)."""
-        keys = set()
         with self._read() as f:
-            for g in f["cases"].values():
-                train = g.attrs["train"]
-                keys.update(case_key(train, v, int(k)) for v, k in zip(g["speed_kmh"][()], g["seed"][()]))
-        return keys
+            cases = f["cases"]
+            if "train" not in cases:
+                return set()
+            trains = self.identity["trains"]
+            return {case_key(trains[i], v, int(k))
+                    for i, v, k in zip(cases["train"][()], cases["speed_kmh"][()], cases["seed"][()])}
 
     def _read(self):
         return _KeepOpen(self._memory) if self._memory is not None else h5py.File(self.path, "r")
@@ -245,50 +266,53 @@ class ResultsWriter:
     def _write(self, f, results):
         ident = self.identity
         trains, speeds, seeds = ident["trains"], np.array(ident["speeds_kmh"]), ident["seeds"]
-        table = quantities(ident["outputs"])
-        vehicle = {o["name"] for o in ident["outputs"] if o["response"] in COLUMN_KIND}
-        env_group = f["envelopes"]
-        tables = {q: [env_group[q][()], env_group[q + "_where"][()], env_group[q + "_time"][()]] for q, *_ in table}
-        by_train = {}
+        cases, outputs = f["cases"], f["outputs"]
+        n = len(results)
+        train_index = np.array([trains.index(r.train) for r in results], dtype=np.int64)
+        for name, dtype, values in (("train", np.int64, train_index),
+                                    ("speed_kmh", float, [r.speed_kmh for r in results]),
+                                    ("seed", np.int64, [r.seed for r in results]),
+                                    ("n_steps", np.int64, [r.n_steps for r in results]),
+                                    ("seconds", float, [r.seconds for r in results])):
+            _append(cases, name, values, dtype)
+        stacked = {}
+        for o in ident["outputs"]:                  # a row per case; NaN where its train has no column
+            name, width = o["name"], outputs[o["name"]]["columns"].shape[-1]
+            if width == 0:
+                continue                            # no train of the sweep produces it
+            rows = np.full((n, len(ENVELOPE_ROWS), width), np.nan)
+            for k, r in enumerate(results):
+                if name in r.envelopes:
+                    rows[k, :, : r.envelopes[name].shape[1]] = r.envelopes[name]
+            _append(cases, name, rows)
+            stacked[name] = rows
         for r in results:
-            by_train.setdefault(r.train, []).append(r)
-        for train, rs in by_train.items():          # a table per train, appended: a few writes per batch
-            g = f["cases"].require_group(train_key(train))
-            g.attrs["train"] = train
-            for name, dtype, values in (("speed_kmh", float, [r.speed_kmh for r in rs]),
-                                        ("seed", np.int64, [r.seed for r in rs]),
-                                        ("n_steps", np.int64, [r.n_steps for r in rs]),
-                                        ("seconds", float, [r.seconds for r in rs])):
-                _append(g, name, values, dtype)
-            stacked = {name: np.stack([r.envelopes[name] for r in rs]) for name in rs[0].envelopes}
-            for name, envelopes in stacked.items():
-                _append(g, name, envelopes)
-                if name in vehicle and name + "_columns" not in g:
-                    g[name + "_columns"] = rs[0].columns[name]
-            for r in rs:
-                for name, (time, values) in r.histories.items():
-                    h = g.require_group("histories").require_group(_speed_seed(r.speed_kmh, r.seed))
-                    h[name + "_time"] = time
-                    h.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
-            # the cases' cells of the envelope tables: the extreme over the columns, where and when
-            case = np.arange(len(rs))
-            index = (np.full(len(rs), trains.index(train)),
-                     np.argmin(np.abs(speeds[None, :] - np.array([r.speed_kmh for r in rs])[:, None]), axis=1),
-                     np.array([seeds.index(r.seed) for r in rs], dtype=np.int64))
-            for q, name, stat, _ in table:
-                if name not in stacked:
-                    continue
-                row = ENVELOPE_ROWS.index(stat)
-                extreme = stacked[name][:, row, :]
-                j = np.argmin(extreme, axis=1) if stat == "min" else np.argmax(extreme, axis=1)
-                values, where, when = tables[q]
-                values[index] = extreme[case, j]
-                where[index] = np.asarray(rs[0].columns[name], dtype=np.int64)[j]
-                when[index] = stacked[name][case, row + 3, j]
-        for q, (values, where, when) in tables.items():
-            env_group[q][...] = values
-            env_group[q + "_where"][...] = where
-            env_group[q + "_time"][...] = when
+            for name, (time, values) in r.histories.items():
+                h = cases.require_group("histories").require_group(train_key(r.train)).require_group(
+                    _speed_seed(r.speed_kmh, r.seed))
+                h[name + "_time"] = time
+                h.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+        # the cases' cells of the envelope tables: the extreme over the columns, where and when
+        env_group = f["envelopes"]
+        index = (train_index, np.argmin(np.abs(speeds[None, :] - np.array([r.speed_kmh for r in results])[:, None]), axis=1),
+                 np.array([seeds.index(r.seed) for r in results], dtype=np.int64))
+        for q, name, stat, _ in quantities(ident["outputs"]):
+            produced = np.array([name in r.envelopes for r in results])
+            if name not in stacked or not np.any(produced):
+                continue
+            columns = outputs[name]["columns"][()]
+            row = ENVELOPE_ROWS.index(stat)
+            extreme = stacked[name][produced, row, :]
+            j = (np.argmin(np.where(np.isnan(extreme), np.inf, extreme), axis=1) if stat == "min"
+                 else np.argmax(np.where(np.isnan(extreme), -np.inf, extreme), axis=1))
+            case = np.arange(len(j))
+            where = columns[train_index[produced], j] if columns.ndim == 2 else columns[j]
+            cell = tuple(axis[produced] for axis in index)
+            for ds, values in ((q, extreme[case, j]), (q + "_where", where),
+                               (q + "_time", stacked[name][produced, row + 3, :][case, j])):
+                table = env_group[ds][()]
+                table[cell] = values
+                env_group[ds][...] = table
 
     def write_histories(self, results):
         """Add the time histories of re-run cases (:meth:`vtsi.sweep.Sweep.record_histories`)
@@ -317,13 +341,6 @@ class ResultsWriter:
 
     def results(self):
         return SweepResults(self._memory if self._memory is not None else self.path)
-
-
-def _row(group, speed_kmh, seed):
-    """The row of the case (speed [km/h], seed) in a train's table, or None."""
-    hits = np.flatnonzero(np.isclose(group["speed_kmh"][()], float(speed_kmh), rtol=0, atol=1e-9)
-                          & (group["seed"][()] == int(seed)))
-    return int(hits[0]) if len(hits) else None
 
 
 def _group_keys(group):
@@ -376,7 +393,7 @@ class SweepResults:
             self.quantities = {q: units for q, _, _, units in quantities(self.identity["outputs"])}
             self._tables = {q: (f["envelopes"][q][()], f["envelopes"][q + "_where"][()], f["envelopes"][q + "_time"][()])
                             for q in self.quantities}
-            self.n_done = sum(g["speed_kmh"].shape[0] for g in f["cases"].values())
+            self.n_done = f["cases"]["train"].shape[0] if "train" in f["cases"] else 0
 
     def _open(self):
         return _KeepOpen(self._file) if self._file is not None else h5py.File(self.path, "r")
@@ -407,26 +424,42 @@ class SweepResults:
 
     def case(self, train, speed_kmh, seed=-1):
         """One case: ``{output: {'envelope': (6, n), 'columns': (n,)[, 'time': (m,), 'values':
-        (m, n)]}}`` (envelope rows: min, max, absmax and their times) plus 'attrs'."""
+        (m, n)]}}`` (envelope rows: min, max, absmax and their times; only the outputs its train
+        produces) plus 'attrs'."""
         key = case_key(train, speed_kmh, seed)
+        row = self._row(train, speed_kmh, seed)
+        if row is None:
+            raise SweepError(f"sweep results: no case {key}")
+        i = self.trains.index(train)
         with self._open() as f:
-            g = f["cases"].get(train_key(train))
-            row = None if g is None else _row(g, speed_kmh, seed)
-            if row is None:
-                raise SweepError(f"sweep results: no case {key}")
-            out = {"attrs": {"train": str(g.attrs["train"]), "speed_kmh": float(g["speed_kmh"][row]),
-                             "seed": int(g["seed"][row]), "n_steps": int(g["n_steps"][row]),
-                             "seconds": float(g["seconds"][row])}}
-            h = g.get("histories/" + _speed_seed(speed_kmh, seed))
+            g = f["cases"]
+            out = {"attrs": {"train": train, "speed_kmh": float(g["speed_kmh"][row]), "seed": int(g["seed"][row]),
+                             "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row])}}
+            h = g.get(f"histories/{train_key(train)}/{_speed_seed(speed_kmh, seed)}")
             for o in self.identity["outputs"]:
                 name = o["name"]
-                if name not in g:
+                columns = f["outputs"][name]["columns"][()]
+                if columns.ndim == 2:                 # a vehicle output: this train's columns
+                    columns = columns[i][columns[i] >= 0]
+                if len(columns) == 0:
                     continue
-                columns = g[name + "_columns"] if name + "_columns" in g else f["outputs"][name]["columns"]
-                out[name] = {"envelope": g[name][row], "columns": columns[()]}
+                out[name] = {"envelope": g[name][row][:, : len(columns)], "columns": columns}
                 if h is not None and name + "_time" in h:
                     out[name]["time"], out[name]["values"] = h[name + "_time"][()], h[name + "_values"][()]
         return out
+
+    def _row(self, train, speed_kmh, seed):
+        """The row of the case (train, speed [km/h], seed) in /cases, or None."""
+        if train not in self.trains:
+            return None
+        with self._open() as f:
+            g = f["cases"]
+            if "train" not in g:
+                return None
+            hits = np.flatnonzero((g["train"][()] == self.trains.index(train))
+                                  & np.isclose(g["speed_kmh"][()], float(speed_kmh), rtol=0, atol=1e-9)
+                                  & (g["seed"][()] == int(seed)))
+        return int(hits[0]) if len(hits) else None
 
     def column_envelopes(self, output):
         """Every case's envelope of ``output``: (n_train, n_speed, n_seed, 6, n_columns) (NaN
@@ -435,24 +468,19 @@ class SweepResults:
         names = [o["name"] for o in self.identity["outputs"]]
         if output not in names:
             raise SweepError(f"sweep results: unknown output {output!r}; valid: {', '.join(names)}")
-        found, columns = {}, None
         with self._open() as f:
-            if output in f["outputs"] and "columns" in f["outputs"][output]:
-                columns = f["outputs"][output]["columns"][()]
-            for i, train in enumerate(self.trains):
-                g = f["cases"].get(train_key(train))
-                if g is None or output not in g:
-                    continue
-                table = g[output][()]
-                for row, (v, seed) in enumerate(zip(g["speed_kmh"][()], g["seed"][()])):
-                    found[i, int(np.argmin(np.abs(self.speeds_kmh - v))), self.seeds.index(int(seed))] = table[row]
-                if output + "_columns" in g and (columns is None or len(g[output + "_columns"]) > len(columns)):
-                    columns = g[output + "_columns"][()]
-        width = 0 if columns is None else len(columns)
-        out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds), len(ENVELOPE_ROWS), width), np.nan)
-        for index, env in found.items():
-            out[index][:, : env.shape[1]] = env
-        return out, (np.zeros(0, dtype=np.int64) if columns is None else columns)
+            columns = f["outputs"][output]["columns"][()]
+            g = f["cases"]
+            width = columns.shape[-1]
+            out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds), len(ENVELOPE_ROWS), width), np.nan)
+            if output in g:
+                speed = np.argmin(np.abs(self.speeds_kmh[None, :] - g["speed_kmh"][()][:, None]), axis=1)
+                seed = np.array([self.seeds.index(int(k)) for k in g["seed"][()]], dtype=np.int64)
+                out[g["train"][()], speed, seed] = g[output][()]
+        if columns.ndim == 2:          # a vehicle output: the columns of the train with most
+            columns = columns[int(np.argmax(np.sum(columns >= 0, axis=1)))] if len(columns) else columns[:0]
+            columns = columns[columns >= 0]
+        return out, columns
 
     def static(self, output):
         """Static envelopes of ``output`` (rows min, max): ``(trains (n_train, 2, n_columns),
@@ -464,10 +492,19 @@ class SweepResults:
 
     def train_data(self, train):
         """The stored axle data of ``train``: dict with axle_offsets_m, static_wheel_loads_N,
-        contact_wheels and the attributes."""
+        contact_wheels, name, n_cars, n_dof, length_m, characteristic_length_m."""
+        if train not in self.trains:
+            raise SweepError(f"sweep results: unknown train {train!r}; valid: {', '.join(self.trains)}")
+        i = self.trains.index(train)
         with self._open() as f:
-            g = f["trains"][train.replace("/", "|")]
-            return {**{k: g[k][()] for k in g}, **dict(g.attrs)}
+            g = f["trains"]
+            axles = slice(int(g["axle_ptr"][i]), int(g["axle_ptr"][i + 1]))
+            contact = slice(int(g["contact_ptr"][i]), int(g["contact_ptr"][i + 1]))
+            name = g["name"][i]
+            return {"axle_offsets_m": g["axle_offsets_m"][axles], "static_wheel_loads_N": g["static_wheel_loads_N"][axles],
+                    "contact_wheels": g["contact_wheels"][contact],
+                    "name": name.decode() if isinstance(name, bytes) else str(name),
+                    **{k: g[k][i] for k in ("n_cars", "n_dof", "length_m", "characteristic_length_m")}}
 
     def bridge(self):
         """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m."""
