@@ -545,25 +545,12 @@ class TransientAnalysis:
             done = 0
             while done < n_steps:
                 chunk = min(self.chunk_steps, n_steps - done)
-                t0 = state.time
-                times, table = plan.load_rows(t0, chunk)
-                out = np.zeros((chunk, len(plan.rec_slot))) if feed.recorders else plan.no_columns[:chunk]
-                bad = plan.advance(state, table, out)
-                if bad == -2:        # a dof at rest has moved (the state was set): integrate it too
-                    self._prepare(plan.loads[1])
+                times, table = plan.load_rows(state.time, chunk)
+                if not plan.run_rows(state, times, table, plan.span, done + 1,
+                                     times[chunk - 1] + plan.load_point * self.dt):
+                    self._prepare(plan.loads[1])   # a dof at rest has moved (the state was set): integrate it too
                     plan = self._plan().adopt_feed(feed)
                     continue
-                good = chunk if bad < 0 else bad
-                if feed.recorders:
-                    feed.deliver(times[1: good + 1], plan.bridge.recorded(out[:good]), plan.asm)
-                if bad >= 0:
-                    step = done + bad + 1
-                    raise DivergenceError(
-                        f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s "
-                        f"(|u| > {self.divergence_limit:g} or NaN) with {self.integrator!r}, dt = {self.dt:g} s",
-                        step, times[bad + 1])
-                state.time = float(times[chunk])
-                settle_dependent_dofs(plan.asm, plan.prescribed, state, times[chunk - 1] + plan.load_point * self.dt)
                 self.last_step_start = float(times[chunk - 1])
                 done += chunk
         finally:
@@ -619,7 +606,7 @@ class _RunPlan:
             b = self.bridge
             self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.weights),
                                 self.mapped + (self.rec_slot, self.rec_index),
-                                (self.analysis.divergence_limit, self.work, b.band, self.span))
+                                (self.analysis.divergence_limit, self.work, b.band))
         return self
 
     def load_rows(self, t0, n):
@@ -638,17 +625,44 @@ class _RunPlan:
         self.block = (times, table, n)
         return times[: n + 1], table[:n]
 
-    def advance(self, state, table, out):
-        """Run the steps of ``table`` from ``state`` (written back unless they diverge); returns
-        -1, the index of the diverging step, or -2 if a dof at rest has moved."""
+    def advance(self, state, table, out, span):
+        """Run the steps of ``table`` (``span`` as :func:`~vtsi.timeloop.run_linear_steps`) from
+        ``state`` (written back unless they diverge); returns -1, the index of the diverging
+        row, or -2 if a dof at rest has moved."""
         if self.fe:
             head, loads, tail = self.kernel_args
-            return run_from_state(state.u, state.v, state.a, *head, table, *loads, out, *tail)
+            return run_from_state(state.u, state.v, state.a, *head, table, *loads, out, *tail, span)
         a, b = self.analysis, self.bridge
         ptr, dof, val = self.mapped
         bank = b.bank(state, self.asm.full_of_free, a.integrator.n_slots)
         bad = run_linear_steps(bank, b.du, b.dv, b.fac, b.ops, b.weights, table, ptr, dof, val, self.rec_slot,
-                               self.rec_index, out, a.divergence_limit, self.work, b.band, self.span)
+                               self.rec_index, out, a.divergence_limit, self.work, b.band, span)
         if bad < 0:
             b.commit(state, bank, self.asm.full_of_free, state.time)
         return bad
+
+    def run_rows(self, state, times, table, span, first_step, settle_time):
+        """Run ``table`` from ``state`` (:meth:`advance`), its rows recorded at ``times[1:]`` [s]
+        (a row per step, or per stage: ``span``): the feed gets every row computed, also when
+        the run diverges, and then a DivergenceError names the row (counted from
+        ``first_step``) and its time. After a good run ``state.time`` is ``times[-1]`` and the
+        dependent dofs follow their loads at ``settle_time`` [s]. Returns False, having done
+        nothing, when a dof at rest has moved (the caller integrates it too)."""
+        n = len(times) - 1
+        feed = self.feed
+        out = np.zeros((n, len(self.rec_slot))) if feed.recorders else self.no_columns[:n]
+        bad = self.advance(state, table, out, span)
+        if bad == -2:
+            return False
+        good = n if bad < 0 else bad
+        if feed.recorders:
+            feed.deliver(times[1: good + 1], self.bridge.recorded(out[:good]), self.asm)
+        if bad >= 0:
+            limit = self.analysis.divergence_limit
+            what = f"|u| > {limit:g} or NaN" if np.isfinite(limit) else "NaN or inf"
+            step = first_step + bad
+            raise DivergenceError(f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s ({what}) "
+                                  f"with {self.info['integrator']}, dt = {self.info['dt']:g} s", step, times[bad + 1])
+        state.time = float(times[n])
+        settle_dependent_dofs(self.asm, self.prescribed, state, settle_time)
+        return True

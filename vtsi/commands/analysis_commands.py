@@ -5,10 +5,9 @@ import logging
 
 import numpy as np
 
-from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors, settle_dependent_dofs
+from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors
 from vtsi.analysis import eigen as _eigen
-from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
-from vtsi.timeloop import run_from_state
+from vtsi.errors import AnalysisError, CommandError, ModelError
 from vtsi.integrators import HHT, TRBDF2, Bathe, CentralDifference, GeneralizedAlpha, Newmark
 from vtsi.modal_bridge import ModalBridge
 
@@ -107,20 +106,9 @@ class OpenSeesTRBDF2:
             table = np.zeros((n_steps, 2, len(plan.patterns)))
             table[g // 2, g % 2] = pattern_factors(plan.patterns, times[1:], analysis._path_tables)
             span = np.array([first, (first + n) - 2 * (n_steps - 1), 1], dtype=np.int64)
-            out = np.zeros((n, len(plan.rec_slot)))
-            head, loads, tail = plan.kernel_args
-            bad = run_from_state(state.u, state.v, state.a, *head, table, *loads, out, *tail[:-1], span)
-            if bad == -2:
+            if not plan.run_rows(state, times, table, span, 1, times[-1]):
                 raise CommandError("analyze: integrator TRBDF2: a dof at rest was moved between two analyze calls; "
                                    "call wipeAnalysis() and define the analysis again")
-            good = n if bad < 0 else bad
-            if feed.recorders:
-                feed.deliver(times[1: good + 1], plan.bridge.recorded(out[:good]), plan.asm)
-            if bad >= 0:
-                raise DivergenceError(f"TRBDF2 diverged at step {bad + 1}, t = {times[bad + 1]:.6g} s (NaN or inf)",
-                                      bad + 1, times[bad + 1])
-            state.time = float(times[-1])
-            settle_dependent_dofs(plan.asm, plan.prescribed, state, state.time)
             self.resume = (plan, state.time) if (first + n) % 2 == 1 else None
         finally:
             feed.close()
