@@ -310,6 +310,18 @@ def test_resume_after_sigkill_equals_an_uninterrupted_run(tmp_path):
                 np.testing.assert_array_equal(ca[out]["envelope"], cb[out]["envelope"])
 
 
+def test_a_file_of_an_older_format_is_refused_with_its_version(tmp_path):
+    path = tmp_path / "old.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
+    sweep.run(path, workers=1, progress=False)
+    with h5py.File(path, "a") as f:          # as a vtsi of format 2 wrote it
+        f.attrs["format_version"] = 2
+    with pytest.raises(SweepError, match="format 2, this vtsi reads format 3"):
+        SweepResults(path)
+    with pytest.raises(SweepError, match="format 2, this vtsi writes format 3: it cannot be resumed"):
+        sweep.run(path, workers=1, progress=False, resume=True)
+
+
 def test_resume_skips_finished_cases(tmp_path):
     path = tmp_path / "r.h5"
     Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST).run(path, workers=1, progress=False)
@@ -402,6 +414,29 @@ def test_irregular_rail_seeds_with_cars():
     assert again.envelope("contact_force_min")[0, 0, 0] == low[1]
     body = res.envelope("car_body_acceleration_absmax")[0, 0]
     assert np.all(body > 0) and np.all(body < 2.0)
+
+
+def test_trains_with_different_wheel_counts_share_the_vehicle_tables():
+    """A registered 4-car ICE3 beside the 8-car one: the contact-force tables of the file are
+    as wide as the longer train's 32 wheels, the shorter's 16 padded; each case reads back its
+    own wheels, and every envelope cell is the extreme of its own train's wheels."""
+    from vtsi.models import ice3
+    from vtsi.models.catalogue import _REGISTRY, Entry, register
+    register(Entry("ICE3-4", "ICE3 of 4 cars (test)", {"full": lambda speed, span: ice3(4, speed=speed)}))
+    try:
+        res = Sweep(small_bridge(), ["ICE3-4", "ICE3"], "250", PassageSettings(dt=5e-3, cars="full")).run(
+            None, workers=1, progress=False)
+        env, columns = res.column_envelopes("contact_force")
+        assert env.shape == (2, 1, 1, 6, 32) and list(columns) == list(range(32))
+        assert np.all(np.isnan(env[0, 0, 0, :, 16:])) and np.all(np.isfinite(env[0, 0, 0, :, :16]))
+        short, long = res.case("ICE3-4", 250.0)["contact_force"], res.case("ICE3", 250.0)["contact_force"]
+        assert list(short["columns"]) == list(range(16)) and short["envelope"].shape == (6, 16)
+        assert long["envelope"].shape == (6, 32)
+        low = res.envelope("contact_force_min")[:, 0, 0]
+        assert low[0] == np.min(short["envelope"][0]) and low[1] == np.min(long["envelope"][0])
+        assert res.train_data("ICE3-4")["contact_wheels"].shape == (16,)
+    finally:
+        del _REGISTRY["ICE3-4"]
 
 
 def test_integrators_and_contact_strategies_are_settings():

@@ -436,7 +436,8 @@ class PassageRunner:
                                    bridge_self_weight=s.bridge_self_weight, recorders=[r for _, r in recorders],
                                    exact_events=s.exact_events, bridge_cache=self.cache, chunk_steps=4000,
                                    bridge=self.modal)
-        key = (train.name, approach, seed if irregularity is not None else -1)
+        # the catalogue name, not train.name: two entries may build trains of one name
+        key = (train_name, approach, seed if irregularity is not None else -1)
         if key in self._dead_load:
             analysis.start_from(self._dead_load[key])
         else:
