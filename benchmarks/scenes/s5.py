@@ -125,9 +125,10 @@ def bridge_share(scene, modal_analysis, n_steps, repeats):
     with no wheel on the viaduct (the train on rigid ground: train, wheels, rails; the bridge
     only vibrates freely) and of its part with the most wheels on it (within 2), each the
     difference of two runs from the dead-load state (``run(b)`` − ``run(a)``, best of
-    ``repeats`` each, FE and modal interleaved: the fixed cost of a call cancels). ``modal_ratio_bound`` = (FE full − modal
-    off) / (modal full − modal off): the FE/modal ratio per step with the viaduct full if
-    everything else (the train, its wheels off the viaduct, the Python) cost nothing."""
+    ``repeats`` each, FE and modal interleaved: the fixed cost of a call cancels).
+    ``modal_ratio_bound`` = (FE full − modal off) / (modal full − modal off): the FE/modal
+    ratio per step with the viaduct full if everything else (the train, its wheels off the
+    viaduct, the Python) cost nothing."""
     con, length = scene["constraint"], scene["bridge"].length
     x = con.positions(scene["dt"] * np.arange(1, n_steps + 1))
     wheels = np.sum((x >= 0.0) & (x <= length), axis=1)
@@ -194,7 +195,7 @@ def run_modal(scene, n_steps, repeats, w_fe, lam_fe):
         scene["analysis"] = CoupledAnalysis(scene["model"], scene["constraint"], "Newmark", dt=scene["dt"], bridge=modal)
         run_vtsi(scene, 1)                        # warm-up
         if key == "modal":
-            shown = scene["analysis"]
+            cut_off = scene["analysis"]
         best = math.inf
         for _ in range(repeats * VTSI_RUNS):
             seconds, lam, w = run_vtsi(scene, n_steps)
@@ -203,7 +204,7 @@ def run_modal(scene, n_steps, repeats, w_fe, lam_fe):
                     f"{key}_us_per_step": 1e6 * best / n_steps, f"{key}_deflection_rel_diff": _rel(w, w_fe),
                     f"{key}_force_rel_diff": _rel(lam, lam_fe)})
     scene["analysis"] = fe
-    out.update(bridge_share(scene, shown, n_steps, repeats * VTSI_RUNS))
+    out.update(bridge_share(scene, cut_off, n_steps, repeats * VTSI_RUNS))
     return out
 
 
