@@ -132,6 +132,11 @@ class Train:
         return train
 
     @property
+    def contact_wheels(self):
+        """Indices of the wheels with a dof (the contact wheels, in wheel order), int64."""
+        return np.flatnonzero(~self.force_wheels).astype(np.int64)
+
+    @property
     def length(self) -> float:
         """Distance from the first to the last wheel [m]."""
         return float(self.wheel_offsets[-1] - self.wheel_offsets[0])

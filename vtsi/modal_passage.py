@@ -98,8 +98,9 @@ def _peaks(values, dt, out):
                 y0 = values[k - 1, c] if r < 2 else abs(values[k - 1, c])
                 y2 = values[k + 1, c] if r < 2 else abs(values[k + 1, c])
                 den = y0 - 2.0 * y1 + y2
-                if den != 0.0 and abs(0.5 * (y0 - y2) / den) <= 1.0:
-                    shift = 0.5 * (y0 - y2) / den
+                vertex = 0.5 * (y0 - y2) / den if den != 0.0 else 2.0
+                if abs(vertex) <= 1.0:
+                    shift = vertex
                     value = y1 - 0.25 * (y0 - y2) * shift
             out[r, c], out[r + 3, c] = value, (k + 1 + shift) * dt
 

@@ -536,7 +536,7 @@ class PassageRunner:
         contact-wheel indices (0 … n_c − 1) of a contact-force output, the indices of the cars
         with a body of a car-body output (empty when the train has none: not produced)."""
         if output.response == "contact_force":
-            return np.arange(int(np.count_nonzero(~train.force_wheels)), dtype=np.int64)
+            return np.arange(len(train.contact_wheels), dtype=np.int64)
         if output.response == "car_body_accel":
             return np.array([i for i, car in enumerate(train.cars) if "body_y" in car.dof_names], dtype=np.int64)
         return np.array(self.output_nodes(output.nodes), dtype=np.int64)

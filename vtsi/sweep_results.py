@@ -105,7 +105,7 @@ def _train_table(group, trains):
     group["axle_ptr"] = np.cumsum([0] + [len(t.wheel_offsets) for t in trains]).astype(np.int64)
     group["axle_offsets_m"] = np.concatenate([np.asarray(t.wheel_offsets, dtype=float) for t in trains])
     group["static_wheel_loads_N"] = np.concatenate([np.asarray(t.static_wheel_loads, dtype=float) for t in trains])
-    contact = [np.flatnonzero(~t.force_wheels).astype(np.int64) for t in trains]
+    contact = [t.contact_wheels for t in trains]
     group["contact_ptr"] = np.cumsum([0] + [len(c) for c in contact]).astype(np.int64)
     group["contact_wheels"] = np.concatenate(contact)
 

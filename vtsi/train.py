@@ -30,7 +30,7 @@ class TrainSubdomain:
         self.train, self.x_head0 = train, x_head0
         self.M, self.C, self.K = train.M.tocsr(), train.C.tocsr(), train.K.tocsr()
         self.gravity_load = np.asarray(train.gravity_load, dtype=float)
-        self.contact_wheels = np.flatnonzero(~train.force_wheels).astype(np.int64)
+        self.contact_wheels = train.contact_wheels
         self.force_wheels = np.flatnonzero(train.force_wheels).astype(np.int64)
         self.wheel_dofs = np.asarray(train.wheel_dofs, dtype=np.int64)
         self.wheel_forces = np.asarray(train.static_wheel_loads, dtype=float)[self.force_wheels]
