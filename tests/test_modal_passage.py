@@ -140,3 +140,55 @@ def test_one_pass_gives_every_column_as_its_own_pass():
     assert np.max(np.abs(out - expected)) <= 1e-12 * np.max(np.abs(expected))
     with pytest.raises(vtsi.ModelError, match=r"passage rows must be \(3, 3, n_columns\)"):
         modal.passage(offsets, loads, V, 0.0, n, dt, rows[:2])
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda m: m.passage([0.0, 3.0], [P], V, 0.0, 10, 1e-3, np.zeros((3, m.n_modes, 1))),
+     r"as many axle loads as axle offsets .* got \(1,\) loads and \(2,\) offsets"),
+    (lambda m: m.passage([0.0, -3.0], [P, P], V, 0.0, 10, 1e-3, np.zeros((3, m.n_modes, 1))),
+     r"axle 1: offset -3.0 m is ahead of axle 0's 0.0 m"),
+    (lambda m: m.passage([0.0], [np.nan], V, 0.0, 10, 1e-3, np.zeros((3, m.n_modes, 1))),
+     r"axle 0: offset 0.0 m and load nan N must be finite"),
+    (lambda m: m.passage([0.0], ["heavy"], V, 0.0, 10, 1e-3, np.zeros((3, m.n_modes, 1))),
+     r"axle loads must be numbers, got \['heavy'\]"),
+    (lambda m: m.coordinates([0.0], [P], 0.0, 0.0, 10, 1e-3), r"passage speed must be > 0 and finite, got 0.0"),
+    (lambda m: m.coordinates([0.0], [P], V, 0.0, 10, -1e-3), r"passage dt must be > 0 and finite, got -0.001"),
+    (lambda m: m.coordinates([0.0], [P], V, np.inf, 10, 1e-3), r"x_head0 must be a finite position \[m\], got inf"),
+    (lambda m: m.coordinates([0.0], [P], V, 0.0, 2.5, 1e-3), r"n_samples must be an integer >= 0, got 2.5"),
+    (lambda m: m.passage([0.0], [P], V, 0.0, 10, 1e-3, "rows"), r"passage rows must be numbers, got 'rows'"),
+    (lambda m: m.static_correction(np.zeros((3, 1)), [0.0], [P], V, 0.0, 10, 1e-3),
+     r"residual flexibility G must be \(n_track = \d+, n_columns\), got \(3, 1\)"),
+    (lambda m: m.residual_flexibility(np.ones((3, 2))), r"output map must be \(n_free = \d+, n_columns\), got \(3, 2\)"),
+    (lambda m: m.add_ratios("a"), r"added ratios must be numbers, got 'a'"),
+    (lambda m: peaks(np.ones(10), 1e-3), r"peaks: values must be \(n_samples, n_columns\), got shape \(10,\)"),
+    (lambda m: peaks(np.ones((10, 1)), 0.0), r"peaks: the sampling step dt must be > 0 and finite \[s\], got 0.0"),
+], ids=["loads-count", "axle-order", "nan-load", "text-load", "speed", "dt", "x_head0", "n_samples", "rows",
+        "G-shape", "output-map", "added-ratios", "peaks-1d", "peaks-dt"])
+def test_a_bad_passage_input_is_named(call, message):
+    """Every argument of an exact passage is checked before the kernel runs: a wrong count,
+    order or value of the axles, a speed, step or sample count out of range, a wrong shape of
+    the output rows or the residual flexibility — a ModelError naming it, never a silent
+    result from memory past an array's end."""
+    _, _, modal = bridge(n=10)
+    with pytest.raises(vtsi.ModelError, match=message):
+        call(modal)
+
+
+@pytest.mark.parametrize("zeta, message", [
+    ("abc", r"damping ratios must be numbers, got 'abc'"),
+    ([0.01, "a", 0.02], r"damping ratios must be numbers"),
+    (lambda f: 1.0 / 0.0, r"the damping function failed at 5\.\d+ Hz: ZeroDivisionError"),
+    (lambda f: "x", r"the damping function failed at 5\.\d+ Hz: ValueError"),
+], ids=["text", "text-in-list", "function-raises", "function-text"])
+def test_bad_damping_ratios_are_named(zeta, message):
+    """A ratio that is not a number, or a damping function that fails, is named (with the
+    frequency it failed at); and the kept ratios cannot be changed in place, only by add_ratios."""
+    with pytest.raises(vtsi.ModelError, match=message):
+        bridge(n=10, zeta=zeta)
+    _, _, modal = bridge(n=10, zeta=0.02)
+    with pytest.raises(ValueError, match="read-only"):
+        modal.zeta[0] = 2.0
+    modal.add_ratios([0.98])
+    assert modal.zeta.tolist() == pytest.approx([1.0, 0.02, 0.02])
+    with pytest.raises(vtsi.ModelError, match=r"mode 1 \(5[.0-9]* Hz\) has ζ = 1 >= 1"):
+        modal.coordinates([0.0], [P], V, 0.0, 10, 1e-3)

@@ -23,6 +23,8 @@ the response the truncated modes give quasi-statically (their frequencies far ab
 steps exactly the FE bridge's equations (tests: to 1e-9 with the same integrator and Δt) when
 its damping is classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
 """
+import math
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -31,7 +33,7 @@ from vtsi.banded import inverse_columns, ldl_band
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.damping import vertical_frequencies
 from vtsi.errors import AnalysisError, ModelError
-from vtsi.modal_passage import add_static_correction, exact_response, shape_polynomials
+from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
 
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
@@ -56,7 +58,7 @@ class ModalBridge:
 
     Attributes
     ----------
-    frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,), shapes (n_full, n) mass-normalised,
+    frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,) (read-only: :meth:`add_ratios`), shapes (n_full, n) mass-normalised,
     assembly (the model version the modes belong to), track_modes (n_track, n) and
     track_shapes (n_el, n, 4) (:func:`~vtsi.modal_passage.shape_polynomials`) with a track.
     """
@@ -87,7 +89,7 @@ class ModalBridge:
         self.omega = 2 * np.pi * self.frequencies
         if not np.all(self.omega > 0):
             raise ModelError("modal bridge: a kept mode has zero frequency (a mechanism)")
-        self.zeta = self._ratios(zeta)
+        self._set_ratios(self._ratios(zeta))
         if track is not None:
             self.track_modes = np.ascontiguousarray(self.shapes[asm.full_of_free[track.free_index]])
             self.track_shapes = shape_polynomials(self.track_modes, track.dofs, track.length)
@@ -104,10 +106,10 @@ class ModalBridge:
                                  f"up to {off:.3g}); give the damping ratios: zeta=...")
             ratios = diagonal / (2.0 * self.omega)
         elif callable(zeta):
-            ratios = np.array([float(zeta(fi)) for fi in self.frequencies])
+            ratios = np.array([_ratio_of(zeta, fi) for fi in self.frequencies])
         else:
-            ratios = np.broadcast_to(np.asarray(zeta, dtype=float), (n,)).copy() if np.ndim(zeta) == 0 \
-                else np.asarray(zeta, dtype=float)
+            ratios = _float_array(zeta, "damping ratios")
+            ratios = np.broadcast_to(ratios, (n,)).copy() if ratios.ndim == 0 else ratios
         if ratios.shape != (n,) or not np.all((ratios >= 0) & np.isfinite(ratios)):
             given = "a function giving " + str(ratios.tolist()) if callable(zeta) else np.asarray(zeta).tolist()
             raise ModelError(f"modal bridge: damping ratios must be finite and >= 0, one per kept mode ({n}), got {given}")
@@ -117,15 +119,28 @@ class ModalBridge:
     def n_modes(self):
         return len(self.frequencies)
 
+    @property
+    def zeta(self):
+        """The damping ratio of each kept mode [-] (read-only: :meth:`add_ratios` adds to it)."""
+        view = self._zeta.view()
+        view.flags.writeable = False
+        return view
+
+    def _set_ratios(self, ratios):
+        self._zeta = np.array(ratios, dtype=float)
+        over = np.flatnonzero(self._zeta >= 1.0)
+        self._overdamped = int(over[0]) if len(over) else -1      # an exact passage needs ζ < 1
+
     def add_ratios(self, ratios):
         """Add damping ratios [-] to the lowest ``len(ratios)`` modes (OpenSees ``modalDamping``
         on top of the model's own damping)."""
-        ratios = np.asarray(ratios, dtype=float)
+        ratios = _float_array(ratios, "added ratios")
         if ratios.ndim != 1 or len(ratios) > self.n_modes or not np.all((ratios >= 0) & np.isfinite(ratios)):
             raise ModelError(f"modal bridge: added ratios must be finite, >= 0 and at most one per mode "
                              f"({self.n_modes}), got {ratios.tolist()}")
-        self.zeta = self.zeta.copy()
-        self.zeta[: len(ratios)] += ratios
+        zeta = self._zeta.copy()
+        zeta[: len(ratios)] += ratios
+        self._set_ratios(zeta)
 
     def stages(self, integrator, dt, track=None, self_weight_load=None):
         """The bridge subdomain for ``integrator`` and ``dt`` [s] (:class:`ModalStages`)."""
@@ -143,6 +158,12 @@ class ModalBridge:
         selection for a displacement, moment rows for a bending moment) to a unit force on each
         track dof."""
         asm, track = self.assembly, self.track
+        if track is None:
+            raise ModelError("modal bridge: a residual flexibility needs the bridge's track (ModalBridge(model, track, ...))")
+        output_map = _float_array(output_map, "output map")
+        if output_map.ndim != 2 or output_map.shape[0] != asm.n_free:
+            raise ModelError(f"modal bridge: the output map must be (n_free = {asm.n_free}, n_columns), "
+                             f"got {output_map.shape}")
         k_inv = inverse_columns(factor(asm, asm.K, "bridge stiffness K"), track.free_index)    # (n_free, n_track)
         phi = self.shapes[asm.full_of_free]
         return k_inv.T @ output_map - (self.track_modes / self.omega ** 2) @ (phi.T @ output_map)
@@ -150,10 +171,14 @@ class ModalBridge:
     def static_correction(self, G, offsets, loads, speed, x_head0, n_samples, dt):
         """The truncated modes' quasi-static part (n_samples, n_columns) of the outputs of
         :meth:`residual_flexibility` ``G`` in a passage (arguments as :meth:`passage`)."""
+        x0, loads, speed, n_samples, dt = self._axles(offsets, loads, speed, x_head0, n_samples, dt)
+        G = _float_array(G, "residual flexibility G")
+        if G.ndim != 2 or G.shape[0] != self.track.n_track:
+            raise ModelError(f"modal bridge: the residual flexibility G must be (n_track = {self.track.n_track}, "
+                             f"n_columns), got {G.shape}")
         out = np.zeros((n_samples, G.shape[1]))
-        add_static_correction(np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float)),
-                              np.ascontiguousarray(loads, dtype=float), float(speed), self.track.x_start,
-                              self.track.length, self.track.dofs, np.ascontiguousarray(G), float(dt), out)
+        add_static_correction(x0, loads, speed, self.track.x_start, self.track.length, self.track.dofs,
+                              G, dt, out)
         return out
 
     def passage(self, offsets, loads, speed, x_head0, n_samples, dt, rows):
@@ -162,20 +187,42 @@ class ModalBridge:
         (:mod:`vtsi.modal_passage`): ``(n_samples, n_columns)`` at t = dt, 2 dt, … (the analyses'
         output times), column c = Σ_j rows[0, j, c] q_j + rows[1, j, c] q̇_j + rows[2, j, c] q̈_j
         (``rows (3, n_modes, n_columns)``: a node response is its row of Φ on q, q̇ or q̈)."""
-        if self.track is None:
-            raise ModelError("modal bridge: a passage needs the bridge's track (ModalBridge(model, track, ...))")
-        if np.any(self.zeta >= 1.0):
-            j = int(np.argmax(self.zeta >= 1.0))
+        x0, loads, speed, n_samples, dt = self._axles(offsets, loads, speed, x_head0, n_samples, dt)
+        if self._overdamped >= 0:
+            j = self._overdamped
             raise ModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
                              "an exact passage needs underdamped modes (lower f_max or give the ratios)")
-        rows = np.ascontiguousarray(rows, dtype=float)
+        rows = _float_array(rows, "passage rows")
         if rows.ndim != 3 or rows.shape[:2] != (3, self.n_modes):
             raise ModelError(f"modal bridge: passage rows must be (3, {self.n_modes}, n_columns), got {rows.shape}")
         out = np.zeros((n_samples, rows.shape[2]))
-        exact_response(np.ascontiguousarray(x_head0 - np.asarray(offsets, dtype=float)),
-                       np.ascontiguousarray(loads, dtype=float), float(speed), self.track.x_start, self.track.length,
-                       self.track_shapes, self.omega, self.zeta, float(dt), rows, out)
+        exact_response(x0, loads, speed, self.track.x_start, self.track.length, self.track_shapes, self.omega,
+                       self._zeta, dt, rows, out)
         return out
+
+    def _axles(self, offsets, loads, speed, x_head0, n_samples, dt):
+        """The checked arguments of a passage: ``(x0, loads, speed, n_samples, dt)``, x0 the
+        axles' positions at t = 0 [m] (decreasing), contiguous."""
+        if self.track is None:
+            raise ModelError("modal bridge: a passage needs the bridge's track (ModalBridge(model, track, ...))")
+        offsets, loads = _float_array(offsets, "axle offsets"), _float_array(loads, "axle loads")
+        if offsets.ndim != 1 or loads.shape != offsets.shape or offsets.size == 0:
+            raise ModelError(f"modal bridge: a passage needs as many axle loads as axle offsets (1-D, at least one), "
+                             f"got {loads.shape} loads and {offsets.shape} offsets")
+        bad = first_bad_axle(offsets, loads)
+        if bad >= 0 and not (math.isfinite(offsets[bad]) and math.isfinite(loads[bad])):
+            raise ModelError(f"modal bridge: axle {bad}: offset {offsets[bad]} m and load {loads[bad]} N must be finite")
+        if bad >= 0:
+            raise ModelError(f"modal bridge: axle {bad}: offset {offsets[bad]} m is ahead of axle {bad - 1}'s "
+                             f"{offsets[bad - 1]} m; offsets behind the head increase (the train's order)")
+        for name, value in (("speed", speed), ("dt", dt)):
+            if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value) and value > 0):
+                raise ModelError(f"modal bridge: passage {name} must be > 0 and finite, got {value!r}")
+        if not (isinstance(x_head0, (int, float, np.floating, np.integer)) and math.isfinite(x_head0)):
+            raise ModelError(f"modal bridge: passage x_head0 must be a finite position [m], got {x_head0!r}")
+        if not (isinstance(n_samples, (int, np.integer)) and n_samples >= 0):
+            raise ModelError(f"modal bridge: passage n_samples must be an integer >= 0, got {n_samples!r}")
+        return float(x_head0) - offsets, loads, float(speed), int(n_samples), float(dt)
 
     def coordinates(self, offsets, loads, speed, x_head0, n_samples, dt):
         """``(q, q̇, q̈)`` of a passage (arguments as :meth:`passage`), each (n_samples, n_modes)."""
@@ -258,6 +305,24 @@ class ModalStages(BridgeStages):
 
     def recorded(self, out):
         return out @ self._post
+
+
+def _float_array(value, what):
+    """``value`` as a float array (C-contiguous), or a ModelError naming ``what``."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"modal bridge: {what} must be numbers, got {value!r}") from None
+    return array if array.flags.c_contiguous else np.ascontiguousarray(array)
+
+
+def _ratio_of(zeta, f):
+    """The damping ratio the user's function ``zeta`` gives at ``f`` [Hz]."""
+    try:
+        return float(zeta(f))
+    except Exception as exc:       # the user's function: its failure named, with the frequency
+        raise ModelError(f"modal bridge: the damping function failed at {f:.6g} Hz: "
+                         f"{type(exc).__name__}: {exc}") from None
 
 
 def _positive_hz(value):

@@ -41,6 +41,7 @@ import math
 import numpy as np
 from numba import njit
 
+from vtsi.errors import ModelError
 from vtsi.track import hermite, host_element
 
 POWERS = 64     # samples per block of the free part's table of powers e^(λ i Δt)
@@ -65,9 +66,26 @@ def peaks(values, dt):
     """Envelope rows (6, n_columns): min, max, absmax and their times [s] of ``values``
     (n, n_columns) sampled at t = dt, 2 dt, …, each refined by a parabola through the extreme
     sample and its neighbours (the absmax only where both neighbours have the extreme's sign)."""
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    if values.ndim != 2:
+        raise ModelError(f"peaks: values must be (n_samples, n_columns), got shape {values.shape}")
+    if not (math.isfinite(dt) and dt > 0):
+        raise ModelError(f"peaks: the sampling step dt must be > 0 and finite [s], got {dt!r}")
     out = np.empty((6, values.shape[1]))
-    _peaks(np.ascontiguousarray(values, dtype=np.float64), float(dt), out)
+    _peaks(values, float(dt), out)
     return out
+
+
+@njit(cache=True)
+def first_bad_axle(offsets, loads):
+    """The first axle whose offset behind the head [m] or load [N] is not finite, or whose
+    offset is smaller than the previous axle's (the train's order); -1 if none."""
+    for i in range(offsets.shape[0]):
+        if not (math.isfinite(offsets[i]) and math.isfinite(loads[i])):
+            return i
+        if i > 0 and offsets[i] < offsets[i - 1]:
+            return i
+    return -1
 
 
 @njit(cache=True)
