@@ -58,9 +58,10 @@ class ModalBridge:
 
     Attributes
     ----------
-    frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,) (read-only: :meth:`add_ratios`), shapes (n_full, n) mass-normalised,
-    assembly (the model version the modes belong to), track_modes (n_track, n) and
-    track_shapes (n_el, n, 4) (:func:`~vtsi.modal_passage.shape_polynomials`) with a track.
+    frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,) (read-only: :meth:`add_ratios`),
+    shapes (n_full, n) mass-normalised, assembly (the model version the modes belong to),
+    track_modes (n_track, n) and track_shapes (n_el, n, 4)
+    (:func:`~vtsi.modal_passage.shape_polynomials`) with a track.
     """
 
     def __init__(self, model, track=None, f_max=None, zeta=None, n_modes=None):
@@ -159,7 +160,8 @@ class ModalBridge:
         track dof."""
         asm, track = self.assembly, self.track
         if track is None:
-            raise ModelError("modal bridge: a residual flexibility needs the bridge's track (ModalBridge(model, track, ...))")
+            raise ModelError("modal bridge: a residual flexibility needs the bridge's track "
+                             "(ModalBridge(model, track, ...))")
         output_map = _float_array(output_map, "output map")
         if output_map.ndim != 2 or output_map.shape[0] != asm.n_free:
             raise ModelError(f"modal bridge: the output map must be (n_free = {asm.n_free}, n_columns), "
