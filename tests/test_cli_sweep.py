@@ -112,7 +112,8 @@ def test_help_lists_the_subcommands(capsys):
 def test_no_command_is_a_usage_error(capsys):
     with pytest.raises(SystemExit) as info:
         main([])
-    assert info.value.code == 2 and "vtsi: error" in capsys.readouterr().err
+    err = capsys.readouterr().err.splitlines()
+    assert info.value.code == 2 and len(err) == 1 and err[0].startswith("vtsi: error: a command") and "'vtsi -h'" in err[0]
 
 
 def test_trains_lists_the_catalogue(capsys):
@@ -324,13 +325,27 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, caps
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before      # nothing written or changed
 
 
-@pytest.mark.parametrize("args", [["--workers", "0"], ["--resume", "--overwrite"], ["--cars", "half"], []])
-def test_usage_errors_exit_2(args, tmp_path, capsys):
+@pytest.mark.parametrize("command", ["sweep", "check"])
+@pytest.mark.parametrize("args, message", [
+    (["--workers", "0"], "argument --workers: expected an integer >= 1, got '0'"),
+    (["--resume", "--overwrite"], "argument --overwrite: not allowed with argument --resume"),
+    (["--cars", "half"], "argument --cars: invalid choice: 'half'"),
+    (["--bridge-model", "modl"], "argument --bridge-model: invalid choice: 'modl'"),
+    (["--modal-hz", "40"], "unrecognized arguments: --modal-hz 40"),
+    ([], "the following arguments are required: --speeds"),
+], ids=["workers", "resume-overwrite", "cars", "bridge-model", "unknown-option", "missing"])
+def test_usage_errors_exit_2_with_one_line(command, args, message, tmp_path, capsys):
+    """A bad command line is told as every other bad input: one line naming the argument,
+    with where help is (not argparse's usage block), exit status 2, nothing written."""
+    if command == "check" and not args:
+        args, message = ["--speeds"], "argument --speeds: expected one argument"
     bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
     needed = ["--trains", "A1", "--speeds", "200"] if args else ["--trains", "A1"]
     with pytest.raises(SystemExit) as info:
-        main(["sweep", str(bridge), *needed, *args, "--out", str(tmp_path / "out.h5")])
-    assert info.value.code == 2 and "vtsi sweep: error" in capsys.readouterr().err
+        main([command, str(bridge), *needed, *args, "--out", str(tmp_path / "out.h5")])
+    err = capsys.readouterr().err.splitlines()
+    assert info.value.code == 2 and len(err) == 1, err
+    assert err[0].startswith(f"vtsi {command}: error: ") and message in err[0] and f"'vtsi {command} -h'" in err[0]
     assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
 
 

@@ -71,16 +71,25 @@ def main(argv=None):
         return _run(parser, argv[1:])
     if argv and not argv[0].startswith("-") and argv[0] not in COMMANDS:
         return _run(parser, argv)                 # the original form: vtsi SCRIPT.tcl [args]
-    ns = parser.parse_args(argv)                  # -h, --version, sweep, trains
+    ns, unknown = parser.parse_known_args(argv)   # -h, --version, sweep, check, trains
+    if unknown:                                   # told by the command's parser: its name and help
+        parser.commands.get(ns.command, parser).error(f"unrecognized arguments: {' '.join(unknown)}")
     if ns.command is None:
         parser.error("a command (run, sweep, check, trains) or a Tcl script is required")
     return ns.func(ns)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a bad command line told in one line (status 2), as every other bad input."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} -h')\n")
+
+
 def _parser():
     import vtsi
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="vtsi", usage="vtsi [-h] [--version] {run,sweep,check,trains} ...\n       vtsi SCRIPT.tcl [args ...]",
         description="vtsi: trains crossing railway bridges (vehicle-track-structure interaction). "
                     "'vtsi SCRIPT.tcl [args]' is 'vtsi run SCRIPT.tcl [args]'. Details: docs/cli.md.")
@@ -96,6 +105,7 @@ def _parser():
     run.add_argument("script", help="Tcl script to run (e.g. model.tcl)")
     run.add_argument("args", nargs="*", default=[], help="the script's $argv")
     parser.run_parser = run
+    parser.commands = sub.choices
 
     sweep = sub.add_parser("sweep", prog="vtsi sweep",
                            help="run every train at every speed over a bridge into an HDF5 results file",
