@@ -131,7 +131,10 @@ def test_run_subcommand_and_the_original_form(tmp_path, capfd):
     assert "args 2 x -y" in capfd.readouterr().out          # Tcl's puts writes to file descriptor 1
     assert main([str(script), "x", "-y"]) == 3
     assert "args 2 x -y" in capfd.readouterr().out
-    assert main(["run", str(tmp_path / "missing.tcl")]) == 1
+    with pytest.raises(SystemExit) as info:                    # a bad command line: one line, status 2
+        main(["run", str(tmp_path / "missing.tcl")])
+    err = capfd.readouterr().err.splitlines()
+    assert info.value.code == 2 and len(err) == 1 and "missing.tcl: no such file" in err[0], err
 
 
 # -- vtsi sweep ------------------------------------------------------------------------------------

@@ -190,7 +190,10 @@ def test_main_exit_codes(tmp_path, capsys):
     good = tmp_path / "good.tcl"
     good.write_text("puts \"args [llength $argv] $argv\"\nexit 3\n")
     assert main([str(good), "x", "y"]) == 3
-    assert main([str(tmp_path / "missing.tcl")]) == 1
+    with pytest.raises(SystemExit) as info:
+        main([str(tmp_path / "missing.tcl")])
+    err = capsys.readouterr().err.splitlines()
+    assert info.value.code == 2 and err == [f"vtsi run: error: script {tmp_path / 'missing.tcl'}: no such file (see 'vtsi run -h')"]
 
 
 def test_word_conversion():

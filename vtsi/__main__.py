@@ -218,6 +218,9 @@ def _run(parser, argv):
 
     split = 1 if argv and not argv[0].startswith("-") else len(argv)
     ns = parser.run_parser.parse_args(argv[:split])
+    if not os.path.isfile(ns.script) or not os.access(ns.script, os.R_OK):
+        parser.run_parser.error(f"script {ns.script}: " + ("not a readable file" if os.path.exists(ns.script)
+                                                            else "no such file"))
     try:
         interp = run_file(ns.script, argv=argv[split:])
     except ImportError as exc:
