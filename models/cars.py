@@ -29,7 +29,7 @@ from importlib import resources
 import numpy as np
 import scipy.linalg
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
 
 GRAVITY = 9.81
 """Default acceleration of gravity g [m/s²], as in the reference data."""
@@ -167,7 +167,7 @@ def _check(where, positive=(), nonnegative=()):
     """Raise ValueError naming the first parameter that is not finite and > 0 (or ≥ 0)."""
     for params, bound, op in ((positive, '>', np.greater), (nonnegative, '>=', np.greater_equal)):
         for name, value in params:
-            if not (np.isfinite(value) and op(value, 0.0)):
+            if not (np.isfinite(as_number(value, where, name)) and op(float(value), 0.0)):
                 raise ModelError(f"{where}: {name} must be {bound} 0, got {value!r}")
 
 
@@ -322,7 +322,7 @@ def ten_dof_car(params, g=GRAVITY, name='ten-dof car'):
     if missing or unknown:
         raise ModelError(f"{where}: missing parameters {sorted(missing)}, unknown {sorted(unknown)}; "
                          f"expected {list(TEN_DOF_PARAMETERS)}")
-    p = {key: float(value) for key, value in params.items()}
+    p = {key: as_number(value, where, key) for key, value in params.items()}
     _check(where, positive=[(k, v) for k, v in p.items() if not k.endswith('damping')] + [('g', g)],
            nonnegative=[(k, v) for k, v in p.items() if k.endswith('damping')])
     Lc, Lb = p['bogie_centre_spacing'], p['axle_spacing']

@@ -22,7 +22,7 @@ from importlib import resources
 import numpy as np
 import scipy.sparse
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
 
 from .cars import Car, _frozen, car_from_catalogue, moving_force
 
@@ -77,10 +77,13 @@ class Train:
 
     def __init__(self, cars, car_offsets, speed, name='train', *, characteristic_length=None):
         self.cars = tuple(cars)
-        self.car_offsets = _frozen(car_offsets, np.float64)
-        self.speed = float(speed)
         self.name = str(name)
         where = f"train {self.name!r}"
+        try:
+            self.car_offsets = _frozen(car_offsets, np.float64)
+        except (TypeError, ValueError):
+            raise ModelError(f"{where}: car_offsets must be numbers [m], got {car_offsets!r}") from None
+        self.speed = as_number(speed, where, "speed [m/s]")
         self.characteristic_length = _check_characteristic_length(characteristic_length, where)
         if not self.cars or not all(isinstance(car, Car) for car in self.cars):
             raise ModelError(f"{where}: cars must be a non-empty sequence of Car")
@@ -124,7 +127,7 @@ class Train:
     def with_speed(self, speed):
         """The same train at another constant speed [m/s] (a shallow copy: cars, offsets and
         matrices are shared, read-only)."""
-        speed = float(speed)
+        speed = as_number(speed, f"train {self.name!r}", "speed [m/s]")
         if not (np.isfinite(speed) and speed >= 0):
             raise ModelError(f"train {self.name!r}: speed must be finite and >= 0, got {speed!r}")
         train = copy.copy(self)
@@ -162,9 +165,9 @@ class Train:
     def uniform(cls, car, n_cars, car_length, speed, name=None):
         """``n_cars`` copies of ``car``, one every ``car_length`` metres (offsets 0, L, 2L, …);
         ``car_length`` is the train's characteristic length."""
-        if int(n_cars) != n_cars or n_cars < 1:
+        if not _is_count(n_cars, 1):
             raise ModelError(f"Train.uniform: n_cars must be a positive integer, got {n_cars!r}")
-        if not (np.isfinite(car_length) and car_length > 0):
+        if not (np.isfinite(as_number(car_length, "Train.uniform", "car_length")) and car_length > 0):
             raise ModelError(f"Train.uniform: car_length must be > 0, got {car_length!r}")
         return cls([car] * int(n_cars), np.arange(int(n_cars)) * float(car_length), speed,
                    name=name or f"{int(n_cars)} x {car.name}", characteristic_length=float(car_length))
@@ -295,7 +298,7 @@ def ice3(n_cars=8, *, speed, name='ICE3'):
     Cantero, TTB-2D, TrainProp_AVE_S103_ICE3_Velaro_E_C*.m; Goicolea (2014), Simplified
     mechanical description of AVE S-103 - ICE3 Velaro E high speed train, oa.upm.es/43946.
     """
-    if int(n_cars) != n_cars or n_cars < 2:
+    if not _is_count(n_cars, 2):
         raise ModelError(f"ice3: n_cars must be an integer >= 2, got {n_cars!r}")
     car = car_from_catalogue('ICE3_coach')
     front_overhang = np.full(int(n_cars), _ICE3_OVERHANG)
@@ -471,3 +474,9 @@ def hslm_b(span, speed):
     N, d = hslm_b_parameters(span)
     return Train.from_axle_table(d * np.arange(N), np.full(N, _HSLM_B_P), speed, name='HSLM-B',
                                  characteristic_length=d)
+
+
+def _is_count(value, least):
+    """Whether ``value`` is a whole number (int, or a float without a fraction) >= ``least``."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
+        and np.isfinite(value) and int(value) == value and value >= least

@@ -16,7 +16,8 @@ from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError, VtsiError
 from vtsi.integrators import HHT, Bathe, Newmark
-from vtsi.models import Irregularity, Train, car_from_catalogue, four_dof_car, moving_force, sprung_mass, ten_dof_car
+from vtsi.models import Irregularity, Train, car_from_catalogue, four_dof_car, ice3, moving_force, sprung_mass, ten_dof_car
+from vtsi.models.cars import TEN_DOF_PARAMETERS
 from vtsi.models.bridges import simply_supported_beam
 from vtsi.recorders import ContactRecorder, ElementRecorder, HDF5Sink, MemorySink, NodeRecorder, TextSink, TrainRecorder
 from vtsi.timeseries import TimeSeries
@@ -553,6 +554,15 @@ CAR_CASES = [
      r"^train 'train': speed must be finite and >= 0, got -5.0$"),
     ("two cars on one spot", lambda: Train([sprung_mass(**CAR)] * 2, [0.0, 0.0], 5.0),
      r"^train 'train': wheel offsets must increase from head to tail; wheel 1 \(car 1\) at 0.0 m"),
+    ("a parameter that is not a number", lambda: four_dof_car(1e4, 1e5, 1e3, "stiff", 5.0, 10.0),
+     r"^four_dof_car: k_s must be a number, got 'stiff'$"),
+    ("a ten-dof parameter that is not a number",
+     lambda: ten_dof_car({name: 1.0 for name in TEN_DOF_PARAMETERS} | {"body_mass": None}), r"^ten_dof_car: body_mass must be a number, got None$"),
+    ("a speed that is not a number", lambda: Train([sprung_mass(**CAR)], [0.0], "fast"),
+     r"^train 'train': speed \[m/s\] must be a number, got 'fast'$"),
+    ("car offsets that are not numbers", lambda: Train([sprung_mass(**CAR)], ["front"], 5.0),
+     r"^train 'train': car_offsets must be numbers \[m\], got \['front'\]$"),
+    ("a car count that is not an integer", lambda: ice3("8", speed=50.0), r"^ice3: n_cars must be an integer >= 2, got '8'$"),
 ]
 
 

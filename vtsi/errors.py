@@ -42,3 +42,11 @@ class SweepError(VtsiError, ValueError):
 class PassageError(SweepError):
     """A passage of a sweep failed while the sweep ran (e.g. it diverged): the message names
     the case (train, speed, seed); the cases finished before it are kept in the results file."""
+
+
+def as_number(value, where, name, error=ModelError):
+    """``value`` as a float, or ``error`` naming ``where``, ``name`` and the value given."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise error(f"{where}: {name} must be a number, got {value!r}") from None
