@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vtsi.damping import rayleigh_damping
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
 
 
 @dataclass
@@ -42,7 +42,9 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
         through ``damping_hz`` = (f_a, f_b) [Hz], by default the first vertical frequency and the
         EN 1990 A2 cut-off (:func:`vtsi.damping.rayleigh_damping`: what it does to the other modes).
     """
-    spans = [float(s) for s in spans]
+    if isinstance(spans, (str, bytes)) or not np.iterable(spans):
+        raise ModelError(f"continuous_beam: spans must be a sequence of span lengths [m], got {spans!r}")
+    spans = [as_number(s, "continuous_beam", "a span length [m]") for s in spans]
     if not spans or any(not s > 0 for s in spans):
         raise ModelError(f"continuous_beam: spans must be positive, got {spans}")
     n = int(elements_per_span)

@@ -346,7 +346,9 @@ def test_resume_skips_finished_cases(tmp_path):
                                                  (["HSLM-A1"], "300:200:10", "empty range"),
                                                  (["HSLM-A1"], "0", "> 0"),
                                                  ([], "200", "no train"),
-                                                 (["HSLM-A1", "HSLM-A1"], "200", "twice")])
+                                                 (["HSLM-A1", "HSLM-A1"], "200", "twice"),
+                                                 (5, "200", "trains must be catalogue names or axle-table paths, got 5"),
+                                                 ([3.5], "200", r"axle-table paths, got \[3.5\]")])
 def test_bad_sweep_inputs_raise_before_anything_is_written(tmp_path, trains, spec, words):
     with pytest.raises(SweepError, match=words):
         Sweep(small_bridge(), trains, spec, FAST).run(tmp_path / "bad.h5")
@@ -379,6 +381,25 @@ def test_unwritable_path_and_existing_files(tmp_path):
         other.run(path, workers=1, resume=True)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.h5"]
     assert other.run(path, workers=1, overwrite=True, progress=False).identity["settings"]["dt"] == 4e-3
+    with pytest.raises(SweepError, match="is a directory"):
+        sweep.run(tmp_path, workers=1)
+
+
+def test_results_that_cannot_be_read_are_named(tmp_path):
+    """A results path that is missing, a folder or not HDF5, and a case asked with a seed that
+    is not an integer: a SweepError naming it (the CLI's one line), no h5py or numpy error."""
+    with pytest.raises(SweepError, match=r"results file .*missing.h5: no such file"):
+        SweepResults(tmp_path / "missing.h5")
+    with pytest.raises(SweepError, match=r"results file .*: not a file"):
+        SweepResults(tmp_path)
+    (tmp_path / "notes.h5").write_text("not HDF5")
+    with pytest.raises(SweepError, match=r"results file .*notes.h5: not a readable HDF5 file"):
+        SweepResults(tmp_path / "notes.h5")
+    res = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST).run(None, workers=1, progress=False)
+    with pytest.raises(SweepError, match=r"seed must be an integer \(-1: smooth rail\), got 'accel'"):
+        res.history("HSLM-A1", 200, "accel")
+    with pytest.raises(SweepError, match=r"speed \[km/h\] must be a number, got 'fast'"):
+        res.history("HSLM-A1", "fast")
 
 
 def test_a_failing_case_is_named_and_the_finished_ones_are_kept(tmp_path):

@@ -191,6 +191,8 @@ class Sweep:
             raise SweepError("sweep: the bridge has no track (no track elements)")
         if isinstance(trains, str):
             trains = [t for t in trains.split(",") if t.strip()]
+        if not np.iterable(trains) or not all(isinstance(t, (str, os.PathLike)) for t in trains):
+            raise SweepError(f"sweep: trains must be catalogue names or axle-table paths, got {trains!r}")
         self.trains = [str(t).strip() for t in trains]
         if not self.trains:
             raise SweepError("sweep: no train")

@@ -48,7 +48,7 @@ import h5py
 import numpy as np
 
 from vtsi import __version__
-from vtsi.errors import SweepError
+from vtsi.errors import SweepError, as_number
 
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 3
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
@@ -143,14 +143,14 @@ class ResultsWriter:
         self.path = None if path is None else os.fspath(path)
         self.identity = json.loads(json.dumps(identity))
         self._memory = None
+        if self.path is not None and os.path.isdir(self.path):
+            raise SweepError(f"results file {self.path} is a directory")
         if self.path is not None and os.path.exists(self.path) and not overwrite:
             if not resume:
                 raise SweepError(f"results file {self.path} exists; resume=True (--resume) continues its sweep, "
                                        "overwrite=True (--overwrite) replaces it")
             self._check(self.path)
             return
-        if self.path is not None and os.path.isdir(self.path):
-            raise SweepError(f"results file {self.path} is a directory")
         handle, tmp = self._open_new()
         try:
             with handle as f:
@@ -377,7 +377,13 @@ class SweepResults:
     def __init__(self, source):
         self._file = source if isinstance(source, h5py.File) else None
         self.path = None if self._file is not None else os.fspath(source)
-        with self._open() as f:
+        if self.path is not None and not os.path.isfile(self.path):
+            raise SweepError(f"results file {self.path}: " + ("not a file" if os.path.exists(self.path) else "no such file"))
+        try:
+            handle = self._open()
+        except OSError as exc:
+            raise SweepError(f"results file {self.path}: not a readable HDF5 file ({exc})") from None
+        with handle as f:
             if f.attrs.get("format") != FORMAT:
                 raise SweepError(f"{self.path}: not a vtsi sweep results file")
             if int(f.attrs.get("format_version", 0)) != FORMAT_VERSION:
@@ -518,7 +524,9 @@ class SweepResults:
 
     def history(self, train, speed_kmh, seed=-1):
         """A case's recorded histories: ``{output: (time, values, columns)}`` plus 'attrs'."""
-        key = case_key(train, speed_kmh, seed)
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+            raise SweepError(f"sweep results: a case's seed must be an integer (-1: smooth rail), got {seed!r}")
+        key = case_key(train, as_number(speed_kmh, "sweep results", "speed [km/h]", SweepError), seed)
         with self._open() as f:
             if "histories" not in f or key not in f["histories"]:
                 raise SweepError(f"sweep results: no histories of case {key} (Sweep.record_histories)")
