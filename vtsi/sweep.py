@@ -255,11 +255,13 @@ class Sweep:
             steps *= EXACT_SAMPLE_COST          # exact modal passages: their samples cost little
         return float(steps)
 
-    def task_size(self, cases, workers):
-        """Cases per task: about TASK_STEPS steps, and at least one task per worker."""
-        if not cases:
+    @staticmethod
+    def task_size(n_cases, cost, workers):
+        """Cases per task: about TASK_STEPS steps (``cost``: a case's, :meth:`case_cost`), and at
+        least one task per worker."""
+        if not n_cases:
             return 1
-        return int(max(1, min(math.ceil(TASK_STEPS / max(self.case_cost(cases), 1.0)), math.ceil(len(cases) / workers))))
+        return int(max(1, min(math.ceil(TASK_STEPS / max(cost, 1.0)), math.ceil(n_cases / workers))))
 
     def run(self, path=None, *, workers=None, executor=None, progress=None, resume=False, overwrite=False,
             cases_per_task=None):
@@ -290,9 +292,10 @@ class Sweep:
         todo = [c for c in self.cases if case_key(*c) not in done]
         if todo:
             self.prepare()
-            if workers is None and executor is None and self.case_cost(todo) * len(todo) <= TASK_STEPS:
+            cost = self.case_cost(todo)
+            if workers is None and executor is None and cost * len(todo) <= TASK_STEPS:
                 n_workers = 1
-            size = cases_per_task or self.task_size(todo, n_workers)
+            size = cases_per_task or self.task_size(len(todo), cost, n_workers)
             tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
             bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
             if executor is None and n_workers == 1:
