@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from vtsi.check import CheckSettings, check, stored_check
+from vtsi.check import CheckResult, CheckSettings, check, stored_check
 from vtsi.codes.en1991_2 import dynamic_factor, track_irregularity_increment
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, SweepError
 from vtsi.passage import Output, PassageSettings
 from vtsi.reference.fryba import daf
 from vtsi.sweep import Sweep, beam_bridge
@@ -90,3 +90,30 @@ def test_interaction_rows_and_the_stored_table(tmp_path):
 def test_bad_check_settings(kwargs, words):
     with pytest.raises(ModelError, match=words):
         CheckSettings(**kwargs)
+
+
+def test_a_check_with_nothing_to_check_or_a_short_cut_off_is_refused(hslm, tmp_path):
+    """A sweep that kept no output a criterion reads gives no verdict, not PASS; a deck
+    acceleration counted below the EN cut-off (here 6 Hz against n₃ = 45.8 Hz) is refused, not checked
+    against 3.5 m/s² (it would under-read the peak); bad arguments and files are named."""
+    bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=4)
+    fast = PassageSettings(dt=5e-3, damping=0.013)
+    velocity = Sweep(bridge, ["HSLM-A1"], "300", fast, outputs=[Output("v", "vel")]).run(None, workers=1, progress=False)
+    with pytest.raises(SweepError, match="the sweep kept none of the outputs the criteria read"):
+        check(velocity)
+    short = Sweep(bridge, ["HSLM-A1"], "300", fast, outputs=[Output("a", "accel", cutoff=6.0)])
+    with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45.8\d Hz"):
+        check(short.run(None, workers=1, progress=False))
+    assert not CheckResult(CheckSettings()).passed
+    assert "NO VERDICT" in CheckResult(CheckSettings()).text()
+    with pytest.raises(SweepError, match="results must be SweepResults or a results file path, got NoneType"):
+        check(None)
+    with pytest.raises(SweepError, match="settings must be CheckSettings, got str"):
+        check(hslm[1], "ballasted")
+    with pytest.raises(SweepError, match=r"no row 'nope'; the rows are deck_acceleration, "):
+        check(hslm[1]).row("nope")
+    with pytest.raises(SweepError, match=r"results file .*missing.h5: no such file"):
+        stored_check(tmp_path / "missing.h5")
+    (tmp_path / "text.h5").write_text("not HDF5")
+    with pytest.raises(SweepError, match=r"results file .*text.h5: not a readable HDF5 file"):
+        check(hslm[1]).store(tmp_path / "text.h5")

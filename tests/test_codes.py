@@ -45,6 +45,32 @@ def test_en_1990_a2_acceleration_cutoff():
     from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
     assert acceleration_cutoff_hz([5.0, 20.0, 45.0]) == 45.0          # n3 governs
     assert acceleration_cutoff_hz([4.0, 10.0, 20.0]) == 30.0          # 30 Hz governs
-    assert acceleration_cutoff_hz([25.0, 60.0, 35.0]) == 37.5         # 1.5 n0 governs
+    assert acceleration_cutoff_hz([25.0, 30.0, 35.0]) == 37.5         # 1.5 n0 governs
     with pytest.raises(ModelError, match="three"):
         acceleration_cutoff_hz([5.0, 20.0])
+    with pytest.raises(ModelError, match=r"in increasing order \(n0 first\), got \[25.0, 10.0, 5.0\]"):
+        acceleration_cutoff_hz([25.0, 10.0, 5.0])                      # n0 is the lowest: not 37.5 Hz
+    with pytest.raises(ModelError, match=r"got '5,10,20'"):
+        acceleration_cutoff_hz("5,10,20")
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda c: c.en1991_2.dynamic_factor(0.03), None),
+    (lambda c: c.en1991_2.determinant_length([]), r"Table 6.2: the determinant length needs at least one span"),
+    (lambda c: c.en1991_2.track_irregularity_increment(20.0, None, 100.0), r"Annex C: n0 \[Hz\] must be a number, got None"),
+    (lambda c: c.en1991_2.track_irregularity_increment(20.0, [5.0, 6.0], 100.0), r"Annex C: n0 \[Hz\] and speed"),
+    (lambda c: c.en1991_2.damping_lower_bound(["steel"], 10.0), r"Table 6.6: unknown bridge type \['steel'\]"),
+    (lambda c: c.en1990_a2.deck_acceleration_limit(["ballasted"]), r"unknown track form \['ballasted'\]"),
+    (lambda c: c.en1990_a2.comfort_limit(["good"]), r"unknown level of comfort \['good'\]"),
+], ids=["phi-short", "no-span", "n0-none", "n0-list", "kind-list", "track-list", "comfort-list"])
+def test_code_rules_name_a_bad_argument(call, message):
+    """A bad argument of an EN rule is a ModelError naming the clause and the value; below
+    L_Φ = 0.04 m, where Φ's formula has no finite value, Φ is its upper limit (not the lower)."""
+    import vtsi.codes as codes
+    from vtsi.codes import en1990_a2, en1991_2            # noqa: F401 (the submodules, on codes)
+    if message is None:
+        assert call(codes) == 1.67 and codes.en1991_2.dynamic_factor(0.04) == 1.67
+        assert codes.en1991_2.dynamic_factor(0.01, "standard") == 2.0
+        return
+    with pytest.raises(ModelError, match=message):
+        call(codes)

@@ -15,6 +15,7 @@ from vtsi.errors import SweepError
 from vtsi.passage import PassageSettings
 from vtsi.report import PNG_MAGIC, SECTIONS, write_report
 from vtsi.sweep import Sweep, beam_bridge
+from vtsi.workflow import design_check
 
 L, F1, MU = 20.0, 5.0, 15000.0
 EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
@@ -157,3 +158,25 @@ def test_a_file_without_a_check_is_refused(files, tmp_path):
     with pytest.raises(SweepError, match="not a readable HDF5 file"):
         write_report(tmp_path / "text.h5", tmp_path / "report")
     assert not (tmp_path / "report").exists()
+
+
+def test_bad_report_and_design_check_arguments_are_named_before_anything_runs(files, tmp_path):
+    """A report directory that is a file, arguments of the wrong kind, and a design check whose
+    settings or report directory are wrong: named before the sweep runs (no results file)."""
+    (tmp_path / "notes.txt").write_text("x")
+    with pytest.raises(SweepError, match=r"report: .*notes.txt is a file, not a directory for the report"):
+        write_report(files / "sweep.h5", tmp_path / "notes.txt")
+    for kwargs, message in (({"title": 5}, "the title must be text, got 5"),
+                            ({"scene_png": 5}, "the scene image must be a path, got 5")):
+        with pytest.raises(SweepError, match=message):
+            write_report(files / "sweep.h5", tmp_path / "r", **kwargs)
+    with pytest.raises(SweepError, match="the report directory must be a path, got None"):
+        write_report(files / "sweep.h5", None)
+    sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["HSLM-A1"], "300", PassageSettings(dt=5e-3))
+    for args, kwargs, message in (((sweep, tmp_path / "w.h5", "ballasted"), {}, "settings must be CheckSettings, got str"),
+                                  ((sweep, tmp_path / "w.h5"), {"report_dir": tmp_path / "notes.txt"}, "is a file"),
+                                  (("sweep", tmp_path / "w.h5"), {}, "sweep must be a vtsi.sweep.Sweep, got str"),
+                                  ((sweep, None), {}, "the results file must be a path, got None")):
+        with pytest.raises(SweepError, match=message):
+            design_check(*args, **kwargs)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]

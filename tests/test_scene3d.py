@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from vtsi import scene3d
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, SweepError
 from vtsi.scene3d import PassageScene, rendering_available
 
 SPAN, CAR, AXLES = 20.0, 25.0, (2.5, 5.0, 20.0, 22.5)   # [m]; axle offsets behind a car's front
@@ -111,6 +111,7 @@ def test_bad_scene(args, kwargs, name):
     ({"deck_uy": np.where(X == 10.0, np.nan, SAG)}, "deck_uy"),
     ({"path": "scene.jpg"}, "path"),
     ({"window_size": (400,)}, "window_size"),
+    ({"window_size": (100000, 100000)}, r"window_size: expected two integers from 16 to 8192 pixels"),
 ])
 def test_bad_picture(scene, tmp_path, kwargs, name):
     args = {"path": tmp_path / "x.png", "deck_uy": SAG, "wheel_x": WHEELS, "car_bounds": CARS} | kwargs
@@ -173,3 +174,10 @@ def test_scene_and_animation_of_a_recorded_case(tmp_path):
     assert iio.imread(png).shape[:2] == (180, 400)
     gif = animate_case(path, tmp_path / "s.gif", max_frames=3, window_size=(400, 176))
     assert iio.imread(gif, index=None).shape[0] == 3
+    with pytest.raises(ModelError, match=r"render_case: time 1e\+06 s is outside the recorded passage"):
+        render_case(path, tmp_path / "t.png", time=1e6)
+    with pytest.raises(ModelError, match=r"render_case: time \[s\] must be a number, got 'x'"):
+        render_case(path, tmp_path / "t.png", time="x")
+    with pytest.raises(SweepError, match=r"scene: train 'ICE9' is not in the sweep .* \(trains: HSLM-A1\)"):
+        render_case(path, tmp_path / "t.png", train="ICE9")
+    assert not (tmp_path / "t.png").exists()

@@ -106,14 +106,15 @@ class CheckResult:
 
     @property
     def passed(self):
-        """True when no row fails."""
-        return all(r.status != "fail" for r in self.rows)
+        """True when a criterion with a limit was checked and none fails."""
+        return any(r.status == "pass" for r in self.rows) and all(r.status != "fail" for r in self.rows)
 
     def row(self, criterion):
+        """The row of ``criterion`` (SweepError naming the rows there are when it has none)."""
         for r in self.rows:
             if r.criterion == criterion:
                 return r
-        raise KeyError(criterion)
+        raise SweepError(f"check: no row {criterion!r}; the rows are {', '.join(r.criterion for r in self.rows)}")
 
     def text(self):
         """The table as text (one line per criterion)."""
@@ -129,8 +130,9 @@ class CheckResult:
         widths = [max(len(line[j]) for line in lines) for j in range(len(head))]
         out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
         out.insert(1, "  ".join("-" * w for w in widths))
-        verdict = "PASS: every criterion is within its limit" if self.passed else \
-            "FAIL: " + ", ".join(r.criterion for r in self.rows if r.status == "fail")
+        failed = [r.criterion for r in self.rows if r.status == "fail"]
+        verdict = ("FAIL: " + ", ".join(failed) if failed else "PASS: every criterion is within its limit"
+                   if self.passed else "NO VERDICT: no criterion with a limit was checked")
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
         return "\n".join(out + ["", verdict] + (["notes:"] + notes if notes else []))
 
@@ -138,6 +140,7 @@ class CheckResult:
         """Write the table into the sweep's results file (/checks: one row per criterion, the
         settings in its attributes), atomically as the sweep writes (copy, write, rename)."""
         path = os.fspath(path)
+        SweepResults(path)                     # a readable results file of a sweep, or a SweepError naming it
         tmp = path + ".partial"
         shutil.copyfile(path, tmp)
         try:
@@ -162,11 +165,17 @@ class CheckResult:
 
 def stored_check(path):
     """The check stored in a results file (:meth:`CheckResult.store`), or None."""
-    with h5py.File(path, "r") as f:
+    results = SweepResults(path)           # a readable results file of a sweep, or a SweepError naming it
+    with h5py.File(results.path, "r") as f:
         if "checks" not in f:
             return None
         g = f["checks"]
-        settings = CheckSettings(**json.loads(g.attrs["settings"]))
+        if "settings" not in g.attrs or "criterion" not in g:
+            raise SweepError(f"results file {results.path}: its /checks is not a stored check (no settings or rows)")
+        try:
+            settings = CheckSettings(**json.loads(g.attrs["settings"]))
+        except (ModelError, TypeError, ValueError) as exc:
+            raise SweepError(f"results file {results.path}: the stored check's settings are not valid: {exc}") from None
         n = len(g["criterion"])
         rows = []
         for i in range(n):
@@ -180,8 +189,14 @@ def stored_check(path):
 
 
 def check(results, settings=None):
-    """Evaluate every criterion on ``results`` (a :class:`SweepResults` or a results file path)."""
+    """Evaluate every criterion on ``results`` (a :class:`SweepResults` or a results file path);
+    a SweepError when no criterion can be evaluated (the sweep kept none of their outputs) or a
+    deck acceleration output counts fewer frequencies than the EN cut-off."""
     settings = CheckSettings() if settings is None else settings
+    if not isinstance(settings, CheckSettings):
+        raise SweepError(f"check: settings must be CheckSettings, got {type(settings).__name__}")
+    if not isinstance(results, (SweepResults, str, os.PathLike)):
+        raise SweepError(f"check: results must be SweepResults or a results file path, got {type(results).__name__}")
     if not isinstance(results, SweepResults):
         results = SweepResults(results)
     if results.n_done == 0:
@@ -192,6 +207,9 @@ def check(results, settings=None):
     for rule in (_deck_acceleration, _dynamic_increment, _deflection_lm71, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
+    if not out.rows:
+        raise SweepError("check: the sweep kept none of the outputs the criteria read (deck acceleration, deflection, "
+                         "bending moment, end rotation, car-body acceleration, contact force): nothing to check")
     return out
 
 
@@ -208,9 +226,18 @@ def _outputs_of(outputs, response, cutoff=None):
 
 
 def _deck_acceleration(results, outputs, bridge, settings):
-    filtered = _outputs_of(outputs, "accel", cutoff=True)
-    name = (filtered or _outputs_of(outputs, "accel"))[:1]
+    """The deck acceleration of an output counting at least the EN cut-off's frequencies (one
+    with ``cutoff='en'``, or the full response); an output with a lower cut-off is refused."""
+    en_cutoff = en1990_a2.acceleration_cutoff_hz(bridge["frequencies_hz"][:3])
+    accel = _outputs_of(outputs, "accel")
+    short = [n for n in accel if outputs[n].get("cutoff_hz") is not None and outputs[n]["cutoff_hz"] < en_cutoff * (1 - 1e-9)]
+    filtered = [n for n in _outputs_of(outputs, "accel", cutoff=True) if n not in short]
+    name = (filtered or _outputs_of(outputs, "accel", cutoff=False))[:1]
     if not name:
+        if short:
+            raise SweepError(f"check: the deck acceleration output {short[0]!r} counts frequencies up to "
+                             f"{outputs[short[0]]['cutoff_hz']:.4g} Hz, below the EN 1990 A2.4.4.2.1(4)P cut-off "
+                             f"{en_cutoff:.4g} Hz: keep an output with cutoff='en' (or none: the full response)")
         return []
     name = name[0]
     env, columns = results.column_envelopes(name)

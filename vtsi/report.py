@@ -149,6 +149,12 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None):
     ------
     SweepError : the file is missing, not a results file, or holds no check.
     """
+    if not isinstance(results_path, (str, os.PathLike)):
+        raise SweepError(f"report: the results file must be a path, got {results_path!r}")
+    if not (title is None or isinstance(title, str)):
+        raise SweepError(f"report: the title must be text, got {title!r}")
+    if not (scene_png is None or isinstance(scene_png, (str, os.PathLike))):
+        raise SweepError(f"report: the scene image must be a path, got {scene_png!r}")
     path = Path(results_path)
     if not path.is_file():
         raise SweepError(f"report: results file {path} not found")
@@ -169,9 +175,9 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None):
     report = _Report(results, checked, path.resolve())
     sections = report.sections(scene)
 
-    out = Path(out_dir)
+    out = report_folder(out_dir)
     img = out / "img"
-    img.mkdir(parents=True, exist_ok=True)
+    img.mkdir(exist_ok=True)
     images = []
     for chart in _charts(sections):
         target = img / f"{chart.name}.png"
@@ -183,6 +189,21 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None):
     html_path.write_text(_html(title, meta, sections), encoding="utf-8")
     md_path.write_text(_markdown(title, meta, sections), encoding="utf-8")
     return {"html": html_path, "markdown": md_path, "images": images}
+
+
+def report_folder(out_dir):
+    """The report's directory ``out_dir`` as a Path, made if missing (with its parents); a
+    SweepError naming it when it is not a path, is a file or cannot be made."""
+    if not isinstance(out_dir, (str, os.PathLike)):
+        raise SweepError(f"report: the report directory must be a path, got {out_dir!r}")
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise SweepError(f"report: {out} is a file, not a directory for the report")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SweepError(f"report: cannot make the report directory {out} ({exc.strerror or exc})") from None
+    return out
 
 
 class _Report:

@@ -39,7 +39,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.check import stored_check
-from vtsi.errors import ModelError, SweepError
+from vtsi.errors import ModelError, SweepError, as_number
 from vtsi.sweep_results import SweepResults
 
 logger = logging.getLogger(__name__)
@@ -47,6 +47,7 @@ logger = logging.getLogger(__name__)
 WINDOW_VARIABLE = "VTK_DEFAULT_OPENGL_WINDOW"
 OSMESA_WINDOW = "vtkOSOpenGLRenderWindow"
 PROBE_TIMEOUT = 120.0   # [s]
+MAX_PIXELS = 8192       # the largest window side [px]: VTK aborts the process when it cannot allocate
 INSTALL_HINT = ("install OSMesa (Debian/Ubuntu: apt-get install libosmesa6) and pyvista "
                 "(pip install 'vtsi[plot]'), and set VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow")
 
@@ -226,8 +227,8 @@ def _window(window_size):
         w, h = (int(v) for v in window_size)
     except (TypeError, ValueError):
         raise ModelError(f"window_size: expected (width, height) in pixels, got {window_size!r}") from None
-    if w < 16 or h < 16 or (w, h) != tuple(window_size):
-        raise ModelError(f"window_size: expected two integers >= 16, got {window_size!r}")
+    if not (16 <= w <= MAX_PIXELS and 16 <= h <= MAX_PIXELS) or (w, h) != tuple(window_size):
+        raise ModelError(f"window_size: expected two integers from 16 to {MAX_PIXELS} pixels, got {window_size!r}")
     return w, h
 
 
@@ -804,6 +805,11 @@ def _recorded_case(results_path, train, speed_kmh, seed):
             if worst is None:
                 raise SweepError(f"scene: {results_path} holds no case to draw")
             train, speed_kmh, seed = worst["train"], worst["speed_kmh"], worst["seed"]
+    elif train not in results.trains:
+        raise SweepError(f"scene: train {train!r} is not in the sweep of {results_path} "
+                         f"(trains: {', '.join(results.trains)})")
+    elif speed_kmh is None:
+        raise SweepError(f"scene: a case of train {train!r} needs its speed_kmh")
     history = results.history(train, speed_kmh, seed)
     if "deck_displacement" not in history:
         raise SweepError(f"scene: case {train} at {speed_kmh:g} km/h has no deck displacement history")
@@ -823,6 +829,10 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
     if time is None:
         _, accel, _ = history.get("deck_acceleration", history["deck_displacement"])
         time = float(times[int(np.argmax(np.max(np.abs(accel), axis=1)))])
+    time = as_number(time, "render_case", "time [s]")
+    if not times[0] - 1e-9 <= time <= times[-1] + 1e-9:
+        raise ModelError(f"render_case: time {time:g} s is outside the recorded passage "
+                         f"({times[0]:g} to {times[-1]:g} s)")
     k = int(np.argmin(np.abs(times - time)))
     offsets = results.train_data(train)["axle_offsets_m"]
     wheel_x = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k] - offsets

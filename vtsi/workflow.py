@@ -7,9 +7,11 @@ import os
 
 import numpy as np
 
-from vtsi.check import check
-from vtsi.report import write_report
+from vtsi.check import CheckSettings, check
+from vtsi.errors import SweepError
+from vtsi.report import report_folder, write_report
 from vtsi.scene3d import animate_case, render_case, rendering_available
+from vtsi.sweep import Sweep
 
 log = logging.getLogger(__name__)
 
@@ -24,8 +26,14 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
 
     Returns ``(CheckResult, report paths: dict html, markdown, images, scene and animation (or
     None))``."""
+    if not isinstance(sweep, Sweep):
+        raise SweepError(f"design check: sweep must be a vtsi.sweep.Sweep, got {type(sweep).__name__}")
+    if not isinstance(path, (str, os.PathLike)):
+        raise SweepError(f"design check: the results file must be a path, got {path!r}")
+    if not (settings is None or isinstance(settings, CheckSettings)):
+        raise SweepError(f"design check: settings must be CheckSettings, got {type(settings).__name__}")
     path = os.path.abspath(os.fspath(path))
-    report_dir = os.path.abspath(report_dir or os.path.splitext(path)[0] + "_report")
+    report_dir = os.path.abspath(report_folder(report_dir or os.path.splitext(path)[0] + "_report"))
     sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
     result = check(path, settings)
     result.store(path)
@@ -33,7 +41,6 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
                         if r.train in sweep.trains and np.isfinite(r.speed_kmh)})
     if governing:
         sweep.record_histories(path, governing)
-    os.makedirs(report_dir, exist_ok=True)
     available, reason = rendering_available()
     scene = render_case(path, os.path.join(report_dir, "scene.png")) if available else None
     movie = animate_case(path, os.path.join(report_dir, "scene.gif")) if available and animation else None

@@ -12,10 +12,13 @@ def acceleration_cutoff_hz(frequencies):
     """A2.4.4.2.1(4)P: deck accelerations count frequencies up to the largest of 30 Hz, 1.5 n₀
     and n₃ [Hz], from the bridge's first vertical frequencies (n₀ first; n₃ the third: the
     first three modes count, so fewer than three given is refused)."""
-    f = np.asarray(frequencies, dtype=float).ravel()
-    if f.size < 3 or not np.all(np.isfinite(f) & (f > 0)):
+    try:
+        f = np.asarray(frequencies, dtype=float).ravel()
+    except (TypeError, ValueError):
+        f = None
+    if f is None or f.size < 3 or not np.all(np.isfinite(f) & (f > 0)) or np.any(np.diff(f) < 0):
         raise ModelError(f"EN 1990 A2.4.4.2.1: the cut-off needs the first three vertical frequencies > 0 [Hz], "
-                         f"got {f.tolist()}")
+                         f"in increasing order (n0 first), got {frequencies!r}")
     return float(max(30.0, 1.5 * f[0], f[2]))
 
 
@@ -29,13 +32,13 @@ DEFLECTION_SPAN_RATIO = 600.0
 
 def deck_acceleration_limit(track):
     """A2.4.4.2.1(4)P: γ_bt = 3.5 m/s² (ballasted track) or γ_df = 5 m/s² (direct fastening)."""
-    if track not in DECK_ACCELERATION_LIMITS:
+    if not isinstance(track, str) or track not in DECK_ACCELERATION_LIMITS:
         raise ModelError(f"EN 1990 A2.4.4.2.1: unknown track form {track!r}; valid: {', '.join(DECK_ACCELERATION_LIMITS)}")
     return DECK_ACCELERATION_LIMITS[track]
 
 
 def comfort_limit(level):
     """Table A2.9: b_v = 1.0 (very good), 1.3 (good), 2.0 (acceptable) m/s²."""
-    if level not in COMFORT_LIMITS:
+    if not isinstance(level, str) or level not in COMFORT_LIMITS:
         raise ModelError(f"EN 1990 A2 Table A2.9: unknown level of comfort {level!r}; valid: {', '.join(COMFORT_LIMITS)}")
     return COMFORT_LIMITS[level]

@@ -5,7 +5,7 @@ Units: spans L [m]; damping ratios as fractions (0.01 for 1 %), not percent.
 """
 import numpy as np
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
 
 # Table 6.6, lower limits of the damping ratio ζ [%] for span L [m]: (value for L >= 20 m, slope
 # per metre below 20 m).
@@ -21,7 +21,7 @@ def damping_lower_bound(kind, span):
     """EN 1991-2 Table 6.6: the lower bound of the damping ratio [-] of a ``kind`` bridge
     ('steel', 'composite', 'prestressed_concrete', 'filler_beam', 'reinforced_concrete') of span
     ``span`` [m]: ζ = ζ₂₀ + slope·(20 − L) [%] for L < 20 m, ζ₂₀ for L >= 20 m."""
-    if kind not in DAMPING_TABLE_6_6:
+    if not isinstance(kind, str) or kind not in DAMPING_TABLE_6_6:
         raise ModelError(f"EN 1991-2 Table 6.6: unknown bridge type {kind!r}; valid: {', '.join(DAMPING_TABLE_6_6)}")
     L = _span(span, "Table 6.6")
     base, slope = DAMPING_TABLE_6_6[kind]
@@ -61,7 +61,9 @@ def determinant_length(spans):
     """L_Φ [m], EN 1991-2 Table 6.2: the span of a simply supported deck (case 5.1); k times the
     mean span of a continuous deck of n spans (case 5.2: k = 1.2, 1.3, 1.4, 1.5 for n = 2, 3, 4,
     ≥ 5)."""
-    spans = [_span(s, "Table 6.2") for s in np.atleast_1d(spans)]
+    spans = [_span(s, "Table 6.2") for s in np.atleast_1d(np.asarray(spans, dtype=object))]
+    if not spans:
+        raise ModelError("EN 1991-2 Table 6.2: the determinant length needs at least one span [m], got none")
     if len(spans) == 1:
         return spans[0]
     return CONTINUOUS_K.get(len(spans), CONTINUOUS_K_MANY) * float(np.mean(spans))
@@ -69,12 +71,14 @@ def determinant_length(spans):
 
 def dynamic_factor(L_phi, maintenance="careful"):
     """Φ₂ (carefully maintained track) or Φ₃ (standard maintenance), EN 1991-2 §6.4.5.2:
-    Φ₂ = 1.44 / (√L_Φ − 0.2) + 0.82 in [1.00, 1.67]; Φ₃ = 2.16 / (√L_Φ − 0.2) + 0.73 in [1.00, 2.00]."""
+    Φ₂ = 1.44 / (√L_Φ − 0.2) + 0.82 in [1.00, 1.67]; Φ₃ = 2.16 / (√L_Φ − 0.2) + 0.73 in [1.00, 2.00].
+    The formulas grow without bound as L_Φ falls to 0.04 m: there, and below, Φ is the upper limit."""
     L = _span(L_phi, "6.4.5.2")
+    root = np.sqrt(L) - 0.2
     if maintenance == "careful":
-        return float(np.clip(1.44 / (np.sqrt(L) - 0.2) + 0.82, 1.0, 1.67))
+        return 1.67 if root <= 0.0 else float(np.clip(1.44 / root + 0.82, 1.0, 1.67))
     if maintenance == "standard":
-        return float(np.clip(2.16 / (np.sqrt(L) - 0.2) + 0.73, 1.0, 2.0))
+        return 2.0 if root <= 0.0 else float(np.clip(2.16 / root + 0.73, 1.0, 2.0))
     raise ModelError(f"EN 1991-2 6.4.5.2: track maintenance must be 'careful' (Φ2) or 'standard' (Φ3), got {maintenance!r}")
 
 
@@ -83,7 +87,10 @@ def track_irregularity_increment(L_phi, n0, speed):
     at least 0, with α = v/22 for v ≤ 22 m/s and 1 above (L_Φ [m], n₀ [Hz], v [m/s]). The dynamic
     analysis adds φ''/2 for carefully maintained track, φ'' for standard maintenance."""
     L = _span(L_phi, "Annex C")
-    if not (np.isfinite(n0) and n0 > 0 and np.isfinite(speed) and speed > 0):
+    n0 = as_number(n0, "EN 1991-2 Annex C", "n0 [Hz]") if np.ndim(n0) == 0 else n0
+    speed = as_number(speed, "EN 1991-2 Annex C", "speed [m/s]") if np.ndim(speed) == 0 else speed
+    if not (np.ndim(n0) == 0 and np.ndim(speed) == 0 and np.isfinite(n0) and n0 > 0 and np.isfinite(speed)
+            and speed > 0):
         raise ModelError(f"EN 1991-2 Annex C: n0 [Hz] and speed [m/s] must be > 0, got {n0!r}, {speed!r}")
     a = min(speed / 22.0, 1.0)
     value = a / 100.0 * (56.0 * np.exp(-(L / 10.0) ** 2) + 50.0 * (L * n0 / 80.0 - 1.0) * np.exp(-(L / 20.0) ** 2))
