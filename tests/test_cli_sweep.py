@@ -279,6 +279,15 @@ BAD = {
     "unknown key": (["--trains", "A1", "--speeds", "200"], "typo.toml", "unknown key 'I_m5' in [bridge]"),
     "unknown analysis key": (["--trains", "A1", "--speeds", "200"], "typo2.toml", "unknown key 'dt' in [analysis]"),
     "bad analysis value": (["--trains", "A1", "--speeds", "200"], "typo3.toml", "[analysis] sweep settings: dt"),
+    "a file that is not UTF-8": (["--trains", "A1", "--speeds", "200"], "latin1.toml", "not valid TOML ('utf-8' codec"),
+    "a kind that is not a name": (["--trains", "A1", "--speeds", "200"], "kind.toml",
+                                  "kind must be one of 'beam', 'script', got ['beam']"),
+    "too many elements": (["--trains", "A1", "--speeds", "200"], "fine.toml",
+                          "elements_per_span must be an even integer from 2 to 1000, got 100000000"),
+    "a seed twice": (["--trains", "A1", "--speeds", "200"], "seeds.toml",
+                     "seeds must be a list of different integers >= 0, got [1, 1]"),
+    "a negative modal_hz on the FE bridge": (["--trains", "A1", "--speeds", "200"], "modal.toml",
+                                             "modal_hz must be > 0 and finite, got -5.0"),
     "track of a beam": (["--trains", "A1", "--speeds", "200", "--track", "1"], None, "is for model scripts"),
     "unwritable output path": (["--trains", "A1", "--speeds", "200", "--out", "/nonexistent/x.h5"], None,
                                "/nonexistent does not exist"),
@@ -303,6 +312,12 @@ BAD_FILES = {
     "typo2.toml": lambda p: write(p, "typo2.toml", BEAM_TOML.replace("dt_s", "dt")),
     "typo3.toml": lambda p: write(p, "typo3.toml", BEAM_TOML.replace("dt_s = 0.01", "dt_s = -1.0")),
     "bridge.txt": lambda p: write(p, "bridge.txt", BEAM_TOML),
+    "latin1.toml": lambda p: (lambda f: (f.write_bytes(BEAM_TOML.replace("# a 20", "# a \u00b0 20").encode("latin-1")), f)[1])(
+        p / "latin1.toml"),
+    "kind.toml": lambda p: write(p, "kind.toml", BEAM_TOML.replace('kind = "beam"', 'kind = ["beam"]')),
+    "fine.toml": lambda p: write(p, "fine.toml", BEAM_TOML.replace("elements_per_span = 4", "elements_per_span = 100000000")),
+    "seeds.toml": lambda p: write(p, "seeds.toml", BEAM_TOML + "seeds = [1, 1]\n"),
+    "modal.toml": lambda p: write(p, "modal.toml", BEAM_TOML + "modal_hz = -5.0\n"),
 }
 
 

@@ -61,6 +61,7 @@ for their meaning and units), besides ``seeds`` (rail samples, a list of ints >=
 
 SCRIPT_SUFFIXES = (".tcl", ".py")
 DESCRIPTION_SUFFIXES = (".toml", ".yaml", ".yml")
+MAX_ELEMENTS_PER_SPAN = 1000    # a beam's elements per span: finer than any deck needs (dofs, time)
 
 
 @dataclass(frozen=True)
@@ -111,6 +112,11 @@ def load_bridge(path, track=None, min_mass_per_metre=MIN_MASS_PER_METRE):
 
 def read_bridge_file(path, track=None, min_mass_per_metre=MIN_MASS_PER_METRE):
     """Like :func:`load_bridge`, with the file's ``[analysis]`` defaults (a :class:`BridgeFile`)."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise ModelError(f"bridge file: expected a path, got {path!r}")
+    if isinstance(min_mass_per_metre, bool) or not isinstance(min_mass_per_metre, (int, float)) \
+            or not (math.isfinite(min_mass_per_metre) and min_mass_per_metre >= 0):
+        raise ModelError(f"bridge file: min_mass_per_metre must be a number >= 0 [kg/m], got {min_mass_per_metre!r}")
     path = os.path.abspath(os.fspath(path))
     suffix = os.path.splitext(path)[1].lower()
     if suffix not in SCRIPT_SUFFIXES + DESCRIPTION_SUFFIXES:
@@ -140,7 +146,7 @@ def _read_table(path, suffix):
         try:
             with open(path, "rb") as f:
                 return tomllib.load(f)
-        except tomllib.TOMLDecodeError as exc:
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
             raise ModelError(f"bridge file {path}: not valid TOML ({exc})") from None
     try:
         import yaml
@@ -150,7 +156,7 @@ def _read_table(path, suffix):
     try:
         with open(path, encoding="utf-8") as f:
             data = yaml.safe_load(f)
-    except yaml.YAMLError as exc:
+    except (yaml.YAMLError, UnicodeDecodeError) as exc:
         raise ModelError(f"bridge file {path}: not valid YAML ({' '.join(str(exc).split())})") from None
     if not isinstance(data, dict):
         raise ModelError(f"bridge file {path}: expected a mapping with a 'bridge' table, got {type(data).__name__}")
@@ -167,7 +173,7 @@ def _description(path, suffix, track):
         raise ModelError(f"bridge file {path}: no [bridge] table")
     table = dict(table)
     kind = table.pop("kind", None)
-    if kind not in BRIDGE_KINDS:
+    if not isinstance(kind, str) or kind not in BRIDGE_KINDS:
         raise ModelError(f"bridge file {path}: [bridge] kind must be one of {', '.join(map(repr, BRIDGE_KINDS))}, "
                          f"got {kind!r}")
     spec = BRIDGE_KINDS[kind]
@@ -194,8 +200,10 @@ def _analysis(path, table):
     settings, seeds = {}, None
     for key, value in table.items():
         if key == "seeds":
-            if not (isinstance(value, list) and value and all(_is_int(s) and s >= 0 for s in value)):
-                raise ModelError(f"bridge file {path}: [analysis] seeds must be a list of integers >= 0, got {value!r}")
+            if not (isinstance(value, list) and value and all(_is_int(s) and s >= 0 for s in value)
+                    and len(set(value)) == len(value)):
+                raise ModelError(f"bridge file {path}: [analysis] seeds must be a list of different integers >= 0, "
+                                 f"got {value!r}")
             seeds = tuple(value)
         elif key in ("exact_events", "bridge_self_weight") and not isinstance(value, bool):
             raise ModelError(f"bridge file {path}: [analysis] {key} must be true or false, got {value!r}")
@@ -242,10 +250,16 @@ def _beam(table, base_dir):
         I = _number(table, "I_m4")
     else:
         L = float(spans[0])
-        I = mu * (2.0 * _number(table, "f1_Hz") * L ** 2 / math.pi) ** 2 / E
+        try:
+            I = mu * (2.0 * _number(table, "f1_Hz") * L ** 2 / math.pi) ** 2 / E
+        except OverflowError:
+            I = math.inf
+        if not (math.isfinite(I) and I > 0):
+            raise ModelError(f"f1_Hz = {table['f1_Hz']!r} with spans_m[0] = {L:g} m gives I = {I:g} m^4, not a "
+                             "finite second moment of area")
     n = table.get("elements_per_span", 10)
-    if not _is_int(n) or n < 2 or n % 2:
-        raise ModelError(f"elements_per_span must be an even integer >= 2, got {n!r}")
+    if not _is_int(n) or n < 2 or n % 2 or n > MAX_ELEMENTS_PER_SPAN:
+        raise ModelError(f"elements_per_span must be an even integer from 2 to {MAX_ELEMENTS_PER_SPAN}, got {n!r}")
     A = _number(table, "A_m2") if "A_m2" in table else 1.0
     bridge = beam_bridge([float(s) for s in spans], E, I, mu, elements_per_span=n, A=A)
     if "f1_Hz" in table:

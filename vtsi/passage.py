@@ -223,8 +223,7 @@ class PassageSettings:
                              f"{', '.join(IRREGULARITIES)} (or None for a smooth rail)")
         if self.bridge not in BRIDGE_MODELS:
             raise ModelError(f"sweep settings: unknown bridge {self.bridge!r}; valid: {', '.join(BRIDGE_MODELS)}")
-        if self.bridge != "fe":
-            positive("modal_hz", allow_none=True)
+        positive("modal_hz", allow_none=True)
         try:
             integrator = coupled_integrator(self.integrator, self.contact, "sweep settings")
         except VtsiError as exc:
