@@ -86,7 +86,11 @@ def test_interaction_rows_and_the_stored_table(tmp_path):
 
 @pytest.mark.parametrize("kwargs, words", [({"track": "slab"}, "slab"), ({"comfort": "superb"}, "superb"),
                                            ({"maintenance": "none"}, "none"), ({"alpha": "x"}, "alpha"),
-                                           ({"unloading_limit": -1}, "unloading_limit")])
+                                           ({"unloading_limit": -1}, "unloading_limit"),
+                                           ({"alpha": True}, "alpha must be a number > 0, got True"),
+                                           ({"alpha": "1.21"}, "alpha must be a number > 0, got '1.21'"),
+                                           ({"unloading_limit": 5.0}, r"unloading_limit must be a number > 0 and <= 1, "
+                                                                      r"got 5.0")])
 def test_bad_check_settings(kwargs, words):
     with pytest.raises(ModelError, match=words):
         CheckSettings(**kwargs)

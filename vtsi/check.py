@@ -68,14 +68,13 @@ class CheckSettings:
         en1990_a2.deck_acceleration_limit(self.track)
         en1990_a2.comfort_limit(self.comfort)
         en1991_2.dynamic_factor(10.0, self.maintenance)
-        for name in ("alpha", "unloading_limit"):
+        for name, most in (("alpha", np.inf), ("unloading_limit", 1.0)):
             value = getattr(self, name)
-            try:
-                ok = np.isfinite(float(value)) and float(value) > 0
-            except (TypeError, ValueError):
-                ok = False
+            ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
+                and np.isfinite(value) and 0 < value <= most
             if not ok:
-                raise ModelError(f"check settings: {name} must be a number > 0, got {value!r}")
+                raise ModelError(f"check settings: {name} must be a number > 0" + (f" and <= {most:g}" if most < np.inf
+                                                                                   else "") + f", got {value!r}")
             object.__setattr__(self, name, float(value))
 
 
