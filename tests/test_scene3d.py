@@ -96,6 +96,8 @@ def test_rendering_available_says_why():
     ((X, [0.0, SPAN]), {"deck_depth": 0.0}, "deck_depth"),
     ((X, [0.0, SPAN]), {"deck_width": -6.0}, "deck_width"),
     ((np.zeros((2, 3)), [0.0]), {}, "deck_x"),
+    ((X, [0.0, SPAN]), {"deck_depth": True}, r"deck_depth: expected a positive number, got True"),
+    ((X, []), {}, r"supports_x: expected at least 2 values, got 0"),
 ])
 def test_bad_scene(args, kwargs, name):
     with pytest.raises(ModelError, match=name):
@@ -112,11 +114,13 @@ def test_bad_scene(args, kwargs, name):
     ({"path": "scene.jpg"}, "path"),
     ({"window_size": (400,)}, "window_size"),
     ({"window_size": (100000, 100000)}, r"window_size: expected two integers from 16 to 8192 pixels"),
+    ({"path": "folder.png"}, r"path: .*folder.png' is a directory, not a file to write"),
 ])
 def test_bad_picture(scene, tmp_path, kwargs, name):
     args = {"path": tmp_path / "x.png", "deck_uy": SAG, "wheel_x": WHEELS, "car_bounds": CARS} | kwargs
     if isinstance(args["path"], str):
         args["path"] = tmp_path / args["path"]
+    (tmp_path / "folder.png").mkdir()
     with pytest.raises(ModelError, match=name):
         scene.render_png(**args)
 
@@ -136,6 +140,7 @@ def test_bad_animation(scene, tmp_path, kwargs, name):
             "wheel_x_history": np.zeros((3, 8)), "car_bounds_history": None} | kwargs
     if isinstance(args["path"], str):
         args["path"] = tmp_path / args["path"]
+    (tmp_path / "folder.png").mkdir()
     with pytest.raises(ModelError, match=name):
         scene.animate(**args)
 

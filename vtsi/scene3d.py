@@ -213,6 +213,8 @@ def _array(name, value, shape):
 
 
 def _positive(name, value):
+    if isinstance(value, bool):
+        raise ModelError(f"{name}: expected a positive number, got {value!r}")
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -309,7 +311,7 @@ class PassageScene:
             i = int(np.flatnonzero(steps <= 0)[0])
             raise ModelError(f"deck_x: must increase strictly, but deck_x[{i + 1}] = {x[i + 1]:g} "
                              f"<= deck_x[{i}] = {x[i]:g}")
-        s = _vector("supports_x", supports_x)
+        s = _vector("supports_x", supports_x, min_size=2)
         length = x[-1] - x[0]
         outside = (s < x[0] - 1e-9 * length) | (s > x[-1] + 1e-9 * length)
         if np.any(outside):
@@ -423,6 +425,8 @@ class PassageScene:
             raise ModelError(f"path: {str(path)!r} must end in {' or '.join(suffixes)}")
         if not p.parent.is_dir():
             raise ModelError(f"path: the folder {str(p.parent)!r} does not exist")
+        if p.is_dir():
+            raise ModelError(f"path: {str(path)!r} is a directory, not a file to write")
         return p
 
     def _frame(self, deck_uy, wheel_x, car_bounds, time):
