@@ -130,3 +130,16 @@ def test_an_element_on_a_node_the_model_lost_is_named():
     m._changed()
     with pytest.raises(vtsi.ModelError, match=r"^element 5 \(elasticBeamColumn\): node 7 does not exist$"):
         m.build()
+
+
+def test_an_element_whose_matrix_overflows_is_named():
+    """Finite parameters whose products overflow (E A / L = inf) are named at build, with the
+    element and its parameters; no NaN reaches a solver or an eigenvalue problem."""
+    m = vtsi.Model()
+    m.node(1, 0.0, 0.0)
+    m.node(2, 10.0, 0.0)
+    m.fix(1, 1, 1, 1)
+    m.element("elasticBeamColumn", 3, (1, 2), E=1e300, A=1e300, I=1.0)
+    with pytest.raises(vtsi.ModelError, match=r"^element 3 \(elasticBeamColumn\): its stiffness matrix is not finite; "
+                                              r"its parameters \{'A': 1e\+300, 'E': 1e\+300"):
+        m.build()

@@ -365,10 +365,15 @@ class Assembly:
             positions = inverse[offset: offset + dofs.shape[0] * nd * nd].reshape(-1, nd, nd)
             offset += dofs.shape[0] * nd * nd
             ones = np.ones(len(tags))
-            ke, me = etype.stiffness(coords, params), etype.mass(coords, params)
+            ke, me, ce = etype.stiffness(coords, params), etype.mass(coords, params), etype.damping(coords, params)
+            for what, matrices in (("stiffness", ke), ("mass", me), ("damping", ce)):
+                bad = np.flatnonzero(~np.isfinite(matrices.reshape(len(tags), -1)).all(axis=1))
+                if len(bad):                     # finite parameters whose products overflow (E A / L, ...)
+                    raise ModelError(f"element {tags[bad[0]]} ({etype.name}): its {what} matrix is not finite; its "
+                                     f"parameters {dict(zip(etype.param_names, params[bad[0]].tolist()))} overflow")
             scatter_add(k_data, positions, ke, ones)
             scatter_add(m_data, positions, me, ones)
-            scatter_add(c_data, positions, etype.damping(coords, params), ones)
+            scatter_add(c_data, positions, ce, ones)
             if rayleigh:
                 weights = etype.rayleigh_weights(params) if hasattr(etype, "rayleigh_weights") else ones
                 scatter_add(data[3], positions, ke, weights)
