@@ -143,3 +143,12 @@ def test_an_element_whose_matrix_overflows_is_named():
     with pytest.raises(vtsi.ModelError, match=r"^element 3 \(elasticBeamColumn\): its stiffness matrix is not finite; "
                                               r"its parameters \{'A': 1e\+300, 'E': 1e\+300"):
         m.build()
+
+
+def test_a_tag_beyond_opensees_int_is_named():
+    """Tags are OpenSees's C ints: a larger one is refused when given, not an OverflowError at build."""
+    m = vtsi.Model()
+    with pytest.raises(vtsi.ModelError, match=r"^node tag must be an integer from -2147483648 to 2147483647 "
+                                              r"\(OpenSees's int\), got 1180591620717411303424$"):
+        m.node(2 ** 70, 0.0, 0.0)
+    assert not m.nodes

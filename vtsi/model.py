@@ -314,6 +314,9 @@ def _nodal_mass(tag, values, ndf):
 
 
 def _tag(kind, tag):
+    """A tag as an int: an integer of OpenSees's (C int) range."""
     if isinstance(tag, (bool, np.bool_)) or not isinstance(tag, (int, np.integer)):
         raise ModelError(f"{kind} tag must be an integer, got {tag!r}")
+    if not -2 ** 31 <= tag < 2 ** 31:
+        raise ModelError(f"{kind} tag must be an integer from -2147483648 to 2147483647 (OpenSees's int), got {tag}")
     return int(tag)
