@@ -56,7 +56,7 @@ def make_integrator(spec, *args, **kwargs):
         return spec
     if isinstance(spec, type) and issubclass(spec, Integrator):
         return spec(*args, **kwargs)
-    if spec in INTEGRATORS:
+    if isinstance(spec, str) and spec in INTEGRATORS:
         return INTEGRATORS[spec](*args, **kwargs)
     raise AnalysisError(f"unknown integrator {spec!r}; known: {', '.join(sorted(INTEGRATORS))}")
 

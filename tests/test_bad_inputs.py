@@ -19,8 +19,10 @@ from vtsi.integrators import HHT, Bathe, Newmark
 from vtsi.models import Irregularity, Train, car_from_catalogue, four_dof_car, ice3, moving_force, sprung_mass, ten_dof_car
 from vtsi.models.cars import TEN_DOF_PARAMETERS
 from vtsi.models.bridges import simply_supported_beam
-from vtsi.recorders import ContactRecorder, ElementRecorder, HDF5Sink, MemorySink, NodeRecorder, TextSink, TrainRecorder
-from vtsi.timeseries import TimeSeries
+from vtsi.analysis import modes_up_to
+from vtsi.recorders import (ContactRecorder, ElementRecorder, HDF5Sink, MemorySink, ModalNodeRecorder, NodeRecorder,
+                             ReactionRecorder, TextSink, TrainRecorder)
+from vtsi.timeseries import Rectangular, TimeSeries, Trig
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
@@ -150,6 +152,19 @@ MODEL_CASES = [
     ("negative Rayleigh factor", lambda m: m.rayleigh(-0.1, 0.0),
      r"^rayleigh: factors must be finite and >= 0, got \[-0.1, 0.0, 0.0, 0.0\]$"),
     ("remove unknown element", lambda m: m.remove_element(42), r"^remove element: element 42 does not exist$"),
+    ("pattern factor set to text", lambda m: setattr(m.patterns[1], "factor", "x"),
+     r"^pattern 1: factor must be a number, got 'x'$"),
+    ("pattern factor set to NaN", lambda m: setattr(m.patterns[1], "factor", NAN), r"^pattern 1: factor must be finite, got nan$"),
+    ("pattern frozen at NaN", lambda m: setattr(m.patterns[1], "constant_time", NAN),
+     r"^pattern 1: constant_time must be finite, got nan$"),
+    ("pattern frozen at text", lambda m: setattr(m.patterns[1], "constant_time", "x"),
+     r"^pattern 1: constant_time must be a number, got 'x'$"),
+    ("two load values for ndf 3, through the pattern", lambda m: m.patterns[1].load(3, 0.0, -1.0),
+     r"^pattern 1: load on node 3: needs 3 values, got 2$"),
+    ("beam load on a fractional element tag", lambda m: m.patterns[1].beam_load(1.7, "uniform", -1.0, 0.0),
+     r"^pattern 1: element tag must be an integer, got 1.7$"),
+    ("beam load on a text element tag", lambda m: m.patterns[1].beam_load("x", "uniform", -1.0, 0.0),
+     r"^pattern 1: element tag must be an integer, got 'x'$"),
 ]
 
 
@@ -287,6 +302,40 @@ ANALYSIS_CASES = [
     ("eigen: more modes than massive dofs", lambda: vtsi.eigen(loaded_beam(cmass=0), 10),
      AnalysisError, r"^eigen: only 7 dofs carry mass, 10 modes requested$"),
     ("model without nodes", lambda: vtsi.StaticAnalysis(vtsi.Model()).run(1), ModelError, r"^model has no nodes$"),
+    ("recorders not a list", lambda: vtsi.TransientAnalysis(loaded_beam(), "Newmark", 1e-3, recorders=5),
+     AnalysisError, r"^transient analysis: recorders must be a list of recorders, got 5$"),
+    ("recorders not a list, static", lambda: vtsi.StaticAnalysis(loaded_beam(), recorders=5),
+     AnalysisError, r"^static analysis: recorders must be a list of recorders, got 5$"),
+    ("a recorder that is a text", lambda: vtsi.TransientAnalysis(loaded_beam(), "Newmark", 1e-3, recorders=["x"]),
+     AnalysisError, r"^transient analysis: recorders\[0\] is not a recorder \(NodeRecorder, ElementRecorder\.\.\.\), got 'x'$"),
+    ("a recorder that is None, static", lambda: vtsi.StaticAnalysis(loaded_beam(), recorders=[NodeRecorder([3], [2]), None]),
+     AnalysisError, r"^static analysis: recorders\[1\] is not a recorder .*, got None$"),
+    ("a recorder that is a number, static", lambda: vtsi.StaticAnalysis(loaded_beam(), recorders=[5]),
+     AnalysisError, r"^static analysis: recorders\[0\] is not a recorder .*, got 5$"),
+    ("integrator name in a list", lambda: vtsi.TransientAnalysis(loaded_beam(), ["Newmark"], 1e-3),
+     AnalysisError, r"^unknown integrator \['Newmark'\]; known: Bathe, CentralDifference"),
+    ("transient analysis of no model", lambda: vtsi.TransientAnalysis(None, "Newmark", 1e-3),
+     AnalysisError, r"^transient analysis: model must be a vtsi.Model, got None$"),
+    ("static analysis of no model", lambda: vtsi.StaticAnalysis("beam"),
+     AnalysisError, r"^static analysis: model must be a vtsi.Model, got 'beam'$"),
+    ("eigen of no model", lambda: vtsi.eigen(None, 2), AnalysisError, r"^eigen: model must be a vtsi.Model, got None$"),
+    ("modes_up_to: text f_max", lambda: modes_up_to(loaded_beam(), "x"),
+     AnalysisError, r"^modes_up_to: f_max \[Hz\] must be a number, got 'x'$"),
+    ("modes_up_to: no f_max", lambda: modes_up_to(loaded_beam(), None),
+     AnalysisError, r"^modes_up_to: f_max \[Hz\] must be a number, got None$"),
+    ("modes_up_to: two f_max", lambda: modes_up_to(loaded_beam(), [10, 20]),
+     AnalysisError, r"^modes_up_to: f_max \[Hz\] must be a number, got \[10, 20\]$"),
+    ("modes_up_to: NaN f_max", lambda: modes_up_to(loaded_beam(), NAN),
+     AnalysisError, r"^modes_up_to: f_max must be > 0 and finite \[Hz\], got nan$"),
+    ("modes_up_to: negative f_max", lambda: modes_up_to(loaded_beam(), -5),
+     AnalysisError, r"^modes_up_to: f_max must be > 0 and finite \[Hz\], got -5.0$"),
+    ("modes_up_to: f_max = 0", lambda: modes_up_to(loaded_beam(), 0),
+     AnalysisError, r"^modes_up_to: f_max must be > 0 and finite \[Hz\], got 0.0$"),
+    ("modes_up_to: f_max = inf", lambda: modes_up_to(loaded_beam(), INF),
+     AnalysisError, r"^modes_up_to: f_max must be > 0 and finite \[Hz\], got inf$"),
+    ("active dofs before a run", lambda: vtsi.TransientAnalysis(loaded_beam(), "Newmark", 1e-3).active,
+     AnalysisError, r"^transient analysis: active \(the dofs that can move\) is known once a run has started; "
+                    r"call run\(\) first$"),
 ]
 
 
@@ -389,6 +438,21 @@ SERIES_CASES = [
     ("dt NaN", lambda: vtsi.Path([1.0, 2.0], dt=NAN, tag=3), r"^timeSeries Path 3: dt must be finite, got nan$"),
     ("Constant NaN factor", lambda: vtsi.Constant(NAN, tag=3), r"^timeSeries Constant 3: factor must be finite, got nan$"),
     ("Linear text factor", lambda: vtsi.Linear("fast", tag=3), r"^timeSeries Linear 3: factor must be a number, got 'fast'$"),
+    ("Trig ending before it starts", lambda: Trig(2.0, 1.0, 0.5, tag=3),
+     r"^timeSeries Trig 3: tEnd = 1 is before tStart = 2 \(the series would be 0 always\)$"),
+    ("Rectangular ending before it starts", lambda: Rectangular(5.0, 1.0),
+     r"^timeSeries Rectangular: tEnd = 1 is before tStart = 5 \(the series would be 0 always\)$"),
+    ("Path with 2-D values", lambda: vtsi.Path([[1.0, 2.0], [3.0, 4.0]], dt=0.1),
+     r"^timeSeries Path: values must be a 1-D sequence, got shape \(2, 2\)$"),
+    ("Path with 2-D times", lambda: vtsi.Path([1.0, 2.0], time=[[0.0, 1.0]]),
+     r"^timeSeries Path: time must be a 1-D sequence, got shape \(1, 2\)$"),
+    ("Path values as one text", lambda: vtsi.Path("12", dt=0.1), r"^timeSeries Path: values must be numbers, got '12'$"),
+    ("Path use_last as text", lambda: vtsi.Path([1.0, 2.0], dt=0.1, use_last="no"),
+     r"^timeSeries Path: use_last must be True or False, got 'no'$"),
+    ("Path prepend_zero as text", lambda: vtsi.Path([1.0, 2.0], dt=0.1, prepend_zero="no", tag=3),
+     r"^timeSeries Path 3: prepend_zero must be True or False, got 'no'$"),
+    ("Linear at a text time", lambda: vtsi.Linear(1.0, tag=3)("x"), r"^timeSeries Linear 3: times must be numbers \[s\], got 'x'$"),
+    ("Path at a text time", lambda: vtsi.Path([1.0, 2.0], dt=0.1)("x"), r"^timeSeries Path: times must be numbers \[s\], got 'x'$"),
 ]
 
 
@@ -432,6 +496,69 @@ def test_existing_hdf5_file_is_refused_when_the_sink_is_built(tmp_path):
     assert path.read_bytes() == b"yesterday's results"
 
 
+def test_hdf5_sink_overwrite_must_be_a_bool_and_the_file_is_kept(tmp_path):
+    path = tmp_path / "results.h5"
+    path.write_bytes(b"yesterday's results")
+    with pytest.raises(ModelError, match=r"^HDF5 recorder .*results\.h5: overwrite must be True or False, got 'no'$"):
+        HDF5Sink(path, overwrite="no")                       # 'no' is not taken for True
+    assert path.read_bytes() == b"yesterday's results"
+
+
+def test_hdf5_sink_on_a_directory_says_so(tmp_path):
+    for overwrite in (False, True):
+        with pytest.raises(IsADirectoryError, match=r"^HDF5 recorder: .* is a directory; give a file name$"):
+            HDF5Sink(tmp_path, overwrite=overwrite)
+    assert tmp_path.is_dir()
+
+
+def test_unknown_compression_is_refused_when_the_sink_is_built_and_no_file_is_created(tmp_path):
+    with pytest.raises(ModelError, match=r"^HDF5 recorder .*f\.h5: compression 'bogus' with options None is not "
+                                         r"available: .*bogus"):
+        HDF5Sink(tmp_path / "f.h5", compression="bogus")
+    with pytest.raises(ModelError, match=r"^HDF5 recorder .*f\.h5: compression 'gzip' with options 99 is not available"):
+        HDF5Sink(tmp_path / "f.h5", compression="gzip", compression_opts=99)
+    assert list(tmp_path.iterdir()) == []
+    rec = NodeRecorder([3], [2], sink=HDF5Sink(tmp_path / "f.h5", compression="gzip", compression_opts=4))
+    vtsi.StaticAnalysis(loaded_beam(), recorders=[rec]).run(1)
+    with h5py.File(tmp_path / "f.h5", "r") as f:
+        assert f["values"].compression == "gzip" and f["values"][0, 0] == pytest.approx(DEFLECTION, rel=1e-9)
+
+
+SINK_CASES = [
+    ("HDF5 path None", lambda d: HDF5Sink(None), r"^HDF5 recorder: path must be a file name \(str or os.PathLike\), got None$"),
+    ("text path None", lambda d: TextSink(None), r"^text recorder: path must be a file name \(str or os.PathLike\), got None$"),
+    ("flush_every text", lambda d: HDF5Sink(d / "f.h5", flush_every="x"),
+     r"^HDF5 recorder .*f\.h5: flush_every must be an integer >= 1, got 'x'$"),
+    ("flush_every NaN", lambda d: HDF5Sink(d / "f.h5", flush_every=NAN),
+     r"^HDF5 recorder .*f\.h5: flush_every must be an integer >= 1, got nan$"),
+    ("flush_every list", lambda d: HDF5Sink(d / "f.h5", flush_every=[1]),
+     r"^HDF5 recorder .*f\.h5: flush_every must be an integer >= 1, got \[1\]$"),
+    ("precision text", lambda d: TextSink(d / "t.out", precision="x"),
+     r"^text recorder .*t\.out: precision must be an integer >= 0, got 'x'$"),
+    ("precision NaN", lambda d: TextSink(d / "t.out", precision=NAN),
+     r"^text recorder .*t\.out: precision must be an integer >= 0, got nan$"),
+    ("precision None", lambda d: TextSink(d / "t.out", precision=None),
+     r"^text recorder .*t\.out: precision must be an integer >= 0, got None$"),
+    ("text time flag as text", lambda d: TextSink(d / "t.out", time="yes"),
+     r"^text recorder .*t\.out: time must be True or False, got 'yes'$"),
+]
+
+
+@pytest.mark.parametrize("make, match", [c[1:] for c in SINK_CASES], ids=[c[0] for c in SINK_CASES])
+def test_sink_input_is_rejected_when_built_and_no_file_is_created(tmp_path, make, match):
+    with pytest.raises(ModelError, match=match) as info:
+        make(tmp_path)
+    _assert_message(info, match)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_hdf5_sink_under_a_file_says_so(tmp_path):
+    (tmp_path / "notes.txt").write_text("x")
+    with pytest.raises(NotADirectoryError, match=r"^HDF5 recorder: .*notes\.txt of .*notes\.txt.x\.h5 is a file, not a directory$"):
+        HDF5Sink(tmp_path / "notes.txt" / "x.h5")
+    assert (tmp_path / "notes.txt").read_text() == "x"
+
+
 def test_hdf5_sink_in_a_missing_directory(tmp_path):
     with pytest.raises(FileNotFoundError, match=r"^HDF5 recorder: directory .*nowhere of .*nowhere.x\.h5 does not exist$"):
         HDF5Sink(tmp_path / "nowhere" / "x.h5")
@@ -445,6 +572,16 @@ RECORDER_BUILD_CASES = [
     ("node: negative dt", lambda: NodeRecorder([3], [2], dt=-0.1), r"^node recorder: dt must be >= 0 and finite, got -0.1$"),
     ("element: response not a name", lambda: ElementRecorder([1], 3), r"^element recorder: response must be a name, got 3$"),
     ("records nothing", lambda: NodeRecorder([3], [2], history=False), r"^node recorder: records nothing"),
+    ("envelope as text", lambda: NodeRecorder([3], [2], envelope="no"), r"^node recorder: envelope must be True or False, got 'no'$"),
+    ("history as text", lambda: NodeRecorder([3], [2], history="no"), r"^node recorder: history must be True or False, got 'no'$"),
+    ("include_inertia as text", lambda: ReactionRecorder([1], [2], include_inertia="no"),
+     r"^reaction recorder: include_inertia must be True or False, got 'no'$"),
+    ("modal: dof as text", lambda: ModalNodeRecorder([3], "x", "disp", np.zeros((15, 2))),
+     r"^modal node recorder: dof must be an integer >= 1 \(1 ux, 2 uy, 3 rz\), got 'x'$"),
+    ("modal: shapes as text", lambda: ModalNodeRecorder([3], 2, "disp", "shapes"),
+     r"^modal node recorder: shapes must be an array of numbers \(n_full, n_modes\), got str 'shapes'$"),
+    ("modal: NaN in shapes", lambda: ModalNodeRecorder([3], 2, "disp", np.full((15, 2), NAN)),
+     r"^modal node recorder: shapes have NaN or inf: row 0, mode 0 is nan$"),
 ]
 
 

@@ -48,3 +48,55 @@ def test_free_decay_measures_the_ratio_of_the_first_mode():
     n = (len(peaks) - 1) / 2                          # |u| peaks twice per period
     zeta = np.log(peaks[0] / peaks[-1]) / (2 * np.pi * n)
     assert zeta == pytest.approx(0.013, rel=0.01)
+
+
+def beam4():
+    model = vtsi.Model()
+    simply_supported_beam(model, L, 4, E, I, MU)
+    return model
+
+
+BAD_DAMPING = [
+    ("text frequencies", lambda: rayleigh_damping(beam4(), 0.02, ("a", "b")),
+     r"^damping: a frequency \[Hz\] must be a number, got 'a'$"),
+    ("one frequency", lambda: rayleigh_damping(beam4(), 0.02, (5,)), r"^damping: give two frequencies \(f_a, f_b\) \[Hz\], got \(5,\)$"),
+    ("three frequencies", lambda: rayleigh_damping(beam4(), 0.02, (5, 30, 60)),
+     r"^damping: give two frequencies \(f_a, f_b\) \[Hz\], got \(5, 30, 60\)$"),
+    ("a number, not a pair", lambda: rayleigh_damping(beam4(), 0.02, 5), r"^damping: give two frequencies \(f_a, f_b\) \[Hz\], got 5$"),
+    ("negative frequency", lambda: rayleigh_damping(beam4(), 0.02, (-5, 30)),
+     r"^damping: frequencies must be > 0 and finite \[Hz\], got \(-5, 30\)$"),
+    ("zero frequency", lambda: rayleigh_damping(beam4(), 0.02, (0, 30)),
+     r"^damping: frequencies must be > 0 and finite \[Hz\], got \(0, 30\)$"),
+    ("equal frequencies", lambda: rayleigh_coefficients(0.02, 5, 5), r"^damping: the two frequencies must differ, got \(5, 5\)$"),
+    ("opposite frequencies", lambda: rayleigh_coefficients(0.02, 5, -5),
+     r"^damping: frequencies must be > 0 and finite \[Hz\], got \(5, -5\)$"),
+    ("text ratio", lambda: rayleigh_coefficients("x", 5, 30), r"^damping: the ratio must be a number, got 'x'$"),
+    ("negative ratio", lambda: rayleigh_coefficients(-0.02, 5, 30), r"^damping: the ratio must be in \[0, 1\) \(0.01 for 1 %\), got -0.02$"),
+    ("ratio at 0 Hz", lambda: rayleigh_ratio(0, 1.0, 1e-3), r"^rayleigh ratio: frequencies must be > 0 and finite \[Hz\], got 0.0$"),
+    ("ratio at -5 Hz", lambda: rayleigh_ratio([-5, 3], 1.0, 1e-3),
+     r"^rayleigh ratio: frequencies must be > 0 and finite \[Hz\], got \[-5.0, 3.0\]$"),
+    ("ratio at a text frequency", lambda: rayleigh_ratio("x", 1.0, 1e-3), r"^rayleigh ratio: frequencies must be numbers \[Hz\], got 'x'$"),
+    ("no vertical frequency", lambda: vertical_frequencies(beam4(), 0),
+     r"^vertical frequencies: the count must be an integer >= 1, got 0$"),
+    ("negative count", lambda: vertical_frequencies(beam4(), -1), r"^vertical frequencies: the count must be an integer >= 1, got -1$"),
+    ("text count", lambda: vertical_frequencies(beam4(), "x"), r"^vertical frequencies: the count must be an integer >= 1, got 'x'$"),
+    ("fractional count", lambda: vertical_frequencies(beam4(), 2.5), r"^vertical frequencies: the count must be an integer >= 1, got 2.5$"),
+    ("damping of no model", lambda: rayleigh_damping(None, 0.02), r"^damping: model must be a vtsi.Model, got None$"),
+    ("frequencies of no model", lambda: vertical_frequencies(None), r"^vertical frequencies: model must be a vtsi.Model, got None$"),
+    ("more than the model has", lambda: vertical_frequencies(beam4(), 100),
+     r"^vertical frequencies: 100 asked, the model has 8 vertical modes$"),
+]
+
+
+@pytest.mark.parametrize("bad, match", [c[1:] for c in BAD_DAMPING], ids=[c[0] for c in BAD_DAMPING])
+def test_bad_damping_input_is_named(bad, match):
+    with pytest.raises(vtsi.ModelError, match=match):
+        bad()
+
+
+def test_a_refused_fit_leaves_the_model_undamped():
+    model = beam4()
+    with pytest.raises(vtsi.ModelError):
+        rayleigh_damping(model, 0.02, (0, 30))
+    assert model.rayleigh_factors == (0.0, 0.0)
+    assert len(vertical_frequencies(model, 8)[0]) == 8       # every vertical mode of the model, when asked

@@ -67,3 +67,47 @@ def test_a_mechanism_is_refused():
     model._changed()
     with pytest.raises(vtsi.ModelError):
         InfluenceLines(model, Track(model, b.elements), [(b.midspan_nodes[0], 2)])
+
+
+@pytest.fixture(scope="module")
+def bridge():
+    model = vtsi.Model()
+    b = simply_supported_beam(model, L, 4, E, I, 15000.0)
+    return model, Track(model, b.elements), InfluenceLines(model, Track(model, b.elements), [(3, 2)])
+
+
+BAD_INFLUENCE = [
+    ("no responses", lambda m, t, il: InfluenceLines(m, t),
+     r"^influence lines: give the responses as dofs=\[\(node, dof\), \.\.\.\] or as functionals, one of the two$"),
+    ("a dof without its node", lambda m, t, il: InfluenceLines(m, t, dofs=[(3,)]),
+     r"^influence lines: dofs must be a non-empty list of \(node, dof\) pairs, got \[\(3,\)\]$"),
+    ("no dofs", lambda m, t, il: InfluenceLines(m, t, dofs=[]),
+     r"^influence lines: dofs must be a non-empty list of \(node, dof\) pairs, got \[\]$"),
+    ("track not a Track", lambda m, t, il: InfluenceLines(m, "track", dofs=[(3, 2)]),
+     r"^influence lines: track must be a vtsi.track.Track, got 'track'$"),
+    ("functionals P 1-D", lambda m, t, il: InfluenceLines(m, t, functionals=([0], [1.0])),
+     r"^influence lines: functionals must be \(free dofs \(n,\) integers, P \(n, n_responses\)\), got free \(1,\) int64, P \(1,\)$"),
+    ("functionals on a dof out of range", lambda m, t, il: InfluenceLines(m, t, functionals=([999], np.ones((1, 1)))),
+     r"^influence lines: functionals: free dofs must be in 0\.\.11, got 999\.\.999$"),
+    ("LM71 alpha text", lambda m, t, il: il.lm71_envelope("x"), r"^influence lines: LM71 alpha must be a number, got 'x'$"),
+    ("LM71 alpha None", lambda m, t, il: il.lm71_envelope(None), r"^influence lines: LM71 alpha must be a number, got None$"),
+    ("LM71 alpha NaN", lambda m, t, il: il.lm71_envelope(np.nan), r"^influence lines: LM71 alpha must be > 0 and finite, got nan$"),
+    ("LM71 alpha negative", lambda m, t, il: il.lm71_envelope(-1), r"^influence lines: LM71 alpha must be > 0 and finite, got -1.0$"),
+    ("train without axles", lambda m, t, il: il.train_envelope([], []),
+     r"^influence lines: give one load per axle offset \(at least one axle\), got 0 offsets and 0 loads$"),
+    ("two offsets, one load", lambda m, t, il: il.train_envelope([0, 3], [1e5]),
+     r"^influence lines: give one load per axle offset \(at least one axle\), got 2 offsets and 1 loads$"),
+    ("NaN offset", lambda m, t, il: il.train_envelope([np.nan], [1e5]),
+     r"^influence lines: axle offsets \[m\] must be finite, got \[nan\]$"),
+    ("text offset", lambda m, t, il: il.train_envelope(["a"], [1e5]),
+     r"^influence lines: axle offsets \[m\] must be numbers, got \['a'\]$"),
+    ("NaN load", lambda m, t, il: il.train_envelope([0], [np.nan]), r"^influence lines: axle loads \[N\] must be finite, got \[nan\]$"),
+    ("NaN position", lambda m, t, il: il([np.nan]), r"^influence lines: positions x \[m\] must be finite, got \[nan\]$"),
+    ("text position", lambda m, t, il: il("x"), r"^influence lines: positions x \[m\] must be numbers, got 'x'$"),
+]
+
+
+@pytest.mark.parametrize("bad, match", [c[1:] for c in BAD_INFLUENCE], ids=[c[0] for c in BAD_INFLUENCE])
+def test_bad_influence_input_is_named(bridge, bad, match):
+    with pytest.raises(vtsi.ModelError, match=match):
+        bad(*bridge)

@@ -12,8 +12,9 @@ import scipy.sparse.linalg as spla
 from numba import njit
 
 from vtsi.banded import pad, solve_band
-from vtsi.errors import AnalysisError, DivergenceError, ModelError
+from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_number
 from vtsi.integrators import make_integrator
+from vtsi.model import Model
 from vtsi.subdomain import FEStages, factor
 from vtsi.timeloop import run_from_state, run_linear_steps
 
@@ -112,6 +113,27 @@ def _integer(who, what, value, low=None):
         bound = f" >= {low}" if low is not None else ""
         raise AnalysisError(f"{who}: {what} must be an integer{bound}, got {value!r}")
     return int(value)
+
+
+def _model(who, model):
+    """``model`` if it is a :class:`~vtsi.model.Model`, else an AnalysisError naming ``who``."""
+    if not isinstance(model, Model):
+        raise AnalysisError(f"{who}: model must be a vtsi.Model, got {model!r}")
+    return model
+
+
+def _recorders(who, recorders):
+    """``recorders`` as a list, each checked to follow the recorder contract
+    (:mod:`vtsi.recorders.base`: ``requests``, ``start``, ``write``, ``close``), else an
+    AnalysisError naming ``who`` and the value."""
+    if isinstance(recorders, (str, bytes)) or not hasattr(recorders, "__iter__"):
+        raise AnalysisError(f"{who}: recorders must be a list of recorders, got {recorders!r}")
+    recorders = list(recorders)
+    for i, rec in enumerate(recorders):
+        if not all(callable(getattr(rec, name, None)) for name in ("requests", "start", "write", "close")):
+            raise AnalysisError(f"{who}: recorders[{i}] is not a recorder (NodeRecorder, ElementRecorder...), "
+                                f"got {rec!r}")
+    return recorders
 
 
 def _pattern_loads(assembly, patterns):
@@ -311,7 +333,8 @@ class StaticAnalysis:
             raise AnalysisError(f"LoadControl: increment must be a number, got {d_lambda!r}") from None
         if not finite:
             raise AnalysisError(f"LoadControl: increment must be finite, got {d_lambda}")
-        self.model, self.d_lambda, self.recorders = model, float(d_lambda), list(recorders)
+        self.model, self.d_lambda = _model("static analysis", model), float(d_lambda)
+        self.recorders = _recorders("static analysis", recorders)
 
     def run(self, n_steps=1):
         n_steps = _integer("static analysis", "number of steps", n_steps, 0)
@@ -354,7 +377,7 @@ def eigen(model, n_modes):
     ``n_modes='all'``: every mode of finite frequency (as many as the mass matrix' rank; a
     dense solve, up to ALL_MODES_MAX free dofs).
     """
-    asm = model.build()
+    asm = _model("eigen", model).build()
     n = asm.n_free
     every = isinstance(n_modes, str) and n_modes == "all"
     if every and n > ALL_MODES_MAX:
@@ -388,8 +411,11 @@ def eigen(model, n_modes):
 def modes_up_to(model, f_max):
     """Every mode of ``model`` up to ``f_max`` [Hz] (at least one): ``(frequencies (n,) [Hz],
     shapes (n_full, n))`` mass-normalised, as :func:`eigen` (which it calls with twice as many
-    modes until one lies above ``f_max``)."""
-    n_free = model.build().n_free
+    modes until one lies above ``f_max``); ``f_max`` > 0 and finite."""
+    f_max = as_number(f_max, "modes_up_to", "f_max [Hz]", AnalysisError)
+    if not (np.isfinite(f_max) and f_max > 0.0):
+        raise AnalysisError(f"modes_up_to: f_max must be > 0 and finite [Hz], got {f_max}")
+    n_free = _model("modes_up_to", model).build().n_free
     k = min(n_free, 8)
     while True:
         omega2, shapes = eigen(model, k)
@@ -444,9 +470,9 @@ class TransientAnalysis:
 
     def __init__(self, model, integrator="Newmark", dt=None, recorders=(), divergence_limit=1e8,
                  chunk_steps=2000, bridge=None):
-        self.model = model
+        self.model = _model("transient analysis", model)
         self.integrator = make_integrator(integrator)
-        self.recorders = list(recorders)
+        self.recorders = _recorders("transient analysis", recorders)
         try:
             self.divergence_limit = float(divergence_limit)
         except (TypeError, ValueError):
@@ -502,7 +528,10 @@ class TransientAnalysis:
 
     @property
     def active(self):
-        """The free dofs the FE bridge integrates (after a run)."""
+        """The free dofs the FE bridge integrates (known once a run has prepared it)."""
+        if self.stages is None:
+            raise AnalysisError("transient analysis: active (the dofs that can move) is known once a run has "
+                                "started; call run() first")
         return self.stages.active
 
     def step_times(self, t0, n):

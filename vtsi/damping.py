@@ -12,13 +12,18 @@ import numpy as np
 
 from vtsi.analysis import eigen
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
+from vtsi.model import Model
 
 
 def vertical_frequencies(model, n=3):
-    """The first ``n`` vertical (bending) natural frequencies [Hz] and mode shapes of a model:
-    the modes whose mass-weighted uy motion exceeds their ux motion (a beam's axial modes are
-    skipped)."""
+    """The first ``n`` (an integer >= 1) vertical (bending) natural frequencies [Hz] and mode
+    shapes of a model: the modes whose mass-weighted uy motion exceeds their ux motion (a
+    beam's axial modes are skipped). A ModelError says how many the model has if fewer than ``n``."""
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ModelError(f"vertical frequencies: the count must be an integer >= 1, got {n!r}")
+    if not isinstance(model, Model):
+        raise ModelError(f"vertical frequencies: model must be a vtsi.Model, got {model!r}")
     asm = model.build()
     M = asm.M_full
     on = lambda dof: np.arange(asm.n_full) % asm.ndf == dof
@@ -28,19 +33,30 @@ def vertical_frequencies(model, n=3):
         keep = np.flatnonzero(motion(on(1)) > motion(on(0)))[:n]
         if len(keep) == n:
             break
+    if len(keep) < n:
+        raise ModelError(f"vertical frequencies: {n} asked, the model has {len(keep)} vertical modes")
     return np.sqrt(np.maximum(omega2[keep], 0.0)) / (2 * np.pi), shapes[:, keep]
 
 
 def rayleigh_coefficients(zeta, f_a, f_b):
-    """α [1/s], β [s] of C = α M + β K with damping ratio ``zeta`` at f_a and f_b [Hz]."""
+    """α [1/s], β [s] of C = α M + β K with damping ratio ``zeta`` [-] (in [0, 1)) at the
+    distinct frequencies f_a and f_b [Hz] (> 0)."""
+    zeta = _ratio(zeta)
+    f_a, f_b = _frequencies((f_a, f_b))
     w_a, w_b = 2 * np.pi * f_a, 2 * np.pi * f_b
     return 2 * zeta * w_a * w_b / (w_a + w_b), 2 * zeta / (w_a + w_b)
 
 
 def rayleigh_ratio(f, alpha, beta):
     """The damping ratio ζ(f) = α / (4π f) + π β f [-] that C = α M + β K gives a mode of
-    frequency ``f`` [Hz] (see the module docstring)."""
-    f = np.asarray(f, dtype=float)
+    frequency ``f`` [Hz] (> 0; see the module docstring)."""
+    try:
+        f = np.asarray(f, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"rayleigh ratio: frequencies must be numbers [Hz], got {f!r}") from None
+    alpha, beta = as_number(alpha, "rayleigh ratio", "alpha"), as_number(beta, "rayleigh ratio", "beta")
+    if not np.all(np.isfinite(f) & (f > 0.0)):
+        raise ModelError(f"rayleigh ratio: frequencies must be > 0 and finite [Hz], got {f.tolist()}")
     return alpha / (4 * np.pi * f) + np.pi * beta * f
 
 
@@ -48,15 +64,33 @@ def rayleigh_damping(model, zeta, frequencies_hz=None):
     """Give ``model`` the damping ratio ``zeta`` [-] by Rayleigh damping through
     ``frequencies_hz`` = (f_a, f_b) [Hz], by default the first vertical frequency n₀ and the
     EN 1990 A2 cut-off max(30 Hz, 1.5 n₀, n₃). Returns (α, β)."""
-    try:
-        zeta = float(zeta)
-    except (TypeError, ValueError):
-        raise ModelError(f"damping: the ratio must be a number, got {zeta!r}") from None
-    if not 0.0 <= zeta < 1.0:
-        raise ModelError(f"damping: the ratio must be in [0, 1) (0.01 for 1 %), got {zeta}")
+    if not isinstance(model, Model):
+        raise ModelError(f"damping: model must be a vtsi.Model, got {model!r}")
+    zeta = _ratio(zeta)
     if frequencies_hz is None:
         f = vertical_frequencies(model, 3)[0]
         frequencies_hz = (f[0], acceleration_cutoff_hz(f))
-    alpha, beta = rayleigh_coefficients(zeta, *frequencies_hz)
+    alpha, beta = rayleigh_coefficients(zeta, *_frequencies(frequencies_hz))
     model.rayleigh(alpha, beta)
     return alpha, beta
+
+
+def _ratio(zeta):
+    """The damping ratio ``zeta`` as a float in [0, 1), or a ModelError naming the value."""
+    zeta = as_number(zeta, "damping", "the ratio")
+    if not 0.0 <= zeta < 1.0:
+        raise ModelError(f"damping: the ratio must be in [0, 1) (0.01 for 1 %), got {zeta}")
+    return zeta
+
+
+def _frequencies(frequencies_hz):
+    """Two distinct fitting frequencies (f_a, f_b) [Hz] > 0 and finite, or a ModelError naming them."""
+    if isinstance(frequencies_hz, (str, bytes)) or np.ndim(frequencies_hz) != 1 or len(frequencies_hz) != 2:
+        raise ModelError(f"damping: give two frequencies (f_a, f_b) [Hz], got {frequencies_hz!r}")
+    f_a, f_b = (as_number(f, "damping", "a frequency [Hz]") for f in frequencies_hz)
+    for f in (f_a, f_b):
+        if not (np.isfinite(f) and f > 0.0):
+            raise ModelError(f"damping: frequencies must be > 0 and finite [Hz], got ({f_a:g}, {f_b:g})")
+    if f_a == f_b:
+        raise ModelError(f"damping: the two frequencies must differ, got ({f_a:g}, {f_b:g})")
+    return f_a, f_b

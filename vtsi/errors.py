@@ -1,4 +1,5 @@
 """Exceptions raised by vtsi. Every message names the object and the value at fault."""
+import numpy as np
 
 
 class VtsiError(Exception):
@@ -50,3 +51,11 @@ def as_number(value, where, name, error=ModelError):
         return float(value)
     except (TypeError, ValueError):
         raise error(f"{where}: {name} must be a number, got {value!r}") from None
+
+
+def as_flag(value, where, name, error=ModelError):
+    """``value`` as a bool if it is one (bool or numpy bool), else ``error`` naming ``where``,
+    ``name`` and the value (a text such as ``'no'`` is not taken for True)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise error(f"{where}: {name} must be True or False, got {value!r}")
+    return bool(value)

@@ -16,7 +16,8 @@ the responses are vtsi's (uy positive up), so a downward deflection is negative.
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
+from vtsi.track import Track
 
 LM71_AXLE = 250e3        # [N], EN 1991-2 §6.3.2(3), Figure 6.1
 LM71_SPACING = 1.6       # [m] between the four axles
@@ -37,15 +38,26 @@ class InfluenceLines:
     """
 
     def __init__(self, model, track, dofs=None, functionals=None):
+        if not isinstance(track, Track):
+            raise ModelError(f"influence lines: track must be a vtsi.track.Track, got {track!r}")
+        if (dofs is None) == (functionals is None):
+            raise ModelError("influence lines: give the responses as dofs=[(node, dof), ...] or as functionals, "
+                             "one of the two")
         asm = model.build()
         self.track = track
         if functionals is not None:            # responses r = u[free] @ P: (free dofs, P)
-            free, P = functionals
+            free, P = _functionals(functionals, asm.n_free)
             rhs = np.zeros((asm.n_free, P.shape[1]))
             rhs[free] = P
         else:
             try:
-                full = [asm.full_dof(n, d) for n, d in dofs]
+                pairs = [tuple(pair) for pair in dofs]
+            except TypeError:
+                pairs = None
+            if not pairs or any(len(pair) != 2 for pair in pairs):
+                raise ModelError(f"influence lines: dofs must be a non-empty list of (node, dof) pairs, got {dofs!r}")
+            try:
+                full = [asm.full_dof(n, d) for n, d in pairs]
             except ModelError as exc:
                 raise ModelError(f"influence lines: {exc}") from None
             free = asm.free_of_full[full]
@@ -62,7 +74,7 @@ class InfluenceLines:
 
     def __call__(self, x):
         """IL (len(x), n_responses) [response units per N] at positions x [m] (0 off the track)."""
-        x = np.atleast_1d(np.asarray(x, dtype=float))
+        x = _finite_array("positions x [m]", x)
         cols, vals, _ = self.track.rows(x)
         w = np.where((cols >= 0)[..., None], self._w_track[np.maximum(cols, 0)], 0.0)   # (n_x, width, n_resp)
         return -np.einsum("ij,ijk->ik", vals, w)
@@ -71,7 +83,10 @@ class InfluenceLines:
         """Static min and max (2, n_responses) of axles with ``offsets`` [m] behind the head and
         downward ``loads`` [N], over every head position from the first axle on the track's
         start to the last axle off its end."""
-        offsets, loads = np.asarray(offsets, dtype=float), np.asarray(loads, dtype=float)
+        offsets, loads = _finite_array("axle offsets [m]", offsets), _finite_array("axle loads [N]", loads)
+        if offsets.ndim != 1 or offsets.size == 0 or loads.shape != offsets.shape:
+            raise ModelError(f"influence lines: give one load per axle offset (at least one axle), got "
+                             f"{offsets.size} offsets and {loads.size} loads")
         lo, hi = self.track.x_begin + offsets.min(), self.track.x_end + offsets.max()
         heads = np.arange(lo, hi + self.step, self.step)
         response = np.zeros((heads.size, self.n_responses))
@@ -86,7 +101,11 @@ class InfluenceLines:
         """Static min and max (2, n_responses) of Load Model 71 × ``alpha`` (the classification
         factor α of EN 1991-2 §6.3.2(3)): four 250 kN axles 1.6 m apart and 80 kN/m from 0.8 m
         beyond the outer axles on both sides, the distributed load only where it adds to the
-        extreme sought (its influence of that sign), over every position of the axles."""
+        extreme sought (its influence of that sign), over every position of the axles.
+        ``alpha`` > 0 and finite."""
+        alpha = as_number(alpha, "influence lines", "LM71 alpha")
+        if not (np.isfinite(alpha) and alpha > 0.0):
+            raise ModelError(f"influence lines: LM71 alpha must be > 0 and finite, got {alpha}")
         x = np.arange(self.track.x_begin, self.track.x_end + self.step / 2, self.step)
         il = self(x)                                                # (n_x, n_resp)
         out = np.zeros((2, self.n_responses))
@@ -104,6 +123,37 @@ class InfluenceLines:
             response = point + LM71_UDL * (left + right)
             out[k] = response.min(axis=0) if sign < 0 else response.max(axis=0)
         return alpha * out
+
+
+def _finite_array(what, values):
+    """``values`` as a float array (at least 1-D), or a ModelError naming ``what`` and the values."""
+    try:
+        values = np.atleast_1d(np.asarray(values, dtype=float))
+    except (TypeError, ValueError):
+        raise ModelError(f"influence lines: {what} must be numbers, got {values!r}") from None
+    if not np.all(np.isfinite(values)):
+        raise ModelError(f"influence lines: {what} must be finite, got {values.tolist()}")
+    return values
+
+
+def _functionals(functionals, n_free):
+    """``(free (n,) int64, P (n, n_responses) float64)`` of ``functionals``, checked: free dofs in
+    0 .. n_free - 1, P finite with a row per free dof and at least one column."""
+    try:
+        free, P = functionals
+        free, P = np.asarray(free), np.asarray(P, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"influence lines: functionals must be (free dofs (n,), P (n, n_responses)), got "
+                         f"{functionals!r:.80}") from None
+    if free.ndim != 1 or free.dtype.kind not in "iu" or P.ndim != 2 or P.shape[0] != free.size or P.shape[1] == 0:
+        raise ModelError(f"influence lines: functionals must be (free dofs (n,) integers, P (n, n_responses)), got "
+                         f"free {free.shape} {free.dtype}, P {P.shape}")
+    if free.size and not (0 <= free.min() and free.max() < n_free):
+        raise ModelError(f"influence lines: functionals: free dofs must be in 0..{n_free - 1}, got "
+                         f"{int(free.min())}..{int(free.max())}")
+    if not np.all(np.isfinite(P)):
+        raise ModelError("influence lines: functionals: P has NaN or inf")
+    return free.astype(np.int64), P
 
 
 def _cumulative_at(x, cumulative, points):

@@ -1,7 +1,7 @@
 """Load patterns: nodal loads scaled by a time series (OpenSees ``pattern Plain``)."""
 import numpy as np
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
 from vtsi.timeseries import TimeSeries
 
 
@@ -17,19 +17,14 @@ class LoadPattern:
     def __init__(self, tag, series, factor=1.0):
         if not isinstance(series, TimeSeries):
             raise ModelError(f"pattern {tag}: time series must be a TimeSeries, got {series!r}")
-        try:
-            factor = float(factor)
-        except (TypeError, ValueError):
-            raise ModelError(f"pattern {tag}: factor must be a number, got {factor!r}") from None
-        if not np.isfinite(factor):
-            raise ModelError(f"pattern {tag}: factor must be finite, got {factor}")
-        self.tag, self.series, self._factor = tag, series, factor
+        self.tag, self.series, self._factor = tag, series, _finite(tag, "factor", factor)
         self.nodal = {}
         self.element_loads = []     # (element tag, 'uniform' (w_y, w_x) | 'point' (P_y, x/L, P_x))
         self.prescribed = {}        # (node, dof 0-based) -> displacement [m, rad] at factor 1 (OpenSees sp)
         self.version = 0            # counts the changes of the loads, factor and freezing (analyses cache them)
         self._constant_time = None
         self.on_change = None       # set by the owning model: called after every change
+        self.ndf = None             # set by the owning model: values per nodal load
 
     def _changed(self):
         self.version += 1
@@ -43,7 +38,7 @@ class LoadPattern:
 
     @factor.setter
     def factor(self, value):
-        self._factor = float(value)
+        self._factor = _finite(self.tag, "factor", value)
         self._changed()
 
     @property
@@ -53,14 +48,17 @@ class LoadPattern:
 
     @constant_time.setter
     def constant_time(self, value):
-        self._constant_time = value
+        self._constant_time = None if value is None else _finite(self.tag, "constant_time", value)
         self._changed()
 
     def load(self, node, *values):
+        """Nodal load ``(Fx, Fy[, Mz])`` [N, N·m] on ``node``: one value per dof of the model."""
         try:
             values = np.asarray(values, dtype=float)
         except (TypeError, ValueError):
             raise ModelError(f"pattern {self.tag}: load on node {node} must be numbers, got {list(values)!r}") from None
+        if self.ndf is not None and values.shape != (self.ndf,):
+            raise ModelError(f"pattern {self.tag}: load on node {node}: needs {self.ndf} values, got {len(values)}")
         if not np.all(np.isfinite(values)):
             raise ModelError(f"pattern {self.tag}: load on node {node} has NaN or inf: {values.tolist()}")
         self.nodal[node] = self.nodal.get(node, 0.0) + values
@@ -70,6 +68,8 @@ class LoadPattern:
         """A load on beam ``element`` (OpenSees ``eleLoad``), in element axes: ``'uniform'``
         ``(w_y, w_x)`` [N/m] (transverse, axial from node i to j) or ``'point'`` ``(P_y, x/L, P_x)``
         [N] at the fraction ``x/L`` of the length from node i. Loads on the same element add up."""
+        if isinstance(element, (bool, np.bool_)) or not isinstance(element, (int, np.integer)):
+            raise ModelError(f"pattern {self.tag}: element tag must be an integer, got {element!r}")
         if kind not in ("uniform", "point"):
             raise ModelError(f"pattern {self.tag}: element load kind {kind!r} on element {element}; valid: "
                              "'uniform', 'point'")
@@ -109,7 +109,7 @@ class UniformExcitation(LoadPattern):
 
     def __init__(self, tag, direction, series, factor=1.0):
         super().__init__(tag, series, factor)
-        if direction not in (1, 2):
+        if isinstance(direction, (bool, np.bool_)) or direction not in (1, 2):
             raise ModelError(f"pattern UniformExcitation {tag}: direction must be 1 (x) or 2 (y), got {direction!r}")
         self.ground_direction = int(direction)
 
@@ -119,3 +119,10 @@ class UniformExcitation(LoadPattern):
     def beam_load(self, element, kind, *values):
         raise ModelError(f"pattern UniformExcitation {self.tag}: takes no element loads (its load is −M r a_g)")
 
+
+def _finite(tag, name, value):
+    """``value`` as a finite float, or a ModelError naming pattern ``tag``, ``name`` and the value."""
+    value = as_number(value, f"pattern {tag}", name)
+    if not np.isfinite(value):
+        raise ModelError(f"pattern {tag}: {name} must be finite, got {value}")
+    return value

@@ -50,7 +50,7 @@ class Model:
 
     def _add_pattern(self, pattern):
         self.patterns[pattern.tag] = pattern
-        pattern.on_change = self._loads_changed
+        pattern.on_change, pattern.ndf = self._loads_changed, self.ndf
         self._loads_changed()
         return pattern
 

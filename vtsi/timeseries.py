@@ -7,7 +7,7 @@ PathTimeSeries (``time``).
 import numpy as np
 from numba import njit
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_flag
 
 
 class TimeSeries:
@@ -42,7 +42,7 @@ class Linear(TimeSeries):
         self.factor, self.tag = _finite("Linear", tag, "factor", factor), tag
 
     def __call__(self, t):
-        return self.factor * np.asarray(t, dtype=float)
+        return self.factor * _times(self, t)
 
 
 class Trig(TimeSeries):
@@ -56,13 +56,14 @@ class Trig(TimeSeries):
         self.period = _finite("Trig", tag, "period", period)
         self.factor, self.shift = _finite("Trig", tag, "factor", factor), _finite("Trig", tag, "shift", shift)
         self.zero_shift = _finite("Trig", tag, "zeroShift", zero_shift)
+        _interval("Trig", tag, self.t_start, self.t_end)
         if not self.period > 0.0:
             raise ModelError(f"timeSeries Trig {tag}: period must be > 0, got {self.period}")
         if self.zero_shift and not abs(self.zero_shift) <= abs(self.factor):
             raise ModelError(f"timeSeries Trig {tag}: |zeroShift| must not exceed |factor| (asin), got {self.zero_shift}")
 
     def __call__(self, t):
-        t = np.asarray(t, dtype=float)
+        t = _times(self, t)
         phi = self.shift - (self.period / (2 * np.pi) * np.arcsin(self.zero_shift / self.factor) if self.zero_shift else 0.0)
         value = self.factor * np.sin(2 * np.pi * (t - self.t_start) / self.period + phi) + self.zero_shift
         return np.where((t >= self.t_start) & (t <= self.t_end), value, 0.0)
@@ -76,9 +77,10 @@ class Rectangular(TimeSeries):
         self.t_start = _finite("Rectangular", tag, "tStart", t_start)
         self.t_end = _finite("Rectangular", tag, "tEnd", t_end)
         self.factor = _finite("Rectangular", tag, "factor", factor)
+        _interval("Rectangular", tag, self.t_start, self.t_end)
 
     def __call__(self, t):
-        t = np.asarray(t, dtype=float)
+        t = _times(self, t)
         return np.where((t >= self.t_start) & (t <= self.t_end), self.factor, 0.0)
 
 
@@ -95,12 +97,13 @@ class Triangle(TimeSeries):
         self.period = _finite("Triangle", tag, "period", period)
         self.factor, self.shift = _finite("Triangle", tag, "factor", factor), _finite("Triangle", tag, "shift", shift)
         self.zero_shift = _finite("Triangle", tag, "zeroShift", zero_shift)
+        _interval("Triangle", tag, self.t_start, self.t_end)
         if not self.period > 0.0 or self.factor == 0.0:
             raise ModelError(f"timeSeries Triangle {tag}: period must be > 0 and factor not 0, got "
                              f"{self.period}, {self.factor}")
 
     def __call__(self, t):
-        t = np.asarray(t, dtype=float)
+        t = _times(self, t)
         slope = self.factor / (self.period / 4.0)
         x = (t + self.shift - self.zero_shift / slope - self.t_start) / self.period
         k = x - np.floor(x)
@@ -121,12 +124,13 @@ class Pulse(TimeSeries):
         self.period, self.width = _finite("Pulse", tag, "period", period), _finite("Pulse", tag, "width", width)
         self.factor, self.shift = _finite("Pulse", tag, "factor", factor), _finite("Pulse", tag, "shift", shift)
         self.zero_shift = _finite("Pulse", tag, "zeroShift", zero_shift)
+        _interval("Pulse", tag, self.t_start, self.t_end)
         if not self.period > 0.0 or not 0.0 < self.width < 1.0:
             raise ModelError(f"timeSeries Pulse {tag}: period must be > 0 and width in (0, 1), got "
                              f"{self.period}, {self.width}")
 
     def __call__(self, t):
-        t = np.asarray(t, dtype=float)
+        t = _times(self, t)
         x = (t + self.shift - self.t_start) / self.period
         value = np.where(x - np.floor(x) < self.width, self.factor + self.zero_shift, self.zero_shift)
         return np.where((t >= self.t_start) & (t <= self.t_end), value, 0.0)
@@ -163,6 +167,7 @@ class Path(TimeSeries):
             bad = int(np.flatnonzero(~np.isfinite(values))[0])
             raise ModelError(f"{name}: value {bad} is {values[bad]} (NaN or inf)")
         start_time = _finite("Path", tag, "start_time", start_time)
+        use_last, prepend_zero = as_flag(use_last, name, "use_last"), as_flag(prepend_zero, name, "prepend_zero")
         if time is None:
             if dt is None:
                 raise ModelError(f"{name}: give the sample times (time=...) or the step dt")
@@ -192,7 +197,7 @@ class Path(TimeSeries):
         self.time, self.values = time, values
         self.dt = None if dt is None else float(dt)        # the -dt form's step, None for the -time form
         self.start_time = start_time
-        self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), bool(use_last), tag
+        self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), use_last, tag
 
     def stack_key(self):
         """Series on the same grid stack (a Path per loaded node is evaluated in one gather)."""
@@ -219,18 +224,39 @@ class Path(TimeSeries):
         return out
 
     def __call__(self, t):
-        t = np.asarray(t, dtype=float)
+        t = _times(self, t)
         flat = t.reshape(-1)
         out = self.stack_factors(self.stack_key(), self.values[None, :], flat, [self.factor], [1.0])[:, 0]
         return out.reshape(t.shape)
 
 
 def _numbers(name, what, values):
-    """``values`` as a flat float64 array, or a ModelError naming the series."""
+    """``values`` (a sequence of numbers) as a 1-D float64 array, or a ModelError naming the series."""
     try:
-        return np.asarray(values, dtype=float).ravel()
+        out = np.asarray(values, dtype=float) if not isinstance(values, (str, bytes)) else None
     except (TypeError, ValueError):
-        raise ModelError(f"{name}: {what} must be numbers, got {values!r}") from None
+        out = None
+    if out is None:
+        raise ModelError(f"{name}: {what} must be numbers, got {values!r}")
+    if out.ndim != 1:
+        raise ModelError(f"{name}: {what} must be a 1-D sequence, got shape {out.shape}")
+    return out
+
+
+def _times(series, t):
+    """The times ``t`` [s] a series is evaluated at, as a float array, or a ModelError naming the series."""
+    try:
+        return np.asarray(t, dtype=float)
+    except (TypeError, ValueError):
+        where = f"timeSeries {type(series).__name__}" + (f" {series.tag}" if series.tag is not None else "")
+        raise ModelError(f"{where}: times must be numbers [s], got {t!r}") from None
+
+
+def _interval(kind, tag, t_start, t_end):
+    """A ModelError naming the series if ``t_end`` < ``t_start`` (it would always give 0)."""
+    if t_end < t_start:
+        where = f"timeSeries {kind} {tag}" if tag is not None else f"timeSeries {kind}"
+        raise ModelError(f"{where}: tEnd = {t_end:g} is before tStart = {t_start:g} (the series would be 0 always)")
 
 
 @njit(cache=True)

@@ -40,7 +40,7 @@ c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of
 """
 import numpy as np
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_flag
 from vtsi.version import __version__
 
 from .envelope import Envelope
@@ -80,10 +80,11 @@ class Recorder:
                 raise ModelError(f"{self.name}: dt must be a number, got {dt!r}") from None
             if not (np.isfinite(dt) and dt >= 0.0):
                 raise ModelError(f"{self.name}: dt must be >= 0 and finite, got {dt}")
+        history, envelope = as_flag(history, self.name, "history"), as_flag(envelope, self.name, "envelope")
         if not (history or envelope):
             raise ModelError(f"{self.name}: records nothing (history=False and envelope=False)")
         self.sink, self.dt, self.tag = sink, dt, tag
-        self.history = bool(history)
+        self.history = history
         self.envelope = Envelope() if envelope else None
         sink.check(self)
         self._next_time = 0.0

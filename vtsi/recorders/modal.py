@@ -41,10 +41,20 @@ class ModalNodeRecorder(Recorder):
         if response not in QUANTITIES:
             raise ModelError(f"{self.name}: unknown response {response!r}; valid: {', '.join(QUANTITIES)}")
         self.nodes = _int_list(self.name, "nodes", nodes)
+        if isinstance(dof, (bool, np.bool_)) or not isinstance(dof, (int, np.integer)) or dof < 1:
+            raise ModelError(f"{self.name}: dof must be an integer >= 1 (1 ux, 2 uy, 3 rz), got {dof!r}")
         self.dof, self.response, self.label = int(dof), response, str(label)
-        self.shapes = np.asarray(shapes, dtype=float)
+        try:
+            self.shapes = np.asarray(shapes, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(f"{self.name}: shapes must be an array of numbers (n_full, n_modes), got "
+                             f"{type(shapes).__name__} {shapes!r:.60}") from None
         if self.shapes.ndim != 2 or self.shapes.shape[1] == 0:
             raise ModelError(f"{self.name}: shapes must be (n_full, n_modes) with n_modes >= 1, got {self.shapes.shape}")
+        if not np.all(np.isfinite(self.shapes)):
+            row, mode = np.argwhere(~np.isfinite(self.shapes))[0]
+            raise ModelError(f"{self.name}: shapes have NaN or inf: row {row}, mode {mode} is "
+                             f"{self.shapes[row, mode]}")
         super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
         self._projection = None
 

@@ -6,7 +6,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from vtsi.assembly import DOF_NAMES
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_flag
 from vtsi.recorders.base import Recorder
 
 QUANTITIES = {"disp": "u", "vel": "v", "accel": "a"}
@@ -86,7 +86,7 @@ class ReactionRecorder(NodeRecorder):
 
     def __init__(self, nodes, dofs, include_inertia=False, sink=None, dt=None, envelope=False, history=True,
                  tag=None):
-        response = "reactionIncInertia" if include_inertia else "reaction"
+        response = "reactionIncInertia" if as_flag(include_inertia, self.name, "include_inertia") else "reaction"
         super().__init__(nodes, dofs, response=response, sink=sink, dt=dt, envelope=envelope, history=history,
                          tag=tag)
 

@@ -15,9 +15,10 @@ Contract of a sink
 import datetime
 import os
 
+import h5py
 import numpy as np
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_flag
 from vtsi.recorders.number_text import format_g_bytes, format_g_rows
 
 
@@ -102,37 +103,43 @@ class HDF5Sink(Sink):
     Parameters
     ----------
     path : file to create. An existing file is refused (``FileExistsError`` naming it) when
-        the sink is built, before any analysis work, unless ``overwrite=True``.
-    overwrite : replace an existing file.
+        the sink is built, before any analysis work, unless ``overwrite=True``; a directory
+        always (``IsADirectoryError``).
+    overwrite : True: replace an existing file (a bool: anything else is a ModelError).
     flush_every : None (default): flush after every chunk; k: flush only once at least k
         recorded steps have accumulated since the last flush (fewer flushes when chunks are
         tiny, e.g. static steps; a killed run may then lose up to k - 1 steps).
-    compression : h5py compression filter for /values (e.g. ``'gzip'``), default none.
+    compression : h5py compression filter for /values (``'gzip'``, ``'lzf'``, a gzip level 0-9...),
+        default none; checked with ``compression_opts`` when the sink is built (ModelError).
+    compression_opts : the filter's options (gzip: level 0-9), default h5py's.
 
     A run killed at any moment (even SIGKILL) leaves a readable file holding every step up
     to the last flush; a run that raises closes the file with every completed step.
     """
 
-    def __init__(self, path, overwrite=False, flush_every=None, compression=None):
-        self.path = os.fspath(path)
-        if os.path.exists(self.path) and not overwrite:
+    def __init__(self, path, overwrite=False, flush_every=None, compression=None, compression_opts=None):
+        self.path = _path("HDF5 recorder", path)
+        self.overwrite = as_flag(overwrite, f"HDF5 recorder {self.path}", "overwrite")
+        if os.path.isdir(self.path):
+            raise IsADirectoryError(f"HDF5 recorder: {self.path} is a directory; give a file name")
+        if os.path.exists(self.path) and not self.overwrite:
             raise FileExistsError(f"HDF5 recorder: {self.path} already exists; pass overwrite=True "
                                   "to replace it")
         parent = os.path.dirname(os.path.abspath(self.path))
+        if os.path.exists(parent) and not os.path.isdir(parent):
+            raise NotADirectoryError(f"HDF5 recorder: {parent} of {self.path} is a file, not a directory")
         if not os.path.isdir(parent):
             raise FileNotFoundError(f"HDF5 recorder: directory {parent} of {self.path} does not exist")
-        if flush_every is not None and (int(flush_every) != flush_every or flush_every < 1):
+        if flush_every is not None and not _is_integer(flush_every, 1):
             raise ModelError(f"HDF5 recorder {self.path}: flush_every must be an integer >= 1, got {flush_every!r}")
-        self.overwrite = bool(overwrite)
         self.flush_every = None if flush_every is None else int(flush_every)
-        self.compression = compression
+        self.compression, self.compression_opts = compression, compression_opts
+        _check_compression(self.path, compression, compression_opts)
         self._file = None
         self._created = False
         self._unflushed = 0
 
     def open(self, layout, recorder):
-        import h5py
-
         if self._created:
             self._file = h5py.File(self.path, "r+")
             self._file.attrs.update(_h5_attrs(layout["attrs"]))
@@ -165,7 +172,8 @@ class HDF5Sink(Sink):
             time.attrs["units"] = "s"
             time.make_scale("time")
             values = f.create_dataset("values", shape=(0, n), maxshape=(None, n), chunks=(rows, max(n, 1)),
-                                      dtype="f8", compression=self.compression)
+                                      dtype="f8", compression=self.compression,
+                                      compression_opts=self.compression_opts)
             values.attrs["units"] = np.array(layout["units"], dtype=object)
             values.attrs["quantity"] = layout["quantity"]
             values.dims[0].label = "time"
@@ -213,8 +221,6 @@ class HDF5Sink(Sink):
             return self._file[name][...] if name in self._file else empty
         if not self._created:
             return empty
-        import h5py
-
         with h5py.File(self.path, "r") as f:
             return f[name][...] if name in f else empty
 
@@ -244,10 +250,12 @@ class TextSink(Sink):
     """
 
     def __init__(self, path, time=False, precision=6, close_on_write=False):
-        self.path = os.fspath(path)
-        if isinstance(precision, bool) or int(precision) != precision or precision < 0:
+        self.path = _path("text recorder", path)
+        if not _is_integer(precision, 0):
             raise ModelError(f"text recorder {self.path}: precision must be an integer >= 0, got {precision!r}")
-        self.echo_time, self.precision, self.close_on_write = bool(time), int(precision), bool(close_on_write)
+        self.echo_time = as_flag(time, f"text recorder {self.path}", "time")
+        self.close_on_write = as_flag(close_on_write, f"text recorder {self.path}", "close_on_write")
+        self.precision = int(precision)
         try:
             with open(self.path, "w"):
                 pass
@@ -324,3 +332,31 @@ def _h5_attrs(attrs):
         else:
             out[key] = str(value)
     return out
+
+
+def _is_integer(value, low):
+    """Whether ``value`` is an integer >= ``low`` (an int, or a float with an integer value; not a bool)."""
+    return (isinstance(value, (int, np.integer, float, np.floating)) and not isinstance(value, (bool, np.bool_))
+            and np.isfinite(value) and int(value) == value and value >= low)
+
+
+def _path(who, path):
+    """``path`` as a str, or a ModelError naming ``who`` and the value."""
+    try:
+        return os.fspath(path)
+    except TypeError:
+        raise ModelError(f"{who}: path must be a file name (str or os.PathLike), got {path!r}") from None
+
+
+def _check_compression(path, compression, options):
+    """A ModelError naming the filter and h5py's reason if h5py cannot compress /values with
+    ``compression`` and ``options`` (tried on an in-memory file: nothing is written)."""
+    if compression is None and options is None:
+        return
+    try:
+        with h5py.File(f"{path}.check", "w", driver="core", backing_store=False) as f:
+            f.create_dataset("values", shape=(0, 1), maxshape=(None, 1), chunks=(64, 1), dtype="f8",
+                             compression=compression, compression_opts=options)
+    except (ValueError, TypeError) as exc:
+        raise ModelError(f"HDF5 recorder {path}: compression {compression!r} with options {options!r} is not "
+                         f"available: {exc}") from None
