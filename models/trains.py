@@ -22,7 +22,7 @@ from importlib import resources
 import numpy as np
 import scipy.sparse
 
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, is_count
 
 from .cars import Car, _frozen, car_from_catalogue, moving_force
 
@@ -165,7 +165,7 @@ class Train:
     def uniform(cls, car, n_cars, car_length, speed, name=None):
         """``n_cars`` copies of ``car``, one every ``car_length`` metres (offsets 0, L, 2L, …);
         ``car_length`` is the train's characteristic length."""
-        if not _is_count(n_cars, 1):
+        if not is_count(n_cars, 1):
             raise ModelError(f"Train.uniform: n_cars must be a positive integer, got {n_cars!r}")
         if not (np.isfinite(as_number(car_length, "Train.uniform", "car_length")) and car_length > 0):
             raise ModelError(f"Train.uniform: car_length must be > 0, got {car_length!r}")
@@ -298,7 +298,7 @@ def ice3(n_cars=8, *, speed, name='ICE3'):
     Cantero, TTB-2D, TrainProp_AVE_S103_ICE3_Velaro_E_C*.m; Goicolea (2014), Simplified
     mechanical description of AVE S-103 - ICE3 Velaro E high speed train, oa.upm.es/43946.
     """
-    if not _is_count(n_cars, 2):
+    if not is_count(n_cars, 2):
         raise ModelError(f"ice3: n_cars must be an integer >= 2, got {n_cars!r}")
     car = car_from_catalogue('ICE3_coach')
     front_overhang = np.full(int(n_cars), _ICE3_OVERHANG)
@@ -474,9 +474,3 @@ def hslm_b(span, speed):
     N, d = hslm_b_parameters(span)
     return Train.from_axle_table(d * np.arange(N), np.full(N, _HSLM_B_P), speed, name='HSLM-B',
                                  characteristic_length=d)
-
-
-def _is_count(value, least):
-    """Whether ``value`` is a whole number (int, or a float without a fraction) >= ``least``."""
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
-        and np.isfinite(value) and int(value) == value and value >= least

@@ -59,3 +59,10 @@ def as_flag(value, where, name, error=ModelError):
     if not isinstance(value, (bool, np.bool_)):
         raise error(f"{where}: {name} must be True or False, got {value!r}")
     return bool(value)
+
+
+def is_count(value, least=0):
+    """Whether ``value`` is a whole number >= ``least``: an int, or a float without a fraction
+    (``3.0``), not a bool."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_)) \
+        and bool(np.isfinite(value)) and int(value) == value and value >= least

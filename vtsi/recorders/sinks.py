@@ -18,7 +18,7 @@ import os
 import h5py
 import numpy as np
 
-from vtsi.errors import ModelError, as_flag
+from vtsi.errors import ModelError, as_flag, is_count
 from vtsi.recorders.number_text import format_g_bytes, format_g_rows
 
 
@@ -130,7 +130,7 @@ class HDF5Sink(Sink):
             raise NotADirectoryError(f"HDF5 recorder: {parent} of {self.path} is a file, not a directory")
         if not os.path.isdir(parent):
             raise FileNotFoundError(f"HDF5 recorder: directory {parent} of {self.path} does not exist")
-        if flush_every is not None and not _is_integer(flush_every, 1):
+        if flush_every is not None and not is_count(flush_every, 1):
             raise ModelError(f"HDF5 recorder {self.path}: flush_every must be an integer >= 1, got {flush_every!r}")
         self.flush_every = None if flush_every is None else int(flush_every)
         self.compression, self.compression_opts = compression, compression_opts
@@ -251,7 +251,7 @@ class TextSink(Sink):
 
     def __init__(self, path, time=False, precision=6, close_on_write=False):
         self.path = _path("text recorder", path)
-        if not _is_integer(precision, 0):
+        if not is_count(precision, 0):
             raise ModelError(f"text recorder {self.path}: precision must be an integer >= 0, got {precision!r}")
         self.echo_time = as_flag(time, f"text recorder {self.path}", "time")
         self.close_on_write = as_flag(close_on_write, f"text recorder {self.path}", "close_on_write")
@@ -332,12 +332,6 @@ def _h5_attrs(attrs):
         else:
             out[key] = str(value)
     return out
-
-
-def _is_integer(value, low):
-    """Whether ``value`` is an integer >= ``low`` (an int, or a float with an integer value; not a bool)."""
-    return (isinstance(value, (int, np.integer, float, np.floating)) and not isinstance(value, (bool, np.bool_))
-            and np.isfinite(value) and int(value) == value and value >= low)
 
 
 def _path(who, path):
