@@ -694,7 +694,7 @@ def test_set_time_and_load_const():
     assert ops.getTime() == 0.5 and ops.nodeDisp(3, 2) == u
     with pytest.raises(CommandError, match="'-foo'"):
         ops.loadConst("-foo", 1.0)
-    with pytest.raises(CommandError, match="time must be a number"):
+    with pytest.raises(CommandError, match="time must be a finite number"):
         ops.setTime("now")
 
 
@@ -762,3 +762,81 @@ def test_query_commands_name_a_missing_object():
     with pytest.raises(CommandError, match="nodeMass.*node 9"):
         s.nodeMass(9)
     assert s.nodeMass(1) == [0.0, 0.0, 0.0] and s.nodeBounds() == [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+
+
+def _zero_length_materials(o):
+    beam(o)
+    o.uniaxialMaterial("Elastic", 1, 1e6)
+    o.uniaxialMaterial("Elastic", 2, 1e6)
+
+
+def _nodes_only(o):
+    o.wipe()
+    o.model("basic", "-ndm", 2, "-ndf", 3)
+
+
+BAD_COMMANDS = [   # (setup, command, args, exception, message)
+    (beam, "nodeDisp", (), CommandError, r"nodeDisp: takes node \[dof\] \(1 to 2 arguments\), got 0"),
+    (beam, "nodeDisp", (2, 1, 3), CommandError, r"nodeDisp: takes node \[dof\] \(1 to 2 arguments\), got 3"),
+    (beam, "setTime", (), CommandError, r"setTime: takes t \(1 argument\), got 0"),
+    (beam, "getLoadFactor", (), CommandError, r"getLoadFactor: takes tag \(1 argument\), got 0"),
+    (beam, "nodeBounds", (1,), CommandError, r"nodeBounds: takes no arguments, got 1"),
+    (beam, "getTime", (1,), CommandError, r"getTime: takes no arguments, got 1"),
+    (beam, "wipe", (1,), CommandError, r"wipe: takes no arguments, got 1"),
+    (beam, "wipeAnalysis", (1,), CommandError, r"wipeAnalysis: takes no arguments, got 1"),
+    (beam, "nodeResponse", (2, 1, [1]), CommandError, r"nodeResponse: response id \[1\] is not supported"),
+    (beam, "nodeResponse", (99, 1, 1), CommandError, r"^nodeResponse: node 99 does not exist"),
+    (beam, "setTime", (math.nan,), CommandError, r"setTime: time must be a finite number, got nan"),
+    (beam, "setTime", (math.inf,), CommandError, r"setTime: time must be a finite number, got inf"),
+    (beam, "geomTransf", ("Linear", 1), CommandError, r"geomTransf Linear 1: transformation 1 already exists"),
+    (_zero_length_materials, "element", ("zeroLength", 9, 2, 4, "-mat", 1, "-mat", 2, "-dir", 1), CommandError,
+     r"element zeroLength 9: -mat given twice"),
+    (_zero_length_materials, "element", ("zeroLength", 9, 2, 2, "-mat", 1, "-dir", 1), CommandError,
+     r"element zeroLength 9: connects node 2 to itself"),
+    (beam, "recorder", ("Node", "-node", "-dof", 1, "disp"), CommandError, r"recorder Node: -node names no node"),
+    (beam, "recorder", ("Node", "-nodeRange", 7, 9, "-dof", 1, "disp"), CommandError,
+     r"recorder Node: -nodeRange 7 9 holds no node of the model"),
+    (beam, "recorder", ("Node", "-nodeRange", 3, 1, "-dof", 1, "disp"), CommandError,
+     r"recorder Node: -nodeRange 3 1: the end is before the start"),
+    (beam, "recorder", ("Element", "-eleRange", 5, 9, "force"), CommandError,
+     r"recorder Element: -eleRange 5 9 holds no element of the model"),
+    (beam, "recorder", ("Element", "-ele", "-time", "force"), CommandError, r"recorder Element: -ele names no element"),
+    (beam, "recorder", ("Element", "force"), CommandError, r"recorder Element: no elements given \(-ele"),
+    (beam, "recorder", ("Node", "-node", "a", "-dof", 1, "disp"), CommandError,
+     r"recorder Node: -node tag must be an integer, got 'a'"),
+    (beam, "recorder", ("Node", "-node", 1, "-dof", "a", "disp"), CommandError,
+     r"recorder Node: -dof must be an integer, got 'a'"),
+    (beam, "recorder", ("Node", "-node", 1, "-dof", 1, "displ"), CommandError,
+     r"recorder Node: 'displ' is neither a -dof \(an integer\) nor a response \(disp, vel"),
+    (beam, "recorder", ("Element", "-ele", "a", "force"), CommandError,
+     r"recorder Element: -ele tag must be an integer, got 'a'"),
+    (beam, "load", (2, 1.0, 0.0, 0.0, "-pattern", 9), CommandError, r"load on node 2: pattern 9 does not exist"),
+    (beam, "load", (2, "a", 0, 0), CommandError, r"load on node 2: a load value must be a number, got 'a'"),
+    (_nodes_only, "nodeDisp", (1,), CommandError, r"nodeDisp: the model has no nodes"),
+    (_nodes_only, "eigen", (1,), CommandError, r"eigen: the model has no nodes"),
+]
+
+
+@pytest.mark.parametrize("setup, command, args, exception, message", BAD_COMMANDS,
+                         ids=[f"{c[1]}{c[2]!r}" for c in BAD_COMMANDS])
+def test_bad_commands_name_the_object_and_value(setup, command, args, exception, message):
+    """A wrong argument count, an empty selection, a repeated option: a vtsi error naming them."""
+    setup(ops)
+    with pytest.raises(exception, match=message):
+        getattr(ops, command)(*args)
+
+
+def test_node_recorder_without_node_records_every_node_as_opensees():
+    beam(ops)
+    tag = ops.recorder("Node", "-dof", 2, "disp")
+    ops.analysis("Static")
+    ops.analyze(1)
+    assert ops.session.recorders[tag].values.shape == (1, 5)
+
+
+def test_zero_length_options_and_recorder_files_are_given_once(tmp_path):
+    _zero_length_materials(ops)
+    with pytest.raises(CommandError, match=r"element zeroLength 9: -dir given twice"):
+        ops.element("zeroLength", 9, 2, 4, "-mat", 1, "-dir", 1, "-dir", 2)
+    with pytest.raises(CommandError, match=r"recorder Node: give one output file"):
+        ops.recorder("Node", "-file", str(tmp_path / "a.out"), "-file", str(tmp_path / "b.out"), "-dof", 1, "disp")

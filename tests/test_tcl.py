@@ -205,3 +205,33 @@ def test_word_conversion():
     assert split_list('a {b c} "d e" {f {g h}}') == ["a", "b c", "d e", "f {g h}"]
     with pytest.raises(CommandError, match="unmatched"):
         split_list("a {b")
+
+
+BEAM_TCL = """model basic -ndm 2 -ndf 3
+node 1 0 0; node 2 10 0; node 3 20 0
+fix 1 1 1 0; fix 3 0 1 0
+geomTransf Linear 1
+element elasticBeamColumn 1 1 2 5.0 3.5e10 2.5 1 -mass 15000.0
+element elasticBeamColumn 2 2 3 5.0 3.5e10 2.5 1 -mass 15000.0
+"""
+
+
+@pytest.mark.parametrize("fact", ["", " -fact 2.0"])
+def test_tcl_uniform_excitation_takes_an_inline_accel_series(fact):
+    """OpenSees reads -accel's word as a series tag or an inline series, also as the last word."""
+    tcl = Interpreter()
+    tcl.eval(BEAM_TCL + f'pattern UniformExcitation 2 1 -accel "Path -dt 0.1 -values {{0 1 0}}"{fact}')
+    assert 2 in tcl.session.domain.patterns
+
+
+@pytest.mark.parametrize("script, message", [
+    ("nodeDisp", r"nodeDisp: takes node \[dof\] \(1 to 2 arguments\), got 0"),
+    ("nodeDisp 2 1 3", r"nodeDisp: takes node \[dof\] \(1 to 2 arguments\), got 3"),
+    ("wipe 1", r"wipe: takes no arguments, got 1"),
+    ("getTime 1", r"getTime: takes no arguments, got 1"),
+])
+def test_tcl_wrong_argument_count_names_the_command(script, message):
+    tcl = Interpreter()
+    tcl.eval(BEAM_TCL)
+    with pytest.raises(CommandError, match=message):
+        tcl.eval(script)

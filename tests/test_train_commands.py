@@ -264,3 +264,75 @@ def test_units_undeclared_on_a_kn_t_m_model_are_refused():
         s = ops.Session()
         s.model("basic", "-ndm", 2, "-ndf", 3)
         s.train(1, "300 mph", "-HSLM", "A1")
+
+
+def test_sprung_mass_options_take_effect():
+    session = ops.Session()
+    session.car(1, "sprungMass", 5750.0, 1e6)
+    session.car(2, "sprungMass", 5750.0, 1e6, "-c", 1e4, "-wheelMass", 500.0)
+    plain, damped = session._cars[1], session._cars[2]
+    assert plain.C[0, 0] == 0.0 and plain.M[1, 1] == 0.0
+    assert damped.C[0, 0] == 1e4 and damped.C[0, 1] == -1e4 and damped.M[1, 1] == 500.0
+    with pytest.raises(CommandError, match=r"^car 3 sprungMass: -c must be a number, got 'x'$"):
+        session.car(3, "sprungMass", 5750.0, 1e6, "-c", "x")
+
+
+def _bridge(session):
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(NE + 1):
+        session.node(i + 1, S2["L"] * i / NE, 0.0)
+    session.fix(1, 1, 1, 0)
+    session.fix(NE + 1, 0, 1, 0)
+    session.geomTransf("Linear", 1)
+    for e in range(NE):
+        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, S2["E"], S2["I"], 1, "-mass", S2["mu"])
+
+
+def _zero_length_track(session):
+    _bridge(session)
+    session.uniaxialMaterial("Elastic", 1, 1e6)
+    session.node(50, S2["L"], 0.0)
+    session.element("zeroLength", 50, NE + 1, 50, "-mat", 1, "-dir", 1)
+    session.track(2, "-ele", 50)
+    session.car(1, "movingForce", 1e5)
+    session.train(1, 20.0, "-cars", 1, 0.0)
+
+
+def _s2(session):
+    s2_commands(session)
+
+
+BAD_TRAIN_INPUTS = [   # (setup, command, args, message)
+    (_bridge, "train", (2, True, "-cars", 1, 0.0), r"train 2: speed: True is not a speed"),
+    (_bridge, "train", (2, float("nan"), "-cars", 1, 0.0), r"train 2: speed: must be finite, got nan"),
+    (_bridge, "recorder", ("Train", "-dof", 1.5, "disp"), r"recorder Train: -dof must be a train dof name or an "
+                                                           r"integer index, got 1.5"),
+    (_bridge, "recorder", ("Train", "-dof", None, "disp"), r"recorder Train: -dof .* got None"),
+    (_bridge, "recorder", ("Contact", "force", "gap"), r"recorder Contact: give one response, got 'force' and 'gap'"),
+    (_bridge, "recorder", ("Contact", "-file", "a.out", "-file", "b.out", "force"),
+     r"recorder Contact: give one output file"),
+    (_bridge, "recorder", ("Contact", "-wheel", "a", "force"), r"recorder Contact: -wheel index must be an integer, "
+                                                                r"got 'a'"),
+    (_zero_length_track, "movingLoadConstraint", (1, 1, 2, 0.0),
+     r"movingLoadConstraint 1: track 2: elements \[50\] have no length along x"),
+    (_bridge, "irregularity", (1, "file", "/nonexistent.txt"),
+     r"^irregularity 1: cannot read /nonexistent.txt: no such file$"),
+    (_bridge, "irregularity", (1, "file", "/"), r"^irregularity 1: cannot read /: Is a directory$"),
+    (_bridge, "irregularity", (1, "german", "low", 0.0, 1e12),
+     r"^irregularity 1: x_first \.\. x_last = 0 \.\. 1e\+12 needs 2e\+13 samples at 0.05 m steps, more than 200000"),
+    (_bridge, "irregularity", (1, "german", "low", 0.0, 100.0, "-seed", -1),
+     r"^irregularity 1: -seed must be a non-negative integer, got -1"),
+    (_bridge, "irregularity", (1, "profile", "-x", 0.0, 1.0), r"^irregularity 1: missing option -r$"),
+    (_s2, "analyze", (1,), r"analyze: a Static analysis would ignore the train .* deadLoad\(\)"),
+]
+
+
+@pytest.mark.parametrize("setup, command, args, message", BAD_TRAIN_INPUTS,
+                         ids=[f"{c[1]}{c[2]!r}" for c in BAD_TRAIN_INPUTS])
+def test_bad_train_inputs_name_the_object_and_value(setup, command, args, message):
+    session = ops.Session()
+    setup(session)
+    if command == "analyze":
+        session.analysis("Static")
+    with pytest.raises(CommandError, match=message):
+        getattr(session, command)(*args)

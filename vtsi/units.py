@@ -20,6 +20,7 @@ A model's mass per metre of track is checked against what a railway deck weighs
 1000 times too light for SI trains, which would otherwise give train loads 1000 times too large
 in silence.
 """
+import math
 import re
 from dataclasses import dataclass
 
@@ -47,7 +48,11 @@ def deck_mass_per_length(model, track_elements):
     uy = np.zeros(asm.n_full)
     uy[1::asm.ndf] = 1.0
     track = Track(model, list(track_elements))
-    return float(uy @ (asm.M_full @ uy)) / (track.x_end - track.x_begin)
+    length = track.x_end - track.x_begin
+    if not length > 0.0:
+        raise ModelError(f"elements {list(track_elements)} have no length along x ({track.x_begin:g} to "
+                         f"{track.x_end:g}); a track is a chain of beam elements")
+    return float(uy @ (asm.M_full @ uy)) / length
 
 
 @dataclass(frozen=True)
@@ -100,10 +105,15 @@ class Units:
                                  "such as '300km/h' or '83.3m/s'")
             number = float(match.group(1))
             return number * (1.0 / 3.6 if match.group(2) in ("km/h", "kmh") else 1.0) * self.f_length
+        if isinstance(value, (bool, np.bool_)):
+            raise ModelError(f"{what}: {value!r} is not a speed")
         try:
-            return float(value)
+            number = float(value)
         except (TypeError, ValueError):
             raise ModelError(f"{what}: {value!r} is not a speed") from None
+        if not math.isfinite(number):
+            raise ModelError(f"{what}: must be finite, got {number}")
+        return number
 
     def car(self, car):
         """An SI :class:`~vtsi.models.cars.Car` in these units (see the module docstring)."""

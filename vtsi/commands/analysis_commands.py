@@ -265,6 +265,10 @@ class AnalysisCommands(SessionBase):
         if not model.nodes:
             raise CommandError("analyze: the model has no nodes")
         if self._analysis == "Static":
+            if self._constraint is not None:
+                raise CommandError("analyze: a Static analysis would ignore the train of the movingLoadConstraint; "
+                                   "the train's dead load is deadLoad() (docs/commands.md, Trains), its passage "
+                                   "analysis('Transient') + analyze(n, dt)")
             if a.more():
                 a.float("dt")   # OpenSees accepts and ignores a dt in a static analysis
             a.done()
@@ -325,6 +329,7 @@ class AnalysisCommands(SessionBase):
         a.done()
         if n < 1:
             raise CommandError(f"eigen: number of modes must be >= 1, got {n}")
+        self._assembly("eigen")
         omega2, shapes = _eigen(model, n)
         self._eigen = (model.build(), omega2, shapes)
         log.debug("eigen %s: %d modes", solver, n)

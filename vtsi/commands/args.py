@@ -102,7 +102,7 @@ class Args:
 
     def option(self, valid):
         """The next option name (a str); an unknown one raises naming it and the valid ones."""
-        x = self.take("option")
+        x = self.take(f"option {' or '.join(valid)}")
         if not isinstance(x, str):
             raise CommandError(f"{self.command}: unexpected argument {x!r} (expected an option: {', '.join(valid)})")
         if x not in valid:

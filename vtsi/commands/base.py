@@ -17,11 +17,15 @@ class SessionBase:
             raise CommandError(f"{command}: no model; call model('basic', '-ndm', 2, '-ndf', 3) first")
         return self.domain
 
-    def _state(self, command):
+    def _assembly(self, command):
+        """The built model (:class:`vtsi.assembly.Assembly`); an error naming ``command`` if it has no nodes."""
         model = self._model(command)
         if not model.nodes:
             raise CommandError(f"{command}: the model has no nodes")
-        return model.build(), domain_state(model)
+        return model.build()
+
+    def _state(self, command):
+        return self._assembly(command), domain_state(self.domain)
 
     def _node(self, command, tag):
         model = self._model(command)
@@ -34,14 +38,11 @@ class SessionBase:
     def _node_values(self, command, tag, vector):
         """The entries of full-dof ``vector`` (an array, or the name of a state vector: 'u', 'v',
         'a') at node ``tag``."""
-        model = self._model(command)
-        asm = model.build()
+        asm = self._assembly(command)
         i = asm.node_index.get(tag) if type(tag) is int else None
         if i is None:
-            if not model.nodes:
-                raise CommandError(f"{command}: the model has no nodes")
             i = asm.node_index[self._node(command, tag)]
         if isinstance(vector, str):
-            vector = getattr(domain_state(model), vector)
+            vector = getattr(domain_state(self.domain), vector)
         i *= asm.ndf
         return vector[i: i + asm.ndf]

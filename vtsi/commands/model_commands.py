@@ -127,6 +127,8 @@ class ModelCommands(SessionBase):
             raise CommandError(f"geomTransf: transformation {kind!r} is not supported (vtsi is linear); "
                                "supported: Linear")
         tag = a.int("transformation tag")
+        if tag in self._transforms:
+            raise CommandError(f"geomTransf {kind} {tag}: transformation {tag} already exists")
         if a.more():
             raise CommandError(f"geomTransf Linear {tag}: option {a.peek()!r} is not supported "
                                "(joint offsets and 3-D vectors are not)")
@@ -191,6 +193,8 @@ class ModelCommands(SessionBase):
         i, j = a.int(f"{name}: node i"), a.int(f"{name}: node j")
         for n in (i, j):
             self._node(name, n)
+        if i == j:
+            raise CommandError(f"{name}: connects node {i} to itself")
         getattr(self, "_element_" + kind)(model, a, name, tag, i, j)
 
     def _element_registered(self, model, a, name, tag, cls):
@@ -201,6 +205,8 @@ class ModelCommands(SessionBase):
         nodes = [a.int(f"node {k + 1}") for k in range(cls.n_nodes)]
         for n in nodes:
             self._node(name, n)
+        if len(set(nodes)) < len(nodes):
+            raise CommandError(f"{name}: node {next(n for n in nodes if nodes.count(n) > 1)} is given twice")
         params = {p: a.float(p) for p in cls.command_args}
         options = dict(cls.command_options)
         while a.more():
@@ -273,8 +279,12 @@ class ModelCommands(SessionBase):
         if model.ndf != 3:
             raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
         mats, dirs, orient, do_rayleigh = [], [], None, 0
+        seen = set()
         while a.more():
             opt = a.option(("-mat", "-dir", "-orient", "-doRayleigh"))
+            if opt in seen:
+                raise CommandError(f"{name}: {opt} given twice (give every value after one {opt}, as OpenSees)")
+            seen.add(opt)
             if opt == "-mat":
                 mats = a.ints(f"{name}: -mat tag")
             elif opt == "-dir":
@@ -470,13 +480,17 @@ class ModelCommands(SessionBase):
         a = Args("load", args)
         tag = a.int("node tag")
         values = a.floats(f"load on node {tag}")
+        if a.more() and not (isinstance(a.peek(), str) and a.peek().startswith("-")):
+            raise CommandError(f"load on node {tag}: a load value must be a number, got {a.peek()!r}")
         pattern = self._current_pattern
         while a.more():
             a.option(("-pattern",))
             pattern = a.int("-pattern tag")
         self._node("load", tag)
-        if pattern is None or pattern not in model.patterns:
+        if pattern is None:
             raise CommandError(f"load on node {tag}: no load pattern; define one with pattern('Plain', tag, tsTag)")
+        if pattern not in model.patterns:
+            raise CommandError(f"load on node {tag}: pattern {pattern} does not exist")
         model.load(pattern, tag, *values)
 
     def sp(self, *args):

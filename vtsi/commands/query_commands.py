@@ -2,6 +2,8 @@
 ``reactions``, ``eleForce``, ``eleResponse``, ``getTime``, ``setTime``, ``loadConst``,
 ``getLoadFactor``, ``nodeMass``, ``nodeBounds``, ``nodeCoord``, ``nodeEigenvector``,
 ``nodeResponse``, ``getNodeTags``, ``getEleTags``, with OpenSees's return values."""
+import math
+
 import numpy as np
 
 from vtsi.analysis import domain_state
@@ -68,10 +70,11 @@ class QueryCommands(SessionBase):
     def nodeResponse(self, node, dof, response_id):
         """``nodeResponse(node, dof, id)``: id 1 disp, 2 vel, 3 accel, 6 reaction (as last
         computed), 7 applied nodal load."""
-        if response_id not in NODE_RESPONSE_IDS:
+        if not is_int(response_id) or int(response_id) not in NODE_RESPONSE_IDS:
             raise CommandError(f"nodeResponse: response id {response_id!r} is not supported; supported: "
                                + ", ".join(f"{k} ({v})" for k, v in NODE_RESPONSE_IDS.items()))
-        kind = NODE_RESPONSE_IDS[response_id]
+        kind = NODE_RESPONSE_IDS[int(response_id)]
+        self._node("nodeResponse", node)
         if kind == "unbalance":
             asm, _ = self._state("nodeResponse")
             values = self._node_values("nodeResponse", node, self._applied_loads(asm))
@@ -89,8 +92,8 @@ class QueryCommands(SessionBase):
     def setTime(self, t):
         """Set the domain time [s]; the next step goes to ``t + Δt``."""
         _, state = self._state("setTime")
-        if not is_number(t):
-            raise CommandError(f"setTime: time must be a number, got {t!r}")
+        if not is_number(t) or not math.isfinite(t):
+            raise CommandError(f"setTime: time must be a finite number, got {t!r}")
         state.time = float(t)
 
     def loadConst(self, *args):

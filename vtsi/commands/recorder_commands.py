@@ -172,12 +172,14 @@ class RecorderCommands(SessionBase):
         valid = ["-file", "-h5", "-hdf5", "-time", "-precision", "-dT", "-closeOnWrite"]
         valid += ["-node", "-nodeRange", "-dof"] if is_node else ["-ele", "-eleRange"]
         opts = {"-time": False, "-precision": 6, "-dT": None, "-closeOnWrite": False}
-        targets = []
+        targets = None            # None: no selection given
         response = []
+        after = None              # the list option whose values the response words follow
         while a.more():
             x = a.peek()
             if isinstance(x, str) and x.startswith("-") and not response:
                 opt = a.option(valid)
+                after = None
                 if opt in ("-file", "-h5", "-hdf5"):
                     if "sink" in opts:
                         raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
@@ -189,17 +191,38 @@ class RecorderCommands(SessionBase):
                 elif opt == "-dT":
                     opts[opt] = a.float("-dT")
                 elif opt in ("-node", "-ele"):
-                    targets += a.ints(f"{opt} tag")
+                    tags = a.ints(f"{opt} tag")
+                    if not tags and a.more() and not str(a.peek()).startswith("-"):
+                        raise CommandError(f"{name}: {opt} tag must be an integer, got {a.peek()!r}")
+                    if not tags:
+                        raise CommandError(f"{name}: {opt} names no {'node' if is_node else 'element'}; "
+                                           f"give the tags: {opt} 1 2 ...")
+                    targets, after = (targets or []) + tags, opt
                 elif opt in ("-nodeRange", "-eleRange"):
                     lo, hi = a.int(f"{opt} start"), a.int(f"{opt} end")
+                    what = "node" if is_node else "element"
+                    if hi < lo:
+                        raise CommandError(f"{name}: {opt} {lo} {hi}: the end is before the start")
                     pool = model.nodes if is_node else model.element_tags()
-                    targets += [t for t in sorted(pool) if lo <= t <= hi]
+                    tags = [t for t in sorted(pool) if lo <= t <= hi]
+                    if not tags:
+                        raise CommandError(f"{name}: {opt} {lo} {hi} holds no {what} of the model")
+                    targets = (targets or []) + tags
                 else:
-                    opts["-dof"] = a.ints("-dof")
+                    opts["-dof"], after = a.ints("-dof"), "-dof"
             else:
                 response.append(a.take("response"))
         if not response:
             raise CommandError(f"{name}: no response given (e.g. 'disp' or 'force')")
+        if after is not None:   # a word that is not a tag among the values of -node, -ele or -dof
+            what = {"-node": "-node tag", "-ele": "-ele tag", "-dof": "-dof"}[after]
+            rest = response[1:]
+            if not isinstance(response[0], str) or any(isinstance(w, str) and w.startswith("-") for w in rest) or (
+                    rest and (response[-1] in NODE_RESPONSES if is_node else len(rest) == 1)):
+                raise CommandError(f"{name}: {what} must be an integer, got {response[0]!r}")
+            if is_node and not rest and response[0] not in NODE_RESPONSES:
+                raise CommandError(f"{name}: {response[0]!r} is neither a {what} (an integer) nor a response "
+                                   f"({', '.join(NODE_RESPONSES)})")
         if len(response) > 1 or not isinstance(response[0], str):
             raise CommandError(f"{name}: response {' '.join(map(str, response))!r} is not supported; supported: "
                                + (", ".join(NODE_RESPONSES) if is_node else "force, globalForce, localForce, "
@@ -210,7 +233,7 @@ class RecorderCommands(SessionBase):
             if response not in NODE_RESPONSES:
                 raise CommandError(f"{name}: response {response!r} is not supported; supported: "
                                    f"{', '.join(NODE_RESPONSES)}")
-            nodes = targets or sorted(model.nodes)
+            nodes = sorted(model.nodes) if targets is None else targets   # no -node: every node, as OpenSees
             for n in nodes:
                 self._node(name, n)
             dofs = opts.get("-dof")
@@ -223,9 +246,9 @@ class RecorderCommands(SessionBase):
                                               envelope=envelope, history=not envelope)
         else:
             response = ELEMENT_RESPONSE_ALIASES.get(response, response)
-            elements = targets or model.element_tags()
-            if not elements:
-                raise CommandError(f"{name}: no elements to record")
+            if targets is None:
+                raise CommandError(f"{name}: no elements given (-ele 1 2 ... or -eleRange first last), as OpenSees")
+            elements = targets
             for e in elements:
                 if e not in model._element_owner:
                     raise CommandError(f"{name}: element {e} does not exist")

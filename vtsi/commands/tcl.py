@@ -13,7 +13,8 @@ Tcl-specific forms, as in OpenSees:
 * ``pattern Plain 1 1 { load 2 0 -1 0 }``: the braced body is evaluated (in the caller's scope)
   after the pattern is created, so its ``load`` commands go to that pattern; an inline series
   (``pattern Plain 1 Linear {...}``, ``pattern Plain 2 "Path -dt 0.1 -values {0 1 0}" {...}``)
-  is accepted too.
+  is accepted too, as is ``-accel "Path -dt 0.1 -values {0 1 0}"`` of a UniformExcitation
+  (OpenSees reads ``-accel``'s word as a tag or an inline series).
 * ``timeSeries Path 1 -dt 0.01 -values {0 1 2}`` (or ``-values $list``).
 * ``exit [code]`` ends the script (not the Python process).
 
@@ -98,7 +99,8 @@ class Interpreter:
         if len(words) >= 4:
             last = words[-1]
             previous = words[-2]
-            if not last.lstrip().startswith("-") and convert_word(last) is last and previous not in ("-fact", "-factor"):
+            if (not last.lstrip().startswith("-") and convert_word(last) is last
+                    and previous not in ("-fact", "-factor", "-accel")):   # -accel takes an inline series
                 body = words.pop()
         args = [convert_word(w) if i != 2 else _series_word(w) for i, w in enumerate(words)]
         self.session.pattern(*args)

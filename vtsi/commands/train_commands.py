@@ -37,13 +37,17 @@ from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
 
-from .args import Args
+from .args import Args, is_int
 from .base import SessionBase
 
 TRAIN_COMMANDS = ("units", "track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
 CAR_TYPES = ("movingForce", "movingMass", "sprungMass", "fourDof", "catalogue")
 CONTACT_RESPONSES = {"force": "force", "gap": "gap", "inContact": "in_contact"}
 TRAIN_RESPONSES = ("disp", "vel", "accel")
+IRREGULARITY_STEP = 0.05
+"""[m] The spacing of a random irregularity profile's samples."""
+MAX_IRREGULARITY_SAMPLES = 200_000
+"""The most samples of a random profile (10 km at 5 cm; the sampling time grows with the square)."""
 
 
 class TrainCommands(SessionBase):
@@ -109,12 +113,15 @@ class TrainCommands(SessionBase):
                 m_s, k_s = a.float("m_s"), a.float("k_s")
                 extra = {"-c": 0.0, "-wheelMass": 0.0}
                 while a.more():
-                    extra[a.option(tuple(extra))] = a.float("value")
+                    opt = a.option(tuple(extra))
+                    extra[opt] = a.float(opt)
                 car = cars.sprung_mass(m_s, k_s, extra["-c"], extra["-wheelMass"], g)
             elif kind == "fourDof":
                 car = cars.four_dof_car(*(a.float(n) for n in ("m_c", "J_c", "m_w", "k_s", "c_s", "l_c")), g)
             else:
                 car = self._units.car(cars.car_from_catalogue(a.word("catalogue name")))
+        except CommandError:   # a CommandError is a ValueError too: already named
+            raise
         except (ValueError, KeyError) as exc:
             raise CommandError(f"car {tag}: {exc}") from None
         a.done()
@@ -148,6 +155,8 @@ class TrainCommands(SessionBase):
                 built = self._units.train(trains.hslm_a(a.word("HSLM-A train (A1..A10)"), 1.0), speed)
             else:
                 built = self._units.train(trains.Train.from_csv(a.word("axle file"), 1.0), speed)
+        except CommandError:   # a CommandError is a ValueError too: already named
+            raise
         except (ValueError, KeyError, OSError) as exc:
             raise CommandError(f"train {tag}: {exc}") from None
         a.done()
@@ -160,6 +169,7 @@ class TrainCommands(SessionBase):
         a = Args("irregularity", args)
         tag = a.int("irregularity tag")
         self._new(self._irregularities, "irregularity", tag)
+        a.command = f"irregularity {tag}"
         kind = a.word("irregularity type", ("profile", "file", "german", "fra"))
         try:
             if kind == "profile":
@@ -172,7 +182,12 @@ class TrainCommands(SessionBase):
                                        f"got {len(x)} and {len(r)}")
                 profile = Irregularity(x, r)
             elif kind == "file":
-                data = np.loadtxt(a.word("file name"), ndmin=2)
+                path = a.word("file name")
+                try:
+                    data = np.loadtxt(path, ndmin=2)
+                except OSError as exc:
+                    reason = exc.strerror or ("no such file" if isinstance(exc, FileNotFoundError) else exc)
+                    raise CommandError(f"irregularity {tag}: cannot read {path}: {reason}") from None
                 if data.shape[1] != 2:
                     raise CommandError(f"irregularity {tag}: the file needs two columns x r, got {data.shape[1]}")
                 profile = Irregularity(data[:, 0], data[:, 1])
@@ -182,14 +197,23 @@ class TrainCommands(SessionBase):
                 seed = None
                 if a.more():
                     a.option(("-seed",))
-                    seed = a.int("seed")
+                    seed = a.int("-seed")
+                    if seed < 0:
+                        raise CommandError(f"irregularity {tag}: -seed must be a non-negative integer, got {seed}")
                 if not x1 > x0:
                     raise CommandError(f"irregularity {tag}: x_last must exceed x_first, got {x0:g} .. {x1:g}")
                 psd = (lambda w: german_psd(w, level)) if kind == "german" else (lambda w: fra_psd(w, level))
-                f = self._units.f_length            # the spectra are SI: sampled in m, every 5 cm
-                x = np.linspace(x0 / f, x1 / f, int(np.ceil((x1 - x0) / f / 0.05)) + 1)
+                f = self._units.f_length            # the spectra are SI: sampled in m
+                n = int(np.ceil((x1 - x0) / f / IRREGULARITY_STEP)) + 1
+                if n > MAX_IRREGULARITY_SAMPLES:
+                    raise CommandError(f"irregularity {tag}: x_first .. x_last = {x0:g} .. {x1:g} needs {n:.3g} "
+                                       f"samples at {IRREGULARITY_STEP * f:g} {self._units.length} steps, more than "
+                                       f"{MAX_IRREGULARITY_SAMPLES} (a profile of about 10 km at most)")
+                x = np.linspace(x0 / f, x1 / f, n)
                 si = Irregularity.from_psd(psd, x, rng=np.random.default_rng(seed))
                 profile = Irregularity(x * f, si(x) * f)
+        except CommandError:   # a CommandError is a ValueError too: already named
+            raise
         except ValueError as exc:
             raise CommandError(f"irregularity {tag}: {exc}") from None
         a.done()
@@ -296,12 +320,15 @@ class TrainCommands(SessionBase):
         opts = {"-time": False, "-precision": 6, "-dT": None, "-closeOnWrite": False}
         picks = None
         response = None
+        responses = tuple(CONTACT_RESPONSES) if kind == "Contact" else TRAIN_RESPONSES
         valid = ["-file", "-h5", "-hdf5", "-time", "-precision", "-dT", "-wheel" if kind == "Contact" else "-dof"]
         while a.more():
             x = a.peek()
             if isinstance(x, str) and x.startswith("-"):
                 opt = a.option(valid)
                 if opt in ("-file", "-h5", "-hdf5"):
+                    if "sink" in opts:
+                        raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
                     opts["sink"] = (opt, a.word(f"{opt} file name"))
                 elif opt == "-time":
                     opts["-time"] = True
@@ -310,14 +337,22 @@ class TrainCommands(SessionBase):
                 elif opt == "-dT":
                     opts[opt] = a.float("-dT")
                 elif opt == "-wheel":
-                    picks = a.ints("wheel index")
+                    picks = a.ints("-wheel index")
+                    if a.more() and a.peek() not in responses and not str(a.peek()).startswith("-"):
+                        raise CommandError(f"{name}: -wheel index must be an integer, got {a.peek()!r}")
                 else:
                     picks = []
                     while a.more() and not (isinstance(a.peek(), str) and (a.peek().startswith("-")
                                                                           or a.peek() in TRAIN_RESPONSES)):
-                        picks.append(a.take("train dof"))
+                        pick = a.take("train dof")
+                        if not (isinstance(pick, str) or is_int(pick)):
+                            raise CommandError(f"{name}: -dof must be a train dof name or an integer index, "
+                                               f"got {pick!r}")
+                        picks.append(pick if isinstance(pick, str) else int(pick))
             else:
-                response = a.word("response", tuple(CONTACT_RESPONSES) if kind == "Contact" else TRAIN_RESPONSES)
+                if response is not None:
+                    raise CommandError(f"{name}: give one response, got {response!r} and {a.peek()!r}")
+                response = a.word("response", responses)
         if response is None:
             raise CommandError(f"{name}: no response given")
         analysis = self._coupled_analysis(name, dt=None)
