@@ -176,6 +176,10 @@ def solve_lcp(W, q, lam, n, work):
                         alpha, blocked = a_i, i
             if blocked < 0:
                 for i in range(n):
+                    # z_i <= 0 here only by round-off (its step ratio rounded to 1): such a
+                    # contact leaves the free set at exactly zero force, never at -1e-17
+                    if free[i] > 0.5 and z[i] <= 0.0:
+                        free[i] = 0.0
                     lam[i] = z[i] if free[i] > 0.5 else 0.0
                 break
             for i in range(n):
