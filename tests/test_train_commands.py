@@ -19,8 +19,8 @@ from vtsi.train import TrainSubdomain
 NE, DT, STEPS = 20, 1e-3, 900
 
 
-def s2_commands(session, interpolation=()):
-    session.wipe()
+def _bridge(session, *mass_options):
+    """The S2 span as NE elastic beam-columns, pinned-roller, ``-mass`` plus ``mass_options``."""
     session.model("basic", "-ndm", 2, "-ndf", 3)
     for i in range(NE + 1):
         session.node(i + 1, S2["L"] * i / NE, 0.0)
@@ -28,7 +28,13 @@ def s2_commands(session, interpolation=()):
     session.fix(NE + 1, 0, 1, 0)
     session.geomTransf("Linear", 1)
     for e in range(NE):
-        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, S2["E"], S2["I"], 1, "-mass", S2["mu"], "-cMass")
+        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, S2["E"], S2["I"], 1, "-mass", S2["mu"],
+                        *mass_options)
+
+
+def s2_commands(session, interpolation=()):
+    session.wipe()
+    _bridge(session, "-cMass")
     session.track(1, "-eleRange", 1, NE)
     session.car(1, "sprungMass", S2["m_s"], S2["k_s"])
     session.train(1, S2["V"], "-cars", 1, 0.0)
@@ -275,17 +281,6 @@ def test_sprung_mass_options_take_effect():
     assert damped.C[0, 0] == 1e4 and damped.C[0, 1] == -1e4 and damped.M[1, 1] == 500.0
     with pytest.raises(CommandError, match=r"^car 3 sprungMass: -c must be a number, got 'x'$"):
         session.car(3, "sprungMass", 5750.0, 1e6, "-c", "x")
-
-
-def _bridge(session):
-    session.model("basic", "-ndm", 2, "-ndf", 3)
-    for i in range(NE + 1):
-        session.node(i + 1, S2["L"] * i / NE, 0.0)
-    session.fix(1, 1, 1, 0)
-    session.fix(NE + 1, 0, 1, 0)
-    session.geomTransf("Linear", 1)
-    for e in range(NE):
-        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, S2["E"], S2["I"], 1, "-mass", S2["mu"])
 
 
 def _zero_length_track(session):
