@@ -43,7 +43,7 @@ from typing import Callable
 
 from vtsi import opensees
 from vtsi.commands.tcl import Interpreter
-from vtsi.errors import ModelError, VtsiError
+from vtsi.errors import ModelError, VtsiError, is_int
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
 from vtsi.track import Track
@@ -200,7 +200,7 @@ def _analysis(path, table):
     settings, seeds = {}, None
     for key, value in table.items():
         if key == "seeds":
-            if not (isinstance(value, list) and value and all(_is_int(s) and s >= 0 for s in value)
+            if not (isinstance(value, list) and value and all(is_int(s) and s >= 0 for s in value)
                     and len(set(value)) == len(value)):
                 raise ModelError(f"bridge file {path}: [analysis] seeds must be a list of different integers >= 0, "
                                  f"got {value!r}")
@@ -217,10 +217,6 @@ def _analysis(path, table):
     except VtsiError as exc:
         raise ModelError(f"bridge file {path}: [analysis] {exc}") from None
     return settings, seeds
-
-
-def _is_int(x):
-    return isinstance(x, int) and not isinstance(x, bool)
 
 
 def _number(table, key, positive=True):
@@ -258,7 +254,7 @@ def _beam(table, base_dir):
             raise ModelError(f"f1_Hz = {table['f1_Hz']!r} with spans_m[0] = {L:g} m gives I = {I:g} m^4, not a "
                              "finite second moment of area")
     n = table.get("elements_per_span", 10)
-    if not _is_int(n) or n < 2 or n % 2 or n > MAX_ELEMENTS_PER_SPAN:
+    if not is_int(n) or n < 2 or n % 2 or n > MAX_ELEMENTS_PER_SPAN:
         raise ModelError(f"elements_per_span must be an even integer from 2 to {MAX_ELEMENTS_PER_SPAN}, got {n!r}")
     A = _number(table, "A_m2") if "A_m2" in table else 1.0
     bridge = beam_bridge([float(s) for s in spans], E, I, mu, elements_per_span=n, A=A)
@@ -309,7 +305,7 @@ def script_bridge(path, track=None):
             raise ModelError(f"bridge script {path}: defines tracks {', '.join(map(str, sorted(tracks)))}; "
                              "choose one (--track TAG)")
         track = next(iter(tracks))
-    if not _is_int(track) or track not in tracks:
+    if not is_int(track) or track not in tracks:
         raise ModelError(f"bridge script {path}: no track {track!r}; it defines "
                          f"{', '.join(map(str, sorted(tracks)))}")
     for tag in list(model.patterns):

@@ -61,6 +61,11 @@ def as_flag(value, where, name, error=ModelError):
     return bool(value)
 
 
+def is_int(value):
+    """Whether ``value`` is an integer (a Python or numpy int), not a bool."""
+    return type(value) is int or (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)))
+
+
 def is_count(value, least=0):
     """Whether ``value`` is a whole number >= ``least``: an int, or a float without a fraction
     (``3.0``), not a bool."""

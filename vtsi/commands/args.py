@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 
-from vtsi.errors import CommandError
+from vtsi.errors import CommandError, is_int
 
 
 class UnknownCommand(CommandError, AttributeError):
@@ -15,10 +15,6 @@ class UnknownCommand(CommandError, AttributeError):
 
 _SCALARS = (int, float, str)
 _NUMBERS = (int, float)
-
-
-def is_int(x):
-    return type(x) is int or (isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_)))
 
 
 def is_number(x):

@@ -1,9 +1,8 @@
 """What every command module of a session reads: the model under construction and its state,
 found by tag with errors that name the command and the tag."""
 from vtsi.analysis import domain_state
-from vtsi.errors import CommandError
+from vtsi.errors import CommandError, is_int
 
-from .args import is_int
 
 
 class SessionBase:

@@ -7,11 +7,11 @@ import os
 import numpy as np
 
 from vtsi.elements import command_element_types
-from vtsi.errors import CommandError, ModelError
+from vtsi.errors import CommandError, ModelError, is_int
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, Path, Pulse, Rectangular, Triangle, Trig
 
-from .args import Args, is_int, read_numbers, tcl_words
+from .args import Args, read_numbers, tcl_words
 from .base import SessionBase
 
 MODEL_COMMANDS = ("model", "node", "fix", "equalDOF", "rigidLink", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",

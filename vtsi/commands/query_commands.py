@@ -7,9 +7,9 @@ import math
 import numpy as np
 
 from vtsi.analysis import domain_state
-from vtsi.errors import CommandError, ModelError
+from vtsi.errors import CommandError, ModelError, is_int
 
-from .args import Args, dof_value, is_int, is_number
+from .args import Args, dof_value, is_number
 from .base import SessionBase
 from .model_text import model_text
 from .responses import ELEMENT_RESPONSE_ALIASES, apply_layout, opensees_layout

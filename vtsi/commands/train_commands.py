@@ -31,13 +31,13 @@ import numpy as np
 from vtsi import recorders as rec
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis, coupled_integrator
-from vtsi.errors import CommandError, ModelError
+from vtsi.errors import CommandError, ModelError, is_int
 from vtsi.models import Irregularity, cars, fra_psd, german_psd, trains
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
 
-from .args import Args, is_int
+from .args import Args
 from .base import SessionBase
 
 TRAIN_COMMANDS = ("units", "track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
