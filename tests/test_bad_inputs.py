@@ -539,6 +539,10 @@ SINK_CASES = [
      r"^text recorder .*t\.out: precision must be an integer >= 0, got nan$"),
     ("precision None", lambda d: TextSink(d / "t.out", precision=None),
      r"^text recorder .*t\.out: precision must be an integer >= 0, got None$"),
+    ("empty text file name", lambda d: TextSink(""), r"^text recorder: path must be a non-empty file name, got ''$"),
+    ("empty HDF5 file name", lambda d: HDF5Sink(" "), r"^HDF5 recorder: path must be a non-empty file name, got ' '$"),
+    ("bytes file name", lambda d: HDF5Sink(b"f.h5"),
+     r"^HDF5 recorder: path must be a file name \(str or os\.PathLike\), got b'f\.h5'$"),
     ("text time flag as text", lambda d: TextSink(d / "t.out", time="yes"),
      r"^text recorder .*t\.out: time must be True or False, got 'yes'$"),
 ]

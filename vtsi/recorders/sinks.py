@@ -335,11 +335,16 @@ def _h5_attrs(attrs):
 
 
 def _path(who, path):
-    """``path`` as a str, or a ModelError naming ``who`` and the value."""
+    """``path`` as a str, or a ModelError naming ``who`` and the value (not a name, or empty)."""
     try:
-        return os.fspath(path)
+        name = os.fspath(path)
     except TypeError:
-        raise ModelError(f"{who}: path must be a file name (str or os.PathLike), got {path!r}") from None
+        name = None
+    if not isinstance(name, str):
+        raise ModelError(f"{who}: path must be a file name (str or os.PathLike), got {path!r}")
+    if not name.strip():
+        raise ModelError(f"{who}: path must be a non-empty file name, got {path!r}")
+    return name
 
 
 def _check_compression(path, compression, options):
