@@ -27,6 +27,35 @@ def _close_recorders_at_exit():
             r.finish()
 
 
+def _counted(name, method):
+    """``method`` refusing a wrong number of positional arguments with a CommandError that names
+    the command and what it takes (commands reading ``*args`` check their own)."""
+    params = list(inspect.signature(method).parameters.values())[1:]
+    if any(p.kind is p.VAR_POSITIONAL for p in params):
+        return method
+    least = sum(p.default is p.empty for p in params)
+    most = len(params)
+    usage = " ".join(p.name if p.default is p.empty else f"[{p.name}]" for p in params)
+    count = str(least) if least == most else f"{least} to {most}"
+    takes = f"{usage} ({count} argument{'s' if most > 1 else ''})" if most else "no arguments"
+
+    @functools.wraps(method)
+    def command(self, *args, **kwargs):
+        if not kwargs and not least <= len(args) <= most:
+            raise CommandError(f"{name}: takes {takes}, got {len(args)}: {list(args)!r}")
+        return method(self, *args, **kwargs)
+
+    return command
+
+
+def _argument_counts(cls):
+    """Class decorator: every command of :data:`COMMANDS` on ``cls`` checks its argument count."""
+    for name in COMMANDS:
+        setattr(cls, name, _counted(name, getattr(cls, name)))
+    return cls
+
+
+@_argument_counts
 class Session(ModelCommands, AnalysisCommands, QueryCommands, RecorderCommands, TrainCommands):
     """One OpenSees-style interpreter state: a model under construction, materials, transforms,
     the analysis settings, recorders and the results of the last queries.
@@ -109,29 +138,3 @@ class Session(ModelCommands, AnalysisCommands, QueryCommands, RecorderCommands, 
                 r.finish()
         finally:
             self._clear()
-
-
-def _counted(name, method):
-    """``method`` refusing a wrong number of positional arguments with a CommandError that names
-    the command and what it takes (commands reading ``*args`` check their own)."""
-    params = list(inspect.signature(method).parameters.values())[1:]
-    if any(p.kind is p.VAR_POSITIONAL for p in params):
-        return method
-    least = sum(p.default is p.empty for p in params)
-    most = len(params)
-    usage = " ".join(p.name if p.default is p.empty else f"[{p.name}]" for p in params)
-    count = str(least) if least == most else f"{least} to {most}"
-    takes = f"{usage} ({count} argument{'s' if most > 1 else ''})" if most else "no arguments"
-
-    @functools.wraps(method)
-    def command(self, *args, **kwargs):
-        if not kwargs and not least <= len(args) <= most:
-            raise CommandError(f"{name}: takes {takes}, got {len(args)}: {list(args)!r}")
-        return method(self, *args, **kwargs)
-
-    return command
-
-
-for _name in COMMANDS:
-    setattr(Session, _name, _counted(_name, getattr(Session, _name)))
-del _name
