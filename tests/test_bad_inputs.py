@@ -4,6 +4,7 @@ dead process; and nothing already defined or computed is lost (the model still a
 before, recorders keep every completed step). ``docs/bad_inputs.md`` lists the same cases.
 """
 import math
+import os
 import re
 
 import h5py
@@ -487,6 +488,18 @@ def test_nan_load_factor_stops_a_transient_run_naming_pattern_and_time():
 
 # =============================================================================================
 # 4. recorders
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs Linux's /dev/full (every write: no space left)")
+def test_a_full_disk_names_the_recorder_its_file_and_the_records_times():
+    """A text recorder whose writes fail (a full disk) stops the run with the recorder, its
+    file and the times of the records it could not write (the analysis' closing of the
+    recorder does not replace that error with a second one)."""
+    recorder = NodeRecorder([3], [2], sink=TextSink("/dev/full"))
+    analysis = vtsi.TransientAnalysis(loaded_beam(cmass=1), "Newmark", 1e-3, recorders=[recorder], chunk_steps=5)
+    with pytest.raises(OSError, match=r"^text recorder /dev/full: cannot write the records of t = 0\.001 to 0\.005 s: "
+                                      r"No space left on device$"):
+        analysis.run(20)
+
+
 # =============================================================================================
 def test_existing_hdf5_file_is_refused_when_the_sink_is_built(tmp_path):
     path = tmp_path / "results.h5"

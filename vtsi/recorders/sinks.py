@@ -138,6 +138,7 @@ class HDF5Sink(Sink):
         self._file = None
         self._created = False
         self._unflushed = 0
+        self._failed = False
 
     def open(self, layout, recorder):
         if self._created:
@@ -190,6 +191,13 @@ class HDF5Sink(Sink):
         f.flush()
 
     def write(self, times, values, envelope):
+        try:
+            self._write(times, values, envelope)
+        except OSError as exc:
+            self._failed = True                 # close() then closes without flushing again
+            raise _write_error("HDF5 recorder", self.path, times, exc) from None
+
+    def _write(self, times, values, envelope):
         f = self._file
         if values is not None:
             n0, n = f["time"].shape[0], len(times)
@@ -210,7 +218,8 @@ class HDF5Sink(Sink):
     def close(self, envelope):
         if self._file is not None:
             try:
-                self._file.flush()
+                if not self._failed:
+                    self._file.flush()
             finally:
                 self._file.close()
                 self._file = None
@@ -280,20 +289,38 @@ class TextSink(Sink):
         if values is None:
             return
         text = format_g_bytes(values, self.precision, times if self.echo_time else None)
-        if self.close_on_write:
-            with open(self.path, "ab") as fh:
-                fh.write(text)
-        else:
-            self._handle.write(text)
-            self._handle.flush()
+        try:
+            if self.close_on_write:
+                with open(self.path, "ab") as fh:
+                    fh.write(text)
+            else:
+                if self._handle is None:        # after a failed write: try the file again
+                    self._handle = open(self.path, "ab")
+                self._handle.write(text)
+                self._handle.flush()
+        except OSError as exc:
+            self._drop_handle()
+            raise _write_error("text recorder", self.path, times, exc) from None
+
+    def _drop_handle(self):
+        """Close the file without flushing what a failed write left in its buffer."""
+        handle, self._handle = self._handle, None
+        if handle is not None:
+            try:
+                handle.close()
+            except OSError:
+                pass                            # those records were reported lost by write()
 
     def close(self, envelope):
         if self._handle is not None:
             self._handle.close()
             self._handle = None
         if self._recorder is not None and not self._recorder.history and envelope is not None:
-            with open(self.path, "w") as fh:
-                fh.write(format_envelope(envelope, self.echo_time, self.precision))
+            try:
+                with open(self.path, "w") as fh:
+                    fh.write(format_envelope(envelope, self.echo_time, self.precision))
+            except OSError as exc:
+                raise _write_error("text recorder", self.path, None, exc) from None
 
     @property
     def time(self):
@@ -332,6 +359,14 @@ def _h5_attrs(attrs):
         else:
             out[key] = str(value)
     return out
+
+
+def _write_error(who, path, times, exc):
+    """``exc`` (an OSError while writing: a full disk, a lost network drive) as the same type
+    naming the recorder, its file and the records' times [s] (None: the envelope)."""
+    what = f"the records of t = {times[0]:.6g} to {times[-1]:.6g} s" if times is not None and len(times) \
+        else "the envelope"
+    return type(exc)(f"{who} {path}: cannot write {what}: {exc.strerror or exc}")
 
 
 def _path(who, path):
