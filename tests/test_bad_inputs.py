@@ -500,6 +500,28 @@ def test_a_full_disk_names_the_recorder_its_file_and_the_records_times():
         analysis.run(20)
 
 
+def test_a_failed_hdf5_write_names_the_file_and_keeps_the_chunks_before(tmp_path, monkeypatch):
+    """The third chunk's write fails as on a full disk (OSError ENOSPC from h5py): the error names
+    the HDF5 recorder, its file and the chunk's times, and the file keeps the two chunks before."""
+    write, calls = HDF5Sink._write, []
+
+    def failing_third(sink, times, values, envelope):
+        calls.append(len(times))
+        if len(calls) == 3:
+            raise OSError(28, "No space left on device")
+        write(sink, times, values, envelope)
+
+    monkeypatch.setattr(HDF5Sink, "_write", failing_third)
+    path = tmp_path / "midspan.h5"
+    recorder = NodeRecorder([3], [2], sink=HDF5Sink(path))
+    analysis = vtsi.TransientAnalysis(loaded_beam(cmass=1), "Newmark", 1e-3, recorders=[recorder], chunk_steps=5)
+    with pytest.raises(OSError, match=r"^HDF5 recorder .*midspan\.h5: cannot write the records of t = 0\.011 to "
+                                      r"0\.015 s: No space left on device$"):
+        analysis.run(20)
+    with h5py.File(path, "r") as f:
+        np.testing.assert_allclose(f["time"][...], 1e-3 * np.arange(1, 11), rtol=1e-12)
+
+
 # =============================================================================================
 def test_existing_hdf5_file_is_refused_when_the_sink_is_built(tmp_path):
     path = tmp_path / "results.h5"

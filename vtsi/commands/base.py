@@ -4,7 +4,6 @@ from vtsi.analysis import domain_state
 from vtsi.errors import CommandError, is_int
 
 
-
 class SessionBase:
     """The helpers the command mixins share (:class:`vtsi.commands.session.Session` combines
     them); ``domain`` is the :class:`vtsi.Model` being built, None before ``model(...)``."""

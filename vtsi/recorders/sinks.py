@@ -141,6 +141,7 @@ class HDF5Sink(Sink):
         self._failed = False
 
     def open(self, layout, recorder):
+        self._failed = False
         if self._created:
             self._file = h5py.File(self.path, "r+")
             self._file.attrs.update(_h5_attrs(layout["attrs"]))
