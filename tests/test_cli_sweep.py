@@ -1,7 +1,7 @@
 """The ``vtsi`` command line: subcommands, ``vtsi sweep`` (bridge files, options, exit statuses,
 nothing written on bad input), ``vtsi trains`` and the bridge-file loader (vtsi.bridge_file).
 
-Every sweep here is tiny (a 20 m beam of 4 elements, Δt = 0.01-0.02 s, 1-3 speeds) so that each
+Every sweep here is tiny (a 20 m beam of 4 elements, Δt = 0.01-0.015 s, 1-3 speeds) so that each
 run takes well under 2 s."""
 import dataclasses
 import math
@@ -172,10 +172,10 @@ def test_sweep_toml_in_process(tmp_path, capsys):
     # resume: nothing left to run, the same table; overwrite with other options: they win over [analysis]
     assert sweep(tmp_path, bridge, *FAST, "--resume") == 0
     assert capsys.readouterr().out == out
-    options = ["--dt", "0.02", "--damping", "0.02", "--integrator", "HHT"]
+    options = ["--dt", "0.015", "--damping", "0.02", "--integrator", "HHT"]
     assert sweep(tmp_path, bridge, *FAST, "--overwrite", *options) == 0
     settings = SweepResults(tmp_path / "out.h5").identity["settings"]
-    assert settings["dt"] == 0.02 and settings["damping"] == 0.02 and settings["integrator"] == "HHT"
+    assert settings["dt"] == 0.015 and settings["damping"] == 0.02 and settings["integrator"] == "HHT"
 
 
 def test_script_bridges_equal_the_described_beam(tmp_path, capsys):
@@ -217,14 +217,14 @@ def test_track_choice(tmp_path, capsys):
 
 def test_hslm_a_shorthand_and_catalogue_spelling(tmp_path, capsys):
     bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
-    assert sweep(tmp_path, bridge, "--trains", "hslm-a,ice3", "--speeds", "300", "--dt", "0.02", "--workers", "1",
+    assert sweep(tmp_path, bridge, "--trains", "hslm-a,ice3", "--speeds", "300", "--dt", "0.015", "--workers", "1",
                  "--quiet") == 0
     assert SweepResults(tmp_path / "out.h5").trains == [f"HSLM-A{k}" for k in range(1, 11)] + ["ICE3"]
 
 
 def test_en_speed_grid(tmp_path, capsys):
     bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
-    assert sweep(tmp_path, bridge, "--trains", "A1", "--speeds", "en:300", "--dt", "0.02", "--workers", "1",
+    assert sweep(tmp_path, bridge, "--trains", "A1", "--speeds", "en:300", "--dt", "0.015", "--workers", "1",
                  "--quiet") == 0
     results = SweepResults(tmp_path / "out.h5")
     np.testing.assert_allclose(results.speeds_kmh, en_speed_grid(300.0, results.frequencies_hz, [18.0]))

@@ -56,6 +56,24 @@ def test_bad_speeds_name_the_value(spec, words):
         speeds(spec)
 
 
+@pytest.mark.parametrize("dt, speeds_kmh, message", [
+    (0.03, [300.0], r"^sweep: time step dt = 0\.03 s does not resolve the bridge's first mode \(5\.00\d Hz, period "
+                    r"0\.\d+ s\): take dt <= 0\.025 s \(T1/8\)$"),
+    (0.02, [300.0, 4000.0], r"^sweep: HSLM-A1 at 4000 km/h crosses the 20 m track in 0\.018 s, fewer than 10 steps "
+                            r"of dt = 0\.02 s: lower the speed or dt$"),
+    (1e-3, [0.01, 300.0], r"^sweep: HSLM-A1 at 0\.01 km/h needs 1\.5e\+08 steps of dt = 0\.001 s, more than "
+                          r"1e\+07: raise the speed or dt$"),
+])
+def test_a_passage_its_time_step_cannot_resolve_is_refused(dt, speeds_kmh, message):
+    """Δt = 10 s used to give all-zero envelopes (the bridge sampled at rest) and 1e9 km/h a
+    passage of no step: refused when the sweep is built, naming the train, speed and Δt; just
+    inside T₁/8 and 10 steps on the track the passage is accepted."""
+    with pytest.raises(SweepError, match=message):
+        Sweep(small_bridge(), ["HSLM-A1"], speeds_kmh, PassageSettings(dt=dt, damping=0.0125))
+    Sweep(small_bridge(), ["HSLM-A1"], [200.0], PassageSettings(dt=0.0249, damping=0.0125))
+    Sweep(small_bridge(), ["HSLM-A1"], [0.999 * 3.6 * 20.0 / 0.2], PassageSettings(dt=0.02, damping=0.0125))
+
+
 def test_en_grid_runs_to_1_2_line_speed_with_fine_steps_at_resonances():
     """EN 1991-2 §6.4.6.2: up to 1.2 × the line speed, smaller steps near v = n₀ D / i."""
     grid = en_speed_grid(300.0, [F1], [18.0, 27.0], step_kmh=10.0, fine_step_kmh=2.0, band=0.1)

@@ -46,6 +46,11 @@ from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
 FREE_VIBRATION_PERIODS = 1.5
+# What a passage's time step must resolve (PassageRunner.check_resolution): a coarser Δt gives
+# envelopes that are silently wrong (Δt = 10 s samples nothing but the bridge at rest).
+STEPS_PER_PERIOD = 8            # Δt <= T₁/8: the first mode sampled 8 times a cycle
+STEPS_ON_TRACK = 10             # an axle takes at least 10 steps to cross the track
+MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one passage
 TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
 CAR_APPROACH = 25.0     # [m] default approach of trains of cars (covers the taper)
 PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
@@ -387,6 +392,26 @@ class PassageRunner:
         travel = self.track.x_end - self.track.x_begin + self.approach(train) + train.length
         free = s.free_vibration if s.free_vibration is not None else FREE_VIBRATION_PERIODS / self.frequencies[0]
         return int(math.ceil((travel / train.speed + free) / s.dt - 1e-9))
+
+    def check_resolution(self, name, speed_kmh):
+        """A ModelError unless the passage of train ``name`` at ``speed_kmh`` [km/h] is resolved
+        by Δt: Δt <= T₁/STEPS_PER_PERIOD, an axle crossing the track in at least STEPS_ON_TRACK
+        steps, and at most MAX_PASSAGE_STEPS steps in all."""
+        dt, f1 = self.settings.dt, float(self.frequencies[0])
+        if dt > 1.0 / (STEPS_PER_PERIOD * f1):
+            raise ModelError(f"time step dt = {dt:g} s does not resolve the bridge's first mode ({f1:.4g} Hz, "
+                             f"period {1.0 / f1:.4g} s): take dt <= {1.0 / (STEPS_PER_PERIOD * f1):.3g} s "
+                             f"(T1/{STEPS_PER_PERIOD})")
+        train = self.train(name, speed_kmh / 3.6)
+        length = self.track.x_end - self.track.x_begin
+        if length / train.speed < STEPS_ON_TRACK * dt:
+            raise ModelError(f"{name} at {speed_kmh:g} km/h crosses the {length:g} m track in "
+                             f"{length / train.speed:.3g} s, fewer than {STEPS_ON_TRACK} steps of dt = {dt:g} s: "
+                             "lower the speed or dt")
+        n = self.n_steps(train)
+        if n > MAX_PASSAGE_STEPS:
+            raise ModelError(f"{name} at {speed_kmh:g} km/h needs {n:.3g} steps of dt = {dt:g} s, more than "
+                             f"{MAX_PASSAGE_STEPS:.0e}: raise the speed or dt")
 
     def _irregularity(self, seed, x_first, x_last, start):
         """The seed's profile over [x_first, x_last], faded in over TAPER metres from ``start``

@@ -214,8 +214,9 @@ class Sweep:
                 raise SweepError(f"sweep: outputs must be vtsi.passage.Output, got {o!r}")
         try:
             self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs)
-            for name in self.trains:             # every name, fidelity and span is checked now
-                self.runner.train(name, float(self.speeds_kmh[0]) / 3.6)
+            for name in self.trains:             # every name, fidelity, span and resolution is checked now
+                for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
+                    self.runner.check_resolution(name, float(speed))
         except VtsiError as exc:
             raise SweepError(f"sweep: {exc}") from None
         self.outputs = self.runner.outputs
