@@ -26,6 +26,11 @@ from vtsi.errors import ModelError, as_number, is_count
 
 from .cars import Car, _frozen, car_from_catalogue, moving_force
 
+# What a CSV axle table may hold (Train.from_csv): outside these a table is taken to be in other
+# units (tonnes or N for kN, mm or km for m) rather than run with loads 10× or 1000× off.
+CSV_AXLE_LOAD_KN = (30.0, 500.0)     # [kN]: 3 t to 51 t per axle
+CSV_AXLE_SPACING_M = (0.5, 100.0)    # [m] between consecutive axles
+
 
 class Train:
     """A sequence of cars with their offsets and a constant speed; its arrays are read-only.
@@ -233,6 +238,7 @@ class Train:
             raise ModelError(f"{path}: no axles below the header")
         values = np.array(values)
         positions, loads = _check_axle_table(values[:, 0], values[:, 1] * 1e3, labels, 'Train.from_csv')
+        _check_csv_units(values[:, 0], values[:, 1], labels)
         return cls([moving_force(P) for P in loads], positions, speed, name=name or str(path),
                    characteristic_length=characteristic_length)
 
@@ -252,6 +258,23 @@ def _check_axle_table(positions, loads, labels, where):
             raise ModelError(f"{where}: {labels[i]}: position {x} m is not greater than the previous "
                              f"{positions[i - 1]} m; positions must increase from head to tail")
     return positions, loads
+
+
+def _check_csv_units(positions, loads_kn, labels):
+    """A ModelError at the first axle load [kN] or spacing [m] outside CSV_AXLE_LOAD_KN or
+    CSV_AXLE_SPACING_M, suggesting the unit the table is probably in."""
+    (p_lo, p_hi), (d_lo, d_hi) = CSV_AXLE_LOAD_KN, CSV_AXLE_SPACING_M
+    for i, P in enumerate(loads_kn):
+        if not p_lo <= P <= p_hi:
+            hint = f"in tonnes? ({P:g} t = {9.81 * P:.4g} kN)" if P < p_lo else f"in N? ({P:g} N = {P / 1e3:.4g} kN)"
+            raise ModelError(f"{labels[i]}: load_kN {P:g} is not a railway axle load ({p_lo:g} to {p_hi:g} kN); "
+                             f"is the table {hint}")
+    for i in range(1, len(positions)):
+        d = positions[i] - positions[i - 1]
+        if not d_lo <= d <= d_hi:
+            hint = "in mm" if d > d_hi else "in km"
+            raise ModelError(f"{labels[i]}: the axle is {d:g} m behind the previous one ({d_lo:g} to {d_hi:g} m "
+                             f"between axles); is position_m {hint}?")
 
 
 def _check_characteristic_length(value, where):

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
+from vtsi.errors import ModelError
 from vtsi.models import GRAVITY, Train, car_from_catalogue, four_dof_car, hslm_a, ice3, moving_force
 
 # EN 1991-2 Table 6.3: N coaches, D coach length [m], d bogie axle spacing [m], P axle load [kN]
@@ -89,6 +90,27 @@ def test_axle_table_errors_name_the_row():
         Train.from_axle_table([0.0, 3.0, 2.0], [1e5] * 3, speed=20.0)
     with pytest.raises(ValueError, match="row 1: load must be > 0, got -5"):
         Train.from_axle_table([0.0, 3.0], [1e5, -5.0], speed=20.0)
+
+
+@pytest.mark.parametrize("table, message", [
+    ("0,17\n3,17\n", r"line 2: load_kN 17 is not a railway axle load \(30 to 500 kN\); is the table in tonnes\? "
+                     r"\(17 t = 166\.8 kN\)$"),
+    ("0,200\n3,170000\n", r"line 3: load_kN 170000 is not a railway axle load \(30 to 500 kN\); is the table in N\? "
+                          r"\(170000 N = 170 kN\)$"),
+    ("0,200\n2500,200\n", r"line 3: the axle is 2500 m behind the previous one \(0\.5 to 100 m between axles\); "
+                          r"is position_m in mm\?$"),
+    ("0,200\n0.0025,200\n", r"line 3: the axle is 0\.0025 m behind the previous one \(0\.5 to 100 m between axles\); "
+                            r"is position_m in km\?$"),
+])
+def test_a_csv_table_in_other_units_is_refused(tmp_path, table, message):
+    """A CSV table in tonnes or N (loads 10× or 1000× off) or in mm or km (spacings) is refused,
+    naming the line and the unit it is probably in; the bounds themselves are accepted."""
+    path = tmp_path / 'axles.csv'
+    path.write_text('position_m,load_kN\n' + table)
+    with pytest.raises(ModelError, match=r"^.*axles\.csv " + message):
+        Train.from_csv(path, speed=50.0)
+    path.write_text('position_m,load_kN\n0,30\n0.5,500\n100.5,30\n')
+    np.testing.assert_array_equal(Train.from_csv(path, speed=50.0).static_wheel_loads, [3e4, 5e5, 3e4])
 
 
 def test_from_csv(tmp_path):
