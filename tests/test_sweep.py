@@ -74,6 +74,14 @@ def test_a_passage_its_time_step_cannot_resolve_is_refused(dt, speeds_kmh, messa
     Sweep(small_bridge(), ["HSLM-A1"], [0.999 * 3.6 * 20.0 / 0.2], PassageSettings(dt=0.02, damping=0.0125))
 
 
+def test_a_bridge_in_gpa_is_refused_by_its_frequency():
+    """E in GPa with the rest in SI: f₁ = 5 Hz × √1e-9 ≈ 1.6e-4 Hz, which no railway bridge has
+    (its passage would run 1.5 periods of free vibration: 2.6 hours of bridge time)."""
+    with pytest.raises(SweepError, match=r"^sweep: bridge: first vertical frequency 0\.000158 Hz, below the 0\.1 Hz of "
+                                         r"any railway bridge: are E, I or the mass in other units\? "):
+        Sweep(beam_bridge([L], EI * 1e-9, 1.0, MU, elements_per_span=4), ["HSLM-A1"], [300.0], FAST)
+
+
 def test_en_grid_runs_to_1_2_line_speed_with_fine_steps_at_resonances():
     """EN 1991-2 §6.4.6.2: up to 1.2 × the line speed, smaller steps near v = n₀ D / i."""
     grid = en_speed_grid(300.0, [F1], [18.0, 27.0], step_kmh=10.0, fine_step_kmh=2.0, band=0.1)

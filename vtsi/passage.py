@@ -44,6 +44,7 @@ from vtsi.recorders.moment import BendingMomentRecorder, moment_rows
 from vtsi.subdomain import BridgeStageCache
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
+from vtsi.units import MIN_FIRST_FREQUENCY_HZ
 
 FREE_VIBRATION_PERIODS = 1.5
 # What a passage's time step must resolve (PassageRunner.check_resolution): a coarser Δt gives
@@ -306,6 +307,10 @@ class PassageRunner:
             if missing and not o.vehicle:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
         self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3)
+        if not self.frequencies[0] >= MIN_FIRST_FREQUENCY_HZ:
+            raise ModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below the "
+                             f"{MIN_FIRST_FREQUENCY_HZ:g} Hz of any railway bridge: are E, I or the mass in other "
+                             "units? (vtsi's data are SI: Pa, m^4, kg/m)")
         if settings.damping is not None and settings.bridge == "fe":
             rayleigh_damping(self.model, settings.damping,
                              settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))

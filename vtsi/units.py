@@ -38,6 +38,9 @@ LENGTH_UNITS = {"m": 1.0, "cm": 1e2, "mm": 1e3}
 MIN_MASS_PER_METRE = 500.0
 """[kg/m] The lightest mass per metre of track accepted where trains meet a model: railway decks
 weigh more than 1000 kg/m; a model written in t/m but read as kg/m shows 1000 times less."""
+MIN_FIRST_FREQUENCY_HZ = 0.1
+"""[Hz] The lowest first vertical frequency of a bridge a sweep accepts: railway bridges are
+stiffer; E in GPa or MPa with the rest in SI shows a 3·10⁴ to 10³ times lower frequency."""
 _SPEED = re.compile(r"^\s*([-+0-9.eE]+)\s*(km/h|kmh|m/s)\s*$")
 
 
