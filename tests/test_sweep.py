@@ -74,6 +74,15 @@ def test_a_passage_its_time_step_cannot_resolve_is_refused(dt, speeds_kmh, messa
     Sweep(small_bridge(), ["HSLM-A1"], [0.999 * 3.6 * 20.0 / 0.2], PassageSettings(dt=0.02, damping=0.0125))
 
 
+def test_a_damping_percentage_typed_as_a_ratio_is_refused():
+    """ζ = 0.5 meant as 0.5 % would damp the deck acceleration to nothing: above 20 % of critical
+    the settings are refused; 20 % itself is accepted."""
+    with pytest.raises(vtsi.ModelError, match=r"^sweep settings: damping 0\.5 is 50 % of critical, above the 20 % any "
+                                              r"bridge has: it is a ratio \(0\.01 for 1 %\)$"):
+        PassageSettings(damping=0.5)
+    assert PassageSettings(damping=0.2).damping == 0.2
+
+
 def test_a_bridge_in_gpa_is_refused_by_its_frequency():
     """E in GPa with the rest in SI: f₁ = 5 Hz × √1e-9 ≈ 1.6e-4 Hz, which no railway bridge has
     (its passage would run 1.5 periods of free vibration: 2.6 hours of bridge time)."""

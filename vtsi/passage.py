@@ -47,6 +47,7 @@ from vtsi.train import TrainSubdomain
 from vtsi.units import MIN_FIRST_FREQUENCY_HZ
 
 FREE_VIBRATION_PERIODS = 1.5
+MAX_BRIDGE_DAMPING = 0.2        # a sweep's ζ above this is a percentage typed as a ratio (EN: 0.5-4 %)
 # What a passage's time step must resolve (PassageRunner.check_resolution): a coarser Δt gives
 # envelopes that are silently wrong (Δt = 10 s samples nothing but the bridge at rest).
 STEPS_PER_PERIOD = 8            # Δt <= T₁/8: the first mode sampled 8 times a cycle
@@ -210,8 +211,9 @@ class PassageSettings:
         positive("approach", allow_none=True, allow_zero=True)
         positive("free_vibration", allow_none=True, allow_zero=True)
         positive("damping", allow_none=True, allow_zero=True)
-        if self.damping is not None and not self.damping < 1.0:
-            raise ModelError(f"sweep settings: damping is a ratio (0.01 for 1 %), got {self.damping}")
+        if self.damping is not None and not self.damping <= MAX_BRIDGE_DAMPING:
+            raise ModelError(f"sweep settings: damping {self.damping:g} is {100 * self.damping:g} % of critical, above "
+                             f"the {100 * MAX_BRIDGE_DAMPING:g} % any bridge has: it is a ratio (0.01 for 1 %)")
         if self.damping_hz is not None:
             try:
                 pair = tuple(float(f) for f in self.damping_hz)
