@@ -284,6 +284,10 @@ BAD = {
                                   "kind must be one of 'beam', 'script', got ['beam']"),
     "too many elements": (["--trains", "A1", "--speeds", "200"], "fine.toml",
                           "elements_per_span must be an even integer from 2 to 1000, got 100000000"),
+    "spans in mm": (["--trains", "A1", "--speeds", "200"], "mm.toml",
+                    "spans_m: a span of 20000 m is not a railway span (1 to 1000 m); is spans_m in mm?"),
+    "a damping percentage": (["--trains", "A1", "--speeds", "200", "--damping", "1.3"], None,
+                             "damping 1.3 is 130 % of critical, above the 20 % any bridge has"),
     "a seed twice": (["--trains", "A1", "--speeds", "200"], "seeds.toml",
                      "seeds must be a list of different integers >= 0, got [1, 1]"),
     "a negative modal_hz on the FE bridge": (["--trains", "A1", "--speeds", "200"], "modal.toml",
@@ -316,6 +320,7 @@ BAD_FILES = {
         p / "latin1.toml"),
     "kind.toml": lambda p: write(p, "kind.toml", BEAM_TOML.replace('kind = "beam"', 'kind = ["beam"]')),
     "fine.toml": lambda p: write(p, "fine.toml", BEAM_TOML.replace("elements_per_span = 4", "elements_per_span = 100000000")),
+    "mm.toml": lambda p: write(p, "mm.toml", BEAM_TOML.replace(f"spans_m = [{L}]", "spans_m = [20000.0]")),
     "seeds.toml": lambda p: write(p, "seeds.toml", BEAM_TOML + "seeds = [1, 1]\n"),
     "modal.toml": lambda p: write(p, "modal.toml", BEAM_TOML + "modal_hz = -5.0\n"),
 }

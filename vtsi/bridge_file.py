@@ -62,6 +62,7 @@ for their meaning and units), besides ``seeds`` (rail samples, a list of ints >=
 SCRIPT_SUFFIXES = (".tcl", ".py")
 DESCRIPTION_SUFFIXES = (".toml", ".yaml", ".yml")
 MAX_ELEMENTS_PER_SPAN = 1000    # a beam's elements per span: finer than any deck needs (dofs, time)
+SPAN_RANGE_M = (1.0, 1000.0)    # a beam's spans [m]: outside, spans_m is taken to be in mm or km
 
 
 @dataclass(frozen=True)
@@ -239,6 +240,11 @@ def _beam(table, base_dir):
     spans = spans if isinstance(spans, list) else [spans]
     if not spans or any(isinstance(s, bool) or not isinstance(s, (int, float)) or not s > 0 for s in spans):
         raise ModelError(f"spans_m must be a list of positive numbers [m], got {table['spans_m']!r}")
+    lo, hi = SPAN_RANGE_M
+    odd = next((s for s in spans if not lo <= s <= hi), None)
+    if odd is not None:
+        raise ModelError(f"spans_m: a span of {odd:g} m is not a railway span ({lo:g} to {hi:g} m); "
+                         f"is spans_m in {'mm' if odd > hi else 'km'}?")
     E, mu = _number(table, "E_Pa"), _number(table, "mu_kg_m")
     if ("I_m4" in table) == ("f1_Hz" in table):
         raise ModelError("give either I_m4 or f1_Hz (the first span's first bending frequency)")
