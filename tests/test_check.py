@@ -96,6 +96,17 @@ def test_bad_check_settings(kwargs, words):
         CheckSettings(**kwargs)
 
 
+def test_a_deck_acceleration_read_at_some_nodes_says_so(hslm):
+    """EN A2.4.4.2.1: the maximum along the track. An output at the mid-span node only is
+    checked there, and the row's note says at how many of the deck's nodes it was read."""
+    bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=4)
+    fast = PassageSettings(dt=5e-3, damping=0.013)
+    mid = Sweep(bridge, ["HSLM-A1"], "300", fast, outputs=[Output("a", "accel", nodes="midspan")])
+    row = check(mid.run(None, workers=1, progress=False)).row("deck_acceleration")
+    assert row.note.endswith("read at 1 of the deck's 5 nodes only (output 'a'): the deck's maximum may lie elsewhere")
+    assert "nodes only" not in check(hslm[1]).row("deck_acceleration").note
+
+
 def test_a_check_with_nothing_to_check_or_a_short_cut_off_is_refused(hslm, tmp_path):
     """A sweep that kept no output a criterion reads gives no verdict, not PASS; a deck
     acceleration counted below the EN cut-off (here 6 Hz against n₃ = 45.8 Hz) is refused, not checked

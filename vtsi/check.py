@@ -249,6 +249,11 @@ def _deck_acceleration(results, outputs, bridge, settings):
     cutoff = outputs[name].get("cutoff_hz")
     note = (f"frequencies up to {cutoff:.4g} Hz (modal projection)" if cutoff else
             "the FE model's full response: no EN cut-off output was kept")
+    deck = set(np.asarray(bridge["deck_nodes"]).tolist())
+    read = deck & set(np.asarray(columns).tolist())
+    if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
+        note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
+                 "maximum may lie elsewhere")
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
                      "pass" if value <= limit else "fail", train, speed, seed, f"node {int(columns[idx[-1]])}",
                      f"{settings.track.replace('_', ' ')} track; {note}")]
