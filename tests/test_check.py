@@ -107,6 +107,23 @@ def test_a_deck_acceleration_read_at_some_nodes_says_so(hslm):
     assert "nodes only" not in check(hslm[1]).row("deck_acceleration").note
 
 
+def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_off():
+    """A modal sweep's outputs count the modes up to modal_hz only: 6 Hz (one mode) under-read the
+    deck acceleration against the 45 Hz cut-off and the note said 'the FE model's full
+    response'; now refused, and the default basis (1.1 × the cut-off) is named as the cut-off."""
+    bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
+
+    def modal_check(modal_hz):
+        settings = PassageSettings(dt=1e-3, damping=0.013, bridge="modal", modal_hz=modal_hz)
+        return check(Sweep(bridge, ["HSLM-A1"], "300", settings, outputs=[Output("a", "accel")]).run(
+            None, workers=1, progress=False))
+
+    with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45\.0\d Hz: the "
+                                         r"modal bridge's modal_hz bounds every output: take modal_hz >= 45\.0\d Hz"):
+        modal_check(6.0)
+    assert modal_check(None).row("deck_acceleration").note.endswith("frequencies up to 49.53 Hz (modal projection)")
+
+
 def test_a_check_with_nothing_to_check_or_a_short_cut_off_is_refused(hslm, tmp_path):
     """A sweep that kept no output a criterion reads gives no verdict, not PASS; a deck
     acceleration counted below the EN cut-off (here 6 Hz against n₃ = 45.8 Hz) is refused, not checked

@@ -234,9 +234,13 @@ def _deck_acceleration(results, outputs, bridge, settings):
     name = (filtered or _outputs_of(outputs, "accel", cutoff=False))[:1]
     if not name:
         if short:
+            modal = results.identity["settings"].get("bridge", "fe") != "fe"
+            remedy = (f"the modal bridge's modal_hz bounds every output: take modal_hz >= {en_cutoff:.4g} Hz, or leave "
+                      "it unset (1.1 x the cut-off)" if modal else
+                      "keep an output with cutoff='en' (or none: the full response)")
             raise SweepError(f"check: the deck acceleration output {short[0]!r} counts frequencies up to "
                              f"{outputs[short[0]]['cutoff_hz']:.4g} Hz, below the EN 1990 A2.4.4.2.1(4)P cut-off "
-                             f"{en_cutoff:.4g} Hz: keep an output with cutoff='en' (or none: the full response)")
+                             f"{en_cutoff:.4g} Hz: {remedy}")
         return []
     name = name[0]
     env, columns = results.column_envelopes(name)

@@ -244,13 +244,13 @@ class _Report:
         return text + (f", rail sample {seed}" if seed >= 0 else "")
 
     def output(self, response, cutoff=None):
-        """The first output of ``response`` (with a cut-off first when ``cutoff``): as the check
-        picks it."""
+        """The first output of ``response`` (with a cut-off first when ``cutoff``, without one first
+        when False): as the check picks it."""
         names = [n for n, o in self.outputs.items() if o["response"] == response]
         if cutoff:
             names = [n for n in names if self.outputs[n].get("cutoff_hz") is not None] or names
         elif cutoff is False:
-            names = [n for n in names if self.outputs[n].get("cutoff_hz") is None]
+            names = [n for n in names if self.outputs[n].get("cutoff_hz") is None] or names
         return names[0] if names else None
 
     # -- sections -----------------------------------------------------------------------------
