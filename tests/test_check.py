@@ -78,6 +78,13 @@ def test_interaction_rows_and_the_stored_table(tmp_path):
     Q = res.train_data("ICE3")["static_wheel_loads_N"]
     assert unloading.value == pytest.approx(1 - np.nanmin(res.envelope("contact_force_min")) / Q[0], rel=1e-9)
     assert result.row("contact_loss").value == float(np.sum(res.envelope("contact_force_min") <= 0))
+    assert "'hermite' rows" not in unloading.note and "modal bridge" not in unloading.note   # bspline, FE
+    modal = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["ICE3"], "300",
+                  PassageSettings(dt=5e-3, damping=0.01, cars="full", bridge="modal"))
+    note = check(modal.run(None, workers=1, progress=False), CheckSettings(unloading_limit=0.9)).row("wheel_unloading").note
+    assert "with 'hermite' rows the contact force holds the impulses" in note
+    assert note.endswith("on a modal bridge the contact force misses the deck's local flexibility above the modes "
+                         "(docs/modal.md: 20 % off the FE bridge on an irregular rail)")
     result.store(path)
     again = stored_check(path)
     assert again.text() == result.text() and again.settings == result.settings

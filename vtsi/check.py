@@ -393,11 +393,18 @@ def _wheel_unloading(results, outputs, bridge, settings):
         train, speed, seed, idx = _governing(results, unloading, np.nanargmax)
         value, limit = float(unloading[idx]), settings.unloading_limit
         lifts = int(np.sum(np.nanmin(low, axis=-1) <= 0.0))
+        note = ("Delta Q / Q = 1 - min contact force / static wheel load; the limit is the project's "
+                "(not an EN 1990 A2 clause)")
+        sweep = results.identity["settings"]
+        if sweep.get("interpolation") == "hermite" and not sweep.get("exact_events"):
+            note += ("; with 'hermite' rows the contact force holds the impulses where the rail kinks at the "
+                     "supports (rigid ground next to the deck): 'bspline' rows or exact_events remove them")
+        if sweep.get("bridge", "fe") != "fe":
+            note += ("; on a modal bridge the contact force misses the deck's local flexibility above the modes "
+                     "(docs/modal.md: 20 % off the FE bridge on an irregular rail)")
         rows = [CheckRow("wheel_unloading", "project criterion", value, "-", limit, value / limit,
                          "pass" if value <= limit else "fail", train, speed, seed, f"wheel {int(columns[idx[-1]])}",
-                         "Delta Q / Q = 1 - min contact force / static wheel load; the limit is the project's "
-                         "(not an EN 1990 A2 clause); with 'hermite' rows the contact force holds the impulses "
-                         "where the rail kinks at the supports (rigid ground next to the deck)")]
+                         note)]
         loss = CheckRow("contact_loss", "-", float(lifts), "passages", 0.0, np.nan, "pass" if lifts == 0 else "fail",
                         note="passages in which a wheel's contact force reaches zero (it lifts)")
         if lifts:
