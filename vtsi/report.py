@@ -363,7 +363,8 @@ class _Report:
         s, res = self.settings, self.results
         cutoffs = [f"{n}: {o['cutoff_hz']:.4g} Hz" for n, o in self.outputs.items() if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
-        rows = [["time step dt", f"{s['dt']:g} s"],
+        rows = [["bridge model", _bridge_model_text(s, self.outputs)],
+                ["time step dt", f"{s['dt']:g} s"],
                 ["integrator", str(s["integrator"])],
                 ["cars (fidelity)", str(s["cars"])],
                 ["contact", str(s["contact"])],
@@ -708,6 +709,18 @@ def _label(criterion):
 
 def _plural(n, word):
     return f"{n} {word}{'s' * (n != 1)}"
+
+
+def _bridge_model_text(settings, outputs):
+    """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz]."""
+    kind = settings.get("bridge", "fe")
+    if kind == "fe":
+        return "FE model, time-stepped"
+    f_max = settings.get("modal_hz") or max((o["cutoff_hz"] for o in outputs.values()
+                                             if o.get("cutoff_hz") is not None), default=None)
+    basis = "its modes" if f_max is None else f"its modes up to {f_max:.4g} Hz"
+    how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
+    return f"modal: {basis}, {how}"
 
 
 def _damping_text(settings):
