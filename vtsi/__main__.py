@@ -268,6 +268,26 @@ def _sweep(ns):
     return _run_sweep(sweep, ns, out)
 
 
+def _speeds_reach(spec, line_kmh):
+    """A usage error unless the --speeds ``spec`` reaches 1.2 × the line speed [km/h], as EN
+    1991-2 6.4.6.2(1) asks of a check (an en:LINE_SPEED spec must name the same line speed)."""
+    from vtsi.sweep import speeds
+
+    text = spec.strip()
+    if text.lower().startswith("en:"):
+        try:
+            same = float(text[3:]) == line_kmh
+        except ValueError:
+            return                              # _prepare_sweep names the malformed spec
+        if not same:
+            raise _UsageError(f"--speeds {spec!r} and --line-speed {line_kmh:g} name two line speeds; give one")
+        return
+    top = float(speeds(spec).max())
+    if top < 1.2 * line_kmh * (1 - 1e-9):
+        raise _UsageError(f"--speeds reach {top:g} km/h, short of 1.2 x --line-speed {line_kmh:g} = {1.2 * line_kmh:g} "
+                          "km/h that EN 1991-2 6.4.6.2(1) asks; extend them, or leave --speeds out (the EN series)")
+
+
 def _prepare_sweep(ns, out):
     from vtsi.bridge_file import read_bridge_file
     from vtsi.passage import PassageRunner, PassageSettings
@@ -360,15 +380,18 @@ def _check(ns):
     report_dir = os.path.abspath(ns.report or os.path.splitext(out)[0] + "_report")
     try:
         settings = _check_numbers(ns)
-        if ns.speeds is None:
-            if ns.line_speed is None:
-                raise _UsageError("the line speed is needed: --line-speed KMH (the speeds run up to 1.2 x it), "
-                                  "or --speeds")
+        if ns.speeds is None and ns.line_speed is None:
+            raise _UsageError("the line speed is needed: --line-speed KMH (the speeds run up to 1.2 x it), "
+                              "or --speeds")
+        if ns.line_speed is not None:
             try:
                 line = float(ns.line_speed)
             except ValueError:
                 raise _UsageError(f"--line-speed {ns.line_speed!r}: expected a speed in km/h") from None
-            ns.speeds = f"en:{line}"
+            if ns.speeds is None:
+                ns.speeds = f"en:{line}"
+            else:
+                _speeds_reach(ns.speeds, line)
         if os.path.exists(report_dir) and not os.path.isdir(report_dir):
             raise _UsageError(f"--report {report_dir}: exists and is not a directory")
         sweep = _prepare_sweep(ns, out)
