@@ -299,8 +299,11 @@ BAD = {
     "unknown irregularity": (["--trains", "A1", "--speeds", "200", "--irregularity", "bumpy"], None,
                              "unknown irregularity 'bumpy'"),
     "seeds on a smooth rail": (["--trains", "A1", "--speeds", "200", "--seeds", "0,1"], None, "--irregularity"),
-    "bad seeds": (["--trains", "A1", "--speeds", "200", "--irregularity", "german-low", "--seeds", "-1"], None,
-                  "integers >= 0"),
+    "bad seeds": (["--trains", "ICE3", "--speeds", "200", "--cars", "full", "--irregularity", "german-low", "--seeds",
+                   "-1"], None, "integers >= 0"),
+    "a rough rail under moving forces": (["--trains", "A1", "--speeds", "200", "--irregularity", "german-low"], None,
+                                         "an irregular rail (german-low) acts through the wheels of cars; moving forces "
+                                         "(cars='force') do not feel it"),
     "no cars": (["--trains", "A1", "--speeds", "200", "--cars", "full"], None, "has no fidelity 'full'"),
     "another sweep with --resume": (["--trains", "A1", "--speeds", "200", "--resume"], _other_sweep,
                                     "holds a different sweep"),

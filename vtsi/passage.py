@@ -160,7 +160,7 @@ class PassageSettings:
         them get less than ζ, modes outside more.
     damping_hz : (f_a, f_b) [Hz] or None.
     irregularity : None (smooth rail) or 'german-low', 'german-high', 'fra-1' … 'fra-6'; each
-        case's seed selects the sample.
+        case's seed selects the sample. Only with cars='full' (moving forces do not feel it).
     approach : distance of the first wheel before the track at t = 0 [m]; None: 0 for moving
         forces, CAR_APPROACH for cars.
     free_vibration : time after the last wheel leaves the track [s]; None:
@@ -229,6 +229,10 @@ class PassageSettings:
         if self.irregularity is not None and self.irregularity not in IRREGULARITIES:
             raise ModelError(f"sweep settings: unknown irregularity {self.irregularity!r}; valid: "
                              f"{', '.join(IRREGULARITIES)} (or None for a smooth rail)")
+        if self.irregularity is not None and self.cars == "force":
+            raise ModelError(f"sweep settings: an irregular rail ({self.irregularity}) acts through the wheels of cars; "
+                             "moving forces (cars='force') do not feel it, and every rail sample would repeat the "
+                             "smooth passage: take cars='full' or no irregularity")
         if self.bridge not in BRIDGE_MODELS:
             raise ModelError(f"sweep settings: unknown bridge {self.bridge!r}; valid: {', '.join(BRIDGE_MODELS)}")
         positive("modal_hz", allow_none=True)
