@@ -5,7 +5,7 @@ import pytest
 from vtsi.check import CheckResult, CheckSettings, check, stored_check
 from vtsi.codes.en1991_2 import dynamic_factor, track_irregularity_increment
 from vtsi.errors import ModelError, SweepError
-from vtsi.passage import Output, PassageSettings
+from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageSettings
 from vtsi.reference.fryba import daf
 from vtsi.sweep import Sweep, beam_bridge
 
@@ -117,18 +117,21 @@ def test_a_deck_acceleration_read_at_some_nodes_says_so(hslm):
 def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_off():
     """A modal sweep's outputs count the modes up to modal_hz only: 6 Hz (one mode) under-read the
     deck acceleration against the 45 Hz cut-off and the note said 'the FE model's full
-    response'; now refused, and the default basis (1.1 × the cut-off) is named as the cut-off."""
+    response'; now refused, and the default basis (1.1 × the cut-off) is named in the note.
+    The deflection rows stay (a modal sweep's displacements carry the static correction)."""
     bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
 
-    def modal_check(modal_hz):
+    def modal_check(modal_hz, outputs=(Output("a", "accel"),)):
         settings = PassageSettings(dt=1e-3, damping=0.013, bridge="modal", modal_hz=modal_hz)
-        return check(Sweep(bridge, ["HSLM-A1"], "300", settings, outputs=[Output("a", "accel")]).run(
-            None, workers=1, progress=False))
+        return check(Sweep(bridge, ["HSLM-A1"], "300", settings, outputs=outputs).run(None, workers=1, progress=False))
 
     with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45\.0\d Hz: the "
-                                         r"modal bridge's modal_hz bounds every output: take modal_hz >= 45\.0\d Hz"):
+                                         r"modal bridge's modes stop at modal_hz: take modal_hz >= 45\.0\d Hz"):
         modal_check(6.0)
-    assert modal_check(None).row("deck_acceleration").note.endswith("frequencies up to 49.53 Hz (modal projection)")
+    assert modal_check(None).row("deck_acceleration").note.endswith("frequencies up to 49.53 Hz (the modal bridge's modes)")
+    default = modal_check(None, DEFAULT_OUTPUTS)
+    assert default.row("deck_acceleration").note.endswith("frequencies up to 45.02 Hz (modal projection)")
+    assert {"dynamic_increment", "dynamic_vs_lm71", "deflection_lm71"} <= {r.criterion for r in default.rows}
 
 
 def test_a_check_with_nothing_to_check_or_a_short_cut_off_is_refused(hslm, tmp_path):

@@ -42,6 +42,7 @@ import numpy as np
 
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError
+from vtsi.passage import modal_basis_hz
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
@@ -226,20 +227,23 @@ def _outputs_of(outputs, response, cutoff=None):
 
 def _deck_acceleration(results, outputs, bridge, settings):
     """The deck acceleration of an output counting at least the EN cut-off's frequencies (one
-    with ``cutoff='en'``, or the full response); an output with a lower cut-off is refused."""
+    with ``cutoff='en'``, or the full response); an output counting fewer (a lower cut-off, or a
+    modal bridge whose modes stop below it) is refused."""
     en_cutoff = en1990_a2.acceleration_cutoff_hz(bridge["frequencies_hz"][:3])
+    sweep = results.identity["settings"]
+    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge["frequencies_hz"][:3])
     accel = _outputs_of(outputs, "accel")
-    short = [n for n in accel if outputs[n].get("cutoff_hz") is not None and outputs[n]["cutoff_hz"] < en_cutoff * (1 - 1e-9)]
+    counted = {n: min((f for f in (outputs[n].get("cutoff_hz"), basis) if f is not None), default=None) for n in accel}
+    short = [n for n in accel if counted[n] is not None and counted[n] < en_cutoff * (1 - 1e-9)]
     filtered = [n for n in _outputs_of(outputs, "accel", cutoff=True) if n not in short]
-    name = (filtered or _outputs_of(outputs, "accel", cutoff=False))[:1]
+    name = (filtered or [n for n in _outputs_of(outputs, "accel", cutoff=False) if n not in short])[:1]
     if not name:
         if short:
-            modal = results.identity["settings"].get("bridge", "fe") != "fe"
-            remedy = (f"the modal bridge's modal_hz bounds every output: take modal_hz >= {en_cutoff:.4g} Hz, or leave "
-                      "it unset (1.1 x the cut-off)" if modal else
+            remedy = (f"the modal bridge's modes stop at modal_hz: take modal_hz >= {en_cutoff:.4g} Hz, or leave it "
+                      "unset (1.1 x the cut-off)" if basis is not None and basis < en_cutoff else
                       "keep an output with cutoff='en' (or none: the full response)")
             raise SweepError(f"check: the deck acceleration output {short[0]!r} counts frequencies up to "
-                             f"{outputs[short[0]]['cutoff_hz']:.4g} Hz, below the EN 1990 A2.4.4.2.1(4)P cut-off "
+                             f"{counted[short[0]]:.4g} Hz, below the EN 1990 A2.4.4.2.1(4)P cut-off "
                              f"{en_cutoff:.4g} Hz: {remedy}")
         return []
     name = name[0]
@@ -250,9 +254,12 @@ def _deck_acceleration(results, outputs, bridge, settings):
     train, speed, seed, idx = _governing(results, peak, np.nanargmax)
     limit = en1990_a2.deck_acceleration_limit(settings.track)
     value = float(peak[idx])
-    cutoff = outputs[name].get("cutoff_hz")
-    note = (f"frequencies up to {cutoff:.4g} Hz (modal projection)" if cutoff else
-            "the FE model's full response: no EN cut-off output was kept")
+    if outputs[name].get("cutoff_hz") is not None:
+        note = f"frequencies up to {counted[name]:.4g} Hz (modal projection)"
+    elif basis is not None:
+        note = f"frequencies up to {basis:.4g} Hz (the modal bridge's modes)"
+    else:
+        note = "the FE model's full response: no EN cut-off output was kept"
     deck = set(np.asarray(bridge["deck_nodes"]).tolist())
     read = deck & set(np.asarray(columns).tolist())
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it

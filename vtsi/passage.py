@@ -254,6 +254,16 @@ class PassageSettings:
 
 
 
+def modal_basis_hz(bridge, modal_hz, frequencies_hz):
+    """The highest frequency [Hz] of a sweep's modal bridge (``bridge`` 'modal' or
+    'modal-stepped'): ``modal_hz``, or by default CUTOFF_MARGIN × the EN cut-off of the bridge's
+    first vertical ``frequencies_hz``; None for the FE bridge ('fe'). Every output of a modal
+    sweep counts the frequencies up to it at most."""
+    if bridge == "fe":
+        return None
+    return float(modal_hz) if modal_hz else CUTOFF_MARGIN * acceleration_cutoff_hz(frequencies_hz)
+
+
 @dataclass
 class CaseResult:
     """What one passage gives a sweep.
@@ -321,10 +331,10 @@ class PassageRunner:
             rayleigh_damping(self.model, settings.damping,
                              settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
         self.cache = BridgeStageCache()
-        self.modal, self.modal_hz = None, None
+        self.modal = None
         if settings.bridge != "fe":
-            self.modal_hz = settings.modal_hz or CUTOFF_MARGIN * acceleration_cutoff_hz(self.frequencies)
-            self.modal = ModalBridge(self.model, self.track, self.modal_hz, settings.damping or 0.0)
+            self.modal = ModalBridge(self.model, self.track, modal_basis_hz(settings.bridge, settings.modal_hz,
+                                                                            self.frequencies), settings.damping or 0.0)
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}
@@ -351,14 +361,6 @@ class PassageRunner:
     def cutoff_hz(self, cutoff):
         """The cut-off [Hz] of an output's ``cutoff`` ('en' or a frequency)."""
         return acceleration_cutoff_hz(self.frequencies) if cutoff == "en" else float(cutoff)
-
-    def counted_hz(self, output):
-        """The frequencies [Hz] ``output``'s response counts up to: the lower of its cut-off and,
-        on a modal bridge, the modal basis' f_max (``modal_hz``); None: every frequency of the FE
-        model (stored with the sweep as the output's ``cutoff_hz``, which the check reads)."""
-        limits = ([] if output.cutoff is None else [self.cutoff_hz(output.cutoff)]) + \
-            ([] if self.modal_hz is None else [float(self.modal_hz)])
-        return min(limits) if limits else None
 
     def modes_up_to(self, cutoff):
         """``(cutoff [Hz], shapes (n_full, n))``: every mode of the bridge up to the cut-off

@@ -52,7 +52,7 @@ from scipy.interpolate import CubicSpline
 from vtsi import __version__
 from vtsi.check import stored_check
 from vtsi.errors import SweepError
-from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS
+from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, modal_basis_hz
 from vtsi.sweep import resonance_speeds
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key
 
@@ -244,13 +244,13 @@ class _Report:
         return text + (f", rail sample {seed}" if seed >= 0 else "")
 
     def output(self, response, cutoff=None):
-        """The first output of ``response`` (with a cut-off first when ``cutoff``, without one first
-        when False): as the check picks it."""
+        """The first output of ``response`` (with a cut-off first when ``cutoff``, without one when
+        False): as the check picks it."""
         names = [n for n, o in self.outputs.items() if o["response"] == response]
         if cutoff:
             names = [n for n in names if self.outputs[n].get("cutoff_hz") is not None] or names
         elif cutoff is False:
-            names = [n for n in names if self.outputs[n].get("cutoff_hz") is None] or names
+            names = [n for n in names if self.outputs[n].get("cutoff_hz") is None]
         return names[0] if names else None
 
     # -- sections -----------------------------------------------------------------------------
@@ -363,7 +363,7 @@ class _Report:
         s, res = self.settings, self.results
         cutoffs = [f"{n}: {o['cutoff_hz']:.4g} Hz" for n, o in self.outputs.items() if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
-        rows = [["bridge model", _bridge_model_text(s, self.outputs)],
+        rows = [["bridge model", _bridge_model_text(s, res.bridge()["frequencies_hz"])],
                 ["time step dt", f"{s['dt']:g} s"],
                 ["integrator", str(s["integrator"])],
                 ["cars (fidelity)", str(s["cars"])],
@@ -711,16 +711,14 @@ def _plural(n, word):
     return f"{n} {word}{'s' * (n != 1)}"
 
 
-def _bridge_model_text(settings, outputs):
+def _bridge_model_text(settings, frequencies_hz):
     """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz]."""
     kind = settings.get("bridge", "fe")
     if kind == "fe":
         return "FE model, time-stepped"
-    f_max = settings.get("modal_hz") or max((o["cutoff_hz"] for o in outputs.values()
-                                             if o.get("cutoff_hz") is not None), default=None)
-    basis = "its modes" if f_max is None else f"its modes up to {f_max:.4g} Hz"
+    f_max = modal_basis_hz(kind, settings.get("modal_hz"), frequencies_hz[:3])
     how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
-    return f"modal: {basis}, {how}"
+    return f"modal: its modes up to {f_max:.4g} Hz, {how}"
 
 
 def _damping_text(settings):

@@ -231,7 +231,7 @@ class Sweep:
         return {"bridge": self.bridge.description, "bridge_fingerprint": _fingerprint(self.runner),
                 "settings": self.settings.as_dict(),
                 "outputs": [{"name": o.name, "response": o.response, "nodes": o.nodes, "history": o.history,
-                             "cutoff_hz": self.runner.counted_hz(o)}
+                             "cutoff_hz": None if o.cutoff is None else self.runner.cutoff_hz(o.cutoff)}
                             for o in self.outputs],
                 "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
 
