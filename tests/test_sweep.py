@@ -3,6 +3,7 @@ after SIGKILL, executors (process pool, dask LocalCluster), the results file and
 view, and every bad input."""
 import gc
 import json
+import shutil
 import signal
 import subprocess
 import sys
@@ -89,6 +90,27 @@ def test_a_bridge_in_gpa_is_refused_by_its_frequency():
     with pytest.raises(SweepError, match=r"^sweep: bridge: first vertical frequency 0\.000158 Hz, below the 0\.1 Hz of "
                                          r"any railway bridge: are E, I or the mass in other units\? "):
         Sweep(beam_bridge([L], EI * 1e-9, 1.0, MU, elements_per_span=4), ["HSLM-A1"], [300.0], FAST)
+
+
+def test_a_full_disk_names_the_results_file_and_keeps_the_cases_before(tmp_path, monkeypatch):
+    """The third batch's copy fails as on a full disk: a SweepError names the file and says how
+    to go on; the file holds the two batches before, no .partial is left, and a resume finishes."""
+    copy, calls = shutil.copyfile, []
+
+    def failing_third(src, dst):
+        calls.append(dst)
+        if len(calls) == 3:
+            raise OSError(28, "No space left on device")
+        return copy(src, dst)
+
+    monkeypatch.setattr(shutil, "copyfile", failing_third)     # the module sweep_results copies with
+    path = tmp_path / "full.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200:300:20", FAST, outputs=[Output("d", "disp")])
+    with pytest.raises(SweepError, match=r"^results file .*full\.h5: cannot write 1 more cases \(No space left on device\); "
+                                         r"the cases finished before them are in it: resume=True"):
+        sweep.run(path, workers=1, progress=False, cases_per_task=1)
+    assert SweepResults(path).n_done == 2 and not (tmp_path / "full.h5.partial").exists()
+    assert sweep.run(path, workers=1, progress=False, resume=True, cases_per_task=1).n_done == 6
 
 
 def test_en_grid_runs_to_1_2_line_speed_with_fine_steps_at_resonances():

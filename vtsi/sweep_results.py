@@ -258,10 +258,17 @@ class ResultsWriter:
             self._write(self._memory, results)
             return
         tmp = self.path + ".partial"
-        shutil.copyfile(self.path, tmp)
-        with h5py.File(tmp, "a") as f:
-            self._write(f, results)
-        os.replace(tmp, self.path)
+        try:
+            shutil.copyfile(self.path, tmp)
+            with h5py.File(tmp, "a") as f:
+                self._write(f, results)
+            os.replace(tmp, self.path)
+        except OSError as exc:              # a full disk, a lost drive: the file keeps what it had
+            if os.path.exists(tmp):
+                os.remove(tmp)
+            raise SweepError(f"results file {self.path}: cannot write {len(results)} more cases "
+                             f"({exc.strerror or exc}); the cases finished before them are in it: resume=True "
+                             "(--resume) continues the sweep") from None
 
     def _write(self, f, results):
         ident = self.identity
