@@ -300,6 +300,10 @@ def _s2(session):
 BAD_TRAIN_INPUTS = [   # (setup, command, args, message)
     (_bridge, "train", (2, True, "-cars", 1, 0.0), r"train 2: speed: True is not a speed"),
     (_bridge, "train", (2, float("nan"), "-cars", 1, 0.0), r"train 2: speed: must be finite, got nan"),
+    (_bridge, "train", (2, 300, "-cars", 1, 0.0), r"train 2: speed: 300 m/s \(1080 km/h\) is faster than any train "
+                                                  r"\(at most 200 m/s\); a speed in km/h is written '300km/h'$"),
+    (_bridge, "train", (2, "800km/h", "-cars", 1, 0.0), r"train 2: speed: 222\.222 m/s \(800 km/h\) is faster than "
+                                                        r"any train \(at most 200 m/s\)$"),
     (_bridge, "recorder", ("Train", "-dof", 1.5, "disp"), r"recorder Train: -dof must be a train dof name or an "
                                                            r"integer index, got 1.5"),
     (_bridge, "recorder", ("Train", "-dof", None, "disp"), r"recorder Train: -dof .* got None"),

@@ -41,6 +41,9 @@ weigh more than 1000 kg/m; a model written in t/m but read as kg/m shows 1000 ti
 MIN_FIRST_FREQUENCY_HZ = 0.1
 """[Hz] The lowest first vertical frequency of a bridge a sweep accepts: railway bridges are
 stiffer; E in GPa or MPa with the rest in SI shows a 3·10⁴ to 10³ times lower frequency."""
+MAX_TRAIN_SPEED = 200.0
+"""[m/s] (720 km/h) The fastest train speed the commands accept: rail vehicles run slower (the
+record is 160 m/s); a speed in km/h given as a bare number (m/s) reads 3.6 times faster."""
 _SPEED = re.compile(r"^\s*([-+0-9.eE]+)\s*(km/h|kmh|m/s)\s*$")
 
 
@@ -107,15 +110,21 @@ class Units:
                 raise ModelError(f"{what}: {value!r} is not a speed; give a number in {self.length}/s or a text "
                                  "such as '300km/h' or '83.3m/s'")
             number = float(match.group(1))
-            return number * (1.0 / 3.6 if match.group(2) in ("km/h", "kmh") else 1.0) * self.f_length
-        if isinstance(value, (bool, np.bool_)):
-            raise ModelError(f"{what}: {value!r} is not a speed")
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise ModelError(f"{what}: {value!r} is not a speed") from None
+            number *= (1.0 / 3.6 if match.group(2) in ("km/h", "kmh") else 1.0) * self.f_length
+        else:
+            if isinstance(value, (bool, np.bool_)):
+                raise ModelError(f"{what}: {value!r} is not a speed")
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise ModelError(f"{what}: {value!r} is not a speed") from None
         if not math.isfinite(number):
             raise ModelError(f"{what}: must be finite, got {number}")
+        si = abs(number) / self.f_length
+        if si > MAX_TRAIN_SPEED:
+            hint = "" if isinstance(value, str) else f"; a speed in km/h is written '{number:g}km/h'"
+            raise ModelError(f"{what}: {number:g} {self.length}/s ({3.6 * si:.4g} km/h) is faster than any train "
+                             f"(at most {MAX_TRAIN_SPEED:g} m/s){hint}")
         return number
 
     def car(self, car):
