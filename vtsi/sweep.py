@@ -37,6 +37,7 @@ from vtsi.models.bridges import continuous_beam
 from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
 from vtsi.sweep_results import ResultsWriter, case_key
 from vtsi.train import TrainSubdomain
+from vtsi.units import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
@@ -73,6 +74,9 @@ def speeds(spec):
     bad = values[~(np.isfinite(values) & (values > 0))]
     if bad.size:
         raise SweepError(f"speeds: every speed must be > 0 km/h and finite, got {bad[0]:g}")
+    if values.max() > 3.6 * MAX_TRAIN_SPEED:
+        raise SweepError(f"speeds: {values.max():g} km/h is faster than any train (at most "
+                         f"{3.6 * MAX_TRAIN_SPEED:g} km/h)")
     return np.unique(np.round(values, 9))
 
 
