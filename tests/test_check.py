@@ -112,6 +112,11 @@ def test_a_deck_acceleration_read_at_some_nodes_says_so(hslm):
     row = check(mid.run(None, workers=1, progress=False)).row("deck_acceleration")
     assert row.note.endswith("read at 1 of the deck's 5 nodes only (output 'a'): the deck's maximum may lie elsewhere")
     assert "nodes only" not in check(hslm[1]).row("deck_acceleration").note
+    bridge.model.node(99, 10.0, -5.0)                       # a pier's foot: no deck node
+    bridge.model.fix(99, 1, 1, 1)
+    pier = Sweep(bridge, ["HSLM-A1"], "300", fast, outputs=[Output("a", "accel", nodes=(99,))])
+    with pytest.raises(SweepError, match=r"^check: the deck acceleration output 'a' holds no deck node \(nodes 99\)"):
+        check(pier.run(None, workers=1, progress=False))
 
 
 def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_off():

@@ -248,7 +248,11 @@ def _deck_acceleration(results, outputs, bridge, settings):
         return []
     name = name[0]
     env, columns = results.column_envelopes(name)
-    peak = env[..., ABSMAX, :]
+    on_deck = np.isin(np.asarray(columns), np.asarray(bridge["deck_nodes"]))
+    if not on_deck.any():
+        raise SweepError(f"check: the deck acceleration output {name!r} holds no deck node (nodes "
+                         f"{', '.join(str(int(c)) for c in columns)}): keep one at the deck's nodes (nodes='deck')")
+    peak = np.where(on_deck, env[..., ABSMAX, :], np.nan)     # a pier's or abutment's node is no deck
     if np.all(np.isnan(peak)):
         return []
     train, speed, seed, idx = _governing(results, peak, np.nanargmax)
