@@ -139,6 +139,22 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
     assert {"dynamic_increment", "dynamic_vs_lm71", "deflection_lm71"} <= {r.criterion for r in default.rows}
 
 
+def test_a_short_span_without_hslm_b_says_so():
+    """EN 1991-2 6.4.6.1.1: a simply supported span under 7 m is checked with HSLM-B (reference/
+    README.md); a 5 m span swept with HSLM-A1 only says so in the deck acceleration's note, and
+    not once HSLM-B (given by its alias 'b') is in the sweep."""
+    span, mu, f1 = 5.0, 8000.0, 20.0
+    bridge = beam_bridge([span], mu * (2 * np.pi * f1 * (span / np.pi) ** 2) ** 2, 1.0, mu, elements_per_span=4)
+
+    def note(trains):
+        sweep = Sweep(bridge, trains, "300", PassageSettings(dt=5e-4, damping=0.013))
+        return check(sweep.run(None, workers=1, progress=False)).row("deck_acceleration").note
+
+    assert note(["HSLM-A1"]).endswith("EN 1991-2 6.4.6.1.1: a simply supported span under 7 m is checked with HSLM-B, "
+                                      "which this sweep does not hold")
+    assert "HSLM-B" not in note(["HSLM-A1", "b"])
+
+
 def test_a_check_with_nothing_to_check_or_a_short_cut_off_is_refused(hslm, tmp_path):
     """A sweep that kept no output a criterion reads gives no verdict, not PASS; a deck
     acceleration counted below the EN cut-off (here 6 Hz against n₃ = 45.8 Hz) is refused, not checked

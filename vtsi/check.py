@@ -42,6 +42,7 @@ import numpy as np
 
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError
+from vtsi.models.trains import HSLM_B_SPAN_RANGE
 from vtsi.passage import modal_basis_hz
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
 
@@ -264,6 +265,11 @@ def _deck_acceleration(results, outputs, bridge, settings):
         note = f"frequencies up to {basis:.4g} Hz (the modal bridge's modes)"
     else:
         note = "the FE model's full response: no EN cut-off output was kept"
+    spans = np.asarray(bridge["span_lengths_m"])
+    if len(spans) == 1 and spans[0] < HSLM_B_SPAN_RANGE[1] and \
+            not any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains):
+        note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {HSLM_B_SPAN_RANGE[1]:g} m is checked with "
+                 "HSLM-B, which this sweep does not hold")
     deck = set(np.asarray(bridge["deck_nodes"]).tolist())
     read = deck & set(np.asarray(columns).tolist())
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
