@@ -123,11 +123,12 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
     """A modal sweep's outputs count the modes up to modal_hz only: 6 Hz (one mode) under-read the
     deck acceleration against the 45 Hz cut-off and the note said 'the FE model's full
     response'; now refused, and the default basis (1.1 × the cut-off) is named in the note.
-    The deflection rows stay (a modal sweep's displacements carry the static correction)."""
+    The deflection rows stay: exact passages carry the static correction, and a time-stepped
+    modal bridge's φ'_dyn says that it lacks it."""
     bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
 
-    def modal_check(modal_hz, outputs=(Output("a", "accel"),)):
-        settings = PassageSettings(dt=1e-3, damping=0.013, bridge="modal", modal_hz=modal_hz)
+    def modal_check(modal_hz, outputs=(Output("a", "accel"),), kind="modal"):
+        settings = PassageSettings(dt=1e-3, damping=0.013, bridge=kind, modal_hz=modal_hz)
         return check(Sweep(bridge, ["HSLM-A1"], "300", settings, outputs=outputs).run(None, workers=1, progress=False))
 
     with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45\.0\d Hz: the "
@@ -137,6 +138,9 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
     default = modal_check(None, DEFAULT_OUTPUTS)
     assert default.row("deck_acceleration").note.endswith("frequencies up to 45.02 Hz (modal projection)")
     assert {"dynamic_increment", "dynamic_vs_lm71", "deflection_lm71"} <= {r.criterion for r in default.rows}
+    assert "static share" not in default.row("dynamic_increment").note         # exact passages: corrected
+    stepped = modal_check(None, (Output("d", "disp"),), kind="modal-stepped").row("dynamic_increment")
+    assert stepped.note.endswith("(in the modal bridge's modes up to 49.53 Hz, without the higher modes' static share)")
 
 
 def test_a_short_span_without_hslm_b_says_so():

@@ -315,7 +315,8 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
     phi_dyn = float(ratio[idx]) - 1.0
     rows = [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
                      speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
-                     note=f"phi'_dyn of the {what} ({name}) against its static value under the same train")]
+                     note=f"phi'_dyn of the {what} ({name}) against its static value under the same train"
+                          f"{_truncation_note(results, bridge)}")]
     L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
     Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
     v_max = float(np.max(results.speeds_kmh)) / 3.6
@@ -336,6 +337,19 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
                          f"{governs} (L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, "
                          f"alpha = {settings.alpha:g})"))
     return rows
+
+
+def _truncation_note(results, bridge):
+    """What a modal sweep's displacements and moments leave out when no static correction put
+    the truncated modes' quasi-static share back (time-stepped modal bridge, cars, self weight);
+    '' otherwise."""
+    sweep = results.identity["settings"]
+    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge["frequencies_hz"][:3])
+    corrected = (sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force"
+                 and not sweep.get("bridge_self_weight") and sweep.get("static_correction", True))
+    if basis is None or corrected:
+        return ""
+    return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"
 
 
 def _deflection_lm71(results, outputs, bridge, settings):
