@@ -500,6 +500,41 @@ def test_a_full_disk_names_the_recorder_its_file_and_the_records_times():
         analysis.run(20)
 
 
+def test_a_command_recorder_tries_its_file_again_after_a_failed_write(tmp_path):
+    """A command-layer recorder stays open from one analyze to the next: after a write that
+    failed (its handle dropped, unflushed records reported lost), the next analyze writes to the
+    file again, after the lines written before the failure (the failed analyze did not commit its
+    step, so t = 0.03 s is computed and recorded again)."""
+    session = ops.Session()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    session.node(1, 0.0, 0.0)
+    session.node(2, 10.0, 0.0)
+    session.fix(1, 1, 1, 0)
+    session.fix(2, 0, 1, 0)
+    session.geomTransf("Linear", 1)
+    session.element("elasticBeamColumn", 1, 1, 2, 1.0, 2e11, 1e-2, 1, "-mass", 1e3)
+    session.integrator("Newmark", 0.5, 0.25)
+    session.analysis("Transient")
+    path = tmp_path / "x.out"
+    sink = session.recorders[session.recorder("Node", "-file", str(path), "-time", "-node", 2, "-dof", 2, "disp")].sink
+    session.analyze(2, 0.01)
+
+    class FullDisk:
+        def write(self, data):
+            raise OSError(28, "No space left on device")
+
+        def close(self):
+            raise OSError(28, "No space left on device")
+
+    sink._handle = FullDisk()
+    with pytest.raises(OSError, match=r"^text recorder .*x\.out: cannot write the records of t = 0\.03 to 0\.03 s: "):
+        session.analyze(1, 0.01)
+    session.analyze(1, 0.01)
+    session.wipe()
+    times = [float(line.split()[0]) for line in path.read_text().splitlines()]
+    assert times == pytest.approx([0.01, 0.02, 0.03])
+
+
 def test_a_failed_hdf5_write_names_the_file_and_keeps_the_chunks_before(tmp_path, monkeypatch):
     """The third chunk's write fails as on a full disk (OSError ENOSPC from h5py): the error names
     the HDF5 recorder, its file and the chunk's times, and the file keeps the two chunks before."""
