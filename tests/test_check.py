@@ -123,12 +123,12 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
     """A modal sweep's outputs count the modes up to modal_hz only: 6 Hz (one mode) under-read the
     deck acceleration against the 45 Hz cut-off and the note said 'the FE model's full
     response'; now refused, and the default basis (1.1 × the cut-off) is named in the note.
-    The deflection rows stay: exact passages carry the static correction, and a time-stepped
-    modal bridge's φ'_dyn says that it lacks it."""
+    The deflection rows stay: passages of moving forces, exact or time-stepped, carry the static
+    correction, and without it φ'_dyn says what it lacks."""
     bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
 
-    def modal_check(modal_hz, outputs=(Output("a", "accel"),), kind="modal"):
-        settings = PassageSettings(dt=1e-3, damping=0.013, bridge=kind, modal_hz=modal_hz)
+    def modal_check(modal_hz, outputs=(Output("a", "accel"),), kind="modal", **settings):
+        settings = PassageSettings(dt=1e-3, damping=0.013, bridge=kind, modal_hz=modal_hz, **settings)
         return check(Sweep(bridge, ["HSLM-A1"], "300", settings, outputs=outputs).run(None, workers=1, progress=False))
 
     with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45\.0\d Hz: the "
@@ -139,8 +139,11 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
     assert default.row("deck_acceleration").note.endswith("frequencies up to 45.02 Hz (modal projection)")
     assert {"dynamic_increment", "dynamic_vs_lm71", "deflection_lm71"} <= {r.criterion for r in default.rows}
     assert "static share" not in default.row("dynamic_increment").note         # exact passages: corrected
-    stepped = modal_check(None, (Output("d", "disp"),), kind="modal-stepped").row("dynamic_increment")
-    assert stepped.note.endswith("(in the modal bridge's modes up to 49.53 Hz, without the higher modes' static share)")
+    assert "static share" not in modal_check(None, (Output("d", "disp"),), kind="modal-stepped").row(
+        "dynamic_increment").note
+    bare = modal_check(None, (Output("d", "disp"),), kind="modal-stepped", static_correction=False)
+    assert bare.row("dynamic_increment").note.endswith("(in the modal bridge's modes up to 49.53 Hz, without the "
+                                                       "higher modes' static share)")
 
 
 def test_a_short_span_without_hslm_b_says_so():

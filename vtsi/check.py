@@ -341,12 +341,12 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
 
 def _truncation_note(results, bridge):
     """What a modal sweep's displacements and moments leave out when no static correction put
-    the truncated modes' quasi-static share back (time-stepped modal bridge, cars, self weight);
+    the truncated modes' quasi-static share back (cars, self weight, static_correction off);
     '' otherwise."""
     sweep = results.identity["settings"]
     basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge["frequencies_hz"][:3])
-    corrected = (sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force"
-                 and not sweep.get("bridge_self_weight") and sweep.get("static_correction", True))
+    corrected = (sweep.get("cars", "force") == "force" and not sweep.get("bridge_self_weight")
+                 and sweep.get("static_correction", True))
     if basis is None or corrected:
         return ""
     return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"
