@@ -40,6 +40,19 @@ def test_out_of_range_is_refused(call, words):
         call()
 
 
+def test_table_6_2_determinant_length():
+    """Case 5.1: the span; case 5.2: k × the mean span, k = 1.2/1.3/1.4/1.5 for 2/3/4/≥ 5 spans,
+    but not less than the longest span (30 + 10 + 10 m: 1.3 × 16.7 = 21.7 m < 30 m)."""
+    from vtsi.codes.en1991_2 import determinant_length
+    assert determinant_length([17.5]) == 17.5
+    assert determinant_length([20.0, 20.0]) == pytest.approx(24.0)
+    assert determinant_length([15.0, 20.0, 12.0]) == pytest.approx(1.3 * 47.0 / 3)
+    assert determinant_length([25.0] * 4) == pytest.approx(35.0)
+    assert determinant_length([25.0] * 7) == pytest.approx(37.5)
+    assert determinant_length([30.0, 10.0, 10.0]) == 30.0
+    assert determinant_length([10.0, 40.0]) == 40.0               # 1.2 × 25 = 30 m < 40 m
+
+
 def test_en_1990_a2_acceleration_cutoff():
     """A2.4.4.2.1: max(30 Hz, 1.5 n0, n3)."""
     from vtsi.codes.en1990_a2 import acceleration_cutoff_hz

@@ -60,13 +60,13 @@ CONTINUOUS_K_MANY = 1.5
 def determinant_length(spans):
     """L_Φ [m], EN 1991-2 Table 6.2: the span of a simply supported deck (case 5.1); k times the
     mean span of a continuous deck of n spans (case 5.2: k = 1.2, 1.3, 1.4, 1.5 for n = 2, 3, 4,
-    ≥ 5)."""
+    ≥ 5), but not less than its longest span."""
     spans = [_span(s, "Table 6.2") for s in np.atleast_1d(np.asarray(spans, dtype=object))]
     if not spans:
         raise ModelError("EN 1991-2 Table 6.2: the determinant length needs at least one span [m], got none")
     if len(spans) == 1:
         return spans[0]
-    return CONTINUOUS_K.get(len(spans), CONTINUOUS_K_MANY) * float(np.mean(spans))
+    return max(CONTINUOUS_K.get(len(spans), CONTINUOUS_K_MANY) * float(np.mean(spans)), max(spans))
 
 
 def dynamic_factor(L_phi, maintenance="careful"):
