@@ -139,15 +139,18 @@ def test_markdown_references_the_written_pngs(files, tmp_path):
 
 def test_the_settings_name_the_bridge_model(files, tmp_path):
     """The reader must know which bridge model the envelopes come from: FE, or modal with the
-    frequency of its basis (default 1.1 × the EN cut-off, 49.53 Hz here)."""
+    frequency of its basis (default 1.1 × the EN cut-off, 49.53 Hz here), and how it is damped
+    (Rayleigh on the FE bridge, the ratio on every mode of the modal one)."""
     fe = write_report(files / "sweep.h5", tmp_path / "fe")["markdown"].read_text(encoding="utf-8")
     assert "| bridge model | FE model, time-stepped |" in fe
+    assert "| damping | ζ = 1.3 % (Rayleigh, through n₀ and the EN cut-off) |" in fe
     path = tmp_path / "modal.h5"
     modal = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=10), ["HSLM-A1"], "300",
                   PassageSettings(dt=1e-3, damping=0.013, bridge="modal"))
     check(modal.run(path, workers=1, progress=False)).store(path)
     text = write_report(path, tmp_path / "modal")["markdown"].read_text(encoding="utf-8")
     assert "| bridge model | modal: its modes up to 49.53 Hz, exact passages of moving forces, cars time-stepped |" in text
+    assert "| damping | ζ = 1.3 % on every mode (modal damping) |" in text
 
 
 def test_scene_section_and_a_file_without_histories(files, tmp_path):

@@ -187,7 +187,8 @@ def _sweep_options(p, check):
                                "cut-off, the damping ratio on every mode: exact passages for moving forces, "
                                "time-stepped for cars)")
     settings.add_argument("--damping", type=float, metavar="ZETA",
-                          help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh, through n0 and the EN cut-off); "
+                          help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh through n0 and the EN cut-off; with "
+                               "--bridge-model modal: on every mode); "
                                "default: the bridge as built (a beam: undamped)")
     settings.add_argument("--irregularity", metavar="NAME",
                           help=f"rail irregularity spectrum: {', '.join(_irregularities())} (default: smooth rail)")

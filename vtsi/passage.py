@@ -158,7 +158,8 @@ class PassageSettings:
     damping : None (the bridge as built) or a damping ratio ζ [-] given to the bridge by
         Rayleigh damping through the two frequencies ``damping_hz`` (default: the first
         vertical frequency n₀ and the EN 1991-2 cut-off max(30 Hz, 1.5 n₀, n₃)): modes between
-        them get less than ζ, modes outside more.
+        them get less than ζ, modes outside more. On a modal bridge ζ goes to every mode, and
+        None keeps the model's own damping, projected on the modes (refused unless classical).
     damping_hz : (f_a, f_b) [Hz] or None.
     irregularity : None (smooth rail) or 'german-low', 'german-high', 'fra-1' … 'fra-6'; each
         case's seed selects the sample. Only with cars='full' (moving forces do not feel it).
@@ -334,9 +335,15 @@ class PassageRunner:
                              settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
         self.cache = BridgeStageCache()
         self.modal = None
-        if settings.bridge != "fe":
-            self.modal = ModalBridge(self.model, self.track, modal_basis_hz(settings.bridge, settings.modal_hz,
-                                                                            self.frequencies), settings.damping or 0.0)
+        if settings.bridge != "fe":      # damping None: the model's own (classical) damping on its modes
+            f_max = modal_basis_hz(settings.bridge, settings.modal_hz, self.frequencies)
+            try:
+                self.modal = ModalBridge(self.model, self.track, f_max, settings.damping)
+            except ModelError as exc:
+                if "not classical" not in str(exc):
+                    raise
+                raise ModelError(f"{exc.args[0].split('; give')[0]}: give the sweep's damping ratio "
+                                 "(PassageSettings(damping=...), --damping)") from None
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}

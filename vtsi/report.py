@@ -722,9 +722,12 @@ def _bridge_model_text(settings, frequencies_hz):
 
 
 def _damping_text(settings):
-    zeta = settings.get("damping")
+    zeta, modal = settings.get("damping"), settings.get("bridge", "fe") != "fe"
     if zeta is None:
-        return "the bridge as built (no Rayleigh damping added)"
+        return "the bridge as built (its own damping, on its modes)" if modal else \
+            "the bridge as built (no Rayleigh damping added)"
+    if modal:
+        return f"ζ = {100 * zeta:.3g} % on every mode (modal damping)"
     pair = settings.get("damping_hz")
     where = (f"{pair[0]:.4g} and {pair[1]:.4g} Hz" if pair else "n₀ and the EN cut-off")
     return f"ζ = {100 * zeta:.3g} % (Rayleigh, through {where})"
