@@ -8,6 +8,7 @@ from vtsi.errors import ModelError, SweepError
 from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageSettings
 from vtsi.reference.fryba import daf
 from vtsi.sweep import Sweep, beam_bridge
+from vtsi.workflow import design_check
 
 L, F1, MU = 20.0, 5.0, 15000.0
 EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
@@ -174,6 +175,13 @@ def test_a_check_with_nothing_to_check_or_a_short_cut_off_is_refused(hslm, tmp_p
     short = Sweep(bridge, ["HSLM-A1"], "300", fast, outputs=[Output("a", "accel", cutoff=6.0)])
     with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45.8\d Hz"):
         check(short.run(None, workers=1, progress=False))
+    # the deck's self weight in the envelopes: φ'_dyn read 4.1 instead of 1.0 (totals over the train's static value)
+    heavy = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(dt=5e-3, damping=0.013, bridge_self_weight=True))
+    with pytest.raises(SweepError, match=r"^check: the sweep's displacements, .* include the bridge's self weight"):
+        check(heavy.run(None, workers=1, progress=False))
+    with pytest.raises(SweepError, match=r"^design check: the sweep's displacements"):
+        design_check(heavy, tmp_path / "heavy.h5")
+    assert not (tmp_path / "heavy.h5").exists()
     assert not CheckResult(CheckSettings()).passed
     assert "NO VERDICT" in CheckResult(CheckSettings()).text()
     with pytest.raises(SweepError, match="results must be SweepResults or a results file path, got NoneType"):

@@ -61,12 +61,17 @@ def test_check_writes_results_checks_histories_and_report(tmp_path, bridge, caps
     (["--bridge-type", "steel", "--line-speed", "300"],                        # 300 km/h given, 360 asked
      "--speeds reach 300 km/h, short of 1.2 x --line-speed 300 = 360 km/h that EN 1991-2 6.4.6.2(1) asks"),
     (["--bridge-type", "steel", "--line-speed", "250", "--speeds", "en:300"], "name two line speeds"),
+    (["--bridge-type", "steel", "SELF_WEIGHT"],                               # totals would be read as train effects
+     "include the bridge's self weight (bridge_self_weight), and the EN criteria read the trains' effects"),
 ])
 def test_bad_check_input_is_one_line_exit_2_nothing_written(tmp_path, bridge, capsys, monkeypatch, extra, words):
     monkeypatch.chdir(tmp_path)
     if "LONG" in extra:
         extra = [e for e in extra if e != "LONG"]
         bridge.write_text(LONG_TOML)
+    if "SELF_WEIGHT" in extra:
+        extra = [e for e in extra if e != "SELF_WEIGHT"]
+        bridge.write_text(BEAM_TOML + "bridge_self_weight = true\n")
     speeds = [] if "--speeds" in extra else ["--speeds", "300"]
     status = main(["check", str(bridge), "--trains", "HSLM-A1", *speeds, "--workers", "1", *extra])
     err = capsys.readouterr().err

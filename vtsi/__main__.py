@@ -375,6 +375,7 @@ def _check_numbers(ns):
 
 def _check(ns):
     """Sweep, check, histories of the governing cases, scene and report; see ``vtsi check -h``."""
+    from vtsi.check import SELF_WEIGHT_REFUSED
     from vtsi.errors import VtsiError
 
     out = os.path.abspath(ns.out)
@@ -396,6 +397,8 @@ def _check(ns):
         if os.path.exists(report_dir) and not os.path.isdir(report_dir):
             raise _UsageError(f"--report {report_dir}: exists and is not a directory")
         sweep = _prepare_sweep(ns, out)
+        if sweep.settings.bridge_self_weight:
+            raise _UsageError(SELF_WEIGHT_REFUSED.removeprefix("check: "))
     except (VtsiError, OSError, _UsageError) as exc:
         return _fail(exc, EXIT_USAGE, "check")
     except KeyboardInterrupt:

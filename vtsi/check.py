@@ -189,6 +189,11 @@ def stored_check(path):
     return CheckResult(settings, rows)
 
 
+SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments include the bridge's self weight "
+                       "(bridge_self_weight), and the EN criteria read the trains' effects: sweep without it (on a "
+                       "linear bridge it does not change them)")
+
+
 def check(results, settings=None):
     """Evaluate every criterion on ``results`` (a :class:`SweepResults` or a results file path);
     a SweepError when no criterion can be evaluated (the sweep kept none of their outputs) or a
@@ -202,6 +207,8 @@ def check(results, settings=None):
         results = SweepResults(results)
     if results.n_done == 0:
         raise SweepError("check: the results file holds no finished case")
+    if results.identity["settings"].get("bridge_self_weight"):
+        raise SweepError(SELF_WEIGHT_REFUSED)
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
     out = CheckResult(settings)

@@ -167,7 +167,8 @@ class PassageSettings:
         forces, CAR_APPROACH for cars.
     free_vibration : time after the last wheel leaves the track [s]; None:
         FREE_VIBRATION_PERIODS periods of the first vertical mode.
-    bridge_self_weight : include the deck's self weight (results are then totals).
+    bridge_self_weight : include the deck's self weight (results are then totals, which the
+        check refuses: its criteria read the trains' effects).
     bridge : 'fe' (the FE bridge, time-stepped) or 'modal' (its modes up to ``modal_hz``, each
         with the damping ratio ``damping`` exactly, :class:`~vtsi.modal_bridge.ModalBridge`):
         trains of moving forces over a bridge without self weight run as exact modal passages

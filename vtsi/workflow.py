@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from vtsi.check import CheckSettings, check
+from vtsi.check import SELF_WEIGHT_REFUSED, CheckSettings, check
 from vtsi.errors import SweepError
 from vtsi.report import report_folder, write_report
 from vtsi.scene3d import animate_case, render_case, rendering_available
@@ -32,6 +32,8 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
         raise SweepError(f"design check: the results file must be a path, got {path!r}")
     if not (settings is None or isinstance(settings, CheckSettings)):
         raise SweepError(f"design check: settings must be CheckSettings, got {type(settings).__name__}")
+    if sweep.settings.bridge_self_weight:
+        raise SweepError(f"design {SELF_WEIGHT_REFUSED}")
     path = os.path.abspath(os.fspath(path))
     report_dir = os.path.abspath(report_folder(report_dir or os.path.splitext(path)[0] + "_report"))
     sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
