@@ -147,6 +147,25 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
                                                        "higher modes' static share)")
 
 
+def test_the_end_rotation_is_read_at_the_deck_ends_only():
+    """A continuous 10 + 30 + 10 m deck: the 'supports' output has all four supports, and the
+    interior ones rotate more than the ends (they were read as 'end rotations'); the row takes the
+    ends' largest. A rotation output without a deck end says so."""
+    bridge = beam_bridge([10.0, 30.0, 10.0], EI, 1.0, MU, elements_per_span=6)
+    results = Sweep(bridge, ["HSLM-A1"], "250:300:50", PassageSettings(dt=2e-3, damping=0.013)).run(
+        None, workers=1, progress=False)
+    env, columns = results.column_envelopes("end_rotation")
+    peak = np.maximum(np.abs(env[..., 0, :]), np.abs(env[..., 1, :])).max(axis=(0, 1, 2))
+    ends = [0, len(columns) - 1]
+    assert len(columns) == 4 and peak[1:3].max() > peak[ends].max()
+    row = check(results).row("end_rotation")
+    assert row.value == pytest.approx(peak[ends].max(), rel=1e-12)
+    assert row.where == f"node {columns[ends[int(np.argmax(peak[ends]))]]}" and "at the deck's ends" in row.note
+    inner = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(dt=2e-3, damping=0.013),
+                  outputs=[Output("r", "rotation", nodes="midspan")]).run(None, workers=1, progress=False)
+    assert "none at the deck's ends" in check(inner).row("end_rotation").note
+
+
 def test_a_short_span_without_hslm_b_says_so():
     """EN 1991-2 6.4.6.1.1: a simply supported span under 7 m is checked with HSLM-B (reference/
     README.md); a 5 m span swept with HSLM-A1 only says so in the deck acceleration's note, and

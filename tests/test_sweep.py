@@ -474,6 +474,49 @@ def test_a_failing_case_is_named_and_the_finished_ones_are_kept(tmp_path):
     assert SweepResults(tmp_path / "f.h5").n_done == 1
 
 
+def _deck_on_piers(rail_on_springs=False):
+    """3 × 20 m continuous deck (2 m elements, nodes 1–31) fixed at its ends and carried at x = 20
+    and 40 m by 8 m piers (fixed at their feet) on zeroLength bearings; with ``rail_on_springs``
+    the track is a rail beam 0.5 m above the deck on vertical springs at every node."""
+    from vtsi.sweep import SweepBridge
+    model = vtsi.Model()
+    for i in range(31):
+        model.node(i + 1, 2.0 * i, 0.0)
+    model.fix(1, 1, 1, 0)
+    model.fix(31, 0, 1, 0)
+    deck = list(range(1, 31))
+    for e in deck:
+        model.element("elasticBeamColumn", e, (e, e + 1), A=8.0, E=3.5e10, I=1.9, rho=15000.0)
+    for k, (top, x) in enumerate(((11, 20.0), (21, 40.0))):
+        model.node(200 + k, x, 0.0)
+        model.node(300 + k, x, -8.0)
+        model.fix(300 + k, 1, 1, 1)
+        model.element("zeroLength", 200 + k, (top, 200 + k), kx=1e12, ky=1e12)
+        model.element("elasticBeamColumn", 300 + k, (300 + k, 200 + k), A=6.0, E=3.5e10, I=2.0, rho=15000.0)
+    if not rail_on_springs:
+        return SweepBridge(model, deck, {"kind": "script"})
+    for i in range(31):
+        model.node(1001 + i, 2.0 * i, 0.5)
+        model.element("zeroLength", 2001 + i, (1001 + i, i + 1), ky=1e9)
+        if i:
+            model.element("elasticBeamColumn", 1000 + i, (1000 + i, 1001 + i), A=0.0077, E=2.1e11, I=3.05e-5,
+                          rho=60.0)
+    model.fix(1001, 1, 0, 0)
+    return SweepBridge(model, list(range(1001, 1031)), {"kind": "script"})
+
+
+def test_spans_end_at_piers_and_bearings_not_at_rail_springs():
+    """A deck on piers is three spans, not one (a check read L_Φ = 60 m, Φ₂ = 1.011 and
+    L/600 = 0.1 m instead of 26 m, 1.114 and 0.033 m, and never the outer mid-spans); a rail on
+    springs over that deck keeps the deck's spans, not one per spring."""
+    for rail in (False, True):
+        runner = Sweep(_deck_on_piers(rail), ["HSLM-A1"], "300", FAST).runner
+        assert runner.span_lengths == pytest.approx([20.0, 20.0, 20.0]), rail
+        base = 1000 if rail else 0
+        assert runner.support_nodes == [base + 1, base + 11, base + 21, base + 31]
+        assert runner.midspan_nodes == [base + 6, base + 16, base + 26]
+
+
 def test_bridge_frequency_from_the_model():
     sweep = Sweep(small_bridge(8), ["HSLM-A1"], "200", FAST)
     assert sweep.runner.frequencies[0] == pytest.approx(first_frequency(L, EI, 1.0, MU), rel=1e-4)

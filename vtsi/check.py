@@ -389,15 +389,25 @@ def _deflection_lm71(results, outputs, bridge, settings):
 
 
 def _end_rotation(results, outputs, bridge, settings):
+    """The largest rotation at the deck's end supports (an output's nodes there; at all its nodes,
+    so said, when it has none there)."""
+    deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
+    first = min(deck_x.values())
+    ends = (first, first + float(np.sum(bridge["span_lengths_m"])))
     for name in _outputs_of(outputs, "rotation"):
         env, columns = results.column_envelopes(name)
         peak = np.maximum(np.abs(env[..., MIN, :]), np.abs(env[..., MAX, :]))
+        at_end = [c for c, n in enumerate(columns.tolist())
+                  if n in deck_x and min(abs(deck_x[n] - e) for e in ends) <= 1e-9 * (ends[1] - ends[0])]
+        where = "at the deck's ends" if at_end else "at the output's nodes, none at the deck's ends"
+        if at_end:
+            peak, columns = peak[..., at_end], columns[at_end]
         if np.all(np.isnan(peak)):
             continue
         train, speed, seed, idx = _governing(results, peak, np.nanargmax)
         return [CheckRow("end_rotation", "-", float(peak[idx]), "rad", train=train, speed_kmh=speed, seed=seed,
                          where=f"node {int(columns[idx[-1]])}",
-                         note="largest end rotation of the deck under the trains (no limit checked)")]
+                         note=f"largest rotation of the deck under the trains {where} (no limit checked)")]
     return []
 
 

@@ -63,6 +63,7 @@ IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range
 NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
 PLACES = ("deck", "midspan", "supports")
+SUPPORT_X_TOLERANCE = 0.01    # [m] how far off a deck node's x a bearing or pier under it may reach
 BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
 
 
@@ -83,7 +84,8 @@ class Output:
         every car). The vehicle responses need a train of cars (fidelity 'full'); a train of
         moving forces skips them.
     nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
-        span's middle), 'supports' (the track's nodes with uy fixed) or a tuple of node tags.
+        span's middle), 'supports' (the track's nodes that carry it: uy fixed, or on bearings or piers,
+        :meth:`PassageRunner._supports`) or a tuple of node tags.
     history : keep the time history too.
     cutoff : None (the FE model's full response), 'en' (the EN 1990 A2.4.4.2.1 cut-off
         max(30 Hz, 1.5 n₀, n₃)) or a frequency [Hz]: the node response in the modes up to it
@@ -361,13 +363,47 @@ class PassageRunner:
             nodes.update(asm.blocks[b][0].nodes[i])
         x = {n: float(self.model.nodes[n][0]) for n in nodes}
         deck = sorted(nodes, key=x.get)
-        fixed = [n for n in deck if self.model.fixities.get(n, (0, 0, 0))[1]]
+        fixed = self._supports(deck, x)
         self.support_nodes = list(fixed)
         if len(fixed) < 2:
             fixed = [deck[0], deck[-1]]
         spans = [x[b] - x[a] for a, b in zip(fixed[:-1], fixed[1:])]
         middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in zip(fixed[:-1], fixed[1:])]
         return deck, middle, spans
+
+    def _supports(self, deck, x):
+        """The deck nodes that carry the deck, in order: uy fixed, or standing on a vertical line
+        of other elements or equalDOF/rigidLink ties (bearings, springs, piers: every node of the
+        line within SUPPORT_X_TOLERANCE of the deck node's x, off the deck) that reaches a node
+        with uy fixed. Hangers and stays are not vertical lines to a fixed node, nor is the deck
+        under a rail modelled as its own beam on springs."""
+        fixed_y = {n for n, flags in self.model.fixities.items() if flags[1]}
+        on_deck, track, links = set(deck), set(self.track.elements), {}
+        for etype, tags, *_ in self.model.build().blocks:
+            for i, tag in enumerate(tags):
+                if tag in track:
+                    continue
+                ends = [int(n) for n in etype.nodes[i]]
+                for n in ends:
+                    links.setdefault(n, set()).update(m for m in ends if m != n)
+        for (n, _), terms in self.model.mp_constraints.items():
+            for m, *_ in terms:
+                links.setdefault(n, set()).add(m)
+                links.setdefault(m, set()).add(n)
+
+        def stands(node):
+            seen, stack = {node}, [node]
+            while stack:
+                for m in links.get(stack.pop(), ()):
+                    if m in seen or m in on_deck or abs(self.model.nodes[m][0] - x[node]) > SUPPORT_X_TOLERANCE:
+                        continue
+                    if m in fixed_y:
+                        return True
+                    seen.add(m)
+                    stack.append(m)
+            return False
+
+        return [n for n in deck if n in fixed_y or stands(n)]
 
     def cutoff_hz(self, cutoff):
         """The cut-off [Hz] of an output's ``cutoff`` ('en' or a frequency)."""
