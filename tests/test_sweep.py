@@ -269,7 +269,7 @@ def test_xarray_view_of_the_envelopes(tmp_path):
     ds = res.to_xarray()
     assert isinstance(ds, xarray.Dataset)
     assert ds["acceleration_absmax"].dims == ("train", "speed_kmh", "seed")
-    assert ds["acceleration_absmax"].attrs["units"] == "m/s^2"
+    assert ds["acceleration_absmax"].attrs["units"] == "m/s^2" and ds["speed_kmh"].attrs["units"] == "km/h"
     assert float(ds["acceleration_absmax"].sel(train="HSLM-A2", speed_kmh=300.0, seed=-1)) == \
         res.envelope("acceleration_absmax")[1, 1, 0]
     reread = SweepResults(tmp_path / "x.h5").to_xarray()

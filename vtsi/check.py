@@ -33,6 +33,7 @@ keep are left out.
 """
 import datetime
 import json
+import math
 import os
 import shutil
 from dataclasses import asdict, dataclass, field
@@ -47,6 +48,7 @@ from vtsi.passage import modal_basis_hz
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
+SAMPLING_NOTE = 0.01   # the deck acceleration notes a sampling under-read above this bound [-]
 
 
 @dataclass(frozen=True)
@@ -282,6 +284,13 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
         note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
                  "maximum may lie elsewhere")
+    exact = sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force" \
+        and not sweep.get("bridge_self_weight")
+    f_top, dt = counted[name] or en_cutoff, float(sweep.get("dt", 0.0))
+    under_read = 1.0 - math.cos(math.pi * min(f_top * dt, 0.5))
+    if not exact and under_read > SAMPLING_NOTE:     # time-stepped peaks are the samples' (exact ones are refined)
+        note += (f"; peaks sampled every {1e3 * dt:g} ms: a {f_top:.4g} Hz part of the response is under-read by up "
+                 f"to {100 * under_read:.2g} % (1 - cos(pi f dt)); a smaller dt reads it closer")
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
                      "pass" if value <= limit else "fail", train, speed, seed, f"node {int(columns[idx[-1]])}",
                      f"{settings.track.replace('_', ' ')} track; {note}")]
@@ -342,8 +351,16 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
                          results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
                          f"{what}: (1 + phi'dyn + {share:g} phi'') y_train / (Phi alpha y_LM71) = {value:.3f}: "
                          f"{governs} (L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, "
-                         f"alpha = {settings.alpha:g})"))
+                         f"alpha = {settings.alpha:g}){_irregular_note(results)}"))
     return rows
+
+
+def _irregular_note(results):
+    """'' on a smooth rail; else that φ'_dyn already holds the irregular rail φ'' stands for."""
+    if results.identity["settings"].get("irregularity") is None:
+        return ""
+    return ("; phi'_dyn comes from an irregular rail and already holds what phi'' stands for (EN 1991-2 Annex C "
+            "adds phi'' to a smooth-rail phi'_dyn): counted twice, on the safe side")
 
 
 def _truncation_note(results, bridge):

@@ -565,7 +565,8 @@ class SweepResults:
         """The envelope tables as an ``xarray.Dataset`` (dims train, speed_kmh, seed; units in
         each variable's attrs; ``<q>_where`` and ``<q>_time`` beside each quantity)."""
         import xarray
-        coords = {"train": self.trains, "speed_kmh": self.speeds_kmh, "seed": self.seeds}
+        coords = {"train": self.trains, "speed_kmh": ("speed_kmh", self.speeds_kmh, {"units": "km/h"}),
+                  "seed": self.seeds}
         dims = ("train", "speed_kmh", "seed")
         data = {}
         for q, units in self.quantities.items():
