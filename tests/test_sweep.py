@@ -230,7 +230,7 @@ def test_results_file_layout_units_and_envelopes(tmp_path):
         assert list(f["outputs/acceleration"].attrs["rows"])[:3] == ["min", "max", "absmax"]
         nodes = f["outputs/acceleration/columns"][()]
         np.testing.assert_array_equal(nodes, sweep.runner.deck_nodes)
-        assert f.attrs["format_version"] == 3
+        assert f.attrs["format_version"] == 4
         table = f["cases"]                         # one table of every case, a row each
         assert sorted(table["train"][()]) == [0, 0, 0, 1, 1, 1]
         mine = table["train"][()] == 1             # HSLM-A4, the second of /train
@@ -372,11 +372,11 @@ def test_a_file_of_an_older_format_is_refused_with_its_version(tmp_path):
     path = tmp_path / "old.h5"
     sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
     sweep.run(path, workers=1, progress=False)
-    with h5py.File(path, "a") as f:          # as a vtsi of format 2 wrote it
-        f.attrs["format_version"] = 2
-    with pytest.raises(SweepError, match="format 2, this vtsi reads format 3"):
+    with h5py.File(path, "a") as f:          # as a vtsi of format 3 wrote it
+        f.attrs["format_version"] = 3
+    with pytest.raises(SweepError, match="format 3, this vtsi reads format 4"):
         SweepResults(path)
-    with pytest.raises(SweepError, match="format 2, this vtsi writes format 3: it cannot be resumed"):
+    with pytest.raises(SweepError, match="format 3, this vtsi writes format 4: it cannot be resumed"):
         sweep.run(path, workers=1, progress=False, resume=True)
 
 
@@ -515,6 +515,31 @@ def test_spans_end_at_piers_and_bearings_not_at_rail_springs():
         base = 1000 if rail else 0
         assert runner.support_nodes == [base + 1, base + 11, base + 21, base + 31]
         assert runner.midspan_nodes == [base + 6, base + 16, base + 26]
+
+
+def test_an_approach_on_the_ground_is_no_span(tmp_path):
+    """A 20 m span whose track runs on over 4 m of ground at each end (nodes with uy fixed, or on
+    springs): one span from x = 0 to 20 m, not eleven (each ground element was a 'span' of its own,
+    with an L/600 limit of 3 mm); the results file keeps the span's ends."""
+    from vtsi.sweep import SweepBridge
+    for springs in (False, True):
+        model = vtsi.Model()
+        xs = np.arange(-4.0, 24.1, 2.0)
+        for i, x in enumerate(xs):
+            model.node(i + 1, float(x), 0.0)
+            if x <= 0.0 or x >= 20.0:
+                if springs and 0.0 < abs(x - 10.0) - 10.0:
+                    model.node(100 + i, float(x), -1.0)
+                    model.fix(100 + i, 1, 1, 1)
+                    model.element("zeroLength", 100 + i, (i + 1, 100 + i), ky=1e9)
+                else:
+                    model.fix(i + 1, int(x == 0.0), 1, 0)
+        for e in range(1, len(xs)):
+            model.element("elasticBeamColumn", e, (e, e + 1), A=1.0, E=3.5e10, I=EI / 3.5e10, rho=MU)
+        sweep = Sweep(SweepBridge(model, list(range(1, len(xs))), {"kind": "script"}), ["HSLM-A1"], "300", FAST)
+        assert sweep.runner.span_lengths == [20.0] and sweep.runner.midspan_nodes == [8], springs
+        bridge = sweep.run(tmp_path / f"g{springs}.h5", workers=1, progress=False).bridge()
+        assert bridge["span_ends_m"].tolist() == [[0.0, 20.0]]
 
 
 def test_bridge_frequency_from_the_model():

@@ -383,15 +383,16 @@ def _deflection_lm71(results, outputs, bridge, settings):
             continue
         _, columns = results.column_envelopes(name)
         deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
-        spans, x0 = bridge["span_lengths_m"], min(deck_x.values())
+        spans, ends = bridge["span_lengths_m"], bridge["span_ends_m"]
         L_phi = en1991_2.determinant_length(spans)
         Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
-        edges = x0 + np.concatenate([[0.0], np.cumsum(spans)])
         worst = None
         for c, node in enumerate(columns):
-            if int(node) not in deck_x:
+            inside = np.flatnonzero((ends[:, 0] <= deck_x.get(int(node), np.nan))
+                                    & (deck_x.get(int(node), np.nan) <= ends[:, 1]))
+            if not len(inside):       # off the deck, or on the ground beyond its spans
                 continue
-            k = int(np.clip(np.searchsorted(edges, deck_x[int(node)], side="right") - 1, 0, len(spans) - 1))
+            k = int(inside[0])
             value = Phi * settings.alpha * abs(static[1][MIN, c])
             limit = spans[k] / en1990_a2.DEFLECTION_SPAN_RATIO
             if worst is None or value / limit > worst[0] / worst[1]:
@@ -409,8 +410,7 @@ def _end_rotation(results, outputs, bridge, settings):
     """The largest rotation at the deck's end supports (an output's nodes there; at all its nodes,
     so said, when it has none there)."""
     deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
-    first = min(deck_x.values())
-    ends = (first, first + float(np.sum(bridge["span_lengths_m"])))
+    ends = (float(bridge["span_ends_m"][0, 0]), float(bridge["span_ends_m"][-1, 1]))
     for name in _outputs_of(outputs, "rotation"):
         env, columns = results.column_envelopes(name)
         peak = np.maximum(np.abs(env[..., MIN, :]), np.abs(env[..., MAX, :]))

@@ -312,7 +312,8 @@ class PassageRunner:
     frequencies : (3,) first vertical frequencies [Hz] (with the sweep's damping applied: the
         undamped ones of the model).
     deck_nodes, midspan_nodes : node tags along the track (x order) and at each span's middle.
-    span_lengths : [m] between the track's supports (nodes where uy is fixed).
+    span_ends : (n_spans, 2) x of each span's first and last support [m] (:meth:`_supports`; an
+        element with both ends supported is ground, not a span); span_lengths [m] their distances.
     """
 
     def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS):
@@ -323,7 +324,8 @@ class PassageRunner:
         if len(set(names)) != len(names):
             raise ModelError(f"sweep outputs: names must differ, got {names}")
         self.track = Track(self.model, list(track_elements))
-        self.deck_nodes, self.midspan_nodes, self.span_lengths = self._deck()
+        self.deck_nodes, self.midspan_nodes, self.span_ends = self._deck()
+        self.span_lengths = [b - a for a, b in self.span_ends]
         for o in self.outputs:
             missing = [n for n in self.output_nodes(o.nodes) if n not in self.model.nodes]
             if missing and not o.vehicle:
@@ -365,11 +367,11 @@ class PassageRunner:
         deck = sorted(nodes, key=x.get)
         fixed = self._supports(deck, x)
         self.support_nodes = list(fixed)
-        if len(fixed) < 2:
-            fixed = [deck[0], deck[-1]]
-        spans = [x[b] - x[a] for a, b in zip(fixed[:-1], fixed[1:])]
-        middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in zip(fixed[:-1], fixed[1:])]
-        return deck, middle, spans
+        place = {n: i for i, n in enumerate(deck)}
+        # an element with both ends supported lies on the ground (an approach on springs or fixed nodes)
+        pairs = [(a, b) for a, b in zip(fixed[:-1], fixed[1:]) if place[b] - place[a] > 1] or [(deck[0], deck[-1])]
+        middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in pairs]
+        return deck, middle, [(x[a], x[b]) for a, b in pairs]
 
     def _supports(self, deck, x):
         """The deck nodes that carry the deck, in order: uy fixed, or standing on a vertical line

@@ -619,7 +619,7 @@ def _mode_shapes_png(bridge):
     order = np.argsort(x)
     x, shapes = x[order], shapes[order]
     fine = np.linspace(x[0], x[-1], 400)
-    supports = x[0] + np.concatenate([[0.0], np.cumsum(bridge["span_lengths_m"])])
+    supports = np.unique(bridge["span_ends_m"])
     with _figure((11, 3.8)) as (fig, ax):
         for k in range(min(MODES_SHOWN, shapes.shape[1])):
             phi = shapes[:, k]

@@ -818,8 +818,7 @@ def _recorded_case(results_path, train, speed_kmh, seed):
     if "deck_displacement" not in history:
         raise SweepError(f"scene: case {train} at {speed_kmh:g} km/h has no deck displacement history")
     bridge = results.bridge()
-    edges = np.cumsum(np.concatenate([[0.0], bridge["span_lengths_m"]]))
-    scene = PassageScene(bridge["deck_x_m"], float(bridge["deck_x_m"][0]) + edges)
+    scene = PassageScene(bridge["deck_x_m"], np.unique(bridge["span_ends_m"]))
     return results, train, float(speed_kmh), seed, history, scene
 
 

@@ -5,7 +5,8 @@ Layout (docs/sweeps.md)::
     /                      attrs: format 'vtsi-sweep', format_version, vtsi_version, created,
                            identity (JSON: bridge, settings, outputs, trains, speeds, seeds)
     /train, /speed_kmh, /seed          the envelope tables' coordinates (seed -1: smooth rail)
-    /bridge/               frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m
+    /bridge/               frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m,
+                           span_ends_m (n_spans, 2: each span's supports' x), mode_shapes_uy
     /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
                            columns per case (NaN: not run yet, or not produced by that train);
                            <q>_where (the column: node tag, contact wheel or car), <q>_time [s];
@@ -50,7 +51,7 @@ import numpy as np
 from vtsi import __version__
 from vtsi.errors import SweepError, as_number
 
-FORMAT, FORMAT_VERSION = "vtsi-sweep", 3
+FORMAT, FORMAT_VERSION = "vtsi-sweep", 4
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "moment": ("min", "max"),
@@ -167,6 +168,7 @@ class ResultsWriter:
                 b["deck_x_m"] = np.array([runner.model.nodes[n][0] for n in runner.deck_nodes])
                 b["midspan_nodes"] = np.asarray(runner.midspan_nodes, dtype=np.int64)
                 b["span_lengths_m"] = np.asarray(runner.span_lengths, dtype=float)
+                b["span_ends_m"] = np.asarray(runner.span_ends, dtype=float).reshape(-1, 2)
                 asm = runner.model.build()
                 b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.deck_nodes]]
                 shape = (len(ident["trains"]), len(ident["speeds_kmh"]), len(ident["seeds"]))
@@ -520,7 +522,8 @@ class SweepResults:
                     **{k: g[k][i] for k in ("n_cars", "n_dof", "length_m", "characteristic_length_m")}}
 
     def bridge(self):
-        """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m."""
+        """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m,
+        span_ends_m (n_spans, 2), mode_shapes_uy."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 
