@@ -31,6 +31,8 @@ Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
 6. Each stage's ``force_weight`` ω lies in ``(0, 1 + Σ km]``: a coupled analysis weights the
    stage's own constraint forces by ω and the step start's by ``1 + Σ km − ω`` (>= 0).
 """
+import inspect
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -49,16 +51,53 @@ def register(cls):
 
 
 def make_integrator(spec, *args, **kwargs):
-    """An integrator from an instance, a class, or a registered name (with its parameters)."""
+    """An integrator from an instance, a class, a registered name (with its parameters), or a
+    name with its parameters as text, ``'HHT(0.9)'`` or its repr ``'HHT(alpha=0.9, gamma=0.6,
+    beta=0.3025)'``."""
     if isinstance(spec, Integrator):
         if args or kwargs:
             raise AnalysisError(f"integrator {spec.name}: parameters given twice")
         return spec
     if isinstance(spec, type) and issubclass(spec, Integrator):
         return spec(*args, **kwargs)
+    call = _CALL.fullmatch(spec) if isinstance(spec, str) else None
+    if call and call.group(1) in INTEGRATORS:
+        if args or kwargs:
+            raise AnalysisError(f"integrator {spec!r}: parameters given twice")
+        args, kwargs = _call_arguments(spec, call.group(2))
+        spec = call.group(1)
     if isinstance(spec, str) and spec in INTEGRATORS:
-        return INTEGRATORS[spec](*args, **kwargs)
-    raise AnalysisError(f"unknown integrator {spec!r}; known: {', '.join(sorted(INTEGRATORS))}")
+        try:
+            return INTEGRATORS[spec](*args, **kwargs)
+        except TypeError:             # a parameter the integrator does not take
+            given = ", ".join([f"{a!r}" for a in args] + [f"{k}={v!r}" for k, v in kwargs.items()])
+            raise AnalysisError(f"integrator {spec}: ({given}) does not fit its parameters "
+                                f"{inspect.signature(INTEGRATORS[spec])}") from None
+    raise AnalysisError(f"unknown integrator {spec!r}; known: {', '.join(sorted(INTEGRATORS))} "
+                        "(parameters as 'HHT(0.9)')")
+
+
+_CALL = re.compile(r"\s*([A-Za-z]\w*)\s*\((.*)\)\s*")
+
+
+def _call_arguments(spec, text):
+    """The numbers of ``'0.9, gamma=0.6'``: ``([0.9], {'gamma': 0.6})``, or an AnalysisError."""
+    args, kwargs = [], {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        key, _, value = part.rpartition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            raise AnalysisError(f"integrator {spec!r}: {part!r} is not a number (or name=number)") from None
+        if key and not key.strip().isidentifier():
+            raise AnalysisError(f"integrator {spec!r}: {key.strip()!r} is not a parameter name")
+        if key:
+            kwargs[key.strip()] = number
+        elif kwargs:
+            raise AnalysisError(f"integrator {spec!r}: {part!r} follows a named parameter")
+        else:
+            args.append(number)
+    return args, kwargs
 
 
 @dataclass
@@ -125,7 +164,7 @@ class Integrator:
         return None
 
     def __repr__(self):
-        params = ", ".join(f"{k}={v:g}" for k, v in vars(self).items() if isinstance(v, float))
+        params = ", ".join(f"{k}={v:g}" for k, v in vars(self).items() if isinstance(v, float) and k[0] != "_")
         return f"{type(self).__name__}({params})"
 
 

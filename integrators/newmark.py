@@ -71,11 +71,16 @@ class HHT(Newmark):
     Other ``γ, β`` (OpenSees's ``integrator HHT α γ β``) need ``γ >= 3/2 - α`` (else slow modes
     grow); their stability limit is computed from the characteristic polynomial (see
     :func:`hht_stability_limit`) and a choice unstable at every practical step is refused.
+    ``α`` has no default, as in OpenSees: ``'HHT'`` by name alone was the undamped trapezoidal
+    rule (α = 1), which a user asking for HHT's dissipation did not get.
     """
 
     name = "HHT"
 
-    def __init__(self, alpha=1.0, gamma=None, beta=None):
+    def __init__(self, alpha=None, gamma=None, beta=None):
+        if alpha is None:
+            raise AnalysisError("integrator HHT: give alpha (OpenSees convention, 2/3 <= alpha <= 1; 1 is Newmark's "
+                                "undamped trapezoidal rule), e.g. HHT(0.9) or 'HHT(0.9)'")
         self.alpha = number(self.name, "alpha", alpha)
         check_parameter(self.name, "alpha", self.alpha, 2.0 / 3.0, 1.0,
                         why="OpenSees convention; alpha = 1 is the trapezoidal rule")

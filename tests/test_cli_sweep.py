@@ -172,10 +172,10 @@ def test_sweep_toml_in_process(tmp_path, capsys):
     # resume: nothing left to run, the same table; overwrite with other options: they win over [analysis]
     assert sweep(tmp_path, bridge, *FAST, "--resume") == 0
     assert capsys.readouterr().out == out
-    options = ["--dt", "0.015", "--damping", "0.02", "--integrator", "HHT"]
+    options = ["--dt", "0.015", "--damping", "0.02", "--integrator", "HHT(0.9)"]
     assert sweep(tmp_path, bridge, *FAST, "--overwrite", *options) == 0
     settings = SweepResults(tmp_path / "out.h5").identity["settings"]
-    assert settings["dt"] == 0.015 and settings["damping"] == 0.02 and settings["integrator"] == "HHT"
+    assert settings["dt"] == 0.015 and settings["damping"] == 0.02 and settings["integrator"] == "HHT(0.9)"
 
 
 def test_script_bridges_equal_the_described_beam(tmp_path, capsys):

@@ -1,7 +1,7 @@
 """Every registered integrator obeys the contract of :mod:`vtsi.integrators.base`.
 
-Parametrised over ``vtsi.integrators.INTEGRATORS`` (each built with its defaults), so a newly
-registered scheme is checked without editing this file. The properties that need a simulation or
+Parametrised over ``vtsi.integrators.INTEGRATORS`` (each built with its defaults, HHT with the
+α it requires), so a newly registered scheme is checked without editing this file. The properties that need a simulation or
 the amplification matrix (order, spectral radius, stability limit) are in test_integrators.py.
 """
 import numpy as np
@@ -12,11 +12,12 @@ from vtsi.integrators import INTEGRATORS, Integrator, Stage, make_integrator, re
 
 NAMES = sorted(INTEGRATORS)
 STEPS = (1e-3, 0.37)
+REQUIRED = {"HHT": (0.9,)}      # parameters without a default (OpenSees's integrator HHT needs α)
 
 
 @pytest.fixture(params=NAMES)
 def integrator(request):
-    return INTEGRATORS[request.param]()
+    return INTEGRATORS[request.param](*REQUIRED.get(request.param, ()))
 
 
 def test_registry_is_not_empty():
@@ -134,10 +135,14 @@ def test_stages_are_fresh_objects(integrator):
 
 def test_selection_by_name_class_and_instance():
     for name, cls in INTEGRATORS.items():
-        assert type(make_integrator(name)) is cls
-        assert type(make_integrator(cls)) is cls
-        instance = cls()
+        args = REQUIRED.get(name, ())
+        assert type(make_integrator(name, *args)) is cls
+        assert type(make_integrator(cls, *args)) is cls
+        instance = cls(*args)
         assert make_integrator(instance) is instance
+        if args:
+            with pytest.raises(AnalysisError, match="give"):
+                make_integrator(name)
     with pytest.raises(AnalysisError, match="known: " + ", ".join(sorted(INTEGRATORS))):
         make_integrator("NoSuchScheme")
 

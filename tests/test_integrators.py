@@ -32,6 +32,8 @@ from vtsi.elements import ELEMENT_TYPES, ElementType, register
 from vtsi.errors import AnalysisError, DivergenceError
 from vtsi.integrators import INTEGRATORS, HHT, Bathe, CentralDifference, GeneralizedAlpha, Newmark, make_integrator
 
+REQUIRED = {"HHT": (0.9,)}      # parameters without a default (OpenSees's integrator HHT needs α)
+
 
 # -- the test-local element and the oscillator ---------------------------------------------------
 class GroundSpring(ElementType):
@@ -319,7 +321,7 @@ def test_stability_limit_is_where_the_spectral_radius_exceeds_one(name):
     """Contract item 3 checked on the amplification matrix: unconditionally stable schemes keep
     ρ <= 1 for Ω in [1e-3, 1e8]; a conditionally stable one has ρ <= 1 just below its limit
     and ρ > 1 just above it."""
-    integrator = INTEGRATORS[name]()
+    integrator = INTEGRATORS[name](*REQUIRED.get(name, ()))
     limit = integrator.stability_limit(1.0)
     if limit is None:
         radii = [spectral_radius(integrator, om) for om in np.logspace(-3, 8, 111)]
@@ -479,6 +481,32 @@ def test_parameter_validation(make, parameter):
         make()
 
 
+@pytest.mark.parametrize("spec, expected", [("HHT(0.9)", (0.9, 0.6, 0.3025)), ("HHT(alpha=0.8, gamma=0.75, beta=0.36)",
+                                                                               (0.8, 0.75, 0.36)),
+                                            ("Newmark(0.6, 0.3025)", (None, 0.6, 0.3025)), (" Bathe ( ) ", None)])
+def test_integrators_by_text_with_their_parameters(spec, expected):
+    """A name with its parameters as text (the command line's and the bridge file's form, and
+    the repr a results file stores) builds that integrator; its repr builds it again."""
+    integ = make_integrator(spec)
+    if expected is not None:
+        assert (getattr(integ, "alpha", None), integ.gamma, integ.beta) == pytest.approx(expected)
+    assert repr(make_integrator(repr(integ))) == repr(integ)
+
+
+@pytest.mark.parametrize("spec, words", [
+    ("HHT", r"^integrator HHT: give alpha \(OpenSees convention, 2/3 <= alpha <= 1; 1 is Newmark's undamped trapezoidal"),
+    ("HHT()", "give alpha"),
+    ("HHT(x)", r"^integrator 'HHT\(x\)': 'x' is not a number \(or name=number\)"),
+    ("HHT(gamma=0.6, 0.9)", "'0.9' follows a named parameter"),
+    ("HHT(alpha=0.9, delta=1)", r"^integrator HHT: \(alpha=0.9, delta=1.0\) does not fit its parameters \(alpha=None"),
+    ("HHT(0.9)(", "unknown integrator"),
+    ("Wilson(1.4)", r"unknown integrator 'Wilson\(1.4\)'; known: .* \(parameters as 'HHT\(0.9\)'\)"),
+])
+def test_integrator_text_that_does_not_fit_is_named(spec, words):
+    with pytest.raises(AnalysisError, match=words):
+        make_integrator(spec)
+
+
 @pytest.mark.parametrize("dt", [0.0, -0.01, float("nan"), float("inf"), "abc"])
 def test_bad_time_step_is_refused(dt):
     m = oscillator(1.0)
@@ -504,14 +532,16 @@ def test_integrator_by_name_class_or_instance(name):
     """A name, a class and an instance select the same scheme and give the same response."""
     if name not in INTEGRATORS:
         pytest.skip(f"{name} is not registered")
-    cls = INTEGRATORS[name]
-    runs = [simulate(spec, 2.0 * np.pi, 0.01, 20) for spec in (name, cls, cls())]
-    for spec in (name, cls, cls()):
+    cls, args = INTEGRATORS[name], REQUIRED.get(name, ())
+    specs = (f"{name}({', '.join(map(str, args))})" if args else name, cls if not args else make_integrator(cls, *args),
+             cls(*args))
+    runs = [simulate(spec, 2.0 * np.pi, 0.01, 20) for spec in specs]
+    for spec in specs:
         assert type(vtsi.TransientAnalysis(oscillator(1.0), spec, 0.01).integrator) is cls
     np.testing.assert_array_equal(runs[0], runs[1])
     np.testing.assert_array_equal(runs[0], runs[2])
     with pytest.raises(AnalysisError, match="parameters given twice"):
-        make_integrator(cls(), 0.5)
+        make_integrator(cls(*args), 0.5)
 
 
 def test_constant_load_is_integrated_exactly():
@@ -527,7 +557,7 @@ def test_constant_load_is_integrated_exactly():
         state = vtsi.domain_state(m)
         state.u[1], state.v[1], state.a[1] = 0.5, -1.0, 2.0
         rec = vtsi.recorders.NodeRecorder([1], [2], "disp")
-        vtsi.TransientAnalysis(m, cls, 0.1, recorders=[rec]).run(30)
+        vtsi.TransientAnalysis(m, cls(*REQUIRED.get(name, ())), 0.1, recorders=[rec]).run(30)
         t = rec.time
         np.testing.assert_allclose(rec.values[:, 0], 0.5 - t + t ** 2, rtol=1e-12, atol=1e-12, err_msg=name)
         assert state.v[1] == pytest.approx(-1.0 + 2.0 * 3.0, rel=1e-12), name
@@ -555,8 +585,9 @@ def test_second_run_continues_from_committed_state(name):
     continues, and a recorder reused by both runs holds all 100 steps."""
     m1, m2 = oscillator(2.0 * np.pi, xi=0.02, v0=0.4), oscillator(2.0 * np.pi, xi=0.02, v0=0.4)
     rec1, rec2 = vtsi.recorders.NodeRecorder([1], [2], "disp"), vtsi.recorders.NodeRecorder([1], [2], "disp")
-    vtsi.TransientAnalysis(m1, name, 0.01, recorders=[rec1]).run(100)
-    analysis = vtsi.TransientAnalysis(m2, name, 0.01, recorders=[rec2], chunk_steps=16)
+    spec = INTEGRATORS[name](*REQUIRED.get(name, ()))
+    vtsi.TransientAnalysis(m1, spec, 0.01, recorders=[rec1]).run(100)
+    analysis = vtsi.TransientAnalysis(m2, spec, 0.01, recorders=[rec2], chunk_steps=16)
     analysis.run(37)
     assert vtsi.domain_state(m2).time == pytest.approx(0.37, rel=1e-14)
     analysis.run(63)

@@ -175,8 +175,9 @@ def _sweep_options(p, check):
     settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
     settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001)")
     settings.add_argument("--integrator", metavar="NAME",
-                          help="Newmark, HHT, GeneralizedAlpha or Bathe; default: Newmark, or HHT(0.9) with --contact lcp "
-                               "(which refuses an integrator without numerical damping)")
+                          help="Newmark, HHT(ALPHA) (e.g. 'HHT(0.9)'), GeneralizedAlpha or Bathe, parameters in "
+                               "brackets; default: Newmark, or HHT(0.9) with --contact lcp (which refuses an "
+                               "integrator without numerical damping)")
     settings.add_argument("--cars", choices=("force", "full"),
                           help="trains as moving axle forces (default) or multibody cars (catalogue trains with cars)")
     settings.add_argument("--contact", choices=("bilateral", "lcp"), help="bilateral (default) or lcp (contact loss)")

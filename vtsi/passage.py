@@ -148,8 +148,9 @@ class PassageSettings:
     Parameters
     ----------
     dt : time step [s].
-    integrator : a registered name ('Newmark', 'HHT', 'Bathe', …) or an integrator instance
-        such as ``vtsi.integrators.HHT(0.9)`` (implicit; stored in results by its repr); None:
+    integrator : a registered name ('Newmark', 'Bathe', …), a name with its parameters
+        ('HHT(0.9)') or an integrator instance such as ``vtsi.integrators.HHT(0.9)`` (implicit;
+        stored in results by its repr); None:
         Newmark with bilateral contact, HHT(0.9) with contact='lcp', which refuses one without
         numerical dissipation (:func:`vtsi.coupled.coupled_integrator`).
     cars : fidelity of the trains: 'force' (moving axle loads) or 'full' (the catalogue's
