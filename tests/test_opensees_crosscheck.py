@@ -124,6 +124,52 @@ def truss_model(ops, do_rayleigh):
     return np.array(result)
 
 
+def _frozen_after_reactions(ops, integrator, outdir, dT):
+    """A two-element beam, HHT-like integrator, 30 steps under a Linear series with a reaction
+    recorder (every step, or every ``dT``), loadConst, 5 more steps: the frozen factor and the
+    mid-span deflection."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for tag, x in ((1, 0.0), (2, 5.0), (3, 10.0)):
+        ops.node(tag, x, 0.0)
+    ops.fix(1, 1, 1, 1)
+    ops.fix(3, 1, 1, 1)
+    ops.geomTransf("Linear", 1)
+    for e in (1, 2):
+        ops.element("elasticBeamColumn", e, e, e + 1, 1.0, 3e10, 1.0, 1, "-mass", 1000.0)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(2, 0.0, -1e5, 0.0)
+    every = ["-dT", dT] if dT else []
+    ops.recorder("Node", "-file", str(outdir / "reaction.out"), "-time", *every, "-node", 1, "-dof", 2, "reaction")
+    for command, args in (("constraints", ("Plain",)), ("numberer", ("Plain",)), ("system", ("BandGeneral",)),
+                          ("test", ("NormDispIncr", 1e-10, 10)), ("algorithm", ("Linear",)), ("integrator", integrator),
+                          ("analysis", ("Transient",))):
+        getattr(ops, command)(*args)
+    ops.analyze(30, 0.001)
+    ops.loadConst("-time", 0.0)
+    ops.analyze(5, 0.001)
+    result = ops.getLoadFactor(1), ops.nodeDisp(2, 2)
+    ops.wipe()
+    return result
+
+
+@pytest.mark.parametrize("integrator", [("HHT", 0.8), ("GeneralizedAlpha", 0.9, 0.8)], ids=["HHT", "GeneralizedAlpha"])
+@pytest.mark.parametrize("dT", [None, 0.0025])
+def test_load_const_after_a_reaction_recorder(tmp_path, integrator, dT):
+    """OpenSees applies the loads again at t_{n+1} when a reaction recorder records a step, so
+    loadConst then freezes the factor of t_{n+1} (0.03), not of t_n + αΔt (0.0298); with -dT
+    the last step is not recorded and t_n + αΔt stays. vtsi froze 0.0298 in every case: the run
+    after loadConst differed by 1 %."""
+    (tmp_path / "ops").mkdir()
+    (tmp_path / "vtsi").mkdir()
+    reference = _frozen_after_reactions(oracle, integrator, tmp_path / "ops", dT)
+    value = _frozen_after_reactions(vops, integrator, tmp_path / "vtsi", dT)
+    assert reference[0] == pytest.approx(0.0298 if dT else 0.03, rel=1e-12)
+    assert value[0] == pytest.approx(reference[0], rel=1e-12)
+    assert value[1] == pytest.approx(reference[1], rel=1e-12)
+
+
 @pytest.mark.parametrize("do_rayleigh", [0, 1])
 def test_truss_rayleigh(do_rayleigh):
     """OpenSees's truss takes Rayleigh damping (alphaM on its mass and betaK on its stiffness) only

@@ -10,6 +10,7 @@ from vtsi.analysis import eigen as _eigen
 from vtsi.errors import AnalysisError, CommandError, ModelError
 from vtsi.integrators import HHT, TRBDF2, Bathe, CentralDifference, GeneralizedAlpha, Newmark
 from vtsi.modal_bridge import ModalBridge
+from vtsi.recorders.node import REACTIONS
 
 from .args import Args
 from .base import SessionBase
@@ -310,6 +311,12 @@ class AnalysisCommands(SessionBase):
             elif kind == "CentralDifference":
                 self._load_time = analysis.last_step_start
             else:
+                self._load_time = state.time
+            # a reaction recorder that recorded the last step had OpenSees apply the loads again at
+            # its time first (Domain::calculateNodalReactions), as the reactions command does
+            recorders = [getattr(kept, "recorder", kept) for kept in self._recorder_list()]
+            if any(getattr(r, "response", None) in REACTIONS and r.last_time is not None
+                   and abs(r.last_time - state.time) <= 1e-9 * dt for r in recorders):
                 self._load_time = state.time
         return 0
 

@@ -89,6 +89,7 @@ class Recorder:
         sink.check(self)
         self._next_time = 0.0
         self._layout = None
+        self.last_time = None       # [s] the last recorded step's time
 
     def __repr__(self):
         what = ", ".join(f"{k}={getattr(self, k)!r}" for k in ("nodes", "elements", "dofs", "response")
@@ -120,6 +121,7 @@ class Recorder:
                 return
             times, columns = times[keep], columns[keep]
         times = np.ascontiguousarray(times, dtype=np.float64)
+        self.last_time = float(times[-1]) if len(times) else self.last_time
         values = np.ascontiguousarray(self.compute(times, columns, assembly), dtype=np.float64)
         if self.envelope is not None:
             self.envelope.update(times, values)
