@@ -637,7 +637,7 @@ def test_contact_loss_refuses_an_undamped_integrator():
     """Newmark's trapezoidal rule (and HHT with α = 1, the same scheme) with contact='lcp': a
     clear refusal naming the alternatives, in the object API, the sweep settings and the default
     of each; a damped Newmark (γ > 1/2) is accepted."""
-    for integrator in ("Newmark", Newmark(0.5, 0.25), HHT(1.0), "HHT"):
+    for integrator in ("Newmark", Newmark(0.5, 0.25), HHT(1.0), "HHT(1)"):
         with pytest.raises(AnalysisError, match=r"contact='lcp' needs a dissipative integrator.*HHT\(0.9\).*Bathe"):
             cosine_bump_run(20.0, 1e-3, integrator=integrator)
     with pytest.raises(vtsi.ModelError, match="sweep settings: contact='lcp' needs a dissipative integrator"):

@@ -76,7 +76,7 @@ def test_stage_rhs_is_the_known_part_of_each_stage(name):
     if name == "undamped":
         C = sp.csr_matrix((n, n))
     integ = GeneralizedAlpha(0.9, 0.8) if name == "GeneralizedAlpha" else make_integrator(
-        "Newmark" if name == "undamped" else name)
+        {"undamped": "Newmark", "HHT": "HHT(0.9)"}.get(name, name))
     stages = integ.stages(1e-3)
     ku, kv, km = (np.stack([getattr(st, k) for st in stages]) for k in ("ku", "kv", "km"))
     ops, weights = stage_operators(band_rows(K, kd), band_rows(C, kd), ku, kv, band_rows(M, kd), km)
