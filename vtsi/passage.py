@@ -586,7 +586,8 @@ class PassageRunner:
         """The node outputs of ``outputs`` as one map of the modal coordinates for
         :meth:`ModalBridge.passage <vtsi.modal_bridge.ModalBridge.passage>`: ``rows (3, n_modes,
         n_columns)`` and per output (output, its column slice, node tags, residual flexibility
-        of the static correction or None); computed once per outputs."""
+        of the static correction or None); an output with a cut-off reads the modes up to it
+        only. Computed once per outputs."""
         key = tuple(outputs)
         if key not in self._modal_plans:
             order = {"accel": 2, "vel": 1}
@@ -598,8 +599,9 @@ class PassageRunner:
                 output_map = self._output_map(o.response, nodes)
                 weights = np.zeros((3, self.modal.n_modes, output_map.shape[1]))
                 weights[order.get(o.response, 0)] = self.modal.shapes[self.model.build().full_of_free].T @ output_map
-                residual = self.modal.residual_flexibility(output_map) if o.response in ("disp", "rotation", "moment") \
-                    else None
+                if o.cutoff is not None:       # the modes above the output's cut-off are left out
+                    weights[:, self.modal.frequencies > self.cutoff_hz(o.cutoff) * (1.0 + 1e-9)] = 0.0
+                residual = self._residual(o)
                 maps.append(weights)
                 tags = np.array(nodes, dtype=np.int64)
                 tags.flags.writeable = False          # shared by every passage's result
@@ -657,15 +659,18 @@ class PassageRunner:
         s = self.settings
         if self.modal is None or not s.static_correction or s.bridge_self_weight:
             return {}
-        out = {}
-        for o in outputs:
-            if o.vehicle or o.cutoff is not None or o.response not in ("disp", "rotation", "moment"):
-                continue
-            if o not in self._residuals:
-                self._residuals[o] = self.modal.residual_flexibility(self._output_map(o.response,
-                                                                                      self.output_nodes(o.nodes)))
-            out[o] = self._residuals[o]
-        return out
+        return {o: self._residual(o) for o in outputs if self._residual(o) is not None}
+
+    def _residual(self, output):
+        """The residual flexibility G (n_track, n_columns) of ``output``'s static correction (a
+        displacement, rotation or bending moment without a cut-off; None for others), computed
+        once per output."""
+        if output.vehicle or output.cutoff is not None or output.response not in ("disp", "rotation", "moment"):
+            return None
+        if output not in self._residuals:
+            output_map = self._output_map(output.response, self.output_nodes(output.nodes))
+            self._residuals[output] = self.modal.residual_flexibility(output_map)
+        return self._residuals[output]
 
     def _recorders(self, sub, tie, outputs, keep=()):
         """The recorders of ``outputs`` as (output, recorder) pairs; those of ``keep`` (and of the
