@@ -515,6 +515,20 @@ def test_spans_end_at_piers_and_bearings_not_at_rail_springs():
         base = 1000 if rail else 0
         assert runner.support_nodes == [base + 1, base + 11, base + 21, base + 31]
         assert runner.midspan_nodes == [base + 6, base + 16, base + 26]
+        assert runner.track_on_a_structure == rail
+
+
+def test_a_check_of_a_rail_on_pads_says_its_rows_read_the_rail():
+    """A rail on springs over a deck: the deck outputs are the rail's (its moment was 19 kN·m
+    against the deck's 8.9 MN·m), and every deck row of the check says so; a plain deck's do not."""
+    from vtsi.check import check
+    for rail in (False, True):
+        results = Sweep(_deck_on_piers(rail), ["HSLM-A1"], "300", FAST).run(None, workers=1, progress=False)
+        assert results.bridge()["track_on_a_structure"] == rail
+        rows = check(results).rows
+        marked = {r.criterion for r in rows if "this row reads the track, not that structure" in r.note}
+        assert marked == ({r.criterion for r in rows} if rail else set())
+        assert "deck_acceleration" in {r.criterion for r in rows}
 
 
 def test_an_approach_on_the_ground_is_no_span(tmp_path):

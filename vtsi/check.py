@@ -217,6 +217,11 @@ def check(results, settings=None):
     for rule in (_deck_acceleration, _dynamic_increment, _deflection_lm71, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
+    if bool(bridge.get("track_on_a_structure", False)):
+        for row in out.rows:
+            if not row.criterion.startswith(("car_body", "wheel_unloading", "contact_loss")):
+                row.note += ("; the track stands on other elements over a structure at most of its nodes (a rail "
+                             "on its pads over the deck?): this row reads the track, not that structure")
     if not out.rows:
         raise SweepError("check: the sweep kept none of the outputs the criteria read (deck acceleration, deflection, "
                          "bending moment, end rotation, car-body acceleration, contact force): nothing to check")
