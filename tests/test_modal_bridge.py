@@ -193,6 +193,28 @@ def test_the_model_damping_must_be_classical_and_the_model_unchanged():
         vtsi.TransientAnalysis(model, "Newmark", dt=1e-3, bridge=modal).run(1)
 
 
+def test_every_mode_of_a_lumped_mass_deck():
+    """Lumped mass (none on the rotations): 'every mode' (a modal_hz far above the model) is as
+    many modes as dofs carry mass, 18 of 30 free dofs here, of which the 9 vertical ones move
+    the track; it was refused ('only 18 dofs carry mass, 30 modes requested'). They equal the
+    dense generalized eigenproblem's finite eigenvalues."""
+    import scipy.linalg
+    model = vtsi.Model()
+    for i in range(11):
+        model.node(i + 1, 2.0 * i, 0.0)
+    model.fix(1, 1, 1, 0)
+    model.fix(11, 0, 1, 0)
+    for e in range(10):
+        model.element("elasticBeamColumn", e + 1, (e + 1, e + 2), A=1.0, E=3.5e10, I=1.0)
+    for i in range(2, 11):
+        model.mass(i, 30000.0, 30000.0, 0.0)
+    modal = ModalBridge(model, Track(model, list(range(1, 11))), 1e7)
+    asm = model.build()
+    omega2 = 1.0 / np.sort(scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray(), eigvals_only=True))[::-1][:18]
+    assert modal.n_modes == 9 and asm.n_free == 30
+    assert np.all(np.min(np.abs(modal.omega[:, None] ** 2 / omega2[None, :] - 1.0), axis=1) < 1e-9)
+
+
 def test_an_explicit_integrator_is_held_to_the_highest_kept_mode():
     """Central differences on a modal bridge: stable up to Δt = 2/ω_max of the kept modes (far
     above the FE bridge's limit), refused beyond it with a message naming the limit."""

@@ -411,14 +411,15 @@ def eigen(model, n_modes):
 def modes_up_to(model, f_max):
     """Every mode of ``model`` up to ``f_max`` [Hz] (at least one): ``(frequencies (n,) [Hz],
     shapes (n_full, n))`` mass-normalised, as :func:`eigen` (which it calls with twice as many
-    modes until one lies above ``f_max``); ``f_max`` > 0 and finite."""
+    modes until one lies above ``f_max``, at last for every mode: as many as dofs carry mass,
+    fewer than the free dofs under lumped mass); ``f_max`` > 0 and finite."""
     f_max = as_number(f_max, "modes_up_to", "f_max [Hz]", AnalysisError)
     if not (np.isfinite(f_max) and f_max > 0.0):
         raise AnalysisError(f"modes_up_to: f_max must be > 0 and finite [Hz], got {f_max}")
     n_free = _model("modes_up_to", model).build().n_free
     k = min(n_free, 8)
     while True:
-        omega2, shapes = eigen(model, k)
+        omega2, shapes = eigen(model, "all" if k == n_free else k)
         f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
         if f[-1] > f_max or k == n_free:
             break
