@@ -82,8 +82,10 @@ def test_interaction_rows_and_the_stored_table(tmp_path):
     assert "'hermite' rows" not in unloading.note and "modal bridge" not in unloading.note   # bspline, FE
     modal = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["ICE3"], "300",
                   PassageSettings(dt=5e-3, damping=0.01, cars="full", bridge="modal"))
-    note = check(modal.run(None, workers=1, progress=False), CheckSettings(unloading_limit=0.9)).row("wheel_unloading").note
-    assert "with 'hermite' rows the contact force holds the impulses" in note
+    modal_check = check(modal.run(None, workers=1, progress=False), CheckSettings(unloading_limit=0.9))
+    note = modal_check.row("wheel_unloading").note
+    assert "not checked: with 'hermite' rows Newmark's undamped rule rings" in note
+    assert {r.status for r in modal_check.rows if r.criterion in ("wheel_unloading", "contact_loss")} == {"info"}
     assert note.endswith("on a modal bridge the contact force misses the deck's local flexibility above the modes "
                          "(docs/modal.md: 20 % off the FE bridge on an irregular rail)")
     assert "irregular rail" not in result.row("dynamic_vs_lm71").note                    # smooth rail
@@ -96,6 +98,28 @@ def test_interaction_rows_and_the_stored_table(tmp_path):
     again = stored_check(path)
     assert again.text() == result.text() and again.settings == result.settings
     assert not (tmp_path / "ice3.h5.partial").exists()
+
+
+def test_wheel_unloading_and_contact_loss_converge_as_the_step_shrinks():
+    """An ICE3 on a smooth rail over a 20 m span: the wheels cross the rail's kinks at the supports
+    (rigid ground next to the deck), where the exact contact force holds an impulse. Read from
+    the raw force, ΔQ/Q grew as Δt shrank (B-spline rows 0.11 → 0.79 over 2 → 0.25 ms; exact
+    events 0.31 → 2.3; contact='lcp' counted the kink as a lift, contact_loss 1, FAIL); read from
+    its 10 ms mean it stays at 0.08 and no wheel lifts."""
+    bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=10)
+
+    def rows(dt, **settings):
+        sweep = Sweep(bridge, ["ICE3"], "300", PassageSettings(dt=dt, damping=0.01, cars="full", **settings))
+        result = check(sweep.run(None, workers=1, progress=False))
+        return result.row("wheel_unloading").value, result.row("contact_loss").value
+
+    for settings in ({"interpolation": "bspline"}, {"exact_events": True}, {"integrator": "HHT(0.9)"}):
+        coarse, fine = rows(2e-3, **settings), rows(2.5e-4, **settings)
+        assert 0.05 < fine[0] < 0.12 and abs(fine[0] - coarse[0]) < 0.02, settings
+        assert coarse[1] == fine[1] == 0.0
+    assert rows(2.5e-4, contact="lcp", exact_events=True)[1] == 0.0
+    with pytest.raises(ModelError, match=r"approach 5 m is shorter than the 20 m over which the rail's irregularity"):
+        PassageSettings(cars="full", irregularity="german-low", approach=5.0)
 
 
 @pytest.mark.parametrize("kwargs, words", [({"track": "slab"}, "slab"), ({"comfort": "superb"}, "superb"),
