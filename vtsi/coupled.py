@@ -41,10 +41,11 @@ from vtsi.lcp import lcp_workspace
 from vtsi.models.cars import GRAVITY
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
+from vtsi.track import hermite_curvature, host_element
 
 CONTACT_STRATEGIES = ("bilateral", "lcp")
 LCP_DEFAULT_ALPHA = 0.9      # HHT's α when contact='lcp' and no integrator is given
-CURVATURE_STEP = 1e-4        # [m] central-difference step of the rail's curvature under a wheel at the start
+CURVATURE_STEP = 1e-4        # [m] central-difference step of smoothed rows' curvature under a wheel at the start
 
 
 def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
@@ -322,16 +323,10 @@ class CoupledAnalysis:
         m/s² on the wheels and up to 43 % of the contact force's response to a sine rail."""
         train, con = self.train, self.constraint
         x = con.positions(np.array(t))
-        h = CURVATURE_STEP
-
-        def slope(z, values):
-            cols, _, slopes = con.track.rows(z, con.knot(self.dt))
-            return np.einsum("ij,ij->i", slopes, np.where(cols >= 0, values[np.maximum(cols, 0)], 0.0))
-
+        deflection = track_u if self._sag is None else track_u - self._sag     # the rail is laid on the sag
         a = np.zeros(train.n_dof)
-        a[train.wheel_dofs] = (train.speed ** 2 * (slope(x + h, track_u) - slope(x - h, track_u)) / (2 * h)
-                               + con.irregularity_at(np.array(t), self.dt, 2)
-                               - train.speed * (self._sag_at(x + h, 1) - self._sag_at(x - h, 1)) / (2 * h))
+        a[train.wheel_dofs] = (train.speed ** 2 * self._rail_curvature(x, deflection)
+                               + con.irregularity_at(np.array(t), self.dt, 2))
         others = np.setdiff1d(np.arange(train.n_dof), train.wheel_dofs)
         M = train.M.tocsr()
         heavy = others[np.asarray(abs(M[others]).sum(axis=1)).ravel() > 0.0]
@@ -340,6 +335,30 @@ class CoupledAnalysis:
             a[heavy] = spla.spsolve(M[heavy][:, heavy].tocsc(), rhs) if len(heavy) > 1 else \
                 rhs / M[heavy][:, heavy].toarray()[0, 0]
         return a
+
+    def _rail_curvature(self, x, values):
+        """N''(x) · ``values`` (n_track,) under the contact wheels at ``x`` [m]: with Hermite rows
+        their curvature in the element under each wheel (at a node the element that starts there,
+        so the kink where the rail meets rigid ground or two spans meet is no curvature: central
+        differences across it gave a wheel at a span's end V²θ/2h, −1868 m/s²); with smoothed
+        rows central differences of their slopes (smooth across a kink)."""
+        con = self.constraint
+        track, knot = con.track, con.knot(self.dt)
+        if knot > 0.0:
+            h = CURVATURE_STEP
+            slopes = []
+            for z in (x + h, x - h):
+                cols, _, rows = track.rows(z, knot)
+                slopes.append(np.einsum("ij,ij->i", rows, np.where(cols >= 0, values[np.maximum(cols, 0)], 0.0)))
+            return (slopes[0] - slopes[1]) / (2 * h)
+        out = np.zeros(len(x))
+        for i, xi in enumerate(x):
+            e = host_element(xi, track.x_start, track.length)
+            if e < 0:
+                continue
+            row = hermite_curvature((xi - track.x_start[e]) / track.length[e], track.length[e])
+            out[i] = sum(c * values[d] for c, d in zip(row, track.dofs[e]) if d >= 0)
+        return out
 
     def _quasi_static_rates(self, wheel_v):
         """Train velocities (n_t,) [m/s, rad/s] with the contact wheels at ``wheel_v`` and every
