@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import vtsi
+from vtsi.analysis import modes_up_to
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.damping import rayleigh_damping
@@ -197,7 +198,8 @@ def test_every_mode_of_a_lumped_mass_deck():
     """Lumped mass (none on the rotations): 'every mode' (a modal_hz far above the model) is as
     many modes as dofs carry mass, 18 of 30 free dofs here, of which the 9 vertical ones move
     the track; it was refused ('only 18 dofs carry mass, 30 modes requested'). They equal the
-    dense generalized eigenproblem's finite eigenvalues."""
+    dense generalized eigenproblem's finite eigenvalues. With 15 of 90 (between two doublings
+    of the search) too."""
     import scipy.linalg
     model = vtsi.Model()
     for i in range(11):
@@ -213,6 +215,16 @@ def test_every_mode_of_a_lumped_mass_deck():
     omega2 = 1.0 / np.sort(scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray(), eigvals_only=True))[::-1][:18]
     assert modal.n_modes == 9 and asm.n_free == 30
     assert np.all(np.min(np.abs(modal.omega[:, None] ** 2 / omega2[None, :] - 1.0), axis=1) < 1e-9)
+    sparse = vtsi.Model()                 # 15 vertical masses on 90 free dofs: between two doublings
+    for i in range(31):
+        sparse.node(i + 1, float(i), 0.0)
+    sparse.fix(1, 1, 1, 0)
+    sparse.fix(31, 0, 1, 0)
+    for e in range(1, 31):
+        sparse.element("elasticBeamColumn", e, (e, e + 1), A=1.0, E=3e10, I=1.0)
+    for i in range(2, 31, 2):
+        sparse.mass(i, 0.0, 1000.0, 0.0)
+    assert len(modes_up_to(sparse, 1e6)[0]) == 15
 
 
 def test_an_explicit_integrator_is_held_to_the_highest_kept_mode():

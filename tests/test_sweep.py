@@ -482,10 +482,11 @@ def test_a_failing_case_is_named_and_the_finished_ones_are_kept(tmp_path):
     assert SweepResults(tmp_path / "f.h5").n_done == 1
 
 
-def _deck_on_piers(rail_on_springs=False):
+def _deck_on_piers(rail=None):
     """3 × 20 m continuous deck (2 m elements, nodes 1–31) fixed at its ends and carried at x = 20
-    and 40 m by 8 m piers (fixed at their feet) on zeroLength bearings; with ``rail_on_springs``
-    the track is a rail beam 0.5 m above the deck on vertical springs at every node."""
+    and 40 m by 8 m piers (fixed at their feet) on zeroLength bearings; with ``rail`` [m] the
+    track is a rail beam that high above the deck (0: pads between coincident nodes) on vertical
+    springs at every node."""
     from vtsi.sweep import SweepBridge
     model = vtsi.Model()
     for i in range(31):
@@ -501,10 +502,10 @@ def _deck_on_piers(rail_on_springs=False):
         model.fix(300 + k, 1, 1, 1)
         model.element("zeroLength", 200 + k, (top, 200 + k), kx=1e12, ky=1e12)
         model.element("elasticBeamColumn", 300 + k, (300 + k, 200 + k), A=6.0, E=3.5e10, I=2.0, rho=15000.0)
-    if not rail_on_springs:
+    if rail is None:
         return SweepBridge(model, deck, {"kind": "script"})
     for i in range(31):
-        model.node(1001 + i, 2.0 * i, 0.5)
+        model.node(1001 + i, 2.0 * i, rail)
         model.element("zeroLength", 2001 + i, (1001 + i, i + 1), ky=1e9)
         if i:
             model.element("elasticBeamColumn", 1000 + i, (1000 + i, 1001 + i), A=0.0077, E=2.1e11, I=3.05e-5,
@@ -517,32 +518,50 @@ def test_spans_end_at_piers_and_bearings_not_at_rail_springs():
     """A deck on piers is three spans, not one (a check read L_Φ = 60 m, Φ₂ = 1.011 and
     L/600 = 0.1 m instead of 26 m, 1.114 and 0.033 m, and never the outer mid-spans); a rail on
     springs over that deck keeps the deck's spans, not one per spring."""
-    for rail in (False, True):
+    for rail in (None, 0.5, 0.0):
         runner = Sweep(_deck_on_piers(rail), ["HSLM-A1"], "300", FAST).runner
         assert runner.span_lengths == pytest.approx([20.0, 20.0, 20.0]), rail
-        base = 1000 if rail else 0
+        base = 0 if rail is None else 1000
         assert runner.support_nodes == [base + 1, base + 11, base + 21, base + 31]
         assert runner.midspan_nodes == [base + 6, base + 16, base + 26]
-        assert runner.track_on_a_structure == rail
+        assert runner.track_on_a_structure == (rail is not None)
 
 
 def test_a_check_of_a_rail_on_pads_says_its_rows_read_the_rail():
     """A rail on springs over a deck: the deck outputs are the rail's (its moment was 19 kN·m
     against the deck's 8.9 MN·m), and every deck row of the check says so; a plain deck's do not."""
     from vtsi.check import check
-    for rail in (False, True):
+    for rail in (None, 0.5):
         results = Sweep(_deck_on_piers(rail), ["HSLM-A1"], "300", FAST).run(None, workers=1, progress=False)
-        assert results.bridge()["track_on_a_structure"] == rail
+        assert results.bridge()["track_on_a_structure"] == (rail is not None)
         rows = check(results).rows
         marked = {r.criterion for r in rows if "this row reads the track, not that structure" in r.note}
-        assert marked == ({r.criterion for r in rows} if rail else set())
+        assert marked == (set() if rail is None else {r.criterion for r in rows})
         assert "deck_acceleration" in {r.criterion for r in rows}
+
+
+def test_one_element_spans_are_spans():
+    """2 + 20 + 2 m on 2 m elements: the side spans are one element each, and stay spans (a rule
+    'both ends supported is ground' made it one 20 m span)."""
+    from vtsi.sweep import SweepBridge
+    model = vtsi.Model()
+    for i in range(13):
+        model.node(i + 1, 2.0 * i, 0.0)
+        if i in (0, 1, 11, 12):
+            model.fix(i + 1, int(i == 0), 1, 0)
+    for e in range(1, 13):
+        model.element("elasticBeamColumn", e, (e, e + 1), A=1.0, E=3.5e10, I=EI / 3.5e10, rho=MU)
+    runner = Sweep(SweepBridge(model, list(range(1, 13)), {"kind": "script"}), ["HSLM-A1"], "300", FAST).runner
+    assert runner.span_lengths == pytest.approx([2.0, 20.0, 2.0]) and runner.midspan_nodes[1] == 7
 
 
 def test_an_approach_on_the_ground_is_no_span(tmp_path):
     """A 20 m span whose track runs on over 4 m of ground at each end (nodes with uy fixed, or on
     springs): one span from x = 0 to 20 m, not eleven (each ground element was a 'span' of its own,
-    with an L/600 limit of 3 mm); the results file keeps the span's ends."""
+    with an L/600 limit of 3 mm); the results file keeps the span's ends, and the deck
+    acceleration is read on the span (an approach's end on springs governed: 11.8 m/s² against
+    the span's 4.3)."""
+    from vtsi.check import check
     from vtsi.sweep import SweepBridge
     for springs in (False, True):
         model = vtsi.Model()
@@ -553,15 +572,17 @@ def test_an_approach_on_the_ground_is_no_span(tmp_path):
                 if springs and 0.0 < abs(x - 10.0) - 10.0:
                     model.node(100 + i, float(x), -1.0)
                     model.fix(100 + i, 1, 1, 1)
-                    model.element("zeroLength", 100 + i, (i + 1, 100 + i), ky=1e9)
+                    model.element("zeroLength", 100 + i, (i + 1, 100 + i), ky=2e8, cy=1e5)
                 else:
                     model.fix(i + 1, int(x == 0.0), 1, 0)
         for e in range(1, len(xs)):
             model.element("elasticBeamColumn", e, (e, e + 1), A=1.0, E=3.5e10, I=EI / 3.5e10, rho=MU)
         sweep = Sweep(SweepBridge(model, list(range(1, len(xs))), {"kind": "script"}), ["HSLM-A1"], "300", FAST)
         assert sweep.runner.span_lengths == [20.0] and sweep.runner.midspan_nodes == [8], springs
-        bridge = sweep.run(tmp_path / f"g{springs}.h5", workers=1, progress=False).bridge()
-        assert bridge["span_ends_m"].tolist() == [[0.0, 20.0]]
+        results = sweep.run(tmp_path / f"g{springs}.h5", workers=1, progress=False)
+        assert results.bridge()["span_ends_m"].tolist() == [[0.0, 20.0]]
+        row = check(results).row("deck_acceleration")        # an approach's springs are not the deck
+        assert 3 <= int(row.where.split()[1]) <= 13 and "nodes only" not in row.note        # x = 0 … 20 m
 
 
 def test_bridge_frequency_from_the_model():

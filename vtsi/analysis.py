@@ -416,14 +416,15 @@ def modes_up_to(model, f_max):
     f_max = as_number(f_max, "modes_up_to", "f_max [Hz]", AnalysisError)
     if not (np.isfinite(f_max) and f_max > 0.0):
         raise AnalysisError(f"modes_up_to: f_max must be > 0 and finite [Hz], got {f_max}")
-    n_free = _model("modes_up_to", model).build().n_free
-    k = min(n_free, 8)
+    asm = _model("modes_up_to", model).build()
+    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))     # dofs with mass: at most that many modes
+    k = min(n_mass, 8)
     while True:
-        omega2, shapes = eigen(model, "all" if k == n_free else k)
+        omega2, shapes = eigen(model, "all" if k == n_mass < asm.n_free else k)
         f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
-        if f[-1] > f_max or k == n_free:
+        if f[-1] > f_max or k == n_mass:
             break
-        k = min(n_free, 2 * k)
+        k = min(n_mass, 2 * k)
     keep = max(1, int(np.sum(f <= f_max)))
     return f[:keep], shapes[:, :keep]
 

@@ -264,11 +264,12 @@ def _deck_acceleration(results, outputs, bridge, settings):
         return []
     name = name[0]
     env, columns = results.column_envelopes(name)
-    on_deck = np.isin(np.asarray(columns), np.asarray(bridge["deck_nodes"]))
+    spanned = _spanned_nodes(bridge)
+    on_deck = np.isin(np.asarray(columns), np.asarray(sorted(spanned)))
     if not on_deck.any():
         raise SweepError(f"check: the deck acceleration output {name!r} holds no deck node (nodes "
                          f"{', '.join(str(int(c)) for c in columns)}): keep one at the deck's nodes (nodes='deck')")
-    peak = np.where(on_deck, env[..., ABSMAX, :], np.nan)     # a pier's or abutment's node is no deck
+    peak = np.where(on_deck, env[..., ABSMAX, :], np.nan)     # a pier's node or an approach's is no deck
     if np.all(np.isnan(peak)):
         return []
     train, speed, seed, idx = _governing(results, peak, np.nanargmax)
@@ -285,7 +286,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
             not any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains):
         note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {HSLM_B_SPAN_RANGE[1]:g} m is checked with "
                  "HSLM-B, which this sweep does not hold")
-    deck = set(np.asarray(bridge["deck_nodes"]).tolist())
+    deck = spanned
     read = deck & set(np.asarray(columns).tolist())
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
         note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
@@ -300,6 +301,15 @@ def _deck_acceleration(results, outputs, bridge, settings):
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
                      "pass" if value <= limit else "fail", train, speed, seed, f"node {int(columns[idx[-1]])}",
                      f"{settings.track.replace('_', ' ')} track; {note}")]
+
+
+def _spanned_nodes(bridge):
+    """The deck nodes on its spans (between the first span's first support and the last span's
+    last one): the track's nodes on an approach (ground) are no deck."""
+    x, ends = np.asarray(bridge["deck_x_m"]), np.asarray(bridge["span_ends_m"])
+    tol = 1e-9 * max(ends[-1, 1] - ends[0, 0], 1.0)
+    inside = (x >= ends[0, 0] - tol) & (x <= ends[-1, 1] + tol)
+    return set(np.asarray(bridge["deck_nodes"])[inside].tolist())
 
 
 def _span_columns(columns, bridge):

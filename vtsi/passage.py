@@ -335,8 +335,9 @@ class PassageRunner:
     frequencies : (3,) first vertical frequencies [Hz] (with the sweep's damping applied: the
         undamped ones of the model).
     deck_nodes, midspan_nodes : node tags along the track (x order) and at each span's middle.
-    span_ends : (n_spans, 2) x of each span's first and last support [m] (:meth:`_supports`; an
-        element with both ends supported is ground, not a span); span_lengths [m] their distances.
+    span_ends : (n_spans, 2) x of each span's first and last support [m] (:meth:`_supports`; the
+        elements between three or more supported nodes in a row are ground, not spans);
+        span_lengths [m] their distances.
     track_on_a_structure : the track stands on elements over another structure at most of its
         nodes (a rail on its pads over the deck, :meth:`_on_a_structure`): the deck outputs are
         the track's.
@@ -391,17 +392,28 @@ class PassageRunner:
             nodes.update(asm.blocks[b][0].nodes[i])
         x = {n: float(self.model.nodes[n][0]) for n in nodes}
         deck = sorted(nodes, key=x.get)
-        fixed = self._supports(deck, x)
+        links = self._links()
+        fixed = self._supports(deck, x, links)
         self.support_nodes = list(fixed)
-        self.track_on_a_structure = self._on_a_structure(deck, x, fixed)
+        self.track_on_a_structure = self._on_a_structure(deck, x, fixed, links)
         place = {n: i for i, n in enumerate(deck)}
-        # an element with both ends supported lies on the ground (an approach on springs or fixed nodes)
-        pairs = [(a, b) for a, b in zip(fixed[:-1], fixed[1:]) if place[b] - place[a] > 1] or [(deck[0], deck[-1])]
+        runs = []                    # the supports in runs on consecutive nodes
+        for n in fixed:
+            if runs and place[n] - place[runs[-1][-1]] == 1:
+                runs[-1].append(n)
+            else:
+                runs.append([n])
+        # a run of three or more supported nodes is ground (an approach on springs or fixed nodes);
+        # one element between two supports is a span
+        ground = {n for r in runs if len(r) >= 3 for n in r}
+        pairs = [(a, b) for a, b in zip(fixed[:-1], fixed[1:])
+                 if not (a in ground and b in ground and place[b] - place[a] == 1)] or [(deck[0], deck[-1])]
         middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in pairs]
         return deck, middle, [(x[a], x[b]) for a, b in pairs]
 
     def _links(self):
-        """``{node: set of nodes}`` tied to it by an element off the track or an equalDOF/rigidLink."""
+        """``{node: set of nodes}`` tied to it by an element off the track (a model with
+        equalDOF/rigidLink ties has no track: :class:`~vtsi.track.Track` refuses it)."""
         track, links = set(self.track.elements), {}
         for etype, tags, *_ in self.model.build().blocks:
             for i, tag in enumerate(tags):
@@ -410,32 +422,29 @@ class PassageRunner:
                 ends = [int(n) for n in etype.nodes[i]]
                 for n in ends:
                     links.setdefault(n, set()).update(m for m in ends if m != n)
-        for (n, _), terms in self.model.mp_constraints.items():
-            for m, *_ in terms:
-                links.setdefault(n, set()).add(m)
-                links.setdefault(m, set()).add(n)
         return links
 
-    def _on_a_structure(self, deck, x, supports):
+    def _on_a_structure(self, deck, x, supports, links):
         """True when most of the track's other nodes stand on elements over another structure
-        (a node below, within SUPPORT_X_TOLERANCE of their x, off the deck and not fixed): a rail
-        on its pads over the deck, whose outputs are the rail's, not the deck's."""
-        links, fixed_y, on_deck = self._links(), {n for n, f in self.model.fixities.items() if f[1]}, set(deck)
+        (a node at or below them, within SUPPORT_X_TOLERANCE of their x, off the deck and not
+        fixed; pads between coincident nodes too): a rail on its pads over the deck, whose
+        outputs are the rail's, not the deck's."""
+        fixed_y, on_deck = {n for n, f in self.model.fixities.items() if f[1]}, set(deck)
         inner = [n for n in deck if n not in set(supports)]
         under = [n for n in inner if any(m not in on_deck and m not in fixed_y
                                          and abs(self.model.nodes[m][0] - x[n]) <= SUPPORT_X_TOLERANCE
-                                         and self.model.nodes[m][1] < self.model.nodes[n][1]
+                                         and self.model.nodes[m][1] <= self.model.nodes[n][1]
                                          for m in links.get(n, ()))]
         return len(inner) > 0 and 2 * len(under) > len(inner)
 
-    def _supports(self, deck, x):
+    def _supports(self, deck, x, links):
         """The deck nodes that carry the deck, in order: uy fixed, or standing on a vertical line
-        of other elements or equalDOF/rigidLink ties (bearings, springs, piers: every node of the
-        line within SUPPORT_X_TOLERANCE of the deck node's x, off the deck) that reaches a node
-        with uy fixed. Hangers and stays are not vertical lines to a fixed node, nor is the deck
-        under a rail modelled as its own beam on springs."""
+        of other elements (bearings, springs, piers: every node of the line within
+        SUPPORT_X_TOLERANCE of the deck node's x, off the deck) that reaches a node with uy
+        fixed. Hangers and stays are not vertical lines to a fixed node, nor is the deck under a
+        rail modelled as its own beam on springs."""
         fixed_y = {n for n, flags in self.model.fixities.items() if flags[1]}
-        on_deck, links = set(deck), self._links()
+        on_deck = set(deck)
 
         def stands(node):
             seen, stack = {node}, [node]
