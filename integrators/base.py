@@ -68,11 +68,12 @@ def make_integrator(spec, *args, **kwargs):
         spec = call.group(1)
     if isinstance(spec, str) and spec in INTEGRATORS:
         try:
-            return INTEGRATORS[spec](*args, **kwargs)
+            inspect.signature(INTEGRATORS[spec]).bind(*args, **kwargs)
         except TypeError:             # a parameter the integrator does not take
             given = ", ".join([f"{a!r}" for a in args] + [f"{k}={v!r}" for k, v in kwargs.items()])
             raise AnalysisError(f"integrator {spec}: ({given}) does not fit its parameters "
                                 f"{inspect.signature(INTEGRATORS[spec])}") from None
+        return INTEGRATORS[spec](*args, **kwargs)
     raise AnalysisError(f"unknown integrator {spec!r}; known: {', '.join(sorted(INTEGRATORS))} "
                         "(parameters as 'HHT(0.9)')")
 
@@ -91,6 +92,8 @@ def _call_arguments(spec, text):
             raise AnalysisError(f"integrator {spec!r}: {part!r} is not a number (or name=number)") from None
         if key and not key.strip().isidentifier():
             raise AnalysisError(f"integrator {spec!r}: {key.strip()!r} is not a parameter name")
+        if key.strip() in kwargs:
+            raise AnalysisError(f"integrator {spec!r}: {key.strip()} given twice")
         if key:
             kwargs[key.strip()] = number
         elif kwargs:

@@ -498,6 +498,7 @@ def test_integrators_by_text_with_their_parameters(spec, expected):
     ("HHT()", "give alpha"),
     ("HHT(x)", r"^integrator 'HHT\(x\)': 'x' is not a number \(or name=number\)"),
     ("HHT(gamma=0.6, 0.9)", "'0.9' follows a named parameter"),
+    ("HHT(alpha=0.9, alpha=0.8)", r"^integrator 'HHT\(alpha=0.9, alpha=0.8\)': alpha given twice$"),
     ("HHT(alpha=0.9, delta=1)", r"^integrator HHT: \(alpha=0.9, delta=1.0\) does not fit its parameters \(alpha=None"),
     ("HHT(0.9)(", "unknown integrator"),
     ("Wilson(1.4)", r"unknown integrator 'Wilson\(1.4\)'; known: .* \(parameters as 'HHT\(0.9\)'\)"),

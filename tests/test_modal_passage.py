@@ -136,7 +136,8 @@ def test_a_modal_sweep_keeps_the_bridge_models_own_damping():
     beam.model.node(999, *node[mid])
     beam.model.fix(999, 1, 1, 1)
     beam.model.element("zeroLength", 999, (mid, 999), cy=1e5)
-    refused = r"^sweep: modal bridge: the model.s damping is not classical .*: give the sweep's damping ratio"
+    refused = (r"^sweep: modal bridge: the model.s damping is not classical .*; give the damping ratios: zeta=\.\.\. "
+               r"\(a sweep: its damping ratio, PassageSettings\(damping=\.\.\.\), --damping\)$")
     with pytest.raises(vtsi.VtsiError, match=refused):
         Sweep(beam, ["HSLM-A4"], "380", PassageSettings(dt=2.5e-4, bridge="modal"), out)
 

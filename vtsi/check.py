@@ -291,8 +291,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
         note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
                  "maximum may lie elsewhere")
-    exact = sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force" \
-        and not sweep.get("bridge_self_weight")
+    exact = sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force"   # (self weight: refused)
     f_top, dt = counted[name] or en_cutoff, float(sweep.get("dt", 0.0))
     under_read = 1.0 - math.cos(math.pi * min(f_top * dt, 0.5))
     if not exact and under_read > SAMPLING_NOTE:     # time-stepped peaks are the samples' (exact ones are refined)
@@ -381,12 +380,11 @@ def _irregular_note(results):
 
 def _truncation_note(results, bridge):
     """What a modal sweep's displacements and moments leave out when no static correction put
-    the truncated modes' quasi-static share back (cars, self weight, static_correction off);
-    '' otherwise."""
+    the truncated modes' quasi-static share back (cars, static_correction off; a sweep with self
+    weight is refused); '' otherwise."""
     sweep = results.identity["settings"]
     basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge["frequencies_hz"][:3])
-    corrected = (sweep.get("cars", "force") == "force" and not sweep.get("bridge_self_weight")
-                 and sweep.get("static_correction", True))
+    corrected = sweep.get("cars", "force") == "force" and sweep.get("static_correction", True)
     if basis is None or corrected:
         return ""
     return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"

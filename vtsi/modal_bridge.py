@@ -104,7 +104,8 @@ class ModalBridge:
             off = np.abs(modal_c - np.diag(diagonal)).max(initial=0.0)
             if off > 1e-8 * max(np.abs(diagonal).max(initial=0.0), 1e-300) and off > 0.0:
                 raise ModelError("modal bridge: the model's damping is not classical (ΦᵀCΦ has off-diagonal terms "
-                                 f"up to {off:.3g}); give the damping ratios: zeta=...")
+                                 f"up to {off:.3g}); give the damping ratios: zeta=... (a sweep: its damping ratio, "
+                                 "PassageSettings(damping=...), --damping)")
             ratios = diagonal / (2.0 * self.omega)
         elif callable(zeta):
             ratios = np.array([_ratio_of(zeta, fi) for fi in self.frequencies])

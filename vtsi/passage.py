@@ -369,13 +369,7 @@ class PassageRunner:
         self.modal = None
         if settings.bridge != "fe":      # damping None: the model's own (classical) damping on its modes
             f_max = modal_basis_hz(settings.bridge, settings.modal_hz, self.frequencies)
-            try:
-                self.modal = ModalBridge(self.model, self.track, f_max, settings.damping)
-            except ModelError as exc:
-                if "not classical" not in str(exc):
-                    raise
-                raise ModelError(f"{exc.args[0].split('; give')[0]}: give the sweep's damping ratio "
-                                 "(PassageSettings(damping=...), --damping)") from None
+            self.modal = ModalBridge(self.model, self.track, f_max, settings.damping)
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}
