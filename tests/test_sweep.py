@@ -25,7 +25,7 @@ from vtsi.models.catalogue import catalogue_train
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.damping import rayleigh_coefficients
 from vtsi.passage import Output, PassageSettings
-from vtsi.recorders import ContactRecorder, NodeRecorder
+from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.sweep import Sweep, beam_bridge, en_speed_grid, resonance_speeds, speeds
 from vtsi.sweep_results import SweepResults
 from vtsi.track import Track
@@ -153,8 +153,10 @@ def _single_passage(name, speed_kmh, settings, n_elements):
             "end_rotation": NodeRecorder([beam.nodes[0], beam.nodes[-1]], [3], "disp", envelope=True, history=False)}
     if train.n_dof:
         forces = ContactRecorder(tie)
+        bodies = TrainRecorder(sub, [f"car{i}.{d}" for i in range(len(train.cars)) for d in ("body_y", "body_rz")],
+                               "accel")
     analysis = CoupledAnalysis(model, tie, settings.integrator, dt=settings.dt,
-                               recorders=[every, *recs.values()] + ([forces] if train.n_dof else []))
+                               recorders=[every, *recs.values()] + ([forces, bodies] if train.n_dof else []))
     analysis.static()
     n = int(np.ceil(((L + approach + train.length) / train.speed + 1.5 / bending[0]) / settings.dt - 1e-9))
     analysis.run(n)
@@ -166,6 +168,16 @@ def _single_passage(name, speed_kmh, settings, n_elements):
         weights = np.r_[0.5, np.ones(2 * m - 1), 0.5] / (2 * m)
         mean = sum(w * padded[k: k + len(lam)] for k, w in enumerate(weights))
         out["contact_force"] = np.array([mean.min(0), mean.max(0), np.abs(mean).max(0)])
+        # the car body: at its centre or over either bogie pivot (Lc/2 from it), the largest at each step
+        acc = np.asarray(bodies.values)
+        body = []
+        for i, car in enumerate(train.cars):
+            half = 0.5 * (car.wheel_offsets[2] - car.wheel_offsets[0])
+            points = np.stack([acc[:, 2 * i], acc[:, 2 * i] + half * acc[:, 2 * i + 1],
+                               acc[:, 2 * i] - half * acc[:, 2 * i + 1]])
+            body.append(points[np.argmax(np.abs(points), axis=0), np.arange(len(acc))])
+        body = np.stack(body, axis=1)
+        out["car_body_acceleration"] = np.array([body.min(0), body.max(0), np.abs(body).max(0)])
     modes = phi[:, f <= cutoff]
     a_free = np.asarray(every.values)[:, asm.free_of_full[np.arange(asm.n_full)] >= 0]
     order = asm.free_of_full[asm.free_of_full >= 0]

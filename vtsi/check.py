@@ -453,7 +453,8 @@ def _car_body(results, outputs, bridge, settings):
         value = float(peak[idx])
         return [CheckRow("car_body_acceleration", "EN 1990 A2.4.4.3.1, Table A2.9", value, "m/s^2", limit,
                          value / limit, "pass" if value <= limit else "fail", train, speed, seed,
-                         f"car {int(columns[idx[-1]])}", f"level of comfort '{settings.comfort.replace('_', ' ')}'")]
+                         f"car {int(columns[idx[-1]])}", f"level of comfort '{settings.comfort.replace('_', ' ')}'; "
+                         "the body's vertical acceleration at its centre or over either bogie")]
     return []
 
 
