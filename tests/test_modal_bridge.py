@@ -202,28 +202,17 @@ def test_every_mode_of_a_lumped_mass_deck():
     of the search) too."""
     import scipy.linalg
     model = vtsi.Model()
-    for i in range(11):
-        model.node(i + 1, 2.0 * i, 0.0)
-    model.fix(1, 1, 1, 0)
-    model.fix(11, 0, 1, 0)
-    for e in range(10):
-        model.element("elasticBeamColumn", e + 1, (e + 1, e + 2), A=1.0, E=3.5e10, I=1.0)
-    for i in range(2, 11):
-        model.mass(i, 30000.0, 30000.0, 0.0)
-    modal = ModalBridge(model, Track(model, list(range(1, 11))), 1e7)
+    deck = simply_supported_beam(model, 20.0, 10, 3.5e10, 1.0, 0.0)       # no element mass
+    for node in deck.nodes[1:-1]:
+        model.mass(node, 30000.0, 30000.0, 0.0)
+    modal = ModalBridge(model, Track(model, deck.elements), 1e7)
     asm = model.build()
     omega2 = 1.0 / np.sort(scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray(), eigvals_only=True))[::-1][:18]
     assert modal.n_modes == 9 and asm.n_free == 30
     assert np.all(np.min(np.abs(modal.omega[:, None] ** 2 / omega2[None, :] - 1.0), axis=1) < 1e-9)
     sparse = vtsi.Model()                 # 15 vertical masses on 90 free dofs: between two doublings
-    for i in range(31):
-        sparse.node(i + 1, float(i), 0.0)
-    sparse.fix(1, 1, 1, 0)
-    sparse.fix(31, 0, 1, 0)
-    for e in range(1, 31):
-        sparse.element("elasticBeamColumn", e, (e, e + 1), A=1.0, E=3e10, I=1.0)
-    for i in range(2, 31, 2):
-        sparse.mass(i, 0.0, 1000.0, 0.0)
+    for node in simply_supported_beam(sparse, 30.0, 30, 3e10, 1.0, 0.0).nodes[1:-1:2]:
+        sparse.mass(node, 0.0, 1000.0, 0.0)
     assert len(modes_up_to(sparse, 1e6)[0]) == 15
 
 
