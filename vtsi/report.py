@@ -28,8 +28,8 @@ settings     the passages' settings, the acceleration cut-off, the vtsi version,
 envelopes    charts against speed [km/h], one line per train: peak deck acceleration [m/s²] with
              the check's limit and the resonance speeds; largest deflection [mm]; DAF
 histories    per governing case recorded with :meth:`~vtsi.sweep.Sweep.record_histories`: the
-             mid-span acceleration [m/s²] and deflection [mm], and the contact forces [kN] if
-             present, against time [s]
+             mid-span acceleration [m/s²] and deflection [mm], and the contact forces [kN] (their
+             10 ms mean) if present, against time [s]
 scene        (optional) a 3-D scene image rendered elsewhere (:mod:`vtsi.scene3d`)
 ===========  ======================================================================================
 
@@ -423,7 +423,8 @@ class _Report:
             png = self.history_png(train, speed, seed)
             blocks.append(Chart(f"history_{len(shown)}", png,
                                 f"{text}, governing {', '.join(_label(c) for c in criteria)}: "
-                                "mid-span response against time; shaded: axles on the deck.",
+                                "mid-span response against time (contact forces: their 10 ms mean, as the check "
+                                "reads them); shaded: axles on the deck.",
                                 f"time histories of {text}"))
         if not self.governing_cases():
             blocks.append(Paragraph("The check names no governing passage."))
