@@ -81,11 +81,14 @@ def test_interaction_rows_and_the_stored_table(tmp_path):
     assert result.row("contact_loss").value == float(np.sum(res.envelope("contact_force_min") <= 0))
     assert "'hermite' rows" not in unloading.note and "modal bridge" not in unloading.note   # bspline, FE
     modal = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["ICE3"], "300",
-                  PassageSettings(dt=5e-3, damping=0.01, cars="full", bridge="modal"))
+                  PassageSettings(dt=5e-3, damping=0.01, cars="full", bridge="modal", interpolation="hermite"))
     modal_check = check(modal.run(None, workers=1, progress=False), CheckSettings(unloading_limit=0.9))
     note = modal_check.row("wheel_unloading").note
     assert "not checked: with 'hermite' rows Newmark's undamped rule rings" in note
     assert {r.status for r in modal_check.rows if r.criterion in ("wheel_unloading", "contact_loss")} == {"info"}
+    assert modal_check.unchecked == ["wheel_unloading", "contact_loss"]
+    assert "(not checked: wheel_unloading, contact_loss; see their notes)" in modal_check.text()
+    assert PassageSettings(cars="full").interpolation == "bspline" and PassageSettings().interpolation == "hermite"
     assert note.endswith("on a modal bridge the contact force misses the deck's local flexibility above the modes "
                          "(docs/modal.md: 20 % off the FE bridge on an irregular rail)")
     assert "irregular rail" not in result.row("dynamic_vs_lm71").note                    # smooth rail

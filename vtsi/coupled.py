@@ -41,7 +41,6 @@ from vtsi.lcp import lcp_workspace
 from vtsi.models.cars import GRAVITY
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
-from vtsi.track import hermite_curvature, host_element
 
 CONTACT_STRATEGIES = ("bilateral", "lcp")
 LCP_DEFAULT_ALPHA = 0.9      # HHT's α when contact='lcp' and no integrator is given
@@ -61,13 +60,19 @@ def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
     if integrator is None:
         integrator = HHT(LCP_DEFAULT_ALPHA) if contact == "lcp" else "Newmark"
     integ = make_integrator(integrator)
-    if contact == "lcp" and isinstance(integ, Newmark) and integ.gamma == 0.5:
+    if contact == "lcp" and undamped(integ):
         raise AnalysisError(f"{who}: contact='lcp' needs a dissipative integrator; {integ!r} (γ = 1/2) lets the "
                             "contact force ring after a jump of the rail's curvature and gives spurious lift-offs. "
                             f"Use HHT({LCP_DEFAULT_ALPHA}) (the default with contact='lcp'), 'Bathe', or a damped "
                             "Newmark such as Newmark(0.6, 0.3025)")
     return integ
 TRAIN_QUANTITIES = {"train_u": 0, "train_v": 1, "train_a": 2}
+
+
+def undamped(integrator):
+    """True for the Newmark family with γ = 1/2 (Newmark's trapezoidal rule, HHT with α = 1): no
+    numerical dissipation, so a contact force rings after every jump of the rail's curvature."""
+    return isinstance(integrator, Newmark) and integrator.gamma == 0.5
 
 
 class CoupledAnalysis:
@@ -316,8 +321,8 @@ class CoupledAnalysis:
     def _start_accelerations(self, t, track_u):
         """Train accelerations (n_t,) [m/s², rad/s²] consistent with the start at time ``t`` [s]:
         each contact wheel on the rail's curvature, a_w = V² (N''(x) u + r''(x)) (``track_u``
-        the bridge's track dofs, held at rest; N'' u by central differences of the rows' slopes,
-        exact within an element), and every other dof with mass from its equation of motion,
+        the bridge's track dofs, held at rest; N'' u by :meth:`_rail_curvature`), and every
+        other dof with mass from its equation of motion,
         M_oo a_o = −M_ow a_w − (C v)_o (its static forces balance). Zero accelerations on an
         irregular rail made the undamped trapezoidal rule ring at period 2Δt for ever: ±0.17
         m/s² on the wheels and up to 43 % of the contact force's response to a sine rail."""
@@ -353,11 +358,9 @@ class CoupledAnalysis:
             return (slopes[0] - slopes[1]) / (2 * h)
         out = np.zeros(len(x))
         for i, xi in enumerate(x):
-            e = host_element(xi, track.x_start, track.length)
-            if e < 0:
-                continue
-            row = hermite_curvature((xi - track.x_start[e]) / track.length[e], track.length[e])
-            out[i] = sum(c * values[d] for c, d in zip(row, track.dofs[e]) if d >= 0)
+            row = track.hermite_row(xi)
+            if row is not None:
+                out[i] = sum(c * values[d] for c, d in zip(row[3], row[0]) if d >= 0)
         return out
 
     def _quasi_static_rates(self, wheel_v):

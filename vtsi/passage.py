@@ -66,6 +66,7 @@ VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
 PLACES = ("deck", "midspan", "supports")
 SUPPORT_X_TOLERANCE = 0.01    # [m] how far off a deck node's x a bearing or pier under it may reach
 CONTACT_FORCE_WINDOW = 0.01   # [s] a sweep's contact forces are their centred moving mean over this window
+BODY_ON_TWO_SUPPORTS = ("four_dof", "ten_dof")   # car kinds whose body rests at the mean of each wheel half
 BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
 
 
@@ -160,7 +161,9 @@ class PassageSettings:
     cars : fidelity of the trains: 'force' (moving axle loads) or 'full' (the catalogue's
         multibody cars; a train without them is refused).
     contact : 'bilateral' or 'lcp' (contact loss).
-    interpolation : 'hermite' or 'bspline' (the ringing remedy (a)).
+    interpolation : 'hermite' or 'bspline' (the ringing remedy (a)); None: 'bspline' for trains of
+        cars (with Newmark's undamped rule 'hermite' rows ring after the rail's kinks at the
+        supports, and the check reads no wheel unloading from them), 'hermite' for moving forces.
     exact_events : take span entries and exits at their own time (see CoupledAnalysis).
     damping : None (the bridge as built) or a damping ratio ζ [-] given to the bridge by
         Rayleigh damping through the two frequencies ``damping_hz`` (default: the first
@@ -193,7 +196,7 @@ class PassageSettings:
     integrator: object = None
     cars: str = "force"
     contact: str = "bilateral"
-    interpolation: str = "hermite"
+    interpolation: str = None
     exact_events: bool = False
     damping: object = None
     damping_hz: object = None
@@ -234,6 +237,8 @@ class PassageSettings:
                 raise ModelError(f"sweep settings: damping_hz must be two different frequencies > 0 [Hz], "
                                  f"got {self.damping_hz!r}")
             object.__setattr__(self, "damping_hz", pair)
+        if self.interpolation is None:
+            object.__setattr__(self, "interpolation", "bspline" if self.cars == "full" else "hermite")
         for name, valid in (("cars", FIDELITIES), ("contact", CONTACT_STRATEGIES), ("interpolation", INTERPOLATIONS)):
             if getattr(self, name) not in valid:
                 raise ModelError(f"sweep settings: unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")
@@ -269,15 +274,16 @@ class PassageSettings:
 
 
 
-def contact_force_mean(forces, dt):
+def contact_force_mean(forces, dt, window=CONTACT_FORCE_WINDOW):
     """The centred moving mean (n_steps, n_wheels) [N] of contact forces sampled every ``dt`` [s]
-    over CONTACT_FORCE_WINDOW: trapezoidal weights on 2m + 1 samples, m = max(1, round(window /
-    2Δt)), under which a period-2Δt oscillation averages to zero. Where the rail kinks (rigid
+    over ``window`` [s]: trapezoidal weights on 2m + 1 samples, m = ⌊window / 2Δt + ½⌋ ≥ 1 (the
+    mean spans 2mΔt: 10 ms for Δt = 1, 0.5, 0.25 ms; 12 ms for 2 ms; 2Δt from 10 ms up), under
+    which a period-2Δt oscillation averages to zero (the edges repeat the first and last sample). Where the rail kinks (rigid
     ground next to a span) the exact force holds an impulse, which a step shows as impulse/Δt,
     and Newmark's rows ring at period 2Δt after it: the raw minimum of an ICE3 over a 20 m
     span went from ΔQ/Q = 0.11 to 0.79 as Δt fell from 2 to 0.25 ms ('bspline' rows), to 2.3
     with exact events; the mean stays at 0.07–0.08."""
-    m = max(1, int(round(0.5 * CONTACT_FORCE_WINDOW / dt)))
+    m = max(1, int(math.floor(0.5 * window / dt + 0.5)))
     weights = np.ones(2 * m + 1)
     weights[[0, -1]] = 0.5
     return convolve1d(np.asarray(forces, dtype=float), weights / (2 * m), axis=0, mode="nearest")
@@ -760,20 +766,21 @@ class PassageRunner:
     def _body_points(self, train, values):
         """Each car body's vertical acceleration (n_steps, n_cars) [m/s²] from its recorded bounce
         and pitch (``values`` (n_steps, the recorder's dofs)): at its centre or over either bogie
-        pivot (a car of two wheels: over either wheel), whichever is the largest at each step
+        pivot (a four-dof car: over either wheel), whichever is the largest at each step (a body of
+        another kind: its bounce; its envelope's min and max are those of that signal, its absmax
+        each point's)
         (EN 1990 A2.4.4.3.1 reads the acceleration inside the coach: the bounce at the centre
         alone read an ICE3 coach on a German 'high' rail 0.50 m/s², 1.03 over the bogies)."""
         out, k = [], 0
         for i in self.columns(Output("body", "car_body_accel"), train):
             car = train.cars[i]
-            bounce = values[:, k]
-            if "body_rz" not in car.dof_names:
+            bounce, pitch = values[:, k], "body_rz" in car.dof_names
+            k += 2 if pitch else 1
+            if not pitch or car.kind not in BODY_ON_TWO_SUPPORTS:    # where its bogies are is not known
                 out.append(bounce)
-                k += 1
                 continue
             half = 0.5 * (np.mean(car.wheel_offsets[len(car.wheel_offsets) // 2:])
                           - np.mean(car.wheel_offsets[: len(car.wheel_offsets) // 2]))
-            points = np.stack([bounce, bounce + half * values[:, k + 1], bounce - half * values[:, k + 1]])
+            points = np.stack([bounce, bounce + half * values[:, k - 1], bounce - half * values[:, k - 1]])
             out.append(np.take_along_axis(points, np.argmax(np.abs(points), axis=0)[None], axis=0)[0])
-            k += 2
         return np.stack(out, axis=1) if out else np.zeros((len(values), 0))

@@ -260,6 +260,8 @@ class _Report:
         verdict = ("PASS: every criterion is within its limit" if passed else
                    f"FAIL: {len(failing)} of {sum(r.status != 'info' for r in self.rows)} criteria with a limit "
                    f"fail{'s' * (len(failing) == 1)}: {', '.join(failing)}")
+        if self.checked.unchecked:
+            verdict += f" (not checked: {', '.join(_label(c) for c in self.checked.unchecked)}; see their notes)"
         v = res.speeds_kmh
         seeds = "smooth rail" if res.seeds == [-1] else f"{len(res.seeds)} rail samples"
         extent = (f"{_plural(len(res.trains), 'train')} × {_plural(len(v), 'speed')} "

@@ -52,7 +52,7 @@ import numpy as np
 from vtsi import __version__
 from vtsi.errors import SweepError, as_number
 
-FORMAT, FORMAT_VERSION = "vtsi-sweep", 4
+FORMAT, FORMAT_VERSION = "vtsi-sweep", 5
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "moment": ("min", "max"),
