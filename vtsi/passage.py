@@ -277,9 +277,10 @@ class PassageSettings:
 def contact_force_mean(forces, dt, window=CONTACT_FORCE_WINDOW):
     """The centred moving mean (n_steps, n_wheels) [N] of contact forces sampled every ``dt`` [s]
     over ``window`` [s]: trapezoidal weights on 2m + 1 samples, m = ⌊window / 2Δt + ½⌋ ≥ 1 (the
-    mean spans 2mΔt: 10 ms for Δt = 1, 0.5, 0.25 ms; 12 ms for 2 ms; 2Δt from 10 ms up), under
-    which a period-2Δt oscillation averages to zero (the edges repeat the first and last sample). Where the rail kinks (rigid
-    ground next to a span) the exact force holds an impulse, which a step shows as impulse/Δt,
+    mean spans 2mΔt: 10 ms for Δt = 1, 0.5, 0.25 ms; 12 ms for 2 ms; 2Δt once Δt > 6.7 ms), under
+    which a period-2Δt oscillation averages to zero (the edges repeat the first and last sample).
+    Where the rail kinks (rigid ground next to a span) the exact force holds an impulse, which a
+    step shows as impulse/Δt,
     and Newmark's rows ring at period 2Δt after it: the raw minimum of an ICE3 over a 20 m
     span went from ΔQ/Q = 0.11 to 0.79 as Δt fell from 2 to 0.25 ms ('bspline' rows), to 2.3
     with exact events; the mean stays at 0.07–0.08."""
@@ -766,11 +767,11 @@ class PassageRunner:
     def _body_points(self, train, values):
         """Each car body's vertical acceleration (n_steps, n_cars) [m/s²] from its recorded bounce
         and pitch (``values`` (n_steps, the recorder's dofs)): at its centre or over either bogie
-        pivot (a four-dof car: over either wheel), whichever is the largest at each step (a body of
-        another kind: its bounce; its envelope's min and max are those of that signal, its absmax
-        each point's)
-        (EN 1990 A2.4.4.3.1 reads the acceleration inside the coach: the bounce at the centre
-        alone read an ICE3 coach on a German 'high' rail 0.50 m/s², 1.03 over the bogies)."""
+        pivot (a four-dof car: over either wheel), whichever is the largest at each step; a body
+        of another kind keeps its bounce. EN 1990 A2.4.4.3.1 reads the acceleration inside the
+        coach: the bounce at the centre alone read an ICE3 coach on a German 'high' rail
+        0.50 m/s², 1.03 over the bogies. (The envelope's min and max are those of this signal;
+        its absmax is each point's.)"""
         out, k = [], 0
         for i in self.columns(Output("body", "car_body_accel"), train):
             car = train.cars[i]
