@@ -280,10 +280,9 @@ def contact_force_mean(forces, dt, window=CONTACT_FORCE_WINDOW):
     mean spans 2mΔt: 10 ms for Δt = 1, 0.5, 0.25 ms; 12 ms for 2 ms; 2Δt once Δt > 6.7 ms), under
     which a period-2Δt oscillation averages to zero (the edges repeat the first and last sample).
     Where the rail kinks (rigid ground next to a span) the exact force holds an impulse, which a
-    step shows as impulse/Δt,
-    and Newmark's rows ring at period 2Δt after it: the raw minimum of an ICE3 over a 20 m
-    span went from ΔQ/Q = 0.11 to 0.79 as Δt fell from 2 to 0.25 ms ('bspline' rows), to 2.3
-    with exact events; the mean stays at 0.07–0.08."""
+    step shows as impulse/Δt, and Newmark's rows ring at period 2Δt after it: the raw minimum of
+    an ICE3 over a 20 m span went from ΔQ/Q = 0.11 to 0.79 as Δt fell from 2 to 0.25 ms
+    ('bspline' rows), to 2.3 with exact events; the mean stays at 0.07–0.08."""
     m = max(1, int(math.floor(0.5 * window / dt + 0.5)))
     weights = np.ones(2 * m + 1)
     weights[[0, -1]] = 0.5
@@ -393,10 +392,10 @@ class PassageRunner:
             nodes.update(asm.blocks[b][0].nodes[i])
         x = {n: float(self.model.nodes[n][0]) for n in nodes}
         deck = sorted(nodes, key=x.get)
-        links = self._links()
-        fixed = self._supports(deck, x, links)
+        links, fixed_y = self._links(), {n for n, flags in self.model.fixities.items() if flags[1]}
+        fixed = self._supports(deck, x, links, fixed_y)
         self.support_nodes = list(fixed)
-        self.track_on_a_structure = self._on_a_structure(deck, x, fixed, links)
+        self.track_on_a_structure = self._on_a_structure(deck, x, fixed, links, fixed_y)
         place = {n: i for i, n in enumerate(deck)}
         runs = []                    # the supports in runs on consecutive nodes
         for n in fixed:
@@ -425,12 +424,12 @@ class PassageRunner:
                     links.setdefault(n, set()).update(m for m in ends if m != n)
         return links
 
-    def _on_a_structure(self, deck, x, supports, links):
+    def _on_a_structure(self, deck, x, supports, links, fixed_y):
         """True when most of the track's other nodes stand on elements over another structure
         (a node at or below them, within SUPPORT_X_TOLERANCE of their x, off the deck and not
         fixed; pads between coincident nodes too): a rail on its pads over the deck, whose
         outputs are the rail's, not the deck's."""
-        fixed_y, on_deck = {n for n, f in self.model.fixities.items() if f[1]}, set(deck)
+        on_deck = set(deck)
         inner = [n for n in deck if n not in set(supports)]
         under = [n for n in inner if any(m not in on_deck and m not in fixed_y
                                          and abs(self.model.nodes[m][0] - x[n]) <= SUPPORT_X_TOLERANCE
@@ -438,13 +437,12 @@ class PassageRunner:
                                          for m in links.get(n, ()))]
         return len(inner) > 0 and 2 * len(under) > len(inner)
 
-    def _supports(self, deck, x, links):
+    def _supports(self, deck, x, links, fixed_y):
         """The deck nodes that carry the deck, in order: uy fixed, or standing on a vertical line
         of other elements (bearings, springs, piers: every node of the line within
         SUPPORT_X_TOLERANCE of the deck node's x, off the deck) that reaches a node with uy
         fixed. Hangers and stays are not vertical lines to a fixed node, nor is the deck under a
         rail modelled as its own beam on springs."""
-        fixed_y = {n for n, flags in self.model.fixities.items() if flags[1]}
         on_deck = set(deck)
 
         def stands(node):
@@ -580,7 +578,8 @@ class PassageRunner:
         corrected = self._stepped_corrections(outputs) if train.n_dof == 0 else {}
         averaged = {o for o in outputs if o.response == "contact_force"}
         bodies = {o for o in outputs if o.response == "car_body_accel"}
-        recorders = self._recorders(sub, tie, outputs, keep=set(corrected) | averaged | bodies)
+        processed = set(corrected) | averaged | bodies      # their envelopes come from the processed history
+        recorders = self._recorders(sub, tie, outputs, keep=processed)
         state = domain_state(self.model)
         state.time = 0.0
         state.u[:], state.v[:], state.a[:] = 0.0, 0.0, 0.0
@@ -600,7 +599,7 @@ class PassageRunner:
         result = CaseResult(train_name, float(speed_kmh), int(seed), n_steps, 0.0, x_head0)
         for output, rec in recorders:
             env, history = rec.envelope, None
-            if output.history or output in corrected or output in averaged or output in bodies:
+            if output.history or output in processed:
                 history = (np.asarray(rec.time).copy(), np.asarray(rec.values).copy())
             if output in corrected:       # the truncated modes' quasi-static share, under the wheels' forces
                 history[1][:] += self.modal.static_correction(corrected[output], train.wheel_offsets,
@@ -610,7 +609,7 @@ class PassageRunner:
                 history = (history[0], contact_force_mean(history[1], s.dt))
             if output in bodies:
                 history = (history[0], self._body_points(train, history[1]))
-            if output in corrected or output in averaged or output in bodies:
+            if output in processed:
                 env = Envelope(history[1].shape[1])
                 env.update(*history)
             result.envelopes[output.name] = np.array([env.min, env.max, env.absmax, env.time_of_min,
@@ -719,7 +718,7 @@ class PassageRunner:
         s = self.settings
         if self.modal is None or not s.static_correction or s.bridge_self_weight:
             return {}
-        return {o: self._residual(o) for o in outputs if self._residual(o) is not None}
+        return {o: G for o in outputs if (G := self._residual(o)) is not None}
 
     def _residual(self, output):
         """The residual flexibility G (n_track, n_columns) of ``output``'s static correction (a
