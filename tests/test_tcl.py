@@ -167,7 +167,7 @@ def test_tcl_errors():
     tcl = Interpreter()
     with pytest.raises(UnknownCommand, match="'foo'") as info:
         tcl.eval("model basic -ndm 2\nfoo 1 2")
-    assert "foo 1 2" in "\n".join(getattr(info.value, "__notes__", ["foo 1 2"]))
+    assert info.value.__notes__[0].startswith("Tcl traceback:") and "foo 1 2" in info.value.__notes__[0]
     tcl.eval("node 1 0 0")
     with pytest.raises(ModelError, match="node 1 already exists"):
         tcl.eval("node 1 0 0")
@@ -182,11 +182,29 @@ def test_tcl_errors():
 
 
 def test_main_exit_codes(tmp_path, capsys):
+    """A script's failing command: one line naming the script, its line and vtsi's message, exit
+    status 2; ``--traceback`` adds the Tcl traceback; a Python script is refused, naming python."""
     bad = tmp_path / "bad.tcl"
     bad.write_text("model basic -ndm 2 -ndf 3\nnode 1 0 0\nbogusCommand 3\n")
-    assert main([str(bad)]) == 1
-    err = capsys.readouterr().err
-    assert "bogusCommand" in err and "line 3" in err
+    assert main([str(bad)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"vtsi: {bad} line 3: unknown command 'bogusCommand'")
+    nested = tmp_path / "nested.tcl"
+    nested.write_text("model basic -ndm 2 -ndf 3\nproc twice {} {\n  node 1 0 0\n  node 1 0 0\n}\ntwice\n")
+    assert main(["run", "--traceback", str(nested)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err[0] == f"vtsi: {nested} line 6: node 1 already exists"
+    assert err[1] == "Tcl traceback:" and '(procedure "twice" line 3)' in "\n".join(err)
+    expr = tmp_path / "expr.tcl"
+    expr.write_text("puts ok\nset x [expr {1 +}]\n")
+    assert main([str(expr)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"vtsi: {expr} line 2: Tcl error: missing operand")
+    python = tmp_path / "model.py"
+    python.write_text("import vtsi.opensees as ops\n")
+    with pytest.raises(SystemExit) as info:
+        main(["run", str(python)])
+    assert info.value.code == 2 and f"run it with: python {python}" in capsys.readouterr().err
     good = tmp_path / "good.tcl"
     good.write_text("puts \"args [llength $argv] $argv\"\nexit 3\n")
     assert main([str(good), "x", "y"]) == 3

@@ -5,8 +5,10 @@
     vtsi sweep BRIDGE --trains ... --speeds ...   a speed sweep into an HDF5 results file
     vtsi trains                         the train catalogue
 
-Exit status of ``run``: the script's ``exit`` code, 0 when it ends normally, 1 when a command
-fails (the message, with the Tcl traceback, goes to standard error), 2 for a bad command line.
+Exit status of ``run``: the script's ``exit`` code, 0 when it ends normally; 2 a bad command line
+or a command of the script that fails on its input (one line on standard error: the script, its
+line and vtsi's message; ``--traceback`` adds the Tcl traceback); 1 an analysis of the script that
+diverged (the line names the step and time) or a file it cannot write.
 Exit status of ``sweep``: 0 done; 2 a bad command line or input (one line on standard error,
 nothing written); 1 a passage failed while the sweep ran (the finished cases stay in the
 results file); 130 interrupted (the finished cases stay in the results file; ``--resume``).
@@ -98,10 +100,14 @@ def _parser():
 
     run = sub.add_parser("run", prog="vtsi run",
                          help="run an OpenSees-style Tcl model script (its $argv: the arguments after it)",
-                         usage="vtsi run [-h] SCRIPT.tcl [args ...]",
+                         usage="vtsi run [-h] [--traceback] SCRIPT.tcl [args ...]",
                          description="Run an OpenSees-style Tcl model script with vtsi; the arguments after the "
                                      "script are its $argv. Exit status: the script's 'exit' code, 0 when it ends "
-                                     "normally, 1 when a command fails, 2 for a bad command line.")
+                                     "normally; 2 a bad command line or a script command that fails on its input "
+                                     "(one line: script, line, message); 1 an analysis that diverges or a file "
+                                     "that cannot be written.")
+    run.add_argument("--traceback", action="store_true",
+                     help="after the one-line message of a failing command, print the Tcl traceback")
     run.add_argument("script", help="Tcl script to run (e.g. model.tcl)")
     run.add_argument("args", nargs="*", default=[], help="the script's $argv")
     parser.run_parser = run
@@ -215,14 +221,18 @@ def _irregularities():
 
 # -- vtsi run ----------------------------------------------------------------------------------
 def _run(parser, argv):
-    from vtsi.errors import VtsiError
+    from vtsi.commands.tcl import script_line
+    from vtsi.errors import DivergenceError, VtsiError
     from vtsi.tcl import run_file
 
-    split = 1 if argv and not argv[0].startswith("-") else len(argv)
+    split = next((k + 1 for k, word in enumerate(argv) if not word.startswith("-")), len(argv))
     ns = parser.run_parser.parse_args(argv[:split])
     if not os.path.isfile(ns.script) or not os.access(ns.script, os.R_OK):
         parser.run_parser.error(f"script {ns.script}: " + ("not a readable file" if os.path.exists(ns.script)
                                                             else "no such file"))
+    if ns.script.endswith(".py"):
+        parser.run_parser.error(f"script {ns.script}: a Python script; 'vtsi run' runs Tcl scripts "
+                                f"(run it with: python {ns.script})")
     try:
         interp = run_file(ns.script, argv=argv[split:])
     except ImportError as exc:
@@ -233,9 +243,12 @@ def _run(parser, argv):
         return EXIT_FAILED
     except (VtsiError, OSError) as exc:
         sys.stdout.flush()
-        notes = "\n".join(getattr(exc, "__notes__", ()))
-        print(f"vtsi: {ns.script}: {type(exc).__name__}: {exc}" + (f"\n{notes}" if notes else ""), file=sys.stderr)
-        return EXIT_FAILED
+        line = script_line(exc, ns.script)
+        message = " ".join(str(exc).split("\n"))
+        print(f"vtsi: {ns.script}" + (f" line {line}" if line else "") + f": {message}", file=sys.stderr)
+        if ns.traceback:
+            print("\n".join(getattr(exc, "__notes__", ())), file=sys.stderr)
+        return EXIT_FAILED if isinstance(exc, (DivergenceError, OSError)) else EXIT_USAGE
     return interp.exit_code or 0
 
 

@@ -34,7 +34,6 @@ Every problem raises :class:`~vtsi.errors.ModelError` naming the file and the ke
 import hashlib
 import math
 import os
-import re
 import runpy
 import sys
 import traceback
@@ -42,7 +41,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from vtsi import opensees
-from vtsi.commands.tcl import Interpreter
+from vtsi.commands.tcl import Interpreter, script_line
 from vtsi.errors import ModelError, VtsiError, is_int
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
@@ -332,17 +331,11 @@ def _run_tcl(path, session):
     try:
         code = interp.source(path)
     except Exception as exc:      # the user's script: any error, re-raised naming the script and line
-        notes = "\n".join(getattr(exc, "__notes__", ()))
-        line = _tcl_line(notes or str(exc), path)
+        line = script_line(exc, path)
+        line = f", line {line}" if line else ""
         raise ModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
     if code:
         raise ModelError(f"bridge script {path}: exited with status {code}")
-
-
-def _tcl_line(text, path):
-    lines = [m.group(2) for m in re.finditer(r'\(file "([^"]*)" line (\d+)\)', text)
-             if os.path.abspath(m.group(1)) == path]
-    return f", line {lines[-1]}" if lines else ""
 
 
 def _run_python(path, session):

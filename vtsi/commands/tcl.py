@@ -31,6 +31,7 @@ Example
 '0.0 0.0'
 """
 import os
+import re
 
 from vtsi.errors import CommandError
 
@@ -38,6 +39,17 @@ from .args import UnknownCommand, convert_word
 from .session import COMMANDS, Session
 
 _EXIT = "__vtsi_exit__"
+TRACEBACK_NOTE = "Tcl traceback:"   # heads the note :meth:`Interpreter.eval` adds to a script's error
+
+
+def script_line(exc, path):
+    """The line of the Tcl file ``path`` where the error ``exc`` raised by :meth:`Interpreter.eval`
+    stopped the script (the innermost frame in that file), or None."""
+    notes = [n for n in getattr(exc, "__notes__", ()) if n.startswith(TRACEBACK_NOTE)]
+    path = os.path.abspath(path)
+    lines = [int(m.group(2)) for note in notes for m in re.finditer(r'\(file "([^"]*)" line (\d+)\)', note)
+             if os.path.abspath(m.group(1)) == path]
+    return lines[0] if lines else None
 
 _WRAPPER = r"""
 proc ::%(name)s args {
@@ -121,12 +133,11 @@ class Interpreter:
                 return ""
             info = self.tcl.eval("set ::errorInfo")
             exc = self._error
-            if exc is not None and message == str(exc):
-                if hasattr(exc, "add_note"):
-                    where = info[len(message):].lstrip("\n") if info.startswith(message) else info
-                    exc.add_note(f"Tcl traceback:\n{where}")
-                raise exc from None
-            raise CommandError(f"Tcl error: {message}\n{info}") from None
+            if exc is None or message != str(exc):
+                exc = CommandError(f"Tcl error: {message}")
+            where = info[len(message):].lstrip("\n") if info.startswith(message) else info
+            exc.__notes__ = [*getattr(exc, "__notes__", ()), f"{TRACEBACK_NOTE}\n{where}"]   # add_note (3.11+)
+            raise exc from None
 
     def source(self, path, argv=()):
         """Run the Tcl file ``path`` (``argv``: the script's ``$argv``); returns the exit code
