@@ -167,7 +167,7 @@ class Integrator:
         return None
 
     def __repr__(self):
-        params = ", ".join(f"{k}={v:g}" for k, v in vars(self).items() if isinstance(v, float) and k[0] != "_")
+        params = ", ".join(f"{k}={v:.15g}" for k, v in vars(self).items() if isinstance(v, float) and k[0] != "_")
         return f"{type(self).__name__}({params})"
 
 

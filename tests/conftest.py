@@ -37,6 +37,14 @@ def custom_element():
 
 
 @pytest.fixture(scope="session")
+def required_args():
+    """``required_args(name)``: the arguments a registered integrator needs by name, those of its
+    parameters without a default (OpenSees's ``integrator HHT`` needs α)."""
+    required = {"HHT": (0.9,)}
+    return lambda name: required.get(name, ())
+
+
+@pytest.fixture(scope="session")
 def moving_load_beam():
     """``tests/scripts/moving_load_beam.py``: the Path-per-node moving force script's builders."""
     spec = importlib.util.spec_from_file_location("vtsi_test_moving_load_beam",

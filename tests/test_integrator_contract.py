@@ -12,12 +12,11 @@ from vtsi.integrators import INTEGRATORS, Integrator, Stage, make_integrator, re
 
 NAMES = sorted(INTEGRATORS)
 STEPS = (1e-3, 0.37)
-REQUIRED = {"HHT": (0.9,)}      # parameters without a default (OpenSees's integrator HHT needs α)
 
 
 @pytest.fixture(params=NAMES)
-def integrator(request):
-    return INTEGRATORS[request.param](*REQUIRED.get(request.param, ()))
+def integrator(request, required_args):
+    return INTEGRATORS[request.param](*required_args(request.param))
 
 
 def test_registry_is_not_empty():
@@ -133,9 +132,9 @@ def test_stages_are_fresh_objects(integrator):
     assert np.all(np.isfinite(second[0].du)) and (0.5, 0.0) not in second[0].load
 
 
-def test_selection_by_name_class_and_instance():
+def test_selection_by_name_class_and_instance(required_args):
     for name, cls in INTEGRATORS.items():
-        args = REQUIRED.get(name, ())
+        args = required_args(name)
         assert type(make_integrator(name, *args)) is cls
         assert type(make_integrator(cls, *args)) is cls
         instance = cls(*args)

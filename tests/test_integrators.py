@@ -32,7 +32,6 @@ from vtsi.elements import ELEMENT_TYPES, ElementType, register
 from vtsi.errors import AnalysisError, DivergenceError
 from vtsi.integrators import INTEGRATORS, HHT, Bathe, CentralDifference, GeneralizedAlpha, Newmark, make_integrator
 
-REQUIRED = {"HHT": (0.9,)}      # parameters without a default (OpenSees's integrator HHT needs α)
 
 
 # -- the test-local element and the oscillator ---------------------------------------------------
@@ -317,11 +316,11 @@ def test_spectral_radius_at_large_step(name):
 
 
 @pytest.mark.parametrize("name", sorted(INTEGRATORS))
-def test_stability_limit_is_where_the_spectral_radius_exceeds_one(name):
+def test_stability_limit_is_where_the_spectral_radius_exceeds_one(name, required_args):
     """Contract item 3 checked on the amplification matrix: unconditionally stable schemes keep
     ρ <= 1 for Ω in [1e-3, 1e8]; a conditionally stable one has ρ <= 1 just below its limit
     and ρ > 1 just above it."""
-    integrator = INTEGRATORS[name](*REQUIRED.get(name, ()))
+    integrator = INTEGRATORS[name](*required_args(name))
     limit = integrator.stability_limit(1.0)
     if limit is None:
         radii = [spectral_radius(integrator, om) for om in np.logspace(-3, 8, 111)]
@@ -493,6 +492,14 @@ def test_integrators_by_text_with_their_parameters(spec, expected):
     assert repr(make_integrator(repr(integ))) == repr(integ)
 
 
+def test_an_integrator_rebuilt_from_its_repr_keeps_its_parameters():
+    """The repr a results file stores keeps 15 significant digits: HHT(2/3) comes back with α
+    to 1e-15 (with 6 digits it came back as 0.666667, 5e-7 off), and 0.9 stays 0.9."""
+    third = make_integrator(repr(HHT(2.0 / 3.0)))
+    assert abs(third.alpha - 2.0 / 3.0) < 1e-15 and abs(third.beta - (4.0 / 3.0) ** 2 / 4.0) < 1e-15
+    assert repr(HHT(0.9)) == "HHT(alpha=0.9, gamma=0.6, beta=0.3025)"
+
+
 @pytest.mark.parametrize("spec, words", [
     ("HHT", r"^integrator HHT: give alpha \(OpenSees convention, 2/3 <= alpha <= 1; 1 is Newmark's undamped trapezoidal"),
     ("HHT()", "give alpha"),
@@ -529,11 +536,11 @@ def test_unknown_integrator_lists_the_known_ones():
 
 
 @pytest.mark.parametrize("name", ["Newmark", "HHT", "Bathe", "CentralDifference", "TRBDF2"])
-def test_integrator_by_name_class_or_instance(name):
+def test_integrator_by_name_class_or_instance(name, required_args):
     """A name, a class and an instance select the same scheme and give the same response."""
     if name not in INTEGRATORS:
         pytest.skip(f"{name} is not registered")
-    cls, args = INTEGRATORS[name], REQUIRED.get(name, ())
+    cls, args = INTEGRATORS[name], required_args(name)
     specs = (f"{name}({', '.join(map(str, args))})" if args else name, cls if not args else make_integrator(cls, *args),
              cls(*args))
     runs = [simulate(spec, 2.0 * np.pi, 0.01, 20) for spec in specs]
@@ -545,7 +552,7 @@ def test_integrator_by_name_class_or_instance(name):
         make_integrator(cls(*args), 0.5)
 
 
-def test_constant_load_is_integrated_exactly():
+def test_constant_load_is_integrated_exactly(required_args):
     """Consistency through the whole loop: a free mass under a constant force (no element:
     K = C = 0) moves as u0 + v0 t + f t²/2 exactly (to 1e-12) with every registered scheme."""
     for name, cls in INTEGRATORS.items():
@@ -558,7 +565,7 @@ def test_constant_load_is_integrated_exactly():
         state = vtsi.domain_state(m)
         state.u[1], state.v[1], state.a[1] = 0.5, -1.0, 2.0
         rec = vtsi.recorders.NodeRecorder([1], [2], "disp")
-        vtsi.TransientAnalysis(m, cls(*REQUIRED.get(name, ())), 0.1, recorders=[rec]).run(30)
+        vtsi.TransientAnalysis(m, cls(*required_args(name)), 0.1, recorders=[rec]).run(30)
         t = rec.time
         np.testing.assert_allclose(rec.values[:, 0], 0.5 - t + t ** 2, rtol=1e-12, atol=1e-12, err_msg=name)
         assert state.v[1] == pytest.approx(-1.0 + 2.0 * 3.0, rel=1e-12), name
@@ -581,12 +588,12 @@ def test_zero_steps_changes_nothing():
 
 
 @pytest.mark.parametrize("name", sorted(INTEGRATORS))
-def test_second_run_continues_from_committed_state(name):
+def test_second_run_continues_from_committed_state(name, required_args):
     """run(37) then run(63) is bit-for-bit run(100) (also across chunk boundaries), the clock
     continues, and a recorder reused by both runs holds all 100 steps."""
     m1, m2 = oscillator(2.0 * np.pi, xi=0.02, v0=0.4), oscillator(2.0 * np.pi, xi=0.02, v0=0.4)
     rec1, rec2 = vtsi.recorders.NodeRecorder([1], [2], "disp"), vtsi.recorders.NodeRecorder([1], [2], "disp")
-    spec = INTEGRATORS[name](*REQUIRED.get(name, ()))
+    spec = INTEGRATORS[name](*required_args(name))
     vtsi.TransientAnalysis(m1, spec, 0.01, recorders=[rec1]).run(100)
     analysis = vtsi.TransientAnalysis(m2, spec, 0.01, recorders=[rec2], chunk_steps=16)
     analysis.run(37)
