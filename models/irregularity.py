@@ -29,6 +29,7 @@ _GERMAN = {'low': 4.032e-7, 'high': 1.080e-6}  # A_v [m·rad], low / high interf
 _GERMAN_OMEGA_C, _GERMAN_OMEGA_R = 0.8246, 0.0206  # [rad/m]
 _FRA_AV = (1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339)  # A_v [cm²·rad/m], classes 1..6
 _FRA_OMEGA_C, _FRA_K = 0.8245, 0.25
+WAVES_PER_BLOCK, POINTS_PER_BLOCK = 512, 4096   # sample_profile's work array: 512 × 4096 floats
 
 
 def _omega(omega, where, allow_zero):
@@ -144,10 +145,13 @@ def sample_profile(psd, x, wavelength_band=(3.0, 150.0), n_waves=None, rng=None)
     phase = np.random.default_rng(rng).uniform(0.0, 2.0 * np.pi, omega.size)
     flat = x.ravel()
     r = np.zeros(flat.size)
-    block = max(1, 2 ** 22 // max(flat.size, 1))  # bounds the (waves × points) work array to 32 MB
-    for s in range(0, omega.size, block):
-        k = slice(s, s + block)
-        r += amplitude[k] @ np.cos(np.outer(omega[k], flat) + phase[k, None])
+    # fixed blocks of waves and points (a 16 MB work array): each r(x) is summed in the same order
+    # whatever the other points are, so a seed's profile at x does not depend on the range sampled
+    for p in range(0, flat.size, POINTS_PER_BLOCK):
+        at = slice(p, p + POINTS_PER_BLOCK)
+        for s in range(0, omega.size, WAVES_PER_BLOCK):
+            k = slice(s, s + WAVES_PER_BLOCK)
+            r[at] += amplitude[k] @ np.cos(np.outer(omega[k], flat[at]) + phase[k, None])
     return r.reshape(x.shape)
 
 

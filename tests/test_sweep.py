@@ -618,6 +618,31 @@ def test_irregular_rail_seeds_with_cars():
     assert np.all(body > 0) and np.all(body < 2.0)
 
 
+def test_a_case_on_an_irregular_rail_does_not_depend_on_the_cases_before_it():
+    """A worker runs many cases with one runner. A case on an irregular rail gives what it gives
+    alone (to 1e-12: numpy sums a profile's cosines at x with a rounding that depends on x's
+    place in the array) after a slower case of its train (its dead-load start was cached from that
+    speed, but the wheels' rates V r', V² r'' and the B-spline smoothing over V Δt differ: the
+    contact forces moved by 2.8 N), and a short train's case after a longer train's (the profile,
+    sampled over the longer train's wider range, keeps its samples at whole multiples of its
+    step: 0.085 N when they moved with the range's start)."""
+    from vtsi.models import ice3
+    from vtsi.models.catalogue import _REGISTRY, Entry, register
+    settings = PassageSettings(dt=5e-3, damping=0.0125, cars="full", irregularity="german-high")
+    register(Entry("ICE3-3", "ICE3 of 3 cars (test)", {"full": lambda speed, span: ice3(3, speed=speed)}))
+    try:
+        for before, case in ((("ICE3", 160.0), ("ICE3", 250.0)), (("ICE3", 250.0), ("ICE3-3", 250.0))):
+            alone = Sweep(small_bridge(), ["ICE3"], "250", settings, seeds=[3]).runner.run(*case, 3)
+            runner = Sweep(small_bridge(), ["ICE3"], "250", settings, seeds=[3]).runner
+            runner.run(*before, 3)
+            after = runner.run(*case, 3)
+            for name in ("contact_force", "acceleration", "car_body_acceleration"):
+                a, b = alone.envelopes[name][:3], after.envelopes[name][:3]
+                assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(a)), (before, name, np.max(np.abs(a - b)))
+    finally:
+        del _REGISTRY["ICE3-3"]
+
+
 def test_trains_with_different_wheel_counts_share_the_vehicle_tables():
     """A registered 4-car ICE3 beside the 8-car one: the contact-force tables of the file are
     as wide as the longer train's 32 wheels, the shorter's 16 padded; each case reads back its
