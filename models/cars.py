@@ -1,12 +1,7 @@
-"""Rail vehicles as small multibody systems in the vertical plane.
+"""Catalogue cars: rail vehicles as small multibody systems in the vertical plane.
 
-Conventions (DESIGN §3): x along the track, the train moves in +x; y vertical, positive up;
-rotations rz counter-clockwise positive, so a point a metres *ahead* of a body's centre (larger
-x) moves up by ``a * rz``. SI units (kg, kg·m², N/m, N·s/m, m, N). A wheel's contact force
-λ ≥ 0 is compression and pushes the wheel up.
-
-Every car is a :class:`Car`: constant matrices ``M, C, K`` over its own dofs, the gravity load,
-and which dofs are the wheels'. Rigid bodies are lumped at their centres of mass, so ``M`` is
+Every car is a :class:`vtsi.vehicle.Car` (its conventions and units there): constant matrices
+``M, C, K`` over its own dofs, the gravity load, and which dofs are the wheels'. Rigid bodies are lumped at their centres of mass, so ``M`` is
 diagonal; springs and dashpots are assembled by one helper, :func:`_assemble_springs`, for all
 car types.
 
@@ -23,16 +18,12 @@ References
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
 from importlib import resources
 
 import numpy as np
-import scipy.linalg
 
 from vtsi.errors import ModelError, as_number
-
-GRAVITY = 9.81
-"""Default acceleration of gravity g [m/s²], as in the reference data."""
+from vtsi.vehicle import GRAVITY, Car
 
 TEN_DOF_PARAMETERS = (
     'body_mass', 'body_pitch_inertia', 'bogie_mass', 'bogie_pitch_inertia', 'wheelset_mass',
@@ -40,127 +31,6 @@ TEN_DOF_PARAMETERS = (
     'bogie_centre_spacing', 'axle_spacing')
 """Keys of a 10-dof car's parameter mapping (units: kg, kg·m², N/m, N·s/m, m; 2-D values, i.e.
 per-side springs and dampers already doubled)."""
-
-
-def _frozen(values, dtype):
-    a = np.array(values, dtype=dtype)
-    a.setflags(write=False)
-    return a
-
-
-@dataclass(frozen=True, eq=False)
-class Car:
-    """An immutable vehicle description: constant matrices over the car's own dofs.
-
-    Build cars with the constructors of this module (:func:`moving_force`, :func:`moving_mass`,
-    :func:`sprung_mass`, :func:`four_dof_car`, :func:`ten_dof_car`, :func:`car_from_catalogue`).
-
-    Attributes
-    ----------
-    name : str
-    kind : str
-        The constructor that built it: 'moving_force', 'moving_mass', 'sprung_mass', 'four_dof',
-        'ten_dof' (or anything for a user-built car).
-    M, C, K : ndarray, shape (n_dof, n_dof), float64
-        Symmetric mass [kg, kg·m²], damping [N·s/m] and stiffness [N/m] matrices.
-    gravity_load : ndarray, shape (n_dof,)
-        −g × mass on translational dofs, 0 on rotations [N].
-    wheel_dofs : ndarray, shape (n_wheels,), int64
-        Index into the car's dofs of each wheel's vertical dof, front wheel first. Empty for a
-        force-only car (``n_dof == 0``): its wheels have no dofs and carry prescribed forces.
-    wheel_offsets : ndarray, shape (n_wheels,)
-        Distance of each wheel *behind* the car's reference point, the leading wheel (so the first
-        offset is 0 and the offsets increase towards the rear) [m].
-    dof_names : tuple of str
-        e.g. ('body_y', 'body_rz', 'wheel1_y', 'wheel2_y').
-    static_wheel_loads : ndarray, shape (n_wheels,)
-        Contact forces λ > 0 in static equilibrium on rigid level ground [N]. Computed from the
-        statics (``K u = gravity_load + Sᵀλ`` with the wheels held at 0) when ``n_dof > 0``, and
-        then not accepted as an argument; for a force-only car they are the prescribed forces and
-        must be given.
-    """
-
-    name: str
-    kind: str
-    M: np.ndarray
-    C: np.ndarray
-    K: np.ndarray
-    gravity_load: np.ndarray
-    wheel_dofs: np.ndarray
-    wheel_offsets: np.ndarray
-    dof_names: tuple
-    static_wheel_loads: np.ndarray = field(default=None)
-
-    def __post_init__(self):
-        set_ = object.__setattr__
-        for attr in ('M', 'C', 'K', 'gravity_load', 'wheel_offsets'):
-            set_(self, attr, _frozen(getattr(self, attr), np.float64))
-        set_(self, 'wheel_dofs', _frozen(self.wheel_dofs, np.int64))
-        set_(self, 'dof_names', tuple(self.dof_names))
-        n = len(self.dof_names)
-        where = f"car {self.name!r}"
-        for attr in ('M', 'C', 'K'):
-            a = getattr(self, attr)
-            if a.shape != (n, n) or not np.all(np.isfinite(a)):
-                raise ModelError(f"{where}: {attr} must be a finite ({n}, {n}) matrix, got shape {a.shape}")
-            if not np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * np.abs(a).max(initial=0.0)):
-                raise ModelError(f"{where}: {attr} is not symmetric")
-        if self.gravity_load.shape != (n,):
-            raise ModelError(f"{where}: gravity_load must have shape ({n},), got {self.gravity_load.shape}")
-        if self.wheel_offsets.ndim != 1 or self.wheel_offsets.size == 0:
-            raise ModelError(f"{where}: wheel_offsets must be a non-empty 1-d array")
-        if np.any(np.diff(self.wheel_offsets) <= 0) or not np.all(np.isfinite(self.wheel_offsets)):
-            raise ModelError(f"{where}: wheel_offsets must be finite and increasing, got {self.wheel_offsets}")
-        if n == 0:
-            if self.wheel_dofs.size or self.static_wheel_loads is None:
-                raise ModelError(f"{where}: a force-only car (no dofs) needs static_wheel_loads and no wheel_dofs")
-            loads = _frozen(self.static_wheel_loads, np.float64)
-        else:
-            wd = self.wheel_dofs
-            if (wd.shape != self.wheel_offsets.shape or np.unique(wd).size != wd.size
-                    or np.any((wd < 0) | (wd >= n))):
-                raise ModelError(f"{where}: wheel_dofs must be {self.wheel_offsets.size} distinct "
-                                 f"indices in [0, {n}), got {wd}")
-            if self.static_wheel_loads is not None:
-                raise ModelError(f"{where}: static_wheel_loads are computed from the statics, do not pass them")
-            loads = _frozen(self._solve_statics(), np.float64)
-        if loads.shape != self.wheel_offsets.shape or not np.all(loads > 0):
-            raise ModelError(f"{where}: static wheel loads must be > 0 for every wheel, got {loads}")
-        set_(self, 'static_wheel_loads', loads)
-
-    @property
-    def n_dof(self) -> int:
-        return len(self.dof_names)
-
-    @property
-    def n_wheels(self) -> int:
-        return self.wheel_offsets.size
-
-    @property
-    def body_dofs(self) -> np.ndarray:
-        """Indices of the dofs that are not wheels' (bodies, bogies), int64."""
-        return np.setdiff1d(np.arange(self.n_dof), self.wheel_dofs)
-
-    def _solve_statics(self) -> np.ndarray:
-        """λ = K_wf u_f − P_w with K_ff u_f = P_f (wheels w held at 0, the rest f free)."""
-        f, w, K, P = self.body_dofs, self.wheel_dofs, self.K, self.gravity_load
-        if f.size == 0:
-            return -P[w]
-        try:
-            u_f = scipy.linalg.solve(K[np.ix_(f, f)], P[f], assume_a='sym')
-        except (np.linalg.LinAlgError, scipy.linalg.LinAlgError) as err:
-            raise ModelError(f"car {self.name!r}: the bodies are not supported by the wheels "
-                             "(singular stiffness with the wheels held)") from err
-        return K[np.ix_(w, f)] @ u_f - P[w]
-
-    def fixed_wheel_frequencies(self) -> np.ndarray:
-        """Natural frequencies [Hz] with every wheel held fixed, ascending.
-
-        The generalised eigenproblem of ``K`` and ``M`` restricted to :attr:`body_dofs`.
-        """
-        f = self.body_dofs
-        lam = scipy.linalg.eigh(self.K[np.ix_(f, f)], self.M[np.ix_(f, f)], eigvals_only=True)
-        return np.sqrt(lam) / (2.0 * np.pi)
 
 
 def _check(where, positive=(), nonnegative=()):
@@ -219,19 +89,6 @@ def _multibody(name, kind, masses, dof_names, springs, wheel_dofs, wheel_offsets
     return Car(name=name, kind=kind, M=np.diag(masses), C=C, K=K,
                gravity_load=np.where(translational, -g * masses, 0.0),
                wheel_dofs=wheel_dofs, wheel_offsets=wheel_offsets, dof_names=dof_names)
-
-
-def moving_force(P, name='moving force'):
-    """A constant vertical force P [N] (> 0, downwards on the rail): no dofs, one wheel.
-
-    The car has ``n_dof = 0``, empty ``wheel_dofs``, ``wheel_offsets = [0]`` and
-    ``static_wheel_loads = [P]``; a coupled analysis applies P to the rail and solves no contact
-    for it.
-    """
-    _check('moving_force', positive=[('P', P)])
-    return Car(name=name, kind='moving_force', M=np.zeros((0, 0)), C=np.zeros((0, 0)),
-               K=np.zeros((0, 0)), gravity_load=np.zeros(0), wheel_dofs=np.zeros(0, np.int64),
-               wheel_offsets=[0.0], dof_names=(), static_wheel_loads=[float(P)])
 
 
 def moving_mass(m, g=GRAVITY, name='moving mass'):

@@ -10,7 +10,7 @@ it supports:
 Names, in catalogue order (:func:`train_names`): 'HSLM-A1' … 'HSLM-A10', 'HSLM-B', 'ICE3'.
 Lookup ignores case, and 'A3' or 'B' stand for 'HSLM-A3' and 'HSLM-B'. A name that is an
 existing file path ending in '.csv' is an axle table read by
-:meth:`~vtsi.models.trains.Train.from_csv` (force only). Units: speed in m/s, span in m, forces
+:meth:`~vtsi.vehicle.Train.from_csv` (force only). Units: speed in m/s, span in m, forces
 in N (the CSV table is in m and kN).
 
 Every built train carries ``characteristic_length`` D [m] (coach length; HSLM-B: the spacing d;
@@ -24,9 +24,11 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
+from vtsi.codes.en1991_2 import HSLM_B_SPAN_RANGE
 from vtsi.errors import ModelError
+from vtsi.vehicle import Train
 
-from .trains import HSLM_B_SPAN_RANGE, Train, _hslm_table, hslm_a, hslm_b, ice3, ice3_axle_loads
+from .trains import _hslm_table, hslm_a, hslm_b, ice3, ice3_axle_loads
 
 FIDELITIES = ('force', 'full')
 """Train fidelities, coarsest first: 'force' (axle loads) and 'full' (multibody cars)."""

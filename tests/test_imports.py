@@ -1,6 +1,6 @@
 """vtsi's imports run one way: no module of vtsi imports, directly or through others, a module
 that imports it back, counting the imports inside functions too (which would hide a circle);
-the command layer imports nothing inside a function; every module of ``vtsi.commands`` imports
+the core imports no catalogue of ``vtsi.models``; the command layer imports nothing inside a function; every module of ``vtsi.commands`` imports
 alone in a fresh interpreter."""
 import ast
 import subprocess
@@ -94,6 +94,18 @@ def test_the_cycle_finder_finds_a_hidden_circle():
     edges = graph()
     edges["vtsi.errors"] = dict(edges["vtsi.errors"], **{"vtsi.opensees": True})
     assert any("vtsi.errors" in c and "vtsi.opensees" in c for c in cycles(edges))
+
+
+CATALOGUE_USERS = ("vtsi.__main__", "vtsi.commands", "vtsi.passage", "vtsi.sweep")
+
+
+def test_only_the_workflow_and_command_layers_import_the_catalogues():
+    """STYLE 14: core types (a car, a train, gravity) live in the core (``vtsi.vehicle``);
+    ``vtsi.models`` holds catalogues built from them, which only the layers that pick a train or
+    a bridge by name (sweeps, passages, commands, the command line) import."""
+    users = sorted(name for name, out in graph().items() if not name.startswith("vtsi.models")
+                   and any(target.startswith("vtsi.models") for target in out))
+    assert users and all(name.startswith(CATALOGUE_USERS) for name in users), users
 
 
 def test_the_command_layer_imports_at_module_level():

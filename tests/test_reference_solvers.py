@@ -26,10 +26,10 @@ import vtsi
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.models.bridges import simply_supported_beam
-from vtsi.models.cars import moving_force, moving_mass, sprung_mass
+from vtsi.models.cars import moving_mass, sprung_mass
 from vtsi.models.irregularity import Irregularity
 from vtsi.models.scenes import S2, S3, s2_model, s3_model
-from vtsi.models.trains import Train
+from vtsi.vehicle import Train, moving_force
 from vtsi.recorders import NodeRecorder, TrainRecorder
 from vtsi.reference import elimination, events, ida
 from vtsi.track import Track

@@ -47,7 +47,6 @@ from vtsi.codes import en1990_a2, en1991_2
 from vtsi.coupled import undamped
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
-from vtsi.models.trains import HSLM_B_SPAN_RANGE
 from vtsi.passage import modal_basis_hz
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
 
@@ -293,9 +292,10 @@ def _deck_acceleration(results, outputs, bridge, settings):
     else:
         note = "the FE model's full response: no EN cut-off output was kept"
     spans = np.asarray(bridge["span_lengths_m"])
-    if len(spans) == 1 and spans[0] < HSLM_B_SPAN_RANGE[1] and \
+    hslm_b_below = en1991_2.HSLM_B_SPAN_RANGE[1]
+    if len(spans) == 1 and spans[0] < hslm_b_below and \
             not any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains):
-        note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {HSLM_B_SPAN_RANGE[1]:g} m is checked with "
+        note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {hslm_b_below:g} m is checked with "
                  "HSLM-B, which this sweep does not hold")
     deck = spanned
     read = deck & set(np.asarray(columns).tolist())

@@ -38,9 +38,9 @@ from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
 from vtsi.integrators import HHT, Newmark, make_integrator
 from vtsi.lcp import lcp_workspace
-from vtsi.models.cars import GRAVITY
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
+from vtsi.vehicle import GRAVITY
 
 CONTACT_STRATEGIES = ("bilateral", "lcp")
 LCP_DEFAULT_ALPHA = 0.9      # HHT's α when contact='lcp' and no integrator is given

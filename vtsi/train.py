@@ -3,7 +3,7 @@ MovingLoadConstraint. It owns the train dofs, their matrices and state."""
 import numpy as np
 
 from vtsi.errors import ModelError
-from vtsi.models.trains import Train
+from vtsi.vehicle import Train
 
 
 class TrainSubdomain:

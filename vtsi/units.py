@@ -27,8 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vtsi.errors import ModelError
-from vtsi.models.cars import GRAVITY, Car
-from vtsi.models.trains import Train
+from vtsi.vehicle import GRAVITY, Car, Train
 from vtsi.track import Track
 
 FORCE_UNITS = {"N": 1.0, "kN": 1e-3, "MN": 1e-6}
@@ -128,7 +127,7 @@ class Units:
         return number
 
     def car(self, car):
-        """An SI :class:`~vtsi.models.cars.Car` in these units (see the module docstring)."""
+        """An SI :class:`~vtsi.vehicle.Car` in these units (see the module docstring)."""
         if self.f_force == 1.0 and self.f_length == 1.0:
             return car
         s = np.array([self.f_length if name.endswith("_rz") else 1.0 for name in car.dof_names])
@@ -139,7 +138,7 @@ class Units:
                    car.dof_names, loads)
 
     def train(self, train, speed):
-        """An SI :class:`~vtsi.models.trains.Train` in these units, at ``speed`` (model units)."""
+        """An SI :class:`~vtsi.vehicle.Train` in these units, at ``speed`` (model units)."""
         if self.f_force == 1.0 and self.f_length == 1.0:
             return train.with_speed(speed)
         length = train.characteristic_length

@@ -15,6 +15,7 @@ DAMPING_TABLE_6_6 = {
     "filler_beam": (1.5, 0.07), "reinforced_concrete": (1.5, 0.07),
 }
 ADDITIONAL_DAMPING_SPANS = (0.0, 30.0)   # [m] range of Eq. 6.13 (Figure 6.15)
+HSLM_B_SPAN_RANGE = (1.0, 7.0)          # [m] spans L_min <= L < L_max loaded by HSLM-B (§6.4.6.1.1, Fig. 6.13)
 
 
 def damping_lower_bound(kind, span):

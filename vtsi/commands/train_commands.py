@@ -33,6 +33,7 @@ from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis, coupled_integrator
 from vtsi.errors import CommandError, ModelError, is_int
 from vtsi.models import Irregularity, cars, fra_psd, german_psd, trains
+from vtsi.vehicle import Train, moving_force
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
@@ -106,7 +107,7 @@ class TrainCommands(SessionBase):
         g = self._units.gravity
         try:
             if kind == "movingForce":
-                car = cars.moving_force(a.float("P"))
+                car = moving_force(a.float("P"))
             elif kind == "movingMass":
                 car = cars.moving_mass(a.float("m"), g)
             elif kind == "sprungMass":
@@ -148,13 +149,13 @@ class TrainCommands(SessionBase):
                     pairs.append((self._cars[car_tag], a.float(f"offset of car {car_tag}")))
                 if not pairs:
                     raise CommandError(f"train {tag}: no cars after -cars")
-                built = trains.Train([c for c, _ in pairs], [o for _, o in pairs], speed, name=f"train {tag}")
+                built = Train([c for c, _ in pairs], [o for _, o in pairs], speed, name=f"train {tag}")
             elif opt == "-ICE3":
                 built = self._units.train(trains.ice3(a.int("number of cars"), speed=1.0), speed)
             elif opt == "-HSLM":
                 built = self._units.train(trains.hslm_a(a.word("HSLM-A train (A1..A10)"), 1.0), speed)
             else:
-                built = self._units.train(trains.Train.from_csv(a.word("axle file"), 1.0), speed)
+                built = self._units.train(Train.from_csv(a.word("axle file"), 1.0), speed)
         except CommandError:   # a CommandError is a ValueError too: already named
             raise
         except (ValueError, KeyError, OSError) as exc:

@@ -56,8 +56,8 @@ from scipy.sparse.linalg import spsolve
 from vtsi.analysis import component_labels, dofs_with
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.errors import AnalysisError, ModelError
-from vtsi.models.cars import GRAVITY
 from vtsi.train import TrainSubdomain
+from vtsi.vehicle import GRAVITY
 
 IMPULSE_THRESHOLD = 1e-10
 """Impulses smaller than this × the largest static wheel load × 1 s [N·s] are not listed."""

@@ -36,9 +36,9 @@ impulse in ``impulses``.
 import numpy as np
 
 from vtsi.errors import AnalysisError, ModelError
-from vtsi.models.cars import GRAVITY
 from vtsi.reference.elimination import (IMPULSE_THRESHOLD, CoupledSystem, Phase, _check_times, _Histories,
                                         dead_load, integrate_segment)
+from vtsi.vehicle import GRAVITY
 
 
 def solve_single_wheel(model, constraint, t_end, t_eval=None, rtol=1e-10, atol=None, method="DOP853",

@@ -33,9 +33,9 @@ import numpy as np
 from numba import njit
 
 from vtsi.errors import AnalysisError, ModelError
-from vtsi.models.cars import GRAVITY
 from vtsi.reference.elimination import (IMPULSE_THRESHOLD, CoupledSystem, _check_times, _Histories, dead_load,
                                         hermite3, matvec, segment_points)
+from vtsi.vehicle import GRAVITY
 
 FORMULATIONS = ("index1",)
 
