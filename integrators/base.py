@@ -30,6 +30,12 @@ Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
    naming the integrator, the parameter and its stable range.
 6. Each stage's ``force_weight`` ω lies in ``(0, 1 + Σ km]``: a coupled analysis weights the
    stage's own constraint forces by ω and the step start's by ``1 + Σ km − ω`` (>= 0).
+
+From the stages alone the base class gives :meth:`Integrator.amplification` (the step's 3×3
+amplification matrix on an oscillator), :meth:`Integrator.spectral_radius` and
+:attr:`Integrator.dissipative` (whether the highest frequencies are damped: a coupled analysis
+with contact='lcp' needs it, and the design check reads wheel unloading only with it or with
+smoothed rows).
 """
 import inspect
 import re
@@ -40,6 +46,7 @@ import numpy as np
 from vtsi.errors import AnalysisError
 
 INTEGRATORS = {}
+HIGH_OMEGA_DT = 1e4   # Ω = ωΔt where :attr:`Integrator.dissipative` reads the spectral radius
 
 
 def register(cls):
@@ -165,6 +172,36 @@ class Integrator:
 
     def stability_limit(self, dt):
         return None
+
+    def amplification(self, omega_dt, xi=0.0, dt=1.0):
+        """The 3×3 matrix ``A`` with ``(u, v, a)_{n+1} = A (u, v, a)_n`` [m, m/s, m/s²] of the
+        oscillator ``ü + 2ξω u̇ + ω² u = 0`` stepped with Ω = ``omega_dt`` = ωΔt, Δt = ``dt`` [s]:
+        the stages run on one column per initial value, stage s solving
+        ``(1 + c kv[A] + k ku[A]) a_s = −Σ km[j] X_j − c Σ kv[j] X_j − k Σ ku[j] X_j`` (k = ω², c = 2ξω)."""
+        omega = omega_dt / dt
+        k, c = omega ** 2, 2.0 * xi * omega
+        n = self.n_slots
+        bank = np.zeros((n, 3))
+        bank[:3] = np.eye(3)
+        for s, st in enumerate(self.stages(dt)):
+            a = -(st.km[:n] @ bank + c * st.kv[:n] @ bank + k * st.ku[:n] @ bank) / (1.0 + c * st.kv[n] + k * st.ku[n])
+            bank[3 + 3 * s] = st.du[:n] @ bank + st.du[n] * a
+            bank[4 + 3 * s] = st.dv[:n] @ bank + st.dv[n] * a
+            bank[5 + 3 * s] = a
+        return bank[n - 3:]
+
+    def spectral_radius(self, omega_dt, xi=0.0):
+        """The largest |eigenvalue| of :meth:`amplification` at Ω = ``omega_dt``."""
+        return float(np.max(np.abs(np.linalg.eigvals(self.amplification(omega_dt, xi)))))
+
+    @property
+    def dissipative(self):
+        """Whether the scheme damps the highest frequencies it steps: spectral radius below 1 at
+        Ω = ωΔt = HIGH_OMEGA_DT (at 0.999 × the limit of a conditionally stable scheme). Newmark's
+        trapezoidal rule (γ = ½, so HHT with α = 1 and central differences) is not: after a jump
+        of a rail's curvature its contact force rings for ever."""
+        limit = self.stability_limit(1.0)
+        return self.spectral_radius(HIGH_OMEGA_DT if limit is None else 0.999 * limit) < 1.0 - 1e-9
 
     def __repr__(self):
         params = ", ".join(f"{k}={v:.15g}" for k, v in vars(self).items() if isinstance(v, float) and k[0] != "_")

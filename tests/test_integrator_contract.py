@@ -157,3 +157,27 @@ def test_register_requires_name_and_stages():
         with pytest.raises(TypeError, match="missing class attribute"):
             register(cls)
     assert "stageless-test" not in INTEGRATORS
+
+
+def test_dissipative_is_read_from_the_stages_not_the_class():
+    """``dissipative`` (the spectral radius below 1 at the highest Ω a scheme steps) flags the
+    trapezoidal rule whatever its class: a user's scheme that is not a Newmark subclass but steps
+    as Newmark's γ = ½ rule is refused with contact='lcp', as Newmark() is (the class test it
+    replaces let it through)."""
+    from vtsi.coupled import coupled_integrator
+    from vtsi.integrators import HHT, Bathe, CentralDifference, Newmark
+
+    class Trapezoid(Integrator):            # not registered: an instance is passed
+        name, n_stages = "trapezoid-test", 1
+
+        def stages(self, dt):
+            return Newmark(0.5, 0.25).stages(dt)
+
+    flags = {repr(i): i.dissipative for i in (Newmark(), HHT(1.0), CentralDifference(), Trapezoid(),
+                                               HHT(0.9), Newmark(0.6, 0.3025), Bathe())}
+    assert list(flags.values()) == [False] * 4 + [True] * 3, flags
+    assert HHT(0.9).spectral_radius(1e4) == pytest.approx((1 - 0.1) / (1 + 0.1), rel=1e-6)   # ρ∞ = (1 − a)/(1 + a), a = 1 − α
+    for scheme in (Trapezoid(), Newmark()):
+        with pytest.raises(AnalysisError, match="contact='lcp' needs a dissipative integrator"):
+            coupled_integrator(scheme, "lcp")
+    assert coupled_integrator(HHT(0.9), "lcp").dissipative

@@ -95,25 +95,11 @@ def simulate(integrator, omega, dt, n_steps, xi=0.0, u0=1.0, v0=0.0, ramp=0.0, *
 
 # -- the amplification matrix from the stage coefficients -----------------------------------------
 def amplification(integrator, omega_dt, xi=0.0, dt=1.0):
-    """3×3 matrix ``A`` with ``(u, v, a)_{n+1} = A (u, v, a)_n`` for ``ü + 2ξω u̇ + ω² u = 0``,
-    built by running the stages on the bank of the SDOF symbolically (one column per initial
-    value): stage s solves ``(1 + c kv[A] + k ku[A]) a_s = -Σ km[j] X_j - c Σ kv[j] X_j - k Σ ku[j] X_j``."""
-    integrator = make_integrator(integrator)
-    omega = omega_dt / dt
-    k, c = omega ** 2, 2.0 * xi * omega
-    n = integrator.n_slots
-    bank = np.zeros((n, 3))
-    bank[:3] = np.eye(3)
-    for s, st in enumerate(integrator.stages(dt)):
-        a = -(st.km[:n] @ bank + c * st.kv[:n] @ bank + k * st.ku[:n] @ bank) / (1.0 + c * st.kv[n] + k * st.ku[n])
-        bank[3 + 3 * s] = st.du[:n] @ bank + st.du[n] * a
-        bank[4 + 3 * s] = st.dv[:n] @ bank + st.dv[n] * a
-        bank[5 + 3 * s] = a
-    return bank[n - 3:]
+    return make_integrator(integrator).amplification(omega_dt, xi, dt)
 
 
 def spectral_radius(integrator, omega_dt, xi=0.0):
-    return float(np.max(np.abs(np.linalg.eigvals(amplification(integrator, omega_dt, xi)))))
+    return make_integrator(integrator).spectral_radius(omega_dt, xi)
 
 
 def principal(roots):

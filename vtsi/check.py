@@ -44,7 +44,6 @@ import h5py
 import numpy as np
 
 from vtsi.codes import en1990_a2, en1991_2
-from vtsi.coupled import undamped
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
 from vtsi.passage import modal_basis_hz
@@ -492,7 +491,7 @@ def _wheel_unloading(results, outputs, bridge, settings):
         except VtsiError:          # an integrator this vtsi does not know: its dissipation is unknown
             integrator = None
         rings = (sweep.get("interpolation") == "hermite" and not sweep.get("exact_events")
-                 and integrator is not None and undamped(integrator))
+                 and integrator is not None and not integrator.dissipative)
         unchecked = ("not checked: with 'hermite' rows Newmark's undamped rule rings after the rail's kinks at the "
                      "supports, and the contact force's minimum grows as dt shrinks (an ICE3 on a 20 m span: "
                      "Delta Q / Q 0.30 to 2.8 for dt 2 to 0.25 ms); take 'bspline' rows, exact_events or a damped "

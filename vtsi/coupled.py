@@ -36,7 +36,7 @@ from vtsi.constraint import MovingLoadConstraint
 from vtsi.contact import contact_events, contact_summary
 from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError
-from vtsi.integrators import HHT, Newmark, make_integrator
+from vtsi.integrators import HHT, make_integrator
 from vtsi.lcp import lcp_workspace
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
@@ -51,8 +51,8 @@ def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
     """The integrator of a coupled analysis: ``integrator`` (name, class or instance) or, for
     None, the default of the contact strategy — Newmark's average acceleration with bilateral
     contact, HHT(α = 0.9) with contact='lcp'. With contact='lcp' a scheme without numerical
-    dissipation (the Newmark family with γ = 1/2: Newmark's trapezoidal rule, HHT with α = 1) is
-    refused: its contact force rings undamped after any jump of the rail's curvature (a bump's
+    dissipation (not :attr:`~vtsi.integrators.Integrator.dissipative`: the Newmark family with
+    γ = 1/2, as Newmark's trapezoidal rule, HHT with α = 1, central differences) is refused: its contact force rings undamped after any jump of the rail's curvature (a bump's
     edge, a span's end) and the LCP reads the negative swings as lift-offs (measured on a wheel
     over a 10 mm, 2 m cosine bump at 20–40 m/s and Δt = 1–0.25 ms: up to 46 lift-off and landing
     events instead of the two of its one flight, the first lift-off up to 20 % of the flight
@@ -60,19 +60,14 @@ def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
     if integrator is None:
         integrator = HHT(LCP_DEFAULT_ALPHA) if contact == "lcp" else "Newmark"
     integ = make_integrator(integrator)
-    if contact == "lcp" and undamped(integ):
-        raise AnalysisError(f"{who}: contact='lcp' needs a dissipative integrator; {integ!r} (γ = 1/2) lets the "
+    if contact == "lcp" and not integ.dissipative:
+        raise AnalysisError(f"{who}: contact='lcp' needs a dissipative integrator; {integ!r} (no damping of the "
+                            "highest frequencies, as Newmark's with γ = 1/2) lets the "
                             "contact force ring after a jump of the rail's curvature and gives spurious lift-offs. "
                             f"Use HHT({LCP_DEFAULT_ALPHA}) (the default with contact='lcp'), 'Bathe', or a damped "
                             "Newmark such as Newmark(0.6, 0.3025)")
     return integ
 TRAIN_QUANTITIES = {"train_u": 0, "train_v": 1, "train_a": 2}
-
-
-def undamped(integrator):
-    """True for the Newmark family with γ = 1/2 (Newmark's trapezoidal rule, HHT with α = 1): no
-    numerical dissipation, so a contact force rings after every jump of the rail's curvature."""
-    return isinstance(integrator, Newmark) and integrator.gamma == 0.5
 
 
 class CoupledAnalysis:
