@@ -37,6 +37,14 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
     spans : sequence of span lengths [m].
     elements_per_span : int, even (so that a node sits at each midspan).
     E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only).
+    consistent_mass : True for the consistent mass matrix of each ``elasticBeamColumn`` (cubic
+        Hermite bending, linear axial; ``cmass`` 1), False for the lumped one (μL/2 on ux and uy
+        of each node, no rotary inertia; ``cmass`` 0).
+    x0 : x of the first support [m]; the deck runs from ``x0`` to ``x0 + sum(spans)`` along
+        +x at y = 0.
+    first_node, first_element : tags of the first node and element; the nodes
+        (``len(spans) * elements_per_span + 1``) and elements (one fewer) are numbered
+        consecutively from them in x order, and must not exist in ``model`` yet (ModelError).
     damping : None (undamped) or a damping ratio ζ [-] (e.g. from
         :func:`vtsi.codes.en1991_2.damping_lower_bound`), given to the model as Rayleigh damping
         through ``damping_hz`` = (f_a, f_b) [Hz], by default the first vertical frequency and the

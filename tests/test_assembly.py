@@ -152,3 +152,42 @@ def test_a_tag_beyond_opensees_int_is_named():
                                               r"\(OpenSees's int\), got 1180591620717411303424$"):
         m.node(2 ** 70, 0.0, 0.0)
     assert not m.nodes
+
+
+def test_removing_a_pattern_frees_its_prescribed_dofs():
+    """An sp constrains its dof; removing its pattern must free the dof again (the cached
+    numbering is rebuilt), as remove_sp does."""
+    m = vtsi.Model()
+    m.node(1, 0.0, 0.0)
+    m.node(2, 10.0, 0.0)
+    m.fix(1, 1, 1, 0)
+    m.fix(2, 0, 1, 0)
+    m.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=3e10, I=2.0)
+    m.add_time_series(vtsi.Linear(tag=1))
+    m.pattern(1, 1)
+    m.sp(1, 1, 3, 0.01)
+    assert m.build().prescribed_full.tolist() == [2]
+    m.remove_pattern(1)
+    assert m.build().prescribed_full.tolist() == []
+
+
+@pytest.mark.parametrize("flag", [True, np.True_])
+def test_a_bool_is_not_taken_for_a_number(flag):
+    """dt=True is a slip, not 1 s: refused by the transient analysis (made and set_dt, which keeps
+    the step it had), the sweep settings, the modal bridge's f_max and the EN 1991-2 rules, each
+    naming the value (every positive number goes through vtsi.errors.as_positive)."""
+    from vtsi.codes.en1991_2 import damping_lower_bound
+    from vtsi.passage import PassageSettings
+    true = r"got (np\.)?True_?$"
+    with pytest.raises(vtsi.AnalysisError, match=r"^transient analysis: dt must be a number, " + true):
+        vtsi.TransientAnalysis(frame(False), "Newmark", flag)
+    analysis = vtsi.TransientAnalysis(frame(False), "Newmark", 1e-3)
+    with pytest.raises(vtsi.AnalysisError, match=r"dt must be a number, " + true):
+        analysis.set_dt(flag)
+    assert analysis.dt == 1e-3
+    with pytest.raises(vtsi.AnalysisError, match=r"divergence_limit \(inf: no bound\) must be a number, " + true):
+        vtsi.TransientAnalysis(frame(False), "Newmark", 1e-3, divergence_limit=flag)
+    with pytest.raises(vtsi.ModelError, match=r"^sweep settings: dt must be a number, " + true):
+        PassageSettings(dt=flag)
+    with pytest.raises(vtsi.ModelError, match=r"^EN 1991-2 Table 6.6: span \[m\] must be a number, " + true):
+        damping_lower_bound("steel", flag)

@@ -278,7 +278,7 @@ ANALYSIS_CASES = [
     ("chunk_steps = 0", lambda: vtsi.TransientAnalysis(loaded_beam(), "Newmark", 1e-3, chunk_steps=0),
      AnalysisError, r"^transient analysis: chunk_steps must be an integer >= 1, got 0$"),
     ("divergence_limit = 0", lambda: vtsi.TransientAnalysis(loaded_beam(), "Newmark", 1e-3, divergence_limit=0.0),
-     AnalysisError, r"^transient analysis: divergence_limit must be a number > 0 \(inf: no bound\), got 0.0$"),
+     AnalysisError, r"^transient analysis: divergence_limit \(inf: no bound\) must be > 0, got 0.0$"),
     ("LoadControl NaN", lambda: vtsi.StaticAnalysis(loaded_beam(), NAN),
      AnalysisError, r"^LoadControl: increment must be finite, got nan$"),
     ("LoadControl text", lambda: vtsi.StaticAnalysis(loaded_beam(), "tenth"),

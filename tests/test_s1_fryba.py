@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 
 import vtsi
+from vtsi.errors import ModelError
 from vtsi.recorders import NodeRecorder
 from vtsi.reference import daf, first_frequency, moving_force_midspan, speed_of_alpha, static_midspan
 
@@ -83,6 +84,18 @@ def test_reference_resonance():
     vanishing damping changes nothing."""
     assert daf(1.0) == pytest.approx(0.5 * (daf(1.0 - 1e-6) + daf(1.0 + 1e-6)), rel=1e-6)
     assert daf(0.615, zeta=1e-9) == pytest.approx(daf(0.615), rel=1e-7)
+
+
+def test_reference_refuses_bad_input():
+    """Bad input is a ModelError naming the value."""
+    with pytest.raises(ModelError, match=r"daf: alpha must be > 0, got -0\.5"):
+        daf(-0.5)
+    with pytest.raises(ModelError, match=r"daf: alpha must be a number, got 'fast'"):
+        daf("fast")
+    with pytest.raises(ModelError, match=r"damping ratio must be in \[0, 1\), got 1\.5"):
+        moving_force_midspan(P, 10.0, L, EI, MU, [0.1], zeta=1.5)
+    with pytest.raises(ModelError, match=r"V, L, EI, mu must be > 0, got 10\.0, -1\.0"):
+        moving_force_midspan(P, 10.0, -1.0, EI, MU, [0.1])
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.02])

@@ -12,7 +12,7 @@ import scipy.sparse.linalg as spla
 from numba import njit
 
 from vtsi.banded import pad, solve_band
-from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_number
+from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_number, as_positive
 from vtsi.integrators import make_integrator
 from vtsi.model import Model
 from vtsi.subdomain import FEStages, factor
@@ -475,13 +475,8 @@ class TransientAnalysis:
         self.model = _model("transient analysis", model)
         self.integrator = make_integrator(integrator)
         self.recorders = _recorders("transient analysis", recorders)
-        try:
-            self.divergence_limit = float(divergence_limit)
-        except (TypeError, ValueError):
-            self.divergence_limit = np.nan
-        if not self.divergence_limit > 0.0:
-            raise AnalysisError(f"transient analysis: divergence_limit must be a number > 0 (inf: no bound), "
-                                f"got {divergence_limit!r}")
+        self.divergence_limit = as_positive(divergence_limit, "transient analysis", "divergence_limit (inf: no bound)",
+                                            AnalysisError, finite=False)
         self.chunk_steps = _integer("transient analysis", "chunk_steps", chunk_steps, 1)
         if bridge is not None and not hasattr(bridge, "stages"):
             raise AnalysisError(f"transient analysis: bridge must be None or a ModalBridge, got {type(bridge).__name__}")
@@ -496,12 +491,13 @@ class TransientAnalysis:
             self.set_dt(dt)
 
     def set_dt(self, dt):
-        try:
-            dt = float(dt)
-        except (TypeError, ValueError):
-            raise AnalysisError(f"transient analysis: dt must be a number, got {dt!r}") from None
-        if not (np.isfinite(dt) and dt > 0.0):
-            raise AnalysisError(f"transient analysis: dt must be > 0 and finite, got {dt}")
+        """Set the time step ``dt`` [s]: a finite number > 0 (a bool is refused, not read as
+        1.0 s). A new value drops the prepared stages (the integrator's factored effective
+        matrices, FE or modal: the next run prepares them for the new dt) and, dt being part of
+        its key, the kept plan of a run; the same value changes nothing.
+
+        Raises AnalysisError naming the value if ``dt`` is not such a number."""
+        dt = as_positive(dt, "transient analysis", "dt", AnalysisError)
         if dt != self.dt:
             self.dt, self.stages = dt, None
 

@@ -141,19 +141,6 @@ def solve_band(lower, b):
     ldl_solve(lower, b, band_type(lower.shape[1] - 1))
 
 
-@njit(cache=True, fastmath={"contract"})
-def band_matvec_add(out, rows, x, scale, band):
-    """``out += scale * A x`` for the band ``rows`` of ``A`` (``band = band_type(kd)``) and
-    padded ``out``, ``x``."""
-    kd = len(band)
-    n = rows.shape[0]
-    for i in range(n):
-        s = 0.0
-        for k in range(2 * kd + 1):
-            s += rows[i, k] * x[i + k]
-        out[kd + i] += scale * s
-
-
 def pad_solve(lower, rhs):
     """``K̂⁻¹ rhs`` from a banded factor (unpadded in and out)."""
     kd = lower.shape[1] - 1

@@ -35,7 +35,7 @@ from vtsi.banded import (
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.contact import contact_events, contact_summary
 from vtsi.coupled_loop import run_coupled_steps
-from vtsi.errors import AnalysisError, DivergenceError, ModelError
+from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_positive
 from vtsi.integrators import HHT, make_integrator
 from vtsi.lcp import lcp_workspace
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
@@ -135,8 +135,9 @@ class CoupledAnalysis:
         self.gravity, self.bridge_self_weight = float(gravity), bool(bridge_self_weight)
         self.recorders = list(recorders)
         self.chunk_steps = _integer("CoupledAnalysis", "chunk_steps", chunk_steps, 1)
-        self.divergence_limit = _positive("divergence_limit", divergence_limit, finite=False)
-        self.dt = _positive("dt", dt)
+        self.divergence_limit = as_positive(divergence_limit, "CoupledAnalysis", "divergence_limit", AnalysisError,
+                                            finite=False)
+        self.dt = as_positive(dt, "CoupledAnalysis", "dt", AnalysisError)
         self._prepared = None
         self._path_tables = {}
         self._sag = None
@@ -702,17 +703,6 @@ class CoupledAnalysis:
                 lam = np.zeros(con.n_contact)
             prev = self._prev = (lam, cols, vals)
         return prev
-
-
-def _positive(what, value, finite=True):
-    """``value`` as a float > 0 (and finite, unless ``finite=False``), or an AnalysisError naming it."""
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise AnalysisError(f"CoupledAnalysis: {what} must be a number, got {value!r}") from None
-    if not value > 0.0 or (finite and not np.isfinite(value)):
-        raise AnalysisError(f"CoupledAnalysis: {what} must be > 0{' and finite' if finite else ''}, got {value}")
-    return value
 
 
 def _wheel_responses(response):

@@ -46,11 +46,24 @@ class PassageError(SweepError):
 
 
 def as_number(value, where, name, error=ModelError):
-    """``value`` as a float, or ``error`` naming ``where``, ``name`` and the value given."""
+    """``value`` as a float, or ``error`` naming ``where``, ``name`` and the value given (a bool
+    is not taken for 1 or 0)."""
     try:
+        if isinstance(value, (bool, np.bool_)):
+            raise TypeError
         return float(value)
     except (TypeError, ValueError):
         raise error(f"{where}: {name} must be a number, got {value!r}") from None
+
+
+def as_positive(value, where, name, error=ModelError, *, finite=True, allow_zero=False):
+    """``value`` as a float > 0 (>= 0 with ``allow_zero``; finite unless ``finite=False``), or
+    ``error`` naming ``where``, ``name`` and the value given."""
+    number = as_number(value, where, name, error)
+    if not ((number >= 0.0 if allow_zero else number > 0.0) and (not finite or np.isfinite(number))):
+        raise error(f"{where}: {name} must be {'>=' if allow_zero else '>'} 0{' and finite' if finite else ''}, "
+                    f"got {value!r}")
+    return number
 
 
 def as_flag(value, where, name, error=ModelError):

@@ -32,7 +32,7 @@ from vtsi.analysis import eigen, modes_up_to
 from vtsi.banded import inverse_columns, ldl_band
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.damping import vertical_frequencies
-from vtsi.errors import AnalysisError, ModelError
+from vtsi.errors import AnalysisError, ModelError, as_positive
 from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
 
@@ -329,10 +329,4 @@ def _ratio_of(zeta, f):
 
 
 def _positive_hz(value):
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"modal bridge: f_max must be a frequency [Hz], got {value!r}") from None
-    if not (np.isfinite(value) and value > 0.0):
-        raise ModelError(f"modal bridge: f_max must be > 0 and finite [Hz], got {value}")
-    return value
+    return as_positive(value, "modal bridge", "f_max [Hz]")

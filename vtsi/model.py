@@ -55,6 +55,12 @@ class Model:
         return pattern
 
     def node(self, tag, *coords, mass=None):
+        """Add node ``tag`` at ``coords = (x, y)`` [m] (x along the bridge, y up); ``mass``
+        optionally its nodal masses, one per dof, as :meth:`mass` takes them.
+
+        Raises ModelError if ``tag`` is not an integer in OpenSees's int range or already
+        exists, or if the coordinates are not ``ndm`` finite numbers, or the masses are invalid
+        (then the node is not added)."""
         tag = _tag("node", tag)
         if tag in self.nodes:
             raise ModelError(f"node {tag} already exists")
@@ -79,6 +85,11 @@ class Model:
         return tag
 
     def fix(self, tag, *flags):
+        """Fix dofs of node ``tag`` (OpenSees ``fix``): one flag per dof (ux, uy[, rz]), 1 fixed,
+        0 free. Fixities add up over calls (a later 0 does not free a dof fixed before).
+
+        Raises ModelError if the node does not exist, the flags are not ``ndf`` values of 0 or
+        1, or a dof to fix is already constrained by equalDOF/rigidLink."""
         self._node(tag, "fix")
         if len(flags) != self.ndf or any(f not in (0, 1) for f in flags):
             raise ModelError(f"fix node {tag}: needs {self.ndf} flags of 0 or 1, got {list(flags)}")
@@ -131,6 +142,12 @@ class Model:
         self._changed()
 
     def mass(self, tag, *values):
+        """Lumped nodal mass of node ``tag`` (OpenSees ``mass``): one value per dof, ``(m_x, m_y[,
+        I_z])`` [kg, kg, kg·m²], finite and >= 0. Replaces the node's earlier nodal mass (it does
+        not add to it, nor to the element masses, which are assembled separately).
+
+        Raises ModelError if the node does not exist or the values are not ``ndf`` finite
+        numbers >= 0."""
         self._node(tag, "mass")
         self.nodal_mass[tag] = _nodal_mass(tag, values, self.ndf)
         self._changed()
@@ -155,12 +172,21 @@ class Model:
         self._changed()
 
     def remove_element(self, tag):
+        """Remove element ``tag`` (OpenSees ``remove element``); its nodes stay. An element load
+        on it left in a pattern is refused when the model is next built (ModelError).
+
+        Raises ModelError if the element does not exist."""
         if tag not in self._element_owner:
             raise ModelError(f"remove element: element {tag} does not exist")
         self._element_owner.pop(tag).remove(tag)
         self._changed()
 
     def add_time_series(self, series):
+        """Register ``series`` (a :class:`~vtsi.timeseries.TimeSeries` with an integer ``tag``)
+        so that patterns can name it by its tag; returns ``series``.
+
+        Raises ModelError if ``series`` is not a TimeSeries, its tag is not an integer (e.g.
+        None) or a series with that tag already exists."""
         if not isinstance(series, TimeSeries):
             raise ModelError(f"timeSeries: expected a TimeSeries, got {series!r}")
         _tag("timeSeries", series.tag)
@@ -192,6 +218,12 @@ class Model:
         return tag, series
 
     def load(self, pattern_tag, node, *values):
+        """Nodal load ``(F_x, F_y[, M_z])`` [N, N, N·m] on ``node`` in pattern ``pattern_tag``
+        (OpenSees ``load``), scaled by the pattern's ``factor × series(t)``; positive along +x,
+        +y (up) and counter-clockwise. Loads on the same node in the same pattern add up.
+
+        Raises ModelError if the pattern or node does not exist, the values are not ``ndf``
+        finite numbers, or the pattern takes no nodal loads (a UniformExcitation)."""
         if pattern_tag not in self.patterns:
             raise ModelError(f"load: pattern {pattern_tag} does not exist")
         self._node(node, f"load in pattern {pattern_tag}")
@@ -277,10 +309,17 @@ class Model:
         self._changed()
 
     def remove_pattern(self, tag):
+        """Remove load pattern ``tag`` with its loads and prescribed displacements (OpenSees
+        ``remove loadPattern``); its time series stays registered.
+
+        Raises ModelError if the pattern does not exist."""
         if tag not in self.patterns:
             raise ModelError(f"remove loadPattern: pattern {tag} does not exist")
-        self.patterns.pop(tag).on_change = None
+        pattern = self.patterns.pop(tag)
+        pattern.on_change = None
         self._loads_changed()
+        if pattern.prescribed:      # its sp dofs were constrained: number the dofs again
+            self._changed()
 
     def rayleigh(self, alpha_m, beta_k, beta_k_init=0.0, beta_k_comm=0.0):
         """Rayleigh damping ``C = alpha_m M + (beta_k + beta_k_init + beta_k_comm) K`` (linear model:
@@ -299,6 +338,7 @@ class Model:
         return self._assembly
 
     def element_tags(self):
+        """The tags of the model's elements, of every type, in ascending order (a new list)."""
         return sorted(self._element_owner)
 
 

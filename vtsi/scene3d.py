@@ -531,7 +531,7 @@ class PassageScene:
                 plotter.add_mesh(pv.Box((xa, xb, -RAIL_HEIGHT, 0.0, z - 0.04, z + 0.04)), color=RAIL,
                                  specular=0.6, specular_power=30)
 
-        self._scale_bar(pv, plotter, look, window)
+        self._scale_bar(pv, plotter, window)
 
         # Moving parts: added once, their meshes replaced in place per frame (_draw).
         meshes = self._moving(pv, _Frame(np.zeros(self.deck_x.size), np.zeros(0)), look)
@@ -566,7 +566,7 @@ class PassageScene:
         _aim(plotter.camera, box, direction=(-0.25, 0.32, 1.0), view_angle=30.0, aspect=window[0] / window[1])
         return _Stage(meshes, legend)
 
-    def _scale_bar(self, pv, plotter, look, window):
+    def _scale_bar(self, pv, plotter, window):
         """A black-and-white length bar on the ground in front of the bridge, labelled."""
         bar = _nice(0.3 * self.length)
         n = 5 if bar / 5 >= 0.2 else 2

@@ -49,7 +49,7 @@ import uuid
 import h5py
 import numpy as np
 
-from vtsi import __version__
+from vtsi.version import __version__
 from vtsi.errors import SweepError, as_number
 
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 5

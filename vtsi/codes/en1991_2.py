@@ -5,7 +5,7 @@ Units: spans L [m]; damping ratios as fractions (0.01 for 1 %), not percent.
 """
 import numpy as np
 
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, as_positive
 
 # Table 6.6, lower limits of the damping ratio ζ [%] for span L [m]: (value for L >= 20 m, slope
 # per metre below 20 m).
@@ -44,13 +44,7 @@ def additional_damping(span):
 
 
 def _span(span, clause):
-    try:
-        L = float(span)
-    except (TypeError, ValueError):
-        raise ModelError(f"EN 1991-2 {clause}: span must be a number [m], got {span!r}") from None
-    if not (np.isfinite(L) and L > 0):
-        raise ModelError(f"EN 1991-2 {clause}: span must be > 0 m, got {span!r}")
-    return L
+    return as_positive(span, f"EN 1991-2 {clause}", "span [m]")
 
 
 # Table 6.2, case 5.2: L_Φ = k × mean span of a continuous beam of n spans.

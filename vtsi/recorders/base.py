@@ -107,7 +107,7 @@ class Recorder:
             raise ModelError(f"{self.name}: the model now gives {n_columns} columns, the record "
                              f"started with {self._layout['n_columns']}")
         layout["n_columns"] = n_columns
-        layout.setdefault("attrs", {}).update(_model_metadata(assembly, model, info))
+        layout.setdefault("attrs", {}).update(_model_metadata(assembly, info))
         layout["attrs"].update(recorder=type(self).__name__, record_dt=float(self.dt or 0.0))
         self._layout = layout
         if self.envelope is not None:
@@ -163,7 +163,7 @@ class Recorder:
             i += 1
 
 
-def _model_metadata(assembly, model, info):
+def _model_metadata(assembly, info):
     meta = {"vtsi_version": __version__, "n_nodes": int(len(assembly.node_tags)),
             "n_elements": sum(len(block[1]) for block in assembly.blocks), "ndf": int(assembly.ndf)}
     for key, value in (info or {}).items():

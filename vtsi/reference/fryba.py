@@ -30,6 +30,8 @@ import math
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from vtsi.errors import ModelError, as_number
+
 __all__ = ["moving_force_midspan", "daf", "first_frequency", "speed_of_alpha", "static_midspan"]
 
 
@@ -62,7 +64,7 @@ def _forced_from_rest(F, omega, Omega, zeta, t):
         qd = F * Omega / s * 2.0 * np.sin(0.5 * s * t) * half
         return q, qd
     if not 0.0 < zeta < 1.0:
-        raise ValueError(f"moving force: damping ratio must be in [0, 1), got {zeta}")
+        raise ModelError(f"moving force: damping ratio must be in [0, 1), got {zeta!r}")
     d = (omega ** 2 - Omega ** 2) ** 2 + (2.0 * zeta * omega * Omega) ** 2
     a = F * (omega ** 2 - Omega ** 2) / d          # particular: a sin Ωt + b cos Ωt
     b = -F * 2.0 * zeta * omega * Omega / d
@@ -100,7 +102,7 @@ def moving_force_midspan(P, V, L, EI, mu, t, n_modes=101, zeta=0.0):
     w : array of the shape of ``t`` [m].
     """
     if not (V > 0.0 and L > 0.0 and EI > 0.0 and mu > 0.0):
-        raise ValueError(f"moving force: V, L, EI, mu must be > 0, got {V}, {L}, {EI}, {mu}")
+        raise ModelError(f"moving force: V, L, EI, mu must be > 0, got {V!r}, {L!r}, {EI!r}, {mu!r}")
     t = np.asarray(t, dtype=float)
     shape = t.shape
     t = t.ravel()
@@ -133,9 +135,9 @@ def daf(alpha, n_modes=101, zeta=0.0, free_periods=1.0):
     then refined with a bounded scalar optimiser around the best grid maxima (resolved to far
     better than 1e-5 relative).
     """
-    alpha = float(alpha)
+    alpha = as_number(alpha, "daf", "alpha")
     if not alpha > 0.0:
-        raise ValueError(f"daf: alpha must be > 0, got {alpha}")
+        raise ModelError(f"daf: alpha must be > 0, got {alpha!r}")
     # Dimensionless beam: L = EI = mu = P = 1, so ω_1 = π², V = α ω_1 L / π.
     L = EI = mu = P = 1.0
     w1 = math.pi ** 2
