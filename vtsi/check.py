@@ -16,8 +16,10 @@ dynamic_increment      φ'_dyn = max |y_dyn / y_stat| − 1 of the deflection of
 dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71), the    EN 1991-2
                        largest over trains and spans: > 1 means the dynamic          6.4.6.5(3),
                        analysis, not Φ × LM71, governs the design (info)             Annex C
-deflection_lm71        Φ α × the static deflection under LM71 ≤ L/600 per span       EN 1990
-                                                                                     A2.4.4.2.3(1)
+deflection             the more unfavourable of Φ α × LM71's static deflection and   EN 1990
+                       (1 + φ'_dyn + φ''/2) × each train's (max |y_dyn| + φ''/2 ×    A2.4.4.2.3(1),
+                       |y_stat,train|) ≤ L/600 per span                              EN 1991-2
+                                                                                     6.4.6.5(3)
 end_rotation           max |θ| at the deck's end supports under the trains (info)   —
 car_body_acceleration  max |a| of the car bodies, at each centre or over either      EN 1990
                        bogie pivot, ≤ b_v (Table A2.9)                               A2.4.4.3.1
@@ -46,12 +48,11 @@ import numpy as np
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
-from vtsi.passage import modal_basis_hz
+from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, modal_basis_hz
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
-SAMPLING_NOTE = 0.01   # the deck acceleration notes a sampling under-read above this bound [-]
-WITH_A_VERDICT = ("deck_acceleration", "deflection_lm71", "car_body_acceleration", "wheel_unloading", "contact_loss")
+WITH_A_VERDICT = ("deck_acceleration", "deflection", "car_body_acceleration", "wheel_unloading", "contact_loss")
 
 
 @dataclass(frozen=True)
@@ -224,7 +225,7 @@ def check(results, settings=None):
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
     out = CheckResult(settings)
-    for rule in (_deck_acceleration, _dynamic_increment, _deflection_lm71, _end_rotation, _car_body,
+    for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
     if bool(bridge.get("track_on_a_structure", False)):
@@ -303,10 +304,12 @@ def _deck_acceleration(results, outputs, bridge, settings):
                  "maximum may lie elsewhere")
     exact = sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force"   # (self weight: refused)
     f_top, dt = counted[name] or en_cutoff, float(sweep.get("dt", 0.0))
-    under_read = 1.0 - math.cos(math.pi * min(f_top * dt, 0.5))
-    if not exact and under_read > SAMPLING_NOTE:     # time-stepped peaks are the samples' (exact ones are refined)
-        note += (f"; peaks sampled every {1e3 * dt:g} ms: a {f_top:.4g} Hz part of the response is under-read by up "
-                 f"to {100 * under_read:.2g} % (1 - cos(pi f dt)); a smaller dt reads it closer")
+    steps = 1.0 / (f_top * dt) if dt > 0 else math.inf
+    if not exact and steps < STEPS_PER_CUTOFF_PERIOD:    # exact modal passages have no step error
+        finer = dt_resolving(f_top)
+        note += (f"; dt = {1e3 * dt:g} ms steps the highest counted frequency, {f_top:.4g} Hz, only {steps:.3g} times "
+                 f"a period: the peak is not converged in dt and may be off either way; take dt <= {1e3 * finer:g} ms "
+                 f"({STEPS_PER_CUTOFF_PERIOD} steps a period, the default)")
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
                      "pass" if value <= limit else "fail", train, speed, seed, f"node {int(columns[idx[-1]])}",
                      f"{settings.track.replace('_', ' ')} track; {note}")]
@@ -358,11 +361,7 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
                      speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
                      note=f"phi'_dyn of the {what} ({name}) against its static value under the same train"
                           f"{_truncation_note(results, bridge)}")]
-    L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
-    Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
-    v_max = float(np.max(results.speeds_kmh)) / 3.6
-    phi2 = en1991_2.track_irregularity_increment(L_phi, float(bridge["frequencies_hz"][0]), v_max)
-    share = 0.5 if settings.maintenance == "careful" else 1.0
+    L_phi, Phi, phi2, share = _design_factors(results, bridge, settings)
     per_train = np.nanmax(ratio, axis=(1, 2)) - 1.0              # φ'_dyn per train and span
     design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
     lm71 = Phi * settings.alpha * np.abs(stat_lm71[row, spans])
@@ -378,6 +377,16 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
                          f"{governs} (L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, "
                          f"alpha = {settings.alpha:g}){_irregular_note(results)}"))
     return rows
+
+
+def _design_factors(results, bridge, settings):
+    """(L_Φ [m], Φ, φ'', the share of φ'' counted: ½ for careful maintenance, 1 for standard)
+    of EN 1991-2 6.4.5.2, Annex C and 6.4.6.5(3), φ'' at the sweep's highest speed."""
+    L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
+    Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
+    v_max = float(np.max(results.speeds_kmh)) / 3.6
+    phi2 = en1991_2.track_irregularity_increment(L_phi, float(bridge["frequencies_hz"][0]), v_max)
+    return L_phi, Phi, phi2, 0.5 if settings.maintenance == "careful" else 1.0
 
 
 def _irregular_note(results):
@@ -400,16 +409,21 @@ def _truncation_note(results, bridge):
     return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"
 
 
-def _deflection_lm71(results, outputs, bridge, settings):
+def _deflection(results, outputs, bridge, settings):
+    """The deflection of every deck node under the more unfavourable of Φ α × LM71 (static) and
+    (1 + φ'_dyn + φ''/2) × each train of the sweep (EN 1991-2 6.4.6.5(3): the dynamic analysis
+    governs where that is larger), against L/600 of its span (EN 1990 A2.4.4.2.3(1)). At a
+    node (1 + φ'_dyn + φ''/2) y_stat,train = max |y_dyn| + φ''/2 |y_stat,train| (downward)."""
     for name in _outputs_of(outputs, "disp", cutoff=False):
         static = results.static(name)
         if static is None:
             continue
-        _, columns = results.column_envelopes(name)
+        env, columns = results.column_envelopes(name)
         deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
         spans, ends = bridge["span_lengths_m"], bridge["span_ends_m"]
-        L_phi = en1991_2.determinant_length(spans)
-        Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
+        _, Phi, phi2, share = _design_factors(results, bridge, settings)
+        lm71 = Phi * settings.alpha * np.abs(static[1][MIN])                        # (n_columns,)
+        dynamic = np.abs(env[..., MIN, :]) + share * phi2 * np.abs(static[0][:, MIN])[:, None, None, :]
         worst = None
         for c, node in enumerate(columns):
             inside = np.flatnonzero((ends[:, 0] <= deck_x.get(int(node), np.nan))
@@ -417,16 +431,27 @@ def _deflection_lm71(results, outputs, bridge, settings):
             if not len(inside):       # off the deck, or on the ground beyond its spans
                 continue
             k = int(inside[0])
-            value = Phi * settings.alpha * abs(static[1][MIN, c])
             limit = spans[k] / en1990_a2.DEFLECTION_SPAN_RATIO
+            at = dynamic[..., c]
+            case = np.unravel_index(np.nanargmax(at), at.shape) if np.any(np.isfinite(at)) else None
+            value = max(lm71[c], at[case] if case is not None else -np.inf)
             if worst is None or value / limit > worst[0] / worst[1]:
-                worst = (value, limit, int(node), k)
+                worst = (value, limit, int(node), k, c, None if value == lm71[c] else case)
         if worst is None:
             return []
-        value, limit, node, k = worst
-        return [CheckRow("deflection_lm71", "EN 1990 A2.4.4.2.3(1)", value, "m", limit, value / limit,
-                         "pass" if value <= limit else "fail", "LM71", np.nan, -1, f"node {node} (span {k + 1})",
-                         f"Phi = {Phi:.3f} x alpha = {settings.alpha:g} x LM71 static; limit L/600")]
+        value, limit, node, k, c, case = worst
+        where = f"node {node} (span {k + 1})"
+        status = "pass" if value <= limit else "fail"
+        rule = (f"the more unfavourable of Phi x alpha x LM71 ({lm71[c]:.4g} m; Phi = {Phi:.3f}, alpha = "
+                f"{settings.alpha:g}) and (1 + phi'dyn + {share:g} phi'') x each train (phi'' = {phi2:.3f}; "
+                "EN 1991-2 6.4.6.5(3)); limit L/600")
+        if case is None:
+            return [CheckRow("deflection", "EN 1990 A2.4.4.2.3(1), EN 1991-2 6.4.6.5(3)", value, "m", limit, value / limit, status,
+                             "LM71", np.nan, -1, where, f"LM71 governs: {rule}")]
+        t, v, s = case
+        return [CheckRow("deflection", "EN 1990 A2.4.4.2.3(1), EN 1991-2 6.4.6.5(3)", value, "m", limit, value / limit, status,
+                         results.trains[t], float(results.speeds_kmh[v]), results.seeds[s], where,
+                         f"the dynamic analysis governs: {rule}{_irregular_note(results)}")]
     return []
 
 

@@ -218,6 +218,7 @@ class Sweep:
                 raise SweepError(f"sweep: outputs must be vtsi.passage.Output, got {o!r}")
         try:
             self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs)
+            self.settings = self.runner.settings       # dt set from the bridge when it was None
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
                     self.runner.check_resolution(name, float(speed))
