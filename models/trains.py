@@ -190,8 +190,8 @@ def hslm_b(span, speed):
     """The HSLM-B high-speed load model of EN 1991-2 for a simply supported span L < 7 m.
 
     N point forces of 170 kN at uniform spacing d (EN 1991-2 §6.4.6.1.1(2)), N and d functions of
-    the span L read from Figure 6.13 (:func:`hslm_b_parameters`: linear in L from N = 10,
-    d = 3.5 m at L = 1 m to N = 20, d = 2.5 m at L = 7 m; N rounded to the nearest integer, halves
+    the span L read from Figure 6.13 (:func:`hslm_b_parameters`: linear in L from N = 20,
+    d = 2.5 m at L = 1 m to N = 10, d = 3.5 m at L = 7 m; N rounded to the nearest integer, halves
     up). Forces at offsets 0, d, …, (N − 1) d behind the head.
 
     Parameters

@@ -88,7 +88,7 @@ def test_axle_table_errors_name_the_row():
     np.testing.assert_array_equal(train.static_wheel_loads, [1e5, 1e5, 2e5])
     with pytest.raises(ValueError, match="row 2: position 2.0 m is not greater than the previous 3.0 m"):
         Train.from_axle_table([0.0, 3.0, 2.0], [1e5] * 3, speed=20.0)
-    with pytest.raises(ValueError, match="row 1: load must be > 0, got -5"):
+    with pytest.raises(ValueError, match=r"row 1: load must be > 0 \[N\], got -5"):
         Train.from_axle_table([0.0, 3.0], [1e5, -5.0], speed=20.0)
 
 
@@ -98,7 +98,7 @@ def test_axle_table_errors_name_the_row():
     ("0,200\n3,170000\n", r"line 3: load_kN 170000 is not a railway axle load \(30 to 500 kN\); is the table in N\? "
                           r"\(170000 N = 170 kN\)$"),
     ("0,200\n2500,200\n", r"line 3: the axle is 2500 m behind the previous one \(0\.5 to 100 m between axles\); "
-                          r"is position_m in mm\?$"),
+                          r"is position_m in cm or mm\?$"),
     ("0,200\n0.0025,200\n", r"line 3: the axle is 0\.0025 m behind the previous one \(0\.5 to 100 m between axles\); "
                             r"is position_m in km\?$"),
 ])
@@ -129,3 +129,37 @@ def test_from_csv(tmp_path):
     bad.write_text('x,P\n0,200\n')
     with pytest.raises(ValueError, match="line 1: header must name the columns"):
         Train.from_csv(bad, speed=50.0)
+
+
+def test_csv_tables_from_spreadsheets_and_their_slips(tmp_path):
+    """Excel's 'CSV' is an 8-bit code page and its 'Unicode text' UTF-16: both read (before, a
+    UnicodeDecodeError traceback, exit 1 at the command line). A negative load is named in the
+    table's kN (it said -200000.0); a header naming a column twice, a row with more cells than
+    the header (a decimal comma) and a missing file are refused, naming the file and line."""
+    table = 'Fahrzeug;position_m;load_kN\nTriebkopf;0;200\nTriebkopf;3;200\nWagen;14,5;150\n'
+    for encoding in ('cp1252', 'utf-16'):
+        path = tmp_path / f'{encoding}.csv'
+        path.write_bytes(table.replace('Triebkopf', 'Triebköpf').replace('14,5', '14.5').encode(encoding))
+        train = Train.from_csv(path, speed=50.0)
+        np.testing.assert_array_equal(train.wheel_offsets, [0.0, 3.0, 14.5])
+        np.testing.assert_array_equal(train.static_wheel_loads, [2e5, 2e5, 1.5e5])
+    bad = tmp_path / 'bad.csv'
+    for text, message in (('position_m,load_kN\n0,200\n3,-200\n', r"bad\.csv line 3: load must be > 0 \[kN\], got -200$"),
+                          ('position_m,load_kN,position_m\n0,200,0\n', "line 1: the header names column 'position_m' twice"),
+                          ('position_m,load_kN\n0,200\n3,170,5\n', r"line 3: 3 cells under a header of 2 .*decimal comma")):
+        bad.write_text(text)
+        with pytest.raises(ModelError, match=message):
+            Train.from_csv(bad, speed=50.0)
+    with pytest.raises(ModelError, match=r"axle table .*missing\.csv: cannot read it \(No such file"):
+        Train.from_csv(tmp_path / 'missing.csv', speed=50.0)
+
+
+def test_a_speed_in_km_h_given_as_m_s_is_refused():
+    """Train speeds are m/s: 300 (km/h meant) read 1080 km/h and ran; above 200 m/s (720 km/h)
+    a train is refused naming both units, also at another speed."""
+    train = hslm_a(1, 300 / 3.6)
+    with pytest.raises(ModelError, match=r"speed 300 m/s \(1080 km/h\) is faster than any train .* 300 km/h is 83\.33 m/s"):
+        Train(train.cars, train.car_offsets, 300.0)
+    with pytest.raises(ModelError, match=r"speed 250 m/s \(900 km/h\)"):
+        train.with_speed(250.0)
+    assert train.with_speed(200.0).speed == 200.0

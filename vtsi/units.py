@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vtsi.errors import ModelError
-from vtsi.vehicle import GRAVITY, Car, Train
+from vtsi.vehicle import GRAVITY, MAX_TRAIN_SPEED, Car, Train
 from vtsi.track import Track
 
 FORCE_UNITS = {"N": 1.0, "kN": 1e-3, "MN": 1e-6}
@@ -40,9 +40,6 @@ weigh more than 1000 kg/m; a model written in t/m but read as kg/m shows 1000 ti
 MIN_FIRST_FREQUENCY_HZ = 0.1
 """[Hz] The lowest first vertical frequency of a bridge a sweep accepts: railway bridges are
 stiffer; E in GPa or MPa with the rest in SI shows a 3·10⁴ to 10³ times lower frequency."""
-MAX_TRAIN_SPEED = 200.0
-"""[m/s] (720 km/h) The fastest train speed the commands accept: rail vehicles run slower (the
-record is 160 m/s); a speed in km/h given as a bare number (m/s) reads 3.6 times faster."""
 _SPEED = re.compile(r"^\s*([-+0-9.eE]+)\s*(km/h|kmh|m/s)\s*$")
 
 
@@ -143,7 +140,8 @@ class Units:
             return train.with_speed(speed)
         length = train.characteristic_length
         return Train([self.car(c) for c in train.cars], np.asarray(train.car_offsets) * self.f_length, speed,
-                     name=train.name, characteristic_length=None if length is None else length * self.f_length)
+                     name=train.name, characteristic_length=None if length is None else length * self.f_length,
+                     max_speed=MAX_TRAIN_SPEED * self.f_length)
 
     def check_deck_mass(self, mass_per_length, what):
         """Refuse a deck lighter than :data:`MIN_MASS_PER_METRE` once its mass per length (model

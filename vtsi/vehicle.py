@@ -26,6 +26,9 @@ from vtsi.errors import ModelError, as_number, is_count
 
 GRAVITY = 9.81
 """Default acceleration of gravity g [m/s²], as in the reference data."""
+MAX_TRAIN_SPEED = 200.0
+"""[m/s] (720 km/h) The fastest train speed accepted: rail vehicles run slower (the record is
+160 m/s); a speed in km/h given as a number of m/s reads 3.6 times faster."""
 
 
 # What a CSV axle table may hold (Train.from_csv): outside these a table is taken to be in other
@@ -186,6 +189,9 @@ class Train:
         The regular spacing D [m] (> 0) of the train's repeated load groups (coach length), or None
         when the train has none. Speed sweeps place resonance speeds at v = n0 D / i (n0 the
         bridge frequency [Hz], i = 1, 2, …); the train's own geometry does not depend on it.
+    max_speed : float, keyword only
+        The fastest speed accepted, here and by :meth:`with_speed`: MAX_TRAIN_SPEED [m/s] for an
+        SI train (the command layer's trains in other units pass it in theirs).
 
     Attributes
     ----------
@@ -219,7 +225,8 @@ class Train:
         the rows of the Boolean matrix S.
     """
 
-    def __init__(self, cars, car_offsets, speed, name='train', *, characteristic_length=None):
+    def __init__(self, cars, car_offsets, speed, name='train', *, characteristic_length=None,
+                 max_speed=MAX_TRAIN_SPEED):
         self.cars = tuple(cars)
         self.name = str(name)
         where = f"train {self.name!r}"
@@ -227,15 +234,14 @@ class Train:
             self.car_offsets = _frozen(car_offsets, np.float64)
         except (TypeError, ValueError):
             raise ModelError(f"{where}: car_offsets must be numbers [m], got {car_offsets!r}") from None
-        self.speed = as_number(speed, where, "speed [m/s]")
+        self.max_speed = float(max_speed)
+        self.speed = _speed(speed, where, self.max_speed)
         self.characteristic_length = _check_characteristic_length(characteristic_length, where)
         if not self.cars or not all(isinstance(car, Car) for car in self.cars):
             raise ModelError(f"{where}: cars must be a non-empty sequence of Car")
         if self.car_offsets.shape != (len(self.cars),) or not np.all(np.isfinite(self.car_offsets)):
             raise ModelError(f"{where}: car_offsets must be {len(self.cars)} finite numbers, "
                              f"got shape {self.car_offsets.shape}")
-        if not (np.isfinite(self.speed) and self.speed >= 0):
-            raise ModelError(f"{where}: speed must be finite and >= 0, got {speed!r}")
         n_dofs = [car.n_dof for car in self.cars]
         self.dof_start = _frozen(np.concatenate([[0], np.cumsum(n_dofs)]), np.int64)
         self.n_dof = int(self.dof_start[-1])
@@ -271,9 +277,7 @@ class Train:
     def with_speed(self, speed):
         """The same train at another constant speed [m/s] (a shallow copy: cars, offsets and
         matrices are shared, read-only)."""
-        speed = as_number(speed, f"train {self.name!r}", "speed [m/s]")
-        if not (np.isfinite(speed) and speed >= 0):
-            raise ModelError(f"train {self.name!r}: speed must be finite and >= 0, got {speed!r}")
+        speed = _speed(speed, f"train {self.name!r}", self.max_speed)
         train = copy.copy(self)
         train.speed = speed
         return train
@@ -348,11 +352,12 @@ class Train:
         (axle offset behind the head, m) and ``load_kN`` (axle load, kN).
 
         Other columns are ignored; the delimiter may be ',', ';' or a tab (spreadsheet exports);
-        blank lines are skipped. Errors name the file and line. ``speed`` is in m/s;
+        blank lines are skipped; the text may be UTF-8, UTF-16 with its byte-order mark
+        (spreadsheets' "Unicode text") or an 8-bit code page (read as Latin-1: the header and the
+        numbers are ASCII in each). Errors name the file and line. ``speed`` is in m/s;
         ``characteristic_length`` [m] as in :class:`Train` (a CSV table carries none).
         """
-        with open(path, newline='', encoding='utf-8-sig') as handle:
-            text = handle.read()
+        text = _read_text(path)
         try:
             dialect = csv.Sniffer().sniff(text.partition('\n')[0], delimiters=',;\t')
         except csv.Error:
@@ -365,9 +370,15 @@ class Train:
         if 'position_m' not in header or 'load_kn' not in header:
             raise ModelError(f"{path} line {rows[0][0]}: header must name the columns 'position_m' and "
                              f"'load_kN', got {rows[0][1]}")
+        for column in ('position_m', 'load_kn'):
+            if header.count(column) > 1:
+                raise ModelError(f"{path} line {rows[0][0]}: the header names column {column!r} twice: {rows[0][1]}")
         columns = header.index('position_m'), header.index('load_kn')
         values, labels = [], []
         for line, row in rows[1:]:
+            if len(row) > len(header):
+                raise ModelError(f"{path} line {line}: {len(row)} cells under a header of {len(header)} ({row}): "
+                                 "a decimal comma in a comma-separated table?")
             try:
                 values.append([float(row[c]) for c in columns])
             except (ValueError, IndexError) as err:
@@ -376,13 +387,41 @@ class Train:
         if not values:
             raise ModelError(f"{path}: no axles below the header")
         values = np.array(values)
-        positions, loads = _check_axle_table(values[:, 0], values[:, 1] * 1e3, labels, 'Train.from_csv')
-        _check_csv_units(values[:, 0], values[:, 1], labels)
-        return cls([moving_force(P) for P in loads], positions, speed, name=name or str(path),
+        positions, loads_kn = _check_axle_table(values[:, 0], values[:, 1], labels, 'Train.from_csv', 'kN')
+        _check_csv_units(positions, loads_kn, labels)
+        return cls([moving_force(1e3 * P) for P in loads_kn], positions, speed, name=name or str(path),
                    characteristic_length=characteristic_length)
 
 
-def _check_axle_table(positions, loads, labels, where):
+def _speed(value, where, max_speed):
+    """A train's speed: finite, >= 0 and at most ``max_speed`` (MAX_TRAIN_SPEED [m/s] for an SI
+    train), or a ModelError naming ``where`` and the value."""
+    speed = as_number(value, where, "speed [m/s]")
+    if not (np.isfinite(speed) and speed >= 0):
+        raise ModelError(f"{where}: speed must be finite and >= 0, got {value!r}")
+    if speed > max_speed:
+        raise ModelError(f"{where}: speed {speed:g} m/s ({3.6 * speed:.4g} km/h) is faster than any train (at most "
+                         f"{MAX_TRAIN_SPEED:g} m/s); speeds are in m/s here: {speed:g} km/h is {speed / 3.6:.4g} m/s")
+    return speed
+
+
+def _read_text(path):
+    """The text of the file ``path``: UTF-16 by its byte-order mark, UTF-8 (with or without one),
+    else Latin-1 (any 8-bit code page's ASCII part); a ModelError naming a file it cannot read."""
+    try:
+        with open(path, 'rb') as handle:
+            raw = handle.read()
+    except OSError as exc:
+        raise ModelError(f"axle table {path}: cannot read it ({exc.strerror or exc})") from None
+    if raw.startswith((b'\xff\xfe', b'\xfe\xff')):
+        return raw.decode('utf-16')
+    try:
+        return raw.decode('utf-8-sig')
+    except UnicodeDecodeError:
+        return raw.decode('latin-1')
+
+
+def _check_axle_table(positions, loads, labels, where, load_unit='N'):
     positions = np.asarray(positions, dtype=np.float64)
     loads = np.asarray(loads, dtype=np.float64)
     if positions.ndim != 1 or positions.shape != loads.shape or positions.size == 0:
@@ -392,7 +431,7 @@ def _check_axle_table(positions, loads, labels, where):
         if not np.isfinite(x):
             raise ModelError(f"{where}: {labels[i]}: position must be finite, got {x}")
         if not (np.isfinite(P) and P > 0):
-            raise ModelError(f"{where}: {labels[i]}: load must be > 0, got {P}")
+            raise ModelError(f"{where}: {labels[i]}: load must be > 0 [{load_unit}], got {P:g}")
         if i and x <= positions[i - 1]:
             raise ModelError(f"{where}: {labels[i]}: position {x} m is not greater than the previous "
                              f"{positions[i - 1]} m; positions must increase from head to tail")
@@ -411,7 +450,7 @@ def _check_csv_units(positions, loads_kn, labels):
     for i in range(1, len(positions)):
         d = positions[i] - positions[i - 1]
         if not d_lo <= d <= d_hi:
-            hint = "in mm" if d > d_hi else "in km"
+            hint = "in cm or mm" if d > d_hi else "in km"
             raise ModelError(f"{labels[i]}: the axle is {d:g} m behind the previous one ({d_lo:g} to {d_hi:g} m "
                              f"between axles); is position_m {hint}?")
 
