@@ -814,6 +814,32 @@ BAD_COMMANDS = [   # (setup, command, args, exception, message)
     (beam, "load", (2, "a", 0, 0), CommandError, r"load on node 2: a load value must be a number, got 'a'"),
     (_nodes_only, "nodeDisp", (1,), CommandError, r"nodeDisp: the model has no nodes"),
     (_nodes_only, "eigen", (1,), CommandError, r"eigen: the model has no nodes"),
+    # one prefix, and an option missing its value says so (OpenSeesPy ignores a trailing -mass)
+    (beam, "element", ("elasticBeamColumn", 7, 2, 4, 0.5, 3e10, 0.05, 1, "-mass"), CommandError,
+     r"^element elasticBeamColumn 7: -mass needs a value \(mass per unit length\), got none$"),
+    (beam, "element", ("elasticBeamColumn", 7, 2, 4, 0.5, 3e10, 0.05, 1, "-mass", "-cMass"), CommandError,
+     r"^element elasticBeamColumn 7: -mass needs a value \(mass per unit length\), got 0 \('-cMass' follows\)$"),
+    (beam, "element", ("ElasticTimoshenkoBeam", 7, 2, 4, 3e10, 1e10, 0.5, 0.05, 0.4, 1, "-mass"), CommandError,
+     r"^element ElasticTimoshenkoBeam 7: -mass needs a value"),
+    (_zero_length_materials, "element", ("truss", 7, 2, 4, 0.5, 1, "-rho"), CommandError,
+     r"^element truss 7: -rho needs a value"),
+    (beam, "element", ("elasticBeamColumn", 7, 2, 4, "x", 3e10, 0.05, 1), CommandError,
+     r"^element elasticBeamColumn 7: A must be a number, got 'x'$"),
+    (beam, "element", ("elasticBeamColumn", 7, 2, 4, 0.5, 3e10, 0.05, 1, "-massDens", 1.0), CommandError,
+     r"^element elasticBeamColumn 7: option '-massDens' is not supported; supported: -mass, -cMass$"),
+    (beam, "uniaxialMaterial", ("Elastic", 5), CommandError, r"^uniaxialMaterial Elastic 5: missing E$"),
+    (beam, "pattern", ("Plain", 5), CommandError, r"^pattern Plain 5: missing time series tag$"),
+    (beam, "node", (9, 1.0, 1.0, "-mass", 1.0), CommandError,
+     r"^node 9: -mass needs 3 values \(one per dof\), got 1$"),
+    (beam, "node", (9, 1.0, 1.0, "-mass", 1.0, 1.0, 1.0, 1.0), CommandError,
+     r"^node 9: -mass takes 3 values \(one per dof, -ndf 3\), got more: 1.0$"),
+    (beam, "eleLoad", ("-ele", 1, "-beamUniform", -1.0), CommandError,
+     r"^eleLoad: -type missing before -beamUniform"),
+    (beam, "eleResponse", (1, "stresses"), CommandError,
+     r"^eleResponse: element 1 \(elasticBeamColumn\) has no response 'stresses'; valid: force, globalForce, "
+     r"localForce, basicForce, forces, globalForces, localForces, basicForces$"),
+    (beam, "recorder", ("Element", "-ele", 1, "stresses"), CommandError,
+     r"^recorder Element: element 1 \(elasticBeamColumn\) has no response 'stresses'; valid: force, "),
 ]
 
 
@@ -840,3 +866,117 @@ def test_zero_length_options_and_recorder_files_are_given_once(tmp_path):
         ops.element("zeroLength", 9, 2, 4, "-mat", 1, "-dir", 1, "-dir", 2)
     with pytest.raises(CommandError, match=r"recorder Node: give one output file"):
         ops.recorder("Node", "-file", str(tmp_path / "a.out"), "-file", str(tmp_path / "b.out"), "-dof", 1, "disp")
+
+
+def _cantilever_without_rotary_mass(o):
+    """A cantilever (node 1 fixed, node 2 free) with nodal mass on the translations only: its
+    rotation is a free dof with stiffness and no mass."""
+    o.wipe()
+    o.model("basic", "-ndm", 2, "-ndf", 3)
+    o.node(1, 0.0, 0.0)
+    o.node(2, 5.0, 0.0)
+    o.fix(1, 1, 1, 1)
+    o.mass(2, 10.0, 10.0, 0.0)
+    o.geomTransf("Linear", 1)
+    o.element("elasticBeamColumn", 1, 1, 2, 0.5, 3e10, 0.05, 1)
+    o.timeSeries("Linear", 1)
+    o.pattern("Plain", 1, 1)
+    o.load(2, 0.0, -100.0, 0.0)
+
+
+@pytest.mark.parametrize("integrator, rayleigh", [(("Newmark", 0.5, 1 / 6), None), (("HHT", 0.9, 0.6, 0.2), None),
+                                                  (("CentralDifference",), (0.0, 1e-4, 0.0, 0.0))],
+                         ids=["Newmark linear acceleration", "HHT user gamma beta", "CentralDifference betaK"])
+def test_conditionally_stable_integrator_names_the_massless_dof(integrator, rayleigh):
+    """A conditionally stable scheme on a model with a free dof without mass: no dt is stable, and
+    the message names that dof (it said 'stability limit 0 s ... omega_max = inf rad/s')."""
+    _cantilever_without_rotary_mass(ops)
+    if rayleigh:
+        ops.rayleigh(*rayleigh)
+    ops.integrator(*integrator)
+    ops.analysis("Transient")
+    with pytest.raises(AnalysisError, match=rf"^integrator {integrator[0]} is conditionally stable and node 2 dof 3 "
+                                            r"\(rz\) is a free dof without mass \(omega_max is infinite"):
+        ops.analyze(2, 0.001)
+
+
+@needs_oracle
+@pytest.mark.parametrize("control, steps", [
+    ((0.5, 3, 0.1, 1.0), (2, 3)),             # grows x3 a step, capped at maxLambda
+    ((0.1, 2, 0.05, 10.0), (2, 3, 1)),
+    ((0.7, 1, 0.2, 0.3), (2, 3)),             # the first step already clipped to maxLambda
+    ((0.5, 3, 0.2, 0.2), (2, 3)),             # minLambda = maxLambda: constant (any algorithm)
+    ((-0.1, 2, -1.0, -0.05), (2, 3)),         # unloading
+    ((0.3,), (2, 3)),
+], ids=["grow-cap", "grow", "clip-first", "constant", "negative", "plain"])
+def test_load_control_adaptive_increment_equals_opensees(control, steps):
+    """LoadControl dλ numIter minλ maxλ: OpenSees scales dλ by numIter / (iterations of the last
+    step), clipped to [minλ, maxλ] (LoadControl::newStep); with algorithm Linear a step takes one
+    iteration. The arguments were accepted and ignored (λ grew by dλ a step)."""
+    def run(o):
+        o.wipe()
+        o.model("basic", "-ndm", 2, "-ndf", 3)
+        o.node(1, 0.0, 0.0)
+        o.node(2, 5.0, 0.0)
+        o.fix(1, 1, 1, 1)
+        o.geomTransf("Linear", 1)
+        o.element("elasticBeamColumn", 1, 1, 2, 0.5, 3e10, 0.05, 1)
+        o.timeSeries("Linear", 1)
+        o.pattern("Plain", 1, 1)
+        o.load(2, 0.0, -100.0, 0.0)
+        o.algorithm("Linear")
+        o.integrator("LoadControl", *control)
+        o.analysis("Static")
+        out = []
+        for n in steps:
+            o.analyze(n)
+            out.append((o.getTime(), o.nodeDisp(2, 2)))
+        return np.array(out)
+
+    ref, val = run(oracle), run(ops)
+    assert np.array_equal(val[:, 0], ref[:, 0])            # the load factors, to the last bit
+    assert np.allclose(val[:, 1], ref[:, 1], rtol=1e-12, atol=0.0)
+
+
+def test_load_control_adaptive_refusals():
+    _cantilever_without_rotary_mass(ops)
+    for args, message in [((0.5, 3), r"the three together"), ((0.5, 3, 0.1), r"the three together"),
+                          ((0.5, 0, 0.1, 1.0), r"numIter must be >= 1, got 0"),
+                          ((0.5, 3, 1.0, 0.1), r"minLambda = 1 is above maxLambda = 0.1")]:
+        with pytest.raises(CommandError, match=rf"^integrator LoadControl: .*{message}"):
+            ops.integrator("LoadControl", *args)
+    ops.integrator("LoadControl", 0.5, 3, 0.1, 1.0)
+    ops.analysis("Static")                   # algorithm Newton (the default): iterations not known
+    with pytest.raises(CommandError, match=r"^analyze: integrator LoadControl 0.5 3 0.1 1: .*algorithm Newton "
+                                           r"takes a number that depends on its test"):
+        ops.analyze(1)
+    assert ops.getTime() == 0.0
+    ops.algorithm("Linear")
+    ops.analyze(2)
+    assert ops.getTime() == 1.5
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 0.5, 3, 0.2, 0.2)    # minLambda = maxLambda: 0.2 a step, any algorithm
+    ops.analyze(2)
+    assert ops.getTime() == pytest.approx(1.9, abs=1e-15)
+
+
+def test_modal_damping_refuses_a_percentage():
+    """modalDamping 1.5 is 150 % of critical, a percentage typed as a ratio (OpenSees takes it)."""
+    beam(ops)
+    ops.eigen(2)
+    with pytest.raises(CommandError, match=r"^modalDamping: damping ratio 1.5 is 150 % of critical .* 0.015 for 1.5 %"):
+        ops.modalDamping(1.5)
+    with pytest.raises(CommandError, match=r"damping ratio 1 is 100 %"):
+        ops.modalDamping(0.02, 1.0)
+    ops.modalDamping(0.999)
+
+
+def test_zero_length_needs_three_dofs_a_node():
+    """OpenSees takes a zeroLength with -ndf 2; vtsi's has 3 dofs a node and says how to model it."""
+    ops.model("basic", "-ndm", 2, "-ndf", 2)
+    ops.node(1, 0.0, 0.0)
+    ops.node(2, 0.0, 0.0)
+    ops.uniaxialMaterial("Elastic", 1, 1e6)
+    with pytest.raises(CommandError, match=r"^element zeroLength 1: needs -ndf 3 \(the model has 2\); OpenSees also "
+                                           r"takes -ndf 2"):
+        ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)

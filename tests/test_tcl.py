@@ -253,3 +253,21 @@ def test_tcl_wrong_argument_count_names_the_command(script, message):
     tcl.eval(BEAM_TCL)
     with pytest.raises(CommandError, match=message):
         tcl.eval(script)
+
+
+@pytest.mark.parametrize("script, message", [
+    ("element elasticBeamColumn 7 1 3 5.0 3.5e10 2.5 1 -mass",
+     r"^element elasticBeamColumn 7: -mass needs a value \(mass per unit length\), got none"),
+    ("element elasticBeamColumn 7 1 3 A 3.5e10 2.5 1", r"^element elasticBeamColumn 7: A must be a number, got 'A'"),
+    ("node 9 1 1 -mass 1.0", r"^node 9: -mass needs 3 values \(one per dof\), got 1"),
+    ("timeSeries Linear 1; pattern Plain 1 1; eleLoad -ele 1 -beamUniform -1.0",
+     r"^eleLoad: -type missing before -beamUniform"),
+    ("integrator LoadControl 0.5 3 1.0 0.1", r"^integrator LoadControl: minLambda = 1 is above maxLambda = 0.1"),
+])
+def test_tcl_malformed_options_name_the_command_once(script, message):
+    """A message carries one prefix (it said 'element: missing element elasticBeamColumn 7: -mass');
+    the Tcl traceback follows it as a note."""
+    tcl = Interpreter()
+    tcl.eval(BEAM_TCL)
+    with pytest.raises(CommandError, match=message):
+        tcl.eval(script)

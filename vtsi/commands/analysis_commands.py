@@ -116,6 +116,37 @@ class OpenSeesTRBDF2:
         return state
 
 
+class LoadControl:
+    """OpenSees's ``integrator LoadControl dλ [numIter minλ maxλ]`` (``LoadControl::newStep``):
+    each step first scales the increment by ``numIter / J``, J the iterations (updates) of the last
+    step (``numIter`` before the first), then clips it to [minλ, maxλ] (both dλ without the
+    optional arguments: a constant increment), and the load factor (time) advances by it."""
+
+    def __init__(self, d_lambda, num_iter=1, low=None, high=None):
+        self.d_lambda, self.num_iter = float(d_lambda), float(num_iter)
+        self.low = self.d_lambda if low is None else float(low)
+        self.high = self.d_lambda if high is None else float(high)
+        self.last_iterations = self.num_iter      # OpenSees's numIncrLastStep
+        self.name = (f"integrator LoadControl {d_lambda:g}" if low is None else
+                     f"integrator LoadControl {d_lambda:g} {num_iter} {self.low:g} {self.high:g}")
+
+    @property
+    def constant(self):
+        """Whether every step's increment is the same whatever the iterations (minλ = maxλ)."""
+        return self.low == self.high
+
+    def next_increment(self, iterations):
+        """The increment [-] of the next step, which then takes ``iterations`` updates (OpenSees
+        counts them in ``LoadControl::update``; the first step scales by numIter / numIter)."""
+        self.d_lambda *= self.num_iter / self.last_iterations
+        if self.d_lambda < self.low:
+            self.d_lambda = self.low
+        elif self.d_lambda > self.high:
+            self.d_lambda = self.high
+        self.last_iterations = float(iterations)
+        return self.d_lambda
+
+
 class AnalysisCommands(SessionBase):
     """The analysis settings, ``analyze``, ``eigen`` and ``modalDamping``."""
 
@@ -178,7 +209,7 @@ class AnalysisCommands(SessionBase):
         self._settings["algorithm"] = (kind, *flags)
 
     def integrator(self, *args):
-        """``integrator('LoadControl', dλ)``, ``('Newmark', gamma, beta)``, ``('HHT', alpha, [gamma,
+        """``integrator('LoadControl', dλ, [numIter, minλ, maxλ])`` (:class:`LoadControl`), ``('Newmark', gamma, beta)``, ``('HHT', alpha, [gamma,
         beta])``, ``('GeneralizedAlpha', alphaM, alphaF, [beta, gamma])`` (OpenSees's order), ``('CentralDifference')``, ``('TRBDF2')`` or vtsi's ``('Bathe', [gamma])``."""
         a = Args("integrator", args)
         kind = a.word("integrator", INTEGRATORS)
@@ -186,11 +217,19 @@ class AnalysisCommands(SessionBase):
         a.command = name
         if kind == "LoadControl":
             d_lambda = a.float("load increment")
-            extra = a.floats("numIter, minLambda, maxLambda")
-            a.done()
-            if len(extra) > 3:
-                raise CommandError(f"{name}: expected dLambda [numIter minLambda maxLambda], got {list(args)!r}")
-            self._static_integrator = ("LoadControl", d_lambda)
+            if not a.more():
+                self._static_integrator = LoadControl(d_lambda)
+                return
+            extra = a.items[a.pos:]
+            if len(extra) != 3:
+                raise CommandError(f"{name}: expected dLambda [numIter minLambda maxLambda] (the three together; "
+                                   f"OpenSees ignores one or two), got {list(args)!r}")
+            num_iter, low, high = a.int("numIter"), a.float("minLambda"), a.float("maxLambda")
+            if num_iter < 1:
+                raise CommandError(f"{name}: numIter must be >= 1, got {num_iter}")
+            if low > high:
+                raise CommandError(f"{name}: minLambda = {low:g} is above maxLambda = {high:g}")
+            self._static_integrator = LoadControl(d_lambda, num_iter, low, high)
             return
         if kind == "Newmark":
             gamma, beta = a.float("gamma"), a.float("beta")
@@ -230,7 +269,7 @@ class AnalysisCommands(SessionBase):
         self._analysis = kind
         if kind == "Static" and self._static_integrator is None:
             log.info("analysis Static: no static integrator set, using LoadControl 1.0 (as OpenSees)")
-            self._static_integrator = ("LoadControl", 1.0)
+            self._static_integrator = LoadControl(1.0)
         if kind == "Transient" and self._transient_integrator is None:
             log.info("analysis Transient: no transient integrator set, using Newmark 0.5 0.25 (as OpenSees)")
             self._transient_integrator = ("Newmark", Newmark(0.5, 0.25))
@@ -273,9 +312,19 @@ class AnalysisCommands(SessionBase):
             if a.more():
                 a.float("dt")   # OpenSees accepts and ignores a dt in a static analysis
             a.done()
-            d_lambda = self._static_integrator[1]
+            control = self._static_integrator
             recorders = self._recorder_list()
-            StaticAnalysis(model, d_lambda, recorders).run(n)
+            if control.constant:
+                StaticAnalysis(model, control.low, recorders).run(n)
+            else:
+                if self._settings["algorithm"][0] != "Linear":
+                    raise CommandError(f"analyze: {control.name}: OpenSees scales dLambda by numIter / (the iterations "
+                                       f"of the last step), and algorithm {self._settings['algorithm'][0]} takes a "
+                                       "number that depends on its test and on round-off (vtsi solves each step "
+                                       "exactly in one pass); use algorithm('Linear') (one iteration a step, as "
+                                       "OpenSees's Linear), or minLambda = maxLambda (a constant increment)")
+                for _ in range(n):
+                    StaticAnalysis(model, control.next_increment(1), recorders).run(1)
             self._load_time = domain_state(model).time
             return 0
         if not a.more():
@@ -368,6 +417,11 @@ class AnalysisCommands(SessionBase):
         bad = [z for z in ratios if not (np.isfinite(z) and z >= 0.0)]
         if bad:
             raise CommandError(f"modalDamping: a damping ratio must be >= 0 (0.05 for 5 %), got {bad[0]:g}")
+        over = [z for z in ratios if z >= 1.0]
+        if over:
+            raise CommandError(f"modalDamping: damping ratio {over[0]:g} is {100 * over[0]:g} % of critical (an "
+                               f"overdamped mode); a ratio is a fraction: {over[0] / 100:g} for {over[0]:g} %. "
+                               "vtsi takes ratios in [0, 1), as its other damping inputs (OpenSees takes any)")
         self._modal_damping = (asm, np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None)
         self._transient = None
 

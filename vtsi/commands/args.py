@@ -84,6 +84,20 @@ class Args:
             raise CommandError(f"{self.command}: {what} {x!r} is not supported; supported: {', '.join(choices)}")
         return x
 
+    def option_floats(self, option, count=1, what="value"):
+        """The ``count`` numbers after ``option`` (just read); a missing one or a word in their
+        place raises ``'<command>: -mass needs 3 values (one per dof), got 1'``."""
+        got = 0
+        while got < count and self.next_is_number():
+            got += 1
+            self.pos += 1
+        if got < count:
+            plural = f"{count} values" if count > 1 else "a value"
+            found = f"{got} ({self.peek()!r} follows)" if self.more() else str(got) if got else "none"
+            raise CommandError(f"{self.command}: {option} needs {plural} ({what}), got {found}")
+        self.pos -= count
+        return [self.float(f"{option} {what}") for _ in range(count)]
+
     def floats(self, what):
         out = []
         while self.next_is_number():

@@ -67,10 +67,14 @@ class ModelCommands(SessionBase):
         a = Args("node", args)
         tag = a.int("node tag")
         coords = [a.float(f"coordinate {k + 1} of node {tag}") for k in range(model.ndm)]
+        a.command = f"node {tag}"
         mass = None
         while a.more():
             a.option(("-mass",))
-            mass = [a.float(f"node {tag} -mass value") for _ in range(model.ndf)]
+            mass = a.option_floats("-mass", model.ndf, "one per dof")
+            if a.next_is_number():
+                raise CommandError(f"node {tag}: -mass takes {model.ndf} values (one per dof, -ndf {model.ndf}), "
+                                   f"got more: {a.peek()!r}")
         model.node(tag, *coords)
         if mass is not None:
             model.mass(tag, *mass)
@@ -146,10 +150,11 @@ class ModelCommands(SessionBase):
         if tag in self._materials:
             raise CommandError(f"uniaxialMaterial {kind} {tag}: material {tag} already exists")
         name = f"uniaxialMaterial {kind} {tag}"
+        a.command = name
         if kind == "Elastic":
-            E = a.float(f"{name}: E")
-            eta = a.float(f"{name}: eta") if a.more() else 0.0
-            e_neg = a.float(f"{name}: Eneg") if a.more() else E
+            E = a.float("E")
+            eta = a.float("eta") if a.more() else 0.0
+            e_neg = a.float("Eneg") if a.more() else E
             a.done()
             if e_neg != E:
                 raise CommandError(f"{name}: Eneg = {e_neg:g} differs from E = {E:g}, which makes the material "
@@ -158,10 +163,10 @@ class ModelCommands(SessionBase):
                 raise CommandError(f"{name}: E and eta must be >= 0, got E = {E:g}, eta = {eta:g}")
             self._materials[tag] = ("Elastic", E, eta)
         else:
-            C = a.float(f"{name}: C")
-            alpha = a.float(f"{name}: alpha") if a.more() else 1.0
+            C = a.float("C")
+            alpha = a.float("alpha") if a.more() else 1.0
             if a.more():
-                a.float(f"{name}: minVel")   # only matters for alpha != 1
+                a.float("minVel")   # only matters for alpha != 1
             a.done()
             if alpha != 1.0:
                 raise CommandError(f"{name}: alpha = {alpha:g} makes the dashpot nonlinear "
@@ -188,9 +193,10 @@ class ModelCommands(SessionBase):
                                f"{', '.join(ELEMENT_TYPES + tuple(command_element_types()))}")
         tag = a.int("element tag")
         name = f"element {kind} {tag}"
+        a.command = name
         if kind not in ELEMENT_TYPES:
             return self._element_registered(model, a, name, tag, command_element_types()[kind])
-        i, j = a.int(f"{name}: node i"), a.int(f"{name}: node j")
+        i, j = a.int("node i"), a.int("node j")
         for n in (i, j):
             self._node(name, n)
         if i == j:
@@ -221,11 +227,11 @@ class ModelCommands(SessionBase):
     def _element_elasticBeamColumn(self, model, a, name, tag, i, j):
         if model.ndf != 3:
             raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
-        A, E, Iz = a.float(f"{name}: A"), a.float(f"{name}: E"), a.float(f"{name}: Iz")
+        A, E, Iz = a.float("A"), a.float("E"), a.float("Iz")
         if not a.next_is_number():
             raise CommandError(f"{name}: missing transfTag (element('elasticBeamColumn', tag, i, j, A, E, Iz, "
                                "transfTag, ...))")
-        transf = a.int(f"{name}: transfTag")
+        transf = a.int("transfTag")
         if a.next_is_number():
             raise CommandError(f"{name}: the section form (secTag, transfTag) is not supported; give A, E, Iz")
         if transf not in self._transforms:
@@ -234,7 +240,7 @@ class ModelCommands(SessionBase):
         while a.more():
             opt = a.option(("-mass", "-cMass"))
             if opt == "-mass":
-                rho = a.float(f"{name}: -mass")
+                rho = a.option_floats("-mass", 1, "mass per unit length")[0]
             else:
                 cmass = 1
         model.element("elasticBeamColumn", tag, (i, j), A=A, E=E, I=Iz, rho=rho, cmass=cmass)
@@ -244,7 +250,6 @@ class ModelCommands(SessionBase):
         ['-cMass'])`` (OpenSees's argument order)."""
         if model.ndf != 3:
             raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
-        a.command = name
         E, G, A, Iz, Avy = (a.float(p) for p in ("E", "G", "A", "Iz", "Avy"))
         transf = a.int("transfTag")
         if transf not in self._transforms:
@@ -252,14 +257,14 @@ class ModelCommands(SessionBase):
         rho, cmass = 0.0, 0
         while a.more():
             if a.option(("-mass", "-cMass")) == "-mass":
-                rho = a.float("-mass")
+                rho = a.option_floats("-mass", 1, "mass per unit length")[0]
             else:
                 cmass = 1
         model.element("ElasticTimoshenkoBeam", tag, (i, j), A=A, E=E, G=G, I=Iz, Avy=Avy, rho=rho, cmass=cmass)
 
     def _element_truss(self, model, a, name, tag, i, j):
-        A = a.float(f"{name}: A")
-        mat = a.int(f"{name}: matTag")
+        A = a.float("A")
+        mat = a.int("matTag")
         kind, E, eta = self._material(name, mat)
         if kind != "Elastic" or eta != 0.0:
             raise CommandError(f"{name}: material {mat} must be Elastic without damping (eta = 0) for a truss "
@@ -268,16 +273,17 @@ class ModelCommands(SessionBase):
         while a.more():
             opt = a.option(("-rho", "-cMass", "-doRayleigh"))
             if opt == "-rho":
-                rho = a.float(f"{name}: -rho")
+                rho = a.option_floats("-rho", 1, "mass per unit length")[0]
             elif opt == "-cMass":
-                cmass = a.int(f"{name}: -cMass flag") if a.next_is_number() else 1
+                cmass = a.int("-cMass flag") if a.next_is_number() else 1
             else:
-                do_rayleigh = a.int(f"{name}: -doRayleigh flag") if a.next_is_number() else 1
+                do_rayleigh = a.int("-doRayleigh flag") if a.next_is_number() else 1
         model.element("truss", tag, (i, j), A=A, E=E, rho=rho, cmass=cmass, do_rayleigh=do_rayleigh)
 
     def _element_zeroLength(self, model, a, name, tag, i, j):
         if model.ndf != 3:
-            raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
+            raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf}); OpenSees also takes -ndf 2, vtsi's "
+                               "zeroLength has 3 dofs a node: use -ndf 3 and fix the rotations no element holds")
         mats, dirs, orient, do_rayleigh = [], [], None, 0
         seen = set()
         while a.more():
@@ -286,13 +292,13 @@ class ModelCommands(SessionBase):
                 raise CommandError(f"{name}: {opt} given twice (give every value after one {opt}, as OpenSees)")
             seen.add(opt)
             if opt == "-mat":
-                mats = a.ints(f"{name}: -mat tag")
+                mats = a.ints("-mat tag")
             elif opt == "-dir":
-                dirs = a.ints(f"{name}: -dir")
+                dirs = a.ints("-dir")
             elif opt == "-orient":
-                orient = a.floats(f"{name}: -orient")
+                orient = a.floats("-orient")
             else:
-                do_rayleigh = a.int(f"{name}: -doRayleigh flag") if a.next_is_number() else 1
+                do_rayleigh = a.int("-doRayleigh flag") if a.next_is_number() else 1
         if not mats:
             raise CommandError(f"{name}: no materials (-mat tags ...)")
         if len(mats) != len(dirs):
@@ -416,7 +422,8 @@ class ModelCommands(SessionBase):
             raise CommandError(f"pattern: type {kind!r} is not supported; supported: Plain, UniformExcitation")
         tag = a.int("pattern tag")
         name = f"pattern Plain {tag}"
-        spec = a.take(f"{name}: time series tag")
+        a.command = name
+        spec = a.take("time series tag")
         if isinstance(spec, str):
             series = self._inline_series(name, spec)
         elif is_int(spec):
@@ -428,7 +435,7 @@ class ModelCommands(SessionBase):
         fact = 1.0
         while a.more():
             a.option(("-fact", "-factor"))
-            fact = a.float(f"{name}: -fact")
+            fact = a.float("-fact")
         if tag in model.patterns:
             raise CommandError(f"{name}: pattern {tag} already exists")
         model.pattern(tag, series, fact)
@@ -523,6 +530,9 @@ class ModelCommands(SessionBase):
                 tags += [t for t in model.element_tags() if lo <= t <= hi]
         if not tags:
             raise CommandError("eleLoad: no elements (give '-ele', tags... or '-range', first, last)")
+        if a.peek() in ("-beamUniform", "-beamPoint"):
+            raise CommandError(f"eleLoad: -type missing before {a.peek()} (eleLoad('-ele', *tags, '-type', "
+                               f"'{a.peek()}', ...))")
         a.option(("-type",))
         kind = a.word("load type", ("-beamUniform", "-beamPoint"))
         if kind == "-beamUniform":

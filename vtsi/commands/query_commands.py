@@ -12,7 +12,7 @@ from vtsi.errors import CommandError, ModelError, is_int
 from .args import Args, dof_value, is_number
 from .base import SessionBase
 from .model_text import model_text
-from .responses import ELEMENT_RESPONSE_ALIASES, apply_layout, opensees_layout
+from .responses import ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, opensees_layout
 
 QUERY_COMMANDS = ("printModel", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce", "eleResponse",
                   "getTime", "setTime", "loadConst", "nodeCoord", "nodeEigenvector", "nodeResponse", "getNodeTags",
@@ -236,8 +236,9 @@ class QueryCommands(SessionBase):
         layout = opensees_layout(etype, kind, asm.ndf, self._zero_length.get(tag))
         source = layout[0] if layout is not None else kind
         if source not in etype.response_kinds:
+            valid = accepted_responses(etype, asm.ndf, self._zero_length.get(tag))
             raise CommandError(f"{command}: element {tag} ({etype.name}) has no response {kind!r}; valid: "
-                               f"{', '.join(etype.response_kinds)}")
+                               f"{', '.join(valid)}")
         d = dofs[i]
         c, p, u_e, v_e = coords[i: i + 1], params[i: i + 1], u[d][None, :], v[d][None, :]
         values = np.asarray(etype.response(source, c, p, u_e, v_e), dtype=float)
@@ -274,7 +275,9 @@ class QueryCommands(SessionBase):
     def reactions(self, *args):
         """Compute the nodal reactions (read them with :meth:`nodeReaction`): ``R = F_resisting - P``
         with the elements' static resisting forces (default), ``'-dynamic'``: ``K u + C v + M a - P``
-        (inertia and Rayleigh damping included), ``'-rayleigh'``: the Rayleigh damping forces only.
+        (inertia and Rayleigh damping included), ``'-rayleigh'``: the Rayleigh damping forces
+        ``αM M v + βK K v`` of every element (also of one that takes no Rayleigh damping in the
+        analysis, as OpenSees's ``Element::getRayleighDampingForces``) and nodal mass.
         As OpenSees (``Domain::calculateNodalReactions``), the loads are first applied again at the
         committed time, which then is the load time of the queries after (``getLoadFactor``, the
         element loads in ``eleForce``; HHT and GeneralizedAlpha applied them at ``t_n + αΔt``)."""
@@ -288,20 +291,19 @@ class QueryCommands(SessionBase):
         for tag, eq in self._element_loads_now(asm).items():   # element loads: their equivalent nodal loads
             b, i = asm.element_location[tag]
             loads[asm.blocks[b][4][i]] += eq
-        if flag == "-dynamic":
+        if flag == "-rayleigh":
+            # OpenSees (flag 2): Element::getRayleighDampingForces of *every* element, whether it
+            # takes Rayleigh damping in the analysis or not (zeroLength, truss without -doRayleigh),
+            # plus alphaM M v of the nodal masses (Node::resetReactionForce)
+            alpha_m, beta_k = self.domain.rayleigh_factors
+            r = alpha_m * (asm.M_full @ state.v) + beta_k * (asm.K_full @ state.v)
+        elif flag == "-dynamic":
             r = asm.K_full @ state.u + asm.C_full @ state.v + asm.M_full @ state.a - loads
         else:
             own = np.zeros(asm.n_full)   # elements' resisting forces K u + C_el v
-            own_damping = np.zeros(asm.n_full)
             for etype, _tags, coords, params, dofs in asm.blocks:
-                u_e, v_e = state.u[dofs], state.v[dofs]
-                f = np.asarray(etype.response("force", coords, params, u_e, v_e))
+                f = np.asarray(etype.response("force", coords, params, state.u[dofs], state.v[dofs]))
                 np.add.at(own, dofs, f)
-                c_v = np.einsum("eij,ej->ei", etype.damping(coords, params), v_e)
-                np.add.at(own_damping, dofs, c_v)
-            if flag == "-rayleigh":
-                r = asm.C_full @ state.v - own_damping
-            else:
-                r = own - loads
+            r = own - loads
         self._reactions = r
 

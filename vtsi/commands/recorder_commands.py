@@ -11,7 +11,7 @@ from vtsi.recorders import ElementRecorder
 
 from .args import Args
 from .base import SessionBase
-from .responses import ELEMENT_RESPONSE_ALIASES, apply_layout, opensees_layout
+from .responses import ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, opensees_layout
 
 RECORDER_COMMANDS = ("recorder",)
 NODE_RESPONSES = ("disp", "vel", "accel", "reaction", "reactionIncInertia")
@@ -245,13 +245,20 @@ class RecorderCommands(SessionBase):
             make = lambda s: rec.NodeRecorder(nodes, dofs, response, sink=s, dt=opts["-dT"],
                                               envelope=envelope, history=not envelope)
         else:
-            response = ELEMENT_RESPONSE_ALIASES.get(response, response)
+            asked, response = response, ELEMENT_RESPONSE_ALIASES.get(response, response)
             if targets is None:
                 raise CommandError(f"{name}: no elements given (-ele 1 2 ... or -eleRange first last), as OpenSees")
             elements = targets
             for e in elements:
                 if e not in model._element_owner:
                     raise CommandError(f"{name}: element {e} does not exist")
+            asm = model.build()
+            for e in elements:
+                etype = asm.blocks[asm.element_location[e][0]][0]
+                valid = accepted_responses(etype, asm.ndf, self._zero_length.get(e))
+                if asked not in valid:
+                    raise CommandError(f"{name}: element {e} ({etype.name}) has no response {asked!r}; valid: "
+                                       f"{', '.join(valid)}")
             make = lambda s: command_element_recorder(self, elements, response, sink=s, dt=opts["-dT"],
                                                        envelope=envelope, history=not envelope)
         return self._register_recorder(make(self._recorder_sink(name, opts)))

@@ -36,6 +36,21 @@ def opensees_layout(etype, kind, ndf, materials=None):
     return None
 
 
+def accepted_responses(etype, ndf, materials=None):
+    """Every response name the command layer answers for an element of ``etype`` (its own
+    kinds, the OpenSees layouts built from them and their plural aliases), in a stable order."""
+    names = list(etype.response_kinds) + list(etype.command_layouts)
+    names += ["force", "globalForce", "localForce", "basicForce", "deformation", "basicDeformation"]
+    names += list(ELEMENT_RESPONSE_ALIASES)
+    out = []
+    for name in dict.fromkeys(names):
+        kind = ELEMENT_RESPONSE_ALIASES.get(name, name)
+        layout = opensees_layout(etype, kind, ndf, materials)
+        if (layout[0] if layout is not None else kind) in etype.response_kinds:
+            out.append(name)
+    return out
+
+
 def apply_layout(layout, values, rates=None):
     """Columns ``(n, len(columns))`` of a :func:`opensees_layout` from ``values (n, width)`` (and
     their rates, the same response evaluated on velocities)."""
