@@ -87,3 +87,27 @@ def test_missing_line_speed(tmp_path, bridge, capsys, monkeypatch):
     err = capsys.readouterr().err.strip()
     assert status == 2 and err.startswith("vtsi check: the line speed is needed") and "\n" not in err
     assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
+
+
+class _ClosedPipe:
+    """A standard output whose reader is gone (``vtsi check ... | head -3``)."""
+
+    def write(self, text):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    def flush(self):
+        pass
+
+
+def test_a_closed_standard_output_keeps_the_verdict_status(tmp_path, bridge, capsys, monkeypatch):
+    """'vtsi check ... | head -3' exited 3 ('a passage failed') with '[Errno 32] Broken pipe'."""
+    import vtsi.workflow
+    from types import SimpleNamespace
+
+    monkeypatch.chdir(tmp_path)
+    verdict = SimpleNamespace(passed=False, text=lambda: "criterion ...\n" * 50)
+    monkeypatch.setattr(vtsi.workflow, "design_check", lambda *a, **k: (verdict, {"html": "r.html", "scene": None}))
+    monkeypatch.setattr("sys.stdout", _ClosedPipe())
+    status = main(["check", str(bridge), "--trains", "HSLM-A1", "--speeds", "300", "--bridge-type", "steel",
+                   "--workers", "1", "--quiet"])
+    assert status == 1 and capsys.readouterr().err == ""

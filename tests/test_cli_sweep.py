@@ -15,6 +15,7 @@ import pytest
 
 from vtsi.__main__ import main
 from vtsi.bridge_file import ANALYSIS_KEYS, BRIDGE_KINDS, load_bridge, mass_per_metre, read_bridge_file
+from vtsi import errors as vtsi_errors
 from vtsi.errors import ModelError
 from vtsi.damping import vertical_frequencies
 from vtsi.passage import PassageRunner, PassageSettings
@@ -299,6 +300,10 @@ BAD = {
     "unknown irregularity": (["--trains", "A1", "--speeds", "200", "--irregularity", "bumpy"], None,
                              "unknown irregularity 'bumpy'"),
     "seeds on a smooth rail": (["--trains", "A1", "--speeds", "200", "--seeds", "0,1"], None, "--irregularity"),
+    "a bridge file's seeds on a smooth rail": (["--trains", "A1", "--speeds", "200"], "smooth_seeds.toml",
+                                               "[analysis] seeds: rail samples need an irregular rail"),
+    "a train twice in two spellings": (["--trains", "HSLM-A1,hslm-a1", "--speeds", "200"], None,
+                                       "train HSLM-A1 is listed twice"),
     "bad seeds": (["--trains", "ICE3", "--speeds", "200", "--cars", "full", "--irregularity", "german-low", "--seeds",
                    "-1"], None, "integers >= 0"),
     "a rough rail under moving forces": (["--trains", "A1", "--speeds", "200", "--irregularity", "german-low"], None,
@@ -306,7 +311,8 @@ BAD = {
                                          "(cars='force') do not feel it"),
     "no cars": (["--trains", "A1", "--speeds", "200", "--cars", "full"], None, "has no fidelity 'full'"),
     "another sweep with --resume": (["--trains", "A1", "--speeds", "200", "--resume"], _other_sweep,
-                                    "holds a different sweep"),
+                                    "holds a different sweep (it differs in speeds_kmh[0] (200.0 here, 300.0 in the "
+                                    "file)); use another file, or --overwrite"),
     "an existing file": (["--trains", "A1", "--speeds", "300"], _other_sweep, "exists; --resume continues"),
 }
 
@@ -325,6 +331,7 @@ BAD_FILES = {
     "fine.toml": lambda p: write(p, "fine.toml", BEAM_TOML.replace("elements_per_span = 4", "elements_per_span = 100000000")),
     "mm.toml": lambda p: write(p, "mm.toml", BEAM_TOML.replace(f"spans_m = [{L}]", "spans_m = [20000.0]")),
     "seeds.toml": lambda p: write(p, "seeds.toml", BEAM_TOML + "seeds = [1, 1]\n"),
+    "smooth_seeds.toml": lambda p: write(p, "smooth_seeds.toml", BEAM_TOML + "seeds = [0, 1]\n"),
     "modal.toml": lambda p: write(p, "modal.toml", BEAM_TOML + "modal_hz = -5.0\n"),
 }
 
@@ -347,6 +354,7 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, caps
     err = [line for line in captured.err.strip().splitlines() if line != "built the beam"]   # the script's print
     assert status == 2, captured.err
     assert len(err) == 1 and err[0].startswith("vtsi sweep: ") and message in err[0], err
+    assert "=True" not in err[0], err                  # the command line's options, not the API's arguments
     assert captured.out == ""
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before      # nothing written or changed
 
@@ -441,3 +449,94 @@ def test_a_bridge_script_in_other_units_is_refused(tmp_path):
     script = write(tmp_path, "kn.tcl", BEAM_TCL.replace("model basic -ndm 2 -ndf 3\n", "model basic -ndm 2 -ndf 3\nunits kN m\n"))
     with pytest.raises(ModelError, match=r"declares units kN, m, t .*must be SI"):
         load_bridge(script)
+
+
+# -- one writer, overwrite, a closed pipe, SIGTERM ---------------------------------------------------
+def test_a_second_run_on_a_results_file_exits_2_naming_the_first(tmp_path, capsys):
+    """Two runs on one file corrupted it (empty train names, '882 of 570 cases', exit 0)."""
+    from vtsi.sweep_results import ResultsFileLock
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    out = tmp_path / "out.h5"
+    lock = ResultsFileLock(str(out))                       # as another run writing out.h5 holds it
+    try:
+        for extra in ([], ["--overwrite"]):
+            assert sweep(tmp_path, bridge, *FAST, *extra) == 2
+            err = capsys.readouterr().err.strip().splitlines()
+            assert err == [f"vtsi sweep: results file {out} is being written by another sweep (pid {os.getpid()}); "
+                           "wait for it to end, or use another file"]
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["bridge.toml", "out.h5.lock"]
+    finally:
+        lock.release()
+    assert sweep(tmp_path, bridge, *FAST) == 0
+
+
+def test_an_interrupted_overwrite_keeps_the_old_file(tmp_path, capsys, monkeypatch):
+    """--overwrite deleted the old results before the new sweep had any; the message counted
+    the old file's cases as the new sweep's."""
+    from vtsi.sweep_results import ResultsWriter
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    out = tmp_path / "out.h5"
+    assert sweep(tmp_path, bridge, "--trains", "HSLM-A1", "--speeds", "200,250,300,350", "--workers", "1",
+                 "--quiet") == 0
+    write_batch = ResultsWriter.write
+
+    def interrupted(self, results):
+        write_batch(self, results)
+        raise KeyboardInterrupt
+    monkeypatch.setattr(ResultsWriter, "write", interrupted)
+    capsys.readouterr()
+    assert sweep(tmp_path, bridge, *FAST, "--overwrite") == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"vtsi sweep: interrupted (3 of 3 cases of the new sweep are in {out}.new; {out} keeps the old "
+                   "sweep until the new one is complete: --overwrite again continues it)"]
+    assert SweepResults(out).n_done == 4                   # the old sweep, whole
+    monkeypatch.undo()
+    assert sweep(tmp_path, bridge, *FAST, "--overwrite") == 0
+    assert SweepResults(out).n_done == 3 and len(SweepResults(out).speeds_kmh) == 3
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bridge.toml", "out.h5"]
+
+
+def test_a_closed_standard_output_is_not_an_error(tmp_path):
+    """'vtsi sweep ... | head -1' printed a BrokenPipeError traceback."""
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    proc = subprocess.Popen([sys.executable, "-m", "vtsi", "sweep", str(bridge), *FAST, "--out", "out.h5"],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc.stdout.close()                          # the reader is gone before the table is printed
+    err = proc.stderr.read()
+    assert proc.wait(120) == 0 and err == "", err
+    assert SweepResults(tmp_path / "out.h5").n_done == 3
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="SIGTERM and /proc")
+def test_sigterm_stops_like_ctrl_c(tmp_path):
+    """SIGTERM (Slurm, systemd) exited 143 without a word, leaving pool workers and out.h5.partial."""
+    import signal
+    import time
+    psutil = pytest.importorskip("psutil")
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    out = tmp_path / "out.h5"
+    proc = subprocess.Popen([sys.executable, "-m", "vtsi", "sweep", str(bridge), "--trains", "HSLM-A", "--speeds",
+                             "140:420:5", "--dt", "0.0005", "--workers", "2", "--quiet", "--out", str(out)],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.time() + 120
+        while time.time() < deadline and proc.poll() is None:
+            try:
+                if SweepResults(out).n_done >= 1:
+                    break
+            except vtsi_errors.SweepError:
+                pass
+            time.sleep(0.05)
+        workers = psutil.Process(proc.pid).children()
+        assert proc.poll() is None and workers, "the sweep ended before it could be terminated"
+        proc.send_signal(signal.SIGTERM)
+        stdout, stderr = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    done = SweepResults(out).n_done
+    assert proc.returncode == 143 and stdout == "", stderr
+    assert stderr.strip() == f"vtsi sweep: terminated ({done} of 570 cases are in {out}; --resume runs the rest)"
+    gone, alive = psutil.wait_procs(workers, timeout=10)
+    assert not alive
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bridge.toml", "out.h5"]

@@ -3,6 +3,7 @@ after SIGKILL, executors (process pool, dask LocalCluster), the results file and
 view, and every bad input."""
 import gc
 import json
+import re
 import shutil
 import signal
 import subprocess
@@ -720,3 +721,179 @@ def test_a_shared_bridge_cache_tells_self_weight_apart():
         analysis.prepare()
         assert (analysis._sag is not None) == weight
     assert len(cache) == 2
+
+
+# -- what a results file holds, and who writes it --------------------------------------------------
+def _axle_table(path, load_kn):
+    path.write_text("position_m,load_kN\n" + "".join(f"{3.0 * i},{load_kn}\n" for i in range(8)))
+    return path
+
+
+def _forget_train_fingerprints(path):
+    """The file as a vtsi of format 5 wrote it before identities held the trains' fingerprints."""
+    with h5py.File(path, "a") as f:
+        identity = json.loads(f.attrs["identity"])
+        del identity["train_fingerprints"]
+        f.attrs["identity"] = json.dumps(identity, sort_keys=True)
+
+
+@pytest.mark.parametrize("legacy", [False, True], ids=["fingerprints", "file-without-fingerprints"])
+def test_resume_refuses_an_edited_axle_table_naming_the_train(tmp_path, monkeypatch, legacy):
+    """The identity holds what each train is, not only its name: the edited CSV (170 -> 250 kN)
+    was merged with the old cases into one envelope without a word."""
+    monkeypatch.chdir(tmp_path)
+    csv, path = _axle_table(tmp_path / "t.csv", 170), tmp_path / "csv.h5"
+    Sweep(small_bridge(), ["t.csv"], "200", FAST).run(path, workers=1, progress=False)
+    if legacy:
+        _forget_train_fingerprints(path)
+        res = Sweep(small_bridge(), ["t.csv"], "200", FAST).run(path, workers=1, progress=False, resume=True)
+        assert res.n_done == 1                          # the same train: an older file of format 5 resumes
+    _axle_table(csv, 250)
+    with pytest.raises(SweepError, match=r"csv.h5 holds a different sweep \(train t.csv differs from the one it "
+                                         r"ran with in its axles, loads or cars: an edited axle table"):
+        Sweep(small_bridge(), ["t.csv"], "200", FAST).run(path, workers=1, progress=False, resume=True)
+
+
+def test_a_changed_catalogue_train_is_another_sweep(tmp_path):
+    """A catalogue train whose data changed between vtsi versions (here its fingerprint as an
+    older vtsi stored it) is named."""
+    path = tmp_path / "r.h5"
+    Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200", FAST).run(path, workers=1, progress=False)
+    with h5py.File(path, "a") as f:
+        identity = json.loads(f.attrs["identity"])
+        identity["train_fingerprints"]["HSLM-A2"] = "0" * 64
+        f.attrs["identity"] = json.dumps(identity, sort_keys=True)
+    with pytest.raises(SweepError, match="train HSLM-A2 differs from the one it ran with"):
+        Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200", FAST).run(path, workers=1, resume=True)
+
+
+def test_a_changed_setting_is_named_not_the_bridge_hash(tmp_path):
+    """Damping changes the bridge's matrices too; the message names the setting the user changed."""
+    path = tmp_path / "r.h5"
+    Sweep(small_bridge(), ["HSLM-A1"], "200", FAST).run(path, workers=1, progress=False)
+    other = Sweep(small_bridge(), ["HSLM-A1"], "200", PassageSettings(dt=5e-3, damping=0.02))
+    with pytest.raises(SweepError, match=r"differs in settings.damping \(0.02 here, 0.0125 in the file\)") as info:
+        other.run(path, workers=1, resume=True)
+    assert "fingerprint" not in str(info.value)
+    stiffer = beam_bridge([L], 1.1 * EI, 1.0, MU, elements_per_span=4)
+    stiffer.description = small_bridge().description        # as a script that reads an edited file would
+    outputs = [Output("deflection", "disp")]
+    Sweep(small_bridge(), ["HSLM-A1"], "200", FAST, outputs).run(path, workers=1, progress=False, overwrite=True)
+    with pytest.raises(SweepError, match=r"differs in the bridge's matrices or track \(bridge_fingerprint\)"):
+        Sweep(stiffer, ["HSLM-A1"], "200", FAST, outputs).run(path, workers=1, resume=True)
+    with pytest.raises(SweepError, match=r"differs in outputs\[0\].nodes \("):
+        Sweep(small_bridge(), ["HSLM-A1"], "200", FAST, [Output("deflection", "disp", nodes="midspan")]).run(
+            path, workers=1, resume=True)
+
+
+class _Stop(KeyboardInterrupt):
+    pass
+
+
+def _interrupt_after(monkeypatch, batches):
+    """ResultsWriter.write raises (as Ctrl-C would) once ``batches`` batches are written."""
+    from vtsi.sweep_results import ResultsWriter
+    write, count = ResultsWriter.write, [0]
+
+    def stopping(self, results):
+        write(self, results)
+        count[0] += 1
+        if count[0] == batches:
+            raise _Stop()
+    monkeypatch.setattr(ResultsWriter, "write", stopping)
+
+
+def test_overwrite_keeps_the_old_file_until_the_new_sweep_is_complete(tmp_path, monkeypatch):
+    """An interrupted overwrite left neither the old results nor... it had deleted the old file
+    before the new sweep had any case. Now the new sweep goes to <file>.new, replaces the file
+    when complete, and an overwrite of the same sweep again continues it."""
+    path, staged = tmp_path / "r.h5", tmp_path / "r.h5.new"
+    Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST).run(path, workers=1, progress=False)
+    new = PassageSettings(dt=5e-3, damping=0.02)
+    _interrupt_after(monkeypatch, 1)
+    with pytest.raises(_Stop):
+        Sweep(small_bridge(), ["HSLM-A1"], "200,250,300", new).run(path, workers=1, progress=False, overwrite=True,
+                                                                   cases_per_task=1)
+    monkeypatch.undo()
+    old = SweepResults(path)
+    assert old.n_done == 2 and old.identity["settings"]["damping"] == 0.0125      # untouched
+    assert SweepResults(staged).n_done == 1 and SweepResults(staged).identity["settings"]["damping"] == 0.02
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200,250,300", new)
+    calls = []
+    run = sweep.runner.run
+    sweep.runner.run = lambda *a: calls.append(a) or run(*a)
+    res = sweep.run(path, workers=1, progress=False, overwrite=True)
+    assert len(calls) == 2 and res.n_done == 3                                  # continued, not begun anew
+    assert SweepResults(path).identity["settings"]["damping"] == 0.02
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.h5"]
+
+
+HOLD_LOCK = "import sys, time; from vtsi.sweep_results import ResultsFileLock; ResultsFileLock(sys.argv[1]); print('held', flush=True); " \
+            "time.sleep(120)"
+
+
+def test_a_second_writer_is_refused_and_a_dead_writers_lock_taken_over(tmp_path):
+    """Two runs on one file deleted each other's .partial and wrote a file of empty train names
+    (or '882 of 570 cases'). The second run is refused naming the first one's pid; the lock of a
+    killed run (SIGKILL: its lock file stays) is taken over."""
+    from vtsi.sweep_results import ResultsFileInUse
+    path = tmp_path / "r.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD_LOCK, str(path)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        for kwargs in ({}, {"resume": True}, {"overwrite": True}):
+            with pytest.raises(ResultsFileInUse, match=rf"r.h5 is being written by another sweep \(pid {holder.pid}\)"):
+                sweep.run(path, workers=1, progress=False, **kwargs)
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["r.h5.lock"]      # nothing of the refused run
+    finally:
+        holder.kill()
+        holder.wait()
+    assert (tmp_path / "r.h5.lock").read_text().split()[0] == str(holder.pid)  # a dead run's lock file
+    assert sweep.run(path, workers=1, progress=False).n_done == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.h5"]
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"cases_per_task": -1}, "cases_per_task must be an integer >= 1 (or None), got -1"),
+    ({"cases_per_task": 0}, "cases_per_task must be an integer >= 1 (or None), got 0"),
+    ({"cases_per_task": 1.5}, "cases_per_task must be an integer >= 1 (or None), got 1.5"),
+    ({"cases_per_task": True}, "cases_per_task must be an integer >= 1 (or None), got True"),
+    ({"workers": True}, "workers must be an integer >= 1 (or None), got True"),
+    ({"workers": 0}, "workers must be an integer >= 1 (or None), got 0"),
+])
+def test_bad_run_arguments_are_refused(tmp_path, kwargs, words):
+    """cases_per_task=-1 ran nothing and returned; 1.5 gave a bare TypeError; workers=True ran."""
+    with pytest.raises(SweepError, match=re.escape(words)):
+        Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST).run(tmp_path / "r.h5", progress=False, **kwargs)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_seeds_and_train_spellings_are_checked():
+    """seeds=[0.5, 0.7] became [0]; 'HSLM-A1, hslm-a1' were two trains."""
+    rough = PassageSettings(dt=5e-3, damping=0.0125, cars="full", irregularity="german-low")
+    for seeds in ([0.5, 0.7], [True], "01", [-1]):
+        with pytest.raises(SweepError, match=re.escape(f"seeds must be integers >= 0, got {seeds!r}")):
+            Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=seeds)
+    for trains in ("HSLM-A1, hslm-a1", ["A1", "HSLM-A1"]):
+        with pytest.raises(SweepError, match="train HSLM-A1 is listed twice"):
+            Sweep(small_bridge(), trains, "200", FAST)
+    assert Sweep(small_bridge(), "hslm-a1,a2", "200", FAST).trains == ["HSLM-A1", "HSLM-A2"]
+
+
+@pytest.mark.parametrize("damage, words", [
+    (lambda f: f.attrs.__setitem__("identity", "{not json"), "its identity attribute is not JSON"),
+    (lambda f: f.attrs.__delitem__("identity"), "it has no identity attribute"),
+    (lambda f: f.attrs.__setitem__("format_version", "five"), "its format_version 'five' is not a whole number"),
+    (lambda f: f.attrs.__setitem__("identity", "[1, 2]"), "its identity lacks 'outputs'"),
+], ids=["identity-not-json", "no-identity", "version-not-a-number", "identity-not-a-dict"])
+def test_a_damaged_header_is_one_error_naming_the_file(tmp_path, damage, words):
+    path = tmp_path / "r.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
+    sweep.run(path, workers=1, progress=False)
+    with h5py.File(path, "a") as f:
+        damage(f)
+    with pytest.raises(SweepError, match=re.escape(f"results file {path}: {words}")):
+        SweepResults(path)
+    with pytest.raises(SweepError, match=re.escape(f"results file {path}: {words}")):
+        sweep.run(path, workers=1, resume=True)

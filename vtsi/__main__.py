@@ -10,18 +10,24 @@ or a command of the script that fails on its input (one line on standard error: 
 line and vtsi's message; ``--traceback`` adds the Tcl traceback); 1 an analysis of the script that
 diverged (the line names the step and time) or a file it cannot write.
 Exit status of ``sweep``: 0 done; 2 a bad command line or input (one line on standard error,
-nothing written); 1 a passage failed while the sweep ran (the finished cases stay in the
-results file); 130 interrupted (the finished cases stay in the results file; ``--resume``).
+nothing written), or a results file another run is writing; 1 a passage failed while the sweep
+ran (the finished cases stay in the results file); 130 interrupted (Ctrl-C) and 143 terminated
+(SIGTERM, as Slurm and systemd stop a job): the finished cases stay in the results file
+(``--resume``). A reader that closes standard output early (``| head``) changes nothing: the
+results file is complete and the status is what it would have been.
 """
 import argparse
 import contextlib
 import os
+import re
+import signal
 import sys
+import threading
 
 COMMANDS = ("run", "sweep", "check", "trains")
 DEFAULT_OUT = "sweep.h5"
 CHECK_OUT = "check.h5"
-EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED = 1, 2, 130
+EXIT_FAILED, EXIT_USAGE, EXIT_INTERRUPTED, EXIT_TERMINATED = 1, 2, 130, 143
 EXIT_CHECK_FAILS, EXIT_PASSAGE = 1, 3
 
 SWEEP_EPILOG = """\
@@ -47,8 +53,12 @@ for the EN 1991-2 6.4.6.2 series (144 km/h to 1.2 x LINE_SPEED in 10 km/h steps,
 steps within +-10 % of every resonance speed n D / i of the bridge and trains).
 
 Prints the table of envelope maxima with the governing train and speed per quantity.
-Exit status: 0 done; 2 bad command line or input (nothing written); 1 a passage failed
-during the run (finished cases stay in the file); 130 interrupted (--resume continues)."""
+Exit status: 0 done; 2 bad command line or input (nothing written), or a results file another
+run is writing; 1 a passage failed during the run (finished cases stay in the file); 130
+interrupted (Ctrl-C), 143 terminated (SIGTERM): finished cases stay in the file, --resume
+continues. --overwrite keeps the old file until the new sweep is complete (it is written to
+FILE.h5.new meanwhile; --overwrite again continues it). A closed standard output (| head) does
+not change the status."""
 
 
 CHECK_EPILOG = """\
@@ -65,6 +75,57 @@ class _UsageError(Exception):
     """A bad value on the sweep's command line (reported like the API's errors, exit 2)."""
 
 
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM (Slurm, systemd, kill), raised where Ctrl-C raises KeyboardInterrupt, so that a
+    terminated sweep stops as an interrupted one does (exit 143)."""
+
+
+def _on_sigterm(signum, frame):
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)      # once: the clean-up is not interrupted again
+    raise _Terminated()
+
+
+_SWALLOWED = []     # interrupts raised where Python ignores exceptions, to be raised again
+
+
+def _unraisable_interrupt(unraisable, previous):
+    """An interrupt raised while Python ran a callback whose exceptions it ignores (a weakref's,
+    a __del__): raised again 50 ms later (SIGALRM), in the sweep's own code."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt) and hasattr(signal, "setitimer"):
+        _SWALLOWED.append(type(unraisable.exc_value))
+        signal.setitimer(signal.ITIMER_REAL, 0.05)
+        return
+    previous(unraisable)
+
+
+def _on_alarm(signum, frame):
+    if _SWALLOWED:
+        raise _SWALLOWED.pop()()
+
+
+@contextlib.contextmanager
+def _sigterm_as_interrupt():
+    """SIGTERM raises :class:`_Terminated` while a sweep or check runs, and an interrupt that
+    Python swallowed is raised again (the main thread only; the previous handlers are
+    restored after)."""
+    if not hasattr(signal, "SIGTERM") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    alarm = signal.signal(signal.SIGALRM, _on_alarm) if hasattr(signal, "SIGALRM") else None
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: _unraisable_interrupt(unraisable, hook)
+    try:
+        yield
+    finally:
+        sys.unraisablehook = hook
+        if alarm is not None:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, alarm)
+        signal.signal(signal.SIGTERM, previous)
+        _SWALLOWED.clear()
+
+
 def main(argv=None):
     """Entry point; ``argv`` defaults to ``sys.argv[1:]``. Returns the exit status."""
     argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
@@ -78,6 +139,9 @@ def main(argv=None):
         parser.commands.get(ns.command, parser).error(f"unrecognized arguments: {' '.join(unknown)}")
     if ns.command is None:
         parser.error("a command (run, sweep, check, trains) or a Tcl script is required")
+    if ns.command in ("sweep", "check"):
+        with _sigterm_as_interrupt():
+            return ns.func(ns)
     return ns.func(ns)
 
 
@@ -261,10 +325,10 @@ def _trains(ns):
         text = describe(name)
         rows.append((name, ",".join(fidelities(name)), text[len(name) + 2:] if text.startswith(name + ": ") else text))
     widths = [max(len(r[j]) for r in rows) for j in range(2)]
-    for r in rows:
-        print(f"{r[0].ljust(widths[0])}  {r[1].ljust(widths[1])}  {r[2]}")
-    print("\nIn 'vtsi sweep --trains': names ignore case, 'A1' stands for 'HSLM-A1', 'HSLM-A' for HSLM-A1 .. "
-          "HSLM-A10;\na path to a .csv axle table (columns position_m, load_kN) is a train of moving forces.")
+    _print_out("\n".join(f"{r[0].ljust(widths[0])}  {r[1].ljust(widths[1])}  {r[2]}" for r in rows)
+               + "\n\nIn 'vtsi sweep --trains': names ignore case, 'A1' stands for 'HSLM-A1', 'HSLM-A' for "
+                 "HSLM-A1 .. HSLM-A10;\na path to a .csv axle table (columns position_m, load_kN) is a train of "
+                 "moving forces.")
     return 0
 
 
@@ -278,8 +342,8 @@ def _sweep(ns):
         sweep = _prepare_sweep(ns, out)
     except (VtsiError, OSError, _UsageError) as exc:
         return _fail(exc, EXIT_USAGE)
-    except KeyboardInterrupt:
-        return _fail("interrupted", EXIT_INTERRUPTED)
+    except KeyboardInterrupt as exc:
+        return _stopped(exc)
     return _run_sweep(sweep, ns, out)
 
 
@@ -332,6 +396,9 @@ def _prepare_sweep(ns, out):
         values["damping"] = _code_damping(ns, source, values)
     settings = PassageSettings(**values)
     seeds = source.seeds or (0,)
+    if source.seeds is not None and ns.seeds is None and settings.irregularity is None:
+        raise _UsageError(f"bridge file {source.path}: [analysis] seeds: rail samples need an irregular rail "
+                          "([analysis] irregularity, or --irregularity NAME)")
     if ns.seeds is not None:
         if settings.irregularity is None:
             raise _UsageError("--seeds: rail samples need an irregular rail (--irregularity NAME)")
@@ -342,8 +409,8 @@ def _prepare_sweep(ns, out):
         spec = en_speed_grid(en_line, runner.frequencies, lengths)
     sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
     sweep.prepare()                                    # integrator, contact ...: refused before any file is written
-    if os.path.exists(out) and not ns.overwrite:
-        ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume)   # refuses, or checks the file to resume
+    if os.path.exists(out) and not ns.overwrite:      # refuses, or checks the file to resume (and its lock)
+        ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume).close()
     return sweep
 
 
@@ -415,8 +482,8 @@ def _check(ns):
             raise _UsageError(SELF_WEIGHT_REFUSED.removeprefix("check: "))
     except (VtsiError, OSError, _UsageError) as exc:
         return _fail(exc, EXIT_USAGE, "check")
-    except KeyboardInterrupt:
-        return _fail("interrupted", EXIT_INTERRUPTED, "check")
+    except KeyboardInterrupt as exc:
+        return _stopped(exc, "check")
     status = _run_sweep(sweep, ns, out, summary=False, command="check")
     if status != 0:
         return EXIT_PASSAGE if status == EXIT_FAILED else status
@@ -424,8 +491,8 @@ def _check(ns):
         return _check_and_report(sweep, out, report_dir, settings, ns)
     except (VtsiError, OSError) as exc:
         return _fail(exc, EXIT_PASSAGE, "check")
-    except KeyboardInterrupt:
-        return _fail("interrupted (the results are in the file; --resume)", EXIT_INTERRUPTED, "check")
+    except KeyboardInterrupt as exc:
+        return _stopped(exc, "check", " (the results are in the file; --resume)")
 
 
 def _check_and_report(sweep, out, report_dir, settings, ns):
@@ -433,7 +500,7 @@ def _check_and_report(sweep, out, report_dir, settings, ns):
 
     result, paths = design_check(sweep, out, settings, report_dir, workers=ns.workers, resume=True,
                                  animation=ns.animation)
-    print(result.text())
+    _print_out(result.text())
     if not ns.quiet:
         print(f"vtsi check: results in {out}; report in {paths['html']}" +
               ("" if paths["scene"] else " (no 3-D scene: off-screen rendering is not available)"), file=sys.stderr)
@@ -441,19 +508,9 @@ def _check_and_report(sweep, out, report_dir, settings, ns):
 
 
 def _train_list(text):
-    from vtsi.models.catalogue import train_names
+    from vtsi.sweep import train_list
 
-    names = train_names()
-    canonical = {n.upper(): n for n in names}
-    out = []
-    for item in (t.strip() for t in text.split(",")):
-        if not item:
-            continue
-        key = item.upper()
-        if key == "HSLM-A":
-            out.extend(n for n in names if n.upper().startswith("HSLM-A"))
-        else:
-            out.append(canonical.get(key) or canonical.get(f"HSLM-{key}") or item)
+    out = train_list(text)
     if not out:
         raise _UsageError(f"--trains {text!r}: no train")
     return out
@@ -491,47 +548,81 @@ def _check_out_path(out, ns):
 
 def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
     from vtsi.errors import VtsiError
-    from vtsi.sweep_results import SweepResults
+    from vtsi.sweep_results import ResultsFileInUse, SweepResults, staging_path
 
-    partial = out + ".partial"
+    replacing = bool(ns.overwrite) and os.path.exists(out)     # the old file stays until the new sweep is complete
+    where = staging_path(out) if replacing else out            # the new sweep's file meanwhile
     fresh = ns.overwrite or not os.path.exists(out)
-    stale_partial = os.path.exists(partial)
     try:
         results = sweep.run(out, workers=ns.workers, progress=False if ns.quiet else None, resume=ns.resume,
                             overwrite=ns.overwrite)
+    except ResultsFileInUse as exc:                            # another run's files: leave them alone
+        return _fail(exc, EXIT_USAGE, command)
     except (VtsiError, OSError, KeyboardInterrupt) as exc:
-        if not stale_partial and os.path.exists(partial):
-            os.remove(partial)
         done = 0
-        if os.path.exists(out):
+        if os.path.exists(where):
             try:
-                done = SweepResults(out).n_done
+                done = SweepResults(where).n_done
             except (VtsiError, OSError):
                 done = -1
             if fresh and done == 0:
-                os.remove(out)                          # nothing computed: leave nothing behind
-        kept = f" ({done} of {len(sweep.cases)} cases are in {out}" if done > 0 else ""
+                os.remove(where)                        # nothing computed: leave nothing behind
+        if done > 0 and replacing:
+            kept = (f" ({done} of {len(sweep.cases)} cases of the new sweep are in {where}; {out} keeps the old "
+                    "sweep until the new one is complete: --overwrite again continues it")
+        elif done > 0:
+            kept = f" ({done} of {len(sweep.cases)} cases are in {out}" + ("; --resume runs the rest"
+                                                                           if isinstance(exc, KeyboardInterrupt) else "")
+        else:
+            kept = f" ({out} is as it was" if replacing else ""
         if isinstance(exc, KeyboardInterrupt):
-            return _fail("interrupted" + (kept + "; --resume runs the rest)" if kept else ""), EXIT_INTERRUPTED,
-                         command)
+            return _stopped(exc, command, kept + ")" if kept else "")
         return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED, command)
     if summary:
-        print(results.summary())
+        _print_out(results.summary())
         if not ns.quiet:
             print(f"vtsi sweep: results in {out}", file=sys.stderr)
     return 0
 
 
+def _stopped(exc, command="sweep", detail=""):
+    """The line and status of a run stopped by Ctrl-C (130) or by SIGTERM (143)."""
+    if isinstance(exc, _Terminated):
+        return _fail("terminated" + detail, EXIT_TERMINATED, command)
+    return _fail("interrupted" + detail, EXIT_INTERRUPTED, command)
+
+
+def _print_out(text):
+    """Print ``text`` on standard output. A reader that closed it (``vtsi sweep ... | head -1``)
+    is not an error: the rest of the text is dropped (standard output goes to the null device,
+    so that nothing fails again when Python flushes it at exit)."""
+    try:
+        print(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        try:
+            null = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(null, sys.stdout.fileno())
+            os.close(null)
+        except (AttributeError, OSError, ValueError):
+            pass
+
+
 def _message(exc):
-    """The error as one line, without the API's own 'sweep: ' prefix."""
+    """The error as one line, without the API's own 'sweep: ' prefix, naming the command line's
+    options only ('overwrite=True (--overwrite)' is '--overwrite')."""
     text = " ".join(line.strip() for line in str(exc).splitlines() if line.strip())
+    text = re.sub(r"\b\w+=True \((--[\w-]+)\)", r"\1", text)
     if isinstance(exc, OSError) and exc.filename and exc.strerror:
         text = f"{exc.filename}: {exc.strerror}"
     return text[len("sweep: "):] if text.startswith("sweep: ") else text
 
 
 def _fail(exc, status, command="sweep"):
-    sys.stdout.flush()
+    try:
+        sys.stdout.flush()
+    except OSError:                 # a closed pipe: the line below still goes to standard error
+        pass
     print(f"vtsi {command}: {exc if isinstance(exc, str) else _message(exc)}", file=sys.stderr)
     return status
 

@@ -20,9 +20,10 @@ import hashlib
 import math
 import multiprocessing
 import os
+import signal
 import sys
 import threading
-from concurrent.futures import FIRST_COMPLETED, Executor, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from functools import partial
 
@@ -31,13 +32,14 @@ from tqdm.auto import tqdm
 
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
-from vtsi.errors import PassageError, SweepError, VtsiError
+from vtsi.errors import PassageError, SweepError, VtsiError, is_int
 from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
+from vtsi.models.catalogue import train_names
 from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
 from vtsi.sweep_results import ResultsWriter, case_key
 from vtsi.train import TrainSubdomain
-from vtsi.units import MAX_TRAIN_SPEED
+from vtsi.vehicle import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
@@ -115,6 +117,48 @@ def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=EN_START_
     return np.unique(np.round(np.concatenate(grid), 2))
 
 
+# -- trains ------------------------------------------------------------------------------------
+def train_list(trains):
+    """Train names from ``trains`` (a comma-separated string, or a sequence of names and paths),
+    catalogue names in the catalogue's spelling: case is ignored, 'A1' is 'HSLM-A1' and 'HSLM-A'
+    stands for HSLM-A1 … HSLM-A10; anything else (an axle-table path) as given. The one reading
+    of train names (``vtsi sweep --trains`` and :class:`Sweep`)."""
+    items = trains.split(",") if isinstance(trains, str) else trains
+    names = train_names()
+    canonical = {n.upper(): n for n in names}
+    out = []
+    for item in (str(t).strip() for t in items):
+        key = item.upper()
+        if not item:
+            continue
+        if key == "HSLM-A":
+            out.extend(n for n in names if n.upper().startswith("HSLM-A"))
+        else:
+            out.append(canonical.get(key) or canonical.get(f"HSLM-{key}") or item)
+    return out
+
+
+def train_fingerprint(train):
+    """A hash of what a passage sees of ``train`` (a :class:`~vtsi.vehicle.Train`): its wheels'
+    offsets, static loads and dofs, and its cars' matrices and gravity loads; not its speed."""
+    digest = hashlib.sha256()
+    for part in (train.wheel_offsets, train.static_wheel_loads, train.force_wheels, train.wheel_dofs,
+                 train.gravity_load, [train.characteristic_length or 0.0]):
+        digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
+    for matrix in (train.M, train.C, train.K):
+        m = matrix.tocsr()
+        for part in (m.indptr, m.indices, m.data):
+            digest.update(np.ascontiguousarray(part).tobytes())
+    return digest.hexdigest()
+
+
+def _count(value, name):
+    """``value`` unless it is neither None nor an integer >= 1 (a SweepError naming it)."""
+    if value is not None and not (is_int(value) and value >= 1):
+        raise SweepError(f"sweep: {name} must be an integer >= 1 (or None), got {value!r}")
+    return value
+
+
 # -- the bridge --------------------------------------------------------------------------------
 @dataclass
 class SweepBridge:
@@ -181,6 +225,9 @@ class Sweep:
     seeds : rail samples (ints >= 0) for an irregular rail; ignored (one smooth case, seed -1)
         without irregularity.
 
+    Train names are read by :func:`train_list` ('hslm-a1' and 'A1' are 'HSLM-A1'); a train
+    named twice in any spelling is refused.
+
     Every input is checked here, before anything runs or any file is written.
     """
 
@@ -193,24 +240,24 @@ class Sweep:
                              f"track elements), got {type(bridge).__name__}")
         if not bridge.track_elements:
             raise SweepError("sweep: the bridge has no track (no track elements)")
-        if isinstance(trains, str):
-            trains = [t for t in trains.split(",") if t.strip()]
-        if not np.iterable(trains) or not all(isinstance(t, (str, os.PathLike)) for t in trains):
+        if not isinstance(trains, str) and (not np.iterable(trains)
+                                            or not all(isinstance(t, (str, os.PathLike)) for t in trains)):
             raise SweepError(f"sweep: trains must be catalogue names or axle-table paths, got {trains!r}")
-        self.trains = [str(t).strip() for t in trains]
+        self.trains = train_list(trains)
         if not self.trains:
             raise SweepError("sweep: no train")
-        if len(set(self.trains)) != len(self.trains):
-            raise SweepError(f"sweep: a train is listed twice: {self.trains}")
+        twice = next((t for k, t in enumerate(self.trains) if t in self.trains[:k]), None)
+        if twice is not None:
+            raise SweepError(f"sweep: train {twice} is listed twice (names ignore case; 'A1' is 'HSLM-A1'): "
+                             f"{trains!r}")
         self.speeds_kmh = speeds(speeds_kmh)
+        if not np.iterable(seeds) or isinstance(seeds, str) or not all(is_int(s) and s >= 0 for s in seeds):
+            raise SweepError(f"sweep: seeds must be integers >= 0, got {seeds!r}")
         if settings.irregularity is None:
             self.seeds = [-1]
         else:
-            try:
-                self.seeds = sorted({int(s) for s in seeds})
-            except (TypeError, ValueError):
-                raise SweepError(f"sweep: seeds must be integers >= 0, got {seeds!r}") from None
-            if not self.seeds or min(self.seeds) < 0:
+            self.seeds = sorted({int(s) for s in seeds})
+            if not self.seeds:
                 raise SweepError(f"sweep: an irregular rail needs seeds >= 0, got {seeds!r}")
         self.settings, self.bridge = settings, bridge
         for o in outputs:
@@ -232,8 +279,12 @@ class Sweep:
         return [(t, float(v), s) for t in self.trains for v in self.speeds_kmh for s in self.seeds]
 
     def identity(self):
-        """What makes two sweeps the same (stored in the results file; a resumed sweep must match)."""
+        """What makes two sweeps the same (stored in the results file; a resumed sweep must match):
+        the bridge (its description and matrices' hash), what each train is (its hash, so that an
+        edited axle table or a changed catalogue train is another sweep), settings, outputs,
+        trains, speeds and seeds."""
         return {"bridge": self.bridge.description, "bridge_fingerprint": _fingerprint(self.runner),
+                "train_fingerprints": {name: train_fingerprint(self.runner.train(name, 1.0)) for name in self.trains},
                 "settings": self.settings.as_dict(),
                 "outputs": [{"name": o.name, "response": o.response, "nodes": o.nodes, "history": o.history,
                              "cutoff_hz": None if o.cutoff is None else self.runner.cutoff_hz(o.cutoff)}
@@ -285,36 +336,43 @@ class Sweep:
             is a terminal.
         resume : continue the sweep in an existing ``path`` (its finished cases are skipped;
             a file of a different sweep is refused).
-        overwrite : replace an existing ``path``.
-        cases_per_task : override the task size.
+        overwrite : replace an existing ``path``: the new sweep is written to ``<path>.new`` and
+            replaces ``path`` when it is complete, so that an interrupted overwrite leaves the
+            old file as it was (the next ``overwrite`` of the same sweep continues ``<path>.new``).
+        cases_per_task : override the task size (an integer >= 1).
+
+        One run at a time writes a results file: a second one is refused while the first runs
+        (:class:`~vtsi.sweep_results.ResultsFileInUse`, naming its pid).
         """
-        if workers is not None and (int(workers) != workers or workers < 1):
-            raise SweepError(f"sweep: workers must be an integer >= 1, got {workers!r}")
+        _count(workers, "workers")
+        _count(cases_per_task, "cases_per_task")
         if executor is not None and not isinstance(executor, Executor):
             raise SweepError(f"sweep: executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
         n_workers = int(workers or os.cpu_count() or 1)
-        writer = ResultsWriter(path, self.identity(), self.runner, resume=resume, overwrite=overwrite)
-        done = writer.done()
-        todo = [c for c in self.cases if case_key(*c) not in done]
-        if todo:
-            self.prepare()
-            cost = self.case_cost(todo)
-            if workers is None and executor is None and cost * len(todo) <= TASK_STEPS:
-                n_workers = 1
-            size = cases_per_task or self.task_size(len(todo), cost, n_workers)
-            tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
-            bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
-            if executor is None and n_workers == 1:
-                with bar() as shown:
-                    for task in tasks:
-                        results = _run_task(self.runner, task)
-                        writer.write(results)
-                        shown.update(len(results))
-            elif executor is None:
-                with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=_pool_context()) as pool:
-                    self._dispatch(pool, tasks, writer, bar)
-            else:
-                self._dispatch(executor, tasks, writer, bar)
+        with ResultsWriter(path, self.identity(), self.runner, resume=resume, overwrite=overwrite) as writer:
+            done = writer.done()
+            todo = [c for c in self.cases if case_key(*c) not in done]
+            if todo:
+                self.prepare()
+                cost = self.case_cost(todo)
+                if workers is None and executor is None and cost * len(todo) <= TASK_STEPS:
+                    n_workers = 1
+                size = cases_per_task or self.task_size(len(todo), cost, n_workers)
+                tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
+                bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
+                if executor is None and n_workers == 1:
+                    with bar() as shown:
+                        for task in tasks:
+                            results = _run_task(self.runner, task)
+                            writer.write(results)
+                            shown.update(len(results))
+                elif executor is None:
+                    with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=_pool_context(),
+                                             initializer=_worker_start) as pool:
+                        self._dispatch(pool, tasks, writer, bar)
+                else:
+                    self._dispatch(executor, tasks, writer, bar)
+            writer.commit()                 # complete: an overwritten file is replaced only now
         return writer.results()
 
     def record_histories(self, path, cases, outputs=HISTORY_OUTPUTS):
@@ -323,12 +381,13 @@ class Sweep:
         displacement and EN-filtered acceleration at every deck node, and the contact forces),
         and add them to the results file ``path`` of this sweep (/histories). Returns the
         results."""
-        writer = ResultsWriter(path, self.identity(), self.runner, resume=True)
-        self.prepare()
-        try:
-            writer.write_histories([self.runner.run(t, float(v), int(s), outputs=outputs) for t, v, s in cases])
-        except VtsiError as exc:
-            raise PassageError(f"record_histories: {exc}") from None
+        with ResultsWriter(path, self.identity(), self.runner, resume=True) as writer:
+            self.prepare()
+            try:
+                results = [self.runner.run(t, float(v), int(s), outputs=outputs) for t, v, s in cases]
+            except VtsiError as exc:
+                raise PassageError(f"record_histories: {exc}") from None
+            writer.write_histories(results)
         return writer.results()
 
     def _dispatch(self, executor, tasks, writer, bar):
@@ -340,13 +399,24 @@ class Sweep:
                 while pending:
                     finished, pending = wait(pending, return_when=FIRST_COMPLETED)
                     for future in finished:
-                        results = future.result()
+                        try:
+                            results = future.result()
+                        except BrokenExecutor as exc:
+                            raise SweepError(f"sweep: a worker process died ({type(exc).__name__}: {exc}; killed, "
+                                             "or out of memory)") from None
                         writer.write(results)
                         shown.update(len(results))
         except BaseException:
             for future in pending:
                 future.cancel()
             raise
+
+
+def _worker_start():
+    """A pool worker's start: SIGTERM ends it (the default), whatever handler the calling
+    process installed (the ``vtsi`` command's, which a forked worker inherits)."""
+    if hasattr(signal, "SIGTERM"):
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _pool_context():

@@ -36,14 +36,23 @@ Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements, ro
 bending moments and contact forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
 deflection: y is positive up).
 
-Writing is atomic per batch: the file is copied, the batch written to the copy, and the copy
-renamed over the file (``os.replace``), so the file on disk is always a complete, readable
-results file, whenever the writing process is killed.
+Writing is atomic per batch: the file is copied to ``<file>.partial``, the batch written to the
+copy, and the copy renamed over the file (``os.replace``), so the file on disk is always a
+complete, readable results file, whenever the writing process is killed.
+
+One writer at a time: a writer holds ``<file>.lock`` (an OS lock, ``flock`` or ``msvcrt.locking``,
+that dies with its process, so a killed run's lock is taken over; the file holds the pid) and a
+second writer of the same file is refused naming the first one's pid (:class:`ResultsFileInUse`).
+With ``overwrite``, an existing file is kept until the new sweep is complete: the new sweep is
+written to ``<file>.new`` (a complete results file itself, resumed by the next ``overwrite`` of
+the same sweep) and renamed over the file only then (:meth:`ResultsWriter.commit`).
 """
 import datetime
 import json
+import numbers
 import os
 import shutil
+import socket
 import uuid
 
 import h5py
@@ -52,7 +61,21 @@ import numpy as np
 from vtsi.version import __version__
 from vtsi.errors import SweepError, as_number
 
+try:                                    # POSIX
+    import fcntl
+except ImportError:                     # Windows
+    fcntl = None
+try:
+    import msvcrt
+except ImportError:
+    msvcrt = None
+
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 5
+PARTIAL, STAGING, LOCK = ".partial", ".new", ".lock"   # suffixes of the files beside a results file
+IDENTITY_ORDER = ("settings", "outputs", "trains", "speeds_kmh", "seeds", "bridge", "train_fingerprints",
+                  "bridge_fingerprint")
+"""The order in which a resumed sweep's identity is compared with its file's: what a user sets
+first, the hashes last (so that a changed damping is named as such, not as a matrices' hash)."""
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "moment": ("min", "max"),
@@ -124,35 +147,261 @@ def quantities(outputs):
     return out
 
 
-def _first_difference(a, b, prefix=""):
+def staging_path(path):
+    """Where ``overwrite`` writes a new sweep while the results file ``path`` it replaces stays
+    (renamed over it when the new sweep is complete)."""
+    return os.fspath(path) + STAGING
+
+
+class ResultsFileInUse(SweepError):
+    """Another process is writing the results file (it holds the file's lock)."""
+
+
+class ResultsFileLock:
+    """The lock of the results file ``path``: ``<path>.lock``, locked by ``flock`` (POSIX) or
+    ``msvcrt.locking`` (Windows). The OS drops such a lock when its process dies, so the lock
+    of a killed run is taken over; the file holds the pid and host of the run that holds it,
+    for the message that refuses a second run."""
+
+    WINDOWS_OFFSET = 4096        # msvcrt locks bytes: a byte past the pid, which stays readable
+
+    def __init__(self, path):
+        self.path, self.fd = path + LOCK, None
+        for _ in range(100):
+            try:
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as exc:
+                raise SweepError(f"results file {path}: cannot create its lock file {self.path} "
+                                 f"({exc.strerror or exc})") from None
+            if not self._try_lock(fd):
+                holder = self._holder(fd)
+                os.close(fd)
+                raise ResultsFileInUse(f"results file {path} is being written by another sweep ({holder}); "
+                                       "wait for it to end, or use another file")
+            if self._same_file(fd):
+                break
+            os.close(fd)        # a run that ended removed the lock file we locked: lock the new one
+        else:
+            raise SweepError(f"results file {path}: cannot lock {self.path}")
+        os.ftruncate(fd, 0)
+        os.lseek(fd, 0, os.SEEK_SET)
+        os.write(fd, f"{os.getpid()} {socket.gethostname()}\n".encode())
+        self.fd = fd
+
+    @classmethod
+    def _try_lock(cls, fd):
+        """Lock ``fd``; False when another process holds the lock."""
+        try:
+            if fcntl is not None:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            elif msvcrt is not None:
+                os.lseek(fd, cls.WINDOWS_OFFSET, os.SEEK_SET)
+                msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+        except (BlockingIOError, PermissionError):
+            return False
+        except OSError:          # POSIX: a file system without locks (ENOLCK): on unlocked; Windows: held
+            return fcntl is not None
+        return True
+
+    def _same_file(self, fd):
+        if fcntl is None:
+            return True                  # Windows: an open file is not removed
+        try:
+            here, there = os.fstat(fd), os.stat(self.path)
+        except OSError:
+            return False
+        return (here.st_dev, here.st_ino) == (there.st_dev, there.st_ino)
+
+    @staticmethod
+    def _holder(fd):
+        try:
+            os.lseek(fd, 0, os.SEEK_SET)
+            words = os.read(fd, 256).decode(errors="replace").split()
+        except OSError:
+            words = []
+        if not words:
+            return "pid unknown"
+        host = f" on {words[1]}" if len(words) > 1 and words[1] != socket.gethostname() else ""
+        return f"pid {words[0]}{host}"
+
+    def release(self):
+        if self.fd is None:
+            return
+        fd, self.fd = self.fd, None
+        if fcntl is not None:
+            try:
+                os.remove(self.path)     # while locked: a run waiting on it sees the file gone
+            except OSError:
+                pass
+            os.close(fd)
+            return
+        try:
+            if msvcrt is not None:
+                os.lseek(fd, self.WINDOWS_OFFSET, os.SEEK_SET)
+                msvcrt.locking(fd, msvcrt.LK_UNLCK, 1)
+        except OSError:
+            pass
+        os.close(fd)
+        try:
+            os.remove(self.path)
+        except OSError:                  # another run holds it now
+            pass
+
+
+def _header(f, name):
+    """``(format_version, identity)`` of the open results file ``f`` (``name``: its path), or a
+    SweepError naming the file and what is wrong with it."""
+    if f.attrs.get("format") != FORMAT:
+        raise SweepError(f"results file {name} is not a vtsi sweep results file")
+    version = f.attrs.get("format_version")
+    if isinstance(version, (bool, np.bool_)) or not isinstance(version, numbers.Real) \
+            or not float(version).is_integer():
+        raise SweepError(f"results file {name}: its format_version {version!r} is not a whole number "
+                         "(a damaged file)")
+    version = int(version)
+    if version != FORMAT_VERSION:
+        return version, None
+    if "identity" not in f.attrs:
+        raise SweepError(f"results file {name}: it has no identity attribute (a damaged file)")
+    try:
+        identity = json.loads(f.attrs["identity"])
+    except (TypeError, ValueError):
+        raise SweepError(f"results file {name}: its identity attribute is not JSON (a damaged file)") from None
+    missing = [k for k in ("outputs", "trains", "speeds_kmh", "seeds") if not isinstance(identity, dict)
+               or k not in identity]
+    if missing:
+        raise SweepError(f"results file {name}: its identity lacks {missing[0]!r} (a damaged file)")
+    return version, identity
+
+
+def _first_difference(a, b, path=()):
+    """The first difference between the identities ``a`` (this sweep's) and ``b`` (the file's),
+    keys in IDENTITY_ORDER first: ``(path, value here, value in the file)`` (None: missing), or
+    None when they are equal."""
     if isinstance(a, dict) and isinstance(b, dict):
-        for key in sorted(set(a) | set(b)):
+        keys = set(a) | set(b)
+        first = [k for k in IDENTITY_ORDER if k in keys] if not path else []
+        for key in first + sorted(keys - set(first)):
             if key not in a or key not in b:
-                return f"{prefix}{key}"
-            diff = _first_difference(a[key], b[key], f"{prefix}{key}.")
+                return path + (key,), a.get(key), b.get(key)
+            diff = _first_difference(a[key], b[key], path + (key,))
             if diff:
                 return diff
         return None
-    if a != b:
-        return f"{prefix.rstrip('.')} ({json.dumps(a)[:60]} here, {json.dumps(b)[:60]} in the file)"
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for k, (x, y) in enumerate(zip(a, b)):
+            diff = _first_difference(x, y, path + (k,))
+            if diff:
+                return diff
+        return None
+    return None if a == b else (path, a, b)
+
+
+def _describe(diff):
+    """A difference of :func:`_first_difference` in words."""
+    path, here, there = diff
+    if path[0] == "train_fingerprints" and len(path) == 2:
+        return (f"train {path[1]} differs from the one it ran with in its axles, loads or cars: an edited "
+                "axle table, or a catalogue train changed between vtsi versions")
+    if path == ("bridge_fingerprint",):
+        return "it differs in the bridge's matrices or track (bridge_fingerprint)"
+    show = lambda value: "none" if value is None else json.dumps(value, sort_keys=True)[:60]   # noqa: E731
+    where = "".join(f"[{key}]" if isinstance(key, int) else f".{key}" for key in path).lstrip(".")
+    return f"it differs in {where} ({show(here)} here, {show(there)} in the file)"
+
+
+def _stored_train_difference(f, runner, names):
+    """The first train of ``names`` whose axles (offsets, static loads, dofs) differ from those
+    stored in /trains of ``f``, or None: the check of a file written before identities held the
+    trains' fingerprints (it cannot see a change of a car's matrices)."""
+    g = f["trains"]
+    ptr = g["axle_ptr"][()]
+    for i, name in enumerate(names):
+        train, rows = runner.train(name, 1.0), slice(int(ptr[i]), int(ptr[i + 1]))
+        if not (np.array_equal(g["axle_offsets_m"][rows], np.asarray(train.wheel_offsets, dtype=float))
+                and np.array_equal(g["static_wheel_loads_N"][rows], np.asarray(train.static_wheel_loads, dtype=float))
+                and int(g["n_dof"][i]) == train.n_dof):
+            return name
     return None
 
 
 class ResultsWriter:
-    """Creates (or reopens, to resume) a sweep's results file and writes batches of cases."""
+    """Creates (or reopens, to resume) a sweep's results file and writes batches of cases.
+
+    It holds the file's lock (:class:`ResultsFileLock`) from its start to :meth:`close`; with
+    ``overwrite`` it writes the new sweep to :func:`staging_path` and :meth:`commit` puts it in
+    place of the old file (see the module docstring)."""
 
     def __init__(self, path, identity, runner, resume=False, overwrite=False):
-        self.path = None if path is None else os.fspath(path)
+        self.path = self.target = None if path is None else os.fspath(path)
         self.identity = json.loads(json.dumps(identity))
-        self._memory = None
-        if self.path is not None and os.path.isdir(self.path):
+        self.runner = runner
+        self._memory = self._lock = None
+        if self.path is None:
+            self._create()
+            return
+        if os.path.isdir(self.path):
             raise SweepError(f"results file {self.path} is a directory")
-        if self.path is not None and os.path.exists(self.path) and not overwrite:
+        folder = os.path.dirname(os.path.abspath(self.path))
+        if not os.path.isdir(folder):
+            raise SweepError(f"results file {self.path}: the directory {folder} does not exist")
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise SweepError(f"results file {self.path}: cannot write in {folder}")
+        self._lock = ResultsFileLock(self.path)
+        try:
+            self._start(resume, overwrite)
+        except BaseException:
+            self.close()
+            raise
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def _start(self, resume, overwrite):
+        if not os.path.exists(self.path):
+            self._create()
+        elif not overwrite:
             if not resume:
                 raise SweepError(f"results file {self.path} exists; resume=True (--resume) continues its sweep, "
-                                       "overwrite=True (--overwrite) replaces it")
-            self._check(self.path)
-            return
+                                 "overwrite=True (--overwrite) replaces it")
+            try:
+                self._check(self.path)
+            except SweepError as exc:
+                staged = staging_path(self.path)
+                try:
+                    self._check(staged)
+                except SweepError:
+                    raise exc from None
+                raise SweepError(f"{exc}; {staged} holds this sweep, begun with overwrite=True (--overwrite): "
+                                 "overwrite=True (--overwrite) continues it") from None
+        else:                    # the old file stays until the new sweep is complete (commit)
+            self.path = staging_path(self.target)
+            if os.path.exists(self.path):
+                try:
+                    self._check(self.path)     # an overwrite of this same sweep that was stopped: go on
+                    return
+                except SweepError:
+                    pass                       # another sweep's, or unreadable: begun anew
+            self._create()
+
+    def commit(self):
+        """Once the sweep is complete: the new file in place of the one it overwrites."""
+        if self.path != self.target:
+            os.replace(self.path, self.target)
+            self.path = self.target
+
+    def close(self):
+        """Release the file's lock (the results stay readable: :meth:`results`)."""
+        if self._lock is not None:
+            self._lock.release()
+            self._lock = None
+
+    def _create(self):
+        runner = self.runner
         handle, tmp = self._open_new()
         try:
             with handle as f:
@@ -214,32 +463,33 @@ class ResultsWriter:
         if self.path is None:
             f = h5py.File(f"vtsi-sweep-{uuid.uuid4().hex}.h5", "w", driver="core", backing_store=False)
             return _KeepOpen(f), None
-        tmp = self.path + ".partial"
-        folder = os.path.dirname(os.path.abspath(self.path))
-        if not os.path.isdir(folder):
-            raise SweepError(f"results file {self.path}: the directory {folder} does not exist")
-        if not os.access(folder, os.W_OK | os.X_OK):
-            raise SweepError(f"results file {self.path}: cannot write in {folder}")
+        tmp = self.path + PARTIAL
         try:
             return h5py.File(tmp, "w"), tmp
         except OSError as exc:
             raise SweepError(f"results file {self.path}: cannot write there ({exc.strerror or exc})") from None
 
     def _check(self, path):
+        """A SweepError unless the file ``path`` holds this sweep (the first difference named)."""
         try:
             with h5py.File(path, "r") as f:
-                fmt, stored, version = f.attrs.get("format"), f.attrs.get("identity"), f.attrs.get("format_version", 0)
+                version, stored = _header(f, path)
+                if stored is not None and "train_fingerprints" in self.identity \
+                        and "train_fingerprints" not in stored:     # written before identities kept them
+                    stored = dict(stored, train_fingerprints=dict(self.identity["train_fingerprints"]))
+                    if not _first_difference(self.identity, stored):   # else that difference is named
+                        changed = _stored_train_difference(f, self.runner, self.identity["trains"])
+                        if changed is not None:
+                            stored["train_fingerprints"][changed] = None
         except OSError as exc:
             raise SweepError(f"results file {path}: not a readable HDF5 file ({exc})") from None
-        if fmt != FORMAT or stored is None:
-            raise SweepError(f"results file {path} is not a vtsi sweep results file")
-        if int(version) != FORMAT_VERSION:
+        if version != FORMAT_VERSION:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
                              "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
-        diff = _first_difference(self.identity, json.loads(stored))
+        diff = _first_difference(self.identity, stored)
         if diff:
-            raise SweepError(f"results file {path} holds a different sweep (it differs in {diff}); "
-                                   "use another file, or overwrite=True (--overwrite)")
+            raise SweepError(f"results file {path} holds a different sweep ({_describe(diff)}); "
+                             "use another file, or overwrite=True (--overwrite)")
 
     def done(self):
         """Keys of the cases already in the file (:func:`case_key`)."""
@@ -256,23 +506,29 @@ class ResultsWriter:
 
     def write(self, results):
         """Add a batch of :class:`~vtsi.passage.CaseResult` (atomically, see the module docstring)."""
-        if not results:
-            return
+        if results:
+            self._atomic(lambda f: self._write(f, results),
+                         f"cannot write {len(results)} more cases", "the cases finished before them are in it: "
+                         "resume=True (--resume) continues the sweep")
+
+    def _atomic(self, put, what, kept):
+        """``put(f)`` on the file as one step: on a copy (``<file>.partial``) renamed over it; a
+        failure or an interrupt at any moment leaves the file as it was and no copy."""
         if self._memory is not None:
-            self._write(self._memory, results)
+            put(self._memory)
             return
-        tmp = self.path + ".partial"
+        tmp = self.path + PARTIAL
         try:
             shutil.copyfile(self.path, tmp)
             with h5py.File(tmp, "a") as f:
-                self._write(f, results)
+                put(f)
             os.replace(tmp, self.path)
-        except OSError as exc:              # a full disk, a lost drive: the file keeps what it had
+        except BaseException as exc:
             if os.path.exists(tmp):
                 os.remove(tmp)
-            raise SweepError(f"results file {self.path}: cannot write {len(results)} more cases "
-                             f"({exc.strerror or exc}); the cases finished before them are in it: resume=True "
-                             "(--resume) continues the sweep") from None
+            if isinstance(exc, OSError):       # a full disk, a lost drive: the file keeps what it had
+                raise SweepError(f"results file {self.path}: {what} ({exc.strerror or exc}); {kept}") from None
+            raise
 
     def _write(self, f, results):
         ident = self.identity
@@ -341,14 +597,7 @@ class ResultsWriter:
                     g[name + "_time"] = time
                     g.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
                     g[name + "_columns"] = r.columns[name]
-        if self._memory is not None:
-            put(self._memory)
-            return
-        tmp = self.path + ".partial"
-        shutil.copyfile(self.path, tmp)
-        with h5py.File(tmp, "a") as f:
-            put(f)
-        os.replace(tmp, self.path)
+        self._atomic(put, f"cannot write the histories of {len(results)} cases", "the file holds what it held")
 
     def results(self):
         return SweepResults(self._memory if self._memory is not None else self.path)
@@ -394,23 +643,25 @@ class SweepResults:
             handle = self._open()
         except OSError as exc:
             raise SweepError(f"results file {self.path}: not a readable HDF5 file ({exc})") from None
+        name = self.path or "(in memory)"
         with handle as f:
-            if f.attrs.get("format") != FORMAT:
-                raise SweepError(f"{self.path}: not a vtsi sweep results file")
-            if int(f.attrs.get("format_version", 0)) != FORMAT_VERSION:
-                raise SweepError(f"{self.path}: a vtsi sweep results file of format {f.attrs.get('format_version')}, "
-                                 f"this vtsi reads format {FORMAT_VERSION}: run the sweep again, or read it with the "
-                                 f"vtsi that wrote it ({f.attrs.get('vtsi_version')})")
-            self.identity = json.loads(f.attrs["identity"])
-            self.vtsi_version = str(f.attrs["vtsi_version"])
-            self.trains = [t.decode() if isinstance(t, bytes) else str(t) for t in f["train"][()]]
-            self.speeds_kmh = f["speed_kmh"][()]
-            self.seeds = [int(s) for s in f["seed"][()]]
-            self.frequencies_hz = f["bridge/frequencies_hz"][()]
-            self.quantities = {q: units for q, _, _, units in quantities(self.identity["outputs"])}
-            self._tables = {q: (f["envelopes"][q][()], f["envelopes"][q + "_where"][()], f["envelopes"][q + "_time"][()])
-                            for q in self.quantities}
-            self.n_done = f["cases"]["train"].shape[0] if "train" in f["cases"] else 0
+            version, self.identity = _header(f, name)
+            if version != FORMAT_VERSION:
+                raise SweepError(f"results file {name}: a vtsi sweep results file of format {version}, this vtsi "
+                                 f"reads format {FORMAT_VERSION}: run the sweep again, or read it with the vtsi "
+                                 f"that wrote it ({f.attrs.get('vtsi_version')})")
+            try:
+                self.vtsi_version = str(f.attrs.get("vtsi_version"))
+                self.trains = [t.decode() if isinstance(t, bytes) else str(t) for t in f["train"][()]]
+                self.speeds_kmh = f["speed_kmh"][()]
+                self.seeds = [int(s) for s in f["seed"][()]]
+                self.frequencies_hz = f["bridge/frequencies_hz"][()]
+                self.quantities = {q: units for q, _, _, units in quantities(self.identity["outputs"])}
+                self._tables = {q: (f["envelopes"][q][()], f["envelopes"][q + "_where"][()],
+                                    f["envelopes"][q + "_time"][()]) for q in self.quantities}
+                self.n_done = f["cases"]["train"].shape[0] if "train" in f["cases"] else 0
+            except (KeyError, TypeError, ValueError) as exc:
+                raise SweepError(f"results file {name}: damaged or incomplete ({exc})") from None
 
     def _open(self):
         return _KeepOpen(self._file) if self._file is not None else h5py.File(self.path, "r")
