@@ -1,8 +1,9 @@
 """The design check (vtsi.check) against hand calculations and closed forms."""
+import h5py
 import numpy as np
 import pytest
 
-from vtsi.check import CheckResult, CheckSettings, check, stored_check
+from vtsi.check import CheckResult, CheckRow, CheckSettings, check, stored_check
 from vtsi.codes.en1991_2 import track_irregularity_increment
 from vtsi.errors import ModelError, SweepError
 from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageSettings
@@ -193,9 +194,9 @@ def test_a_modal_bridge_below_the_cut_off_is_refused_and_its_basis_is_the_cut_of
     with pytest.raises(SweepError, match=r"output 'a' counts frequencies up to 6 Hz, below .* cut-off 45\.0\d Hz: the "
                                          r"modal bridge's modes stop at modal_hz: take modal_hz >= 45\.0\d Hz"):
         modal_check(6.0)
-    assert modal_check(None).row("deck_acceleration").note.endswith("frequencies up to 49.53 Hz (the modal bridge's modes)")
+    assert modal_check(None).row("deck_acceleration").note.split("; ")[1] == "frequencies up to 49.53 Hz (the modal bridge's modes)"
     default = modal_check(None, DEFAULT_OUTPUTS)
-    assert default.row("deck_acceleration").note.endswith("frequencies up to 45.02 Hz (modal projection)")
+    assert default.row("deck_acceleration").note.split("; ")[1] == "frequencies up to 45.02 Hz (modal projection)"
     assert {"dynamic_increment", "dynamic_vs_lm71", "deflection"} <= {r.criterion for r in default.rows}
     assert "static share" not in default.row("dynamic_increment").note         # exact passages: corrected
     assert "static share" not in modal_check(None, (Output("d", "disp"),), kind="modal-stepped").row(
@@ -222,6 +223,40 @@ def test_the_end_rotation_is_read_at_the_deck_ends_only():
     inner = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(dt=2e-3, damping=0.013),
                   outputs=[Output("r", "rotation", nodes="midspan")]).run(None, workers=1, progress=False)
     assert "none at the deck's ends" in check(inner).row("end_rotation").note
+
+
+def test_an_incomplete_sweep_gets_no_pass_and_a_pass_names_what_it_did_not_evaluate(tmp_path):
+    """A check of a sweep stopped part-way gave PASS on the cases it had (57 of 570: PASS at
+    3.76 m/s², the whole sweep FAILs at 6.12): it now gives NO VERDICT naming the count, also
+    from the file it is stored in; a FAIL stays a FAIL. A PASS of moving forces says which
+    criteria it could not evaluate (no car bodies, no contact forces), and a sweep of some of
+    the HSLM-A trains says that EN 1991-2 asks for all ten unless Annex E picked them."""
+    path = tmp_path / "part.h5"
+    bridge = beam_bridge([L], EI, 1.0, MU, elements_per_span=4)
+    Sweep(bridge, ["HSLM-A1", "HSLM-A5"], "160", PassageSettings(dt=2e-3, damping=0.05)).run(path, workers=1,
+                                                                                               progress=False)
+    whole = check(path)
+    assert whole.passed and whole.complete and (whole.cases_done, whole.cases_total) == (2, 2)
+    assert whole.verdict() == ("PASS: every criterion checked is within its limit (not evaluated, the sweep kept no "
+                             "output for them: car_body_acceleration, wheel_unloading, contact_loss)")
+    assert "this sweep holds A1, A5 only: enough only if they are the critical ones by Annex E" in \
+        whole.row("deck_acceleration").note
+    with h5py.File(path, "a") as f:        # forget the second case, as an interrupted run would
+        table = f["cases"]
+        for name in list(table):
+            if isinstance(table[name], h5py.Dataset) and table[name].ndim and table[name].shape[0] == 2:
+                data = table[name][()][:1]
+                table[name].resize(1, axis=0)
+                table[name][...] = data
+    part = check(path)
+    assert not part.passed and all(r.status != "fail" for r in part.rows)
+    assert part.verdict().startswith("NO VERDICT: the sweep is incomplete (1 of 2 cases; resume it, then check again)")
+    part.store(path)
+    stored = stored_check(path)
+    assert (stored.cases_done, stored.cases_total, stored.passed) == (1, 2, False)
+    failing = CheckResult(CheckSettings(), [CheckRow("deck_acceleration", "", 4.0, "m/s^2", 3.5, 4 / 3.5, "fail")], 1, 2)
+    assert failing.verdict() == "FAIL: 1 of 1 criterion held to a limit fails: deck_acceleration (in an incomplete " \
+                                "sweep: 1 of 2 cases)"
 
 
 def test_a_short_span_without_hslm_b_says_so():

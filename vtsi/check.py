@@ -49,7 +49,7 @@ from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
 from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, modal_basis_hz
-from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults
+from vtsi.sweep_results import ENVELOPE_ROWS, ResultsFileLock, SweepResults
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
 WITH_A_VERDICT = ("deck_acceleration", "deflection", "car_body_acceleration", "wheel_unloading", "contact_loss")
@@ -110,16 +110,54 @@ class CheckResult:
 
     settings: CheckSettings
     rows: list = field(default_factory=list)
+    cases_done: int = 0         # the sweep's finished cases when it was checked, of ...
+    cases_total: int = 0        # ... its cases (0 and 0: not known, a check stored by an older vtsi)
+
+    @property
+    def complete(self):
+        """Whether the check read every case of its sweep."""
+        return self.cases_done >= self.cases_total
 
     @property
     def passed(self):
-        """True when a criterion with a limit was checked and none fails."""
-        return any(r.status == "pass" for r in self.rows) and all(r.status != "fail" for r in self.rows)
+        """True when the sweep is complete, a criterion with a limit was checked and none fails."""
+        return (self.complete and any(r.status == "pass" for r in self.rows)
+                and all(r.status != "fail" for r in self.rows))
 
     @property
     def unchecked(self):
         """The criteria with a limit whose row the check could not hold to it (status info)."""
         return [r.criterion for r in self.rows if r.status == "info" and r.criterion in WITH_A_VERDICT]
+
+    @property
+    def not_evaluated(self):
+        """The criteria with a limit that have no row: the sweep kept no output they read (a
+        sweep of moving forces has no car body or contact force)."""
+        present = {r.criterion for r in self.rows}
+        return [c for c in WITH_A_VERDICT if c not in present]
+
+    def verdict(self, label=str):
+        """One line: FAIL (how many of the criteria held to a limit fail, and which), NO VERDICT
+        (an incomplete sweep, or nothing held to a limit) or PASS, with what was not checked or
+        not evaluated; ``label`` names a criterion (the report's words)."""
+        failed = [label(r.criterion) for r in self.rows if r.status == "fail"]
+        held = sum(r.status in ("pass", "fail") for r in self.rows)
+        missing = f"{self.cases_done} of {self.cases_total} cases"
+        if failed:
+            text = (f"FAIL: {len(failed)} of {held} {'criterion' if held == 1 else 'criteria'} held to a limit "
+                    f"fail{'s' if len(failed) == 1 else ''}: {', '.join(failed)}"
+                    + ("" if self.complete else f" (in an incomplete sweep: {missing})"))
+        elif not self.complete:
+            text = f"NO VERDICT: the sweep is incomplete ({missing}; resume it, then check again)"
+        elif self.passed:
+            text = "PASS: every criterion checked is within its limit"
+        else:
+            text = "NO VERDICT: no criterion with a limit was checked"
+        if self.unchecked:
+            text += f" (not checked: {', '.join(map(label, self.unchecked))}; see their notes)"
+        if self.not_evaluated and not failed:
+            text += f" (not evaluated, the sweep kept no output for them: {', '.join(map(label, self.not_evaluated))})"
+        return text
 
     def row(self, criterion):
         """The row of ``criterion`` (SweepError naming the rows there are when it has none)."""
@@ -142,22 +180,18 @@ class CheckResult:
         widths = [max(len(line[j]) for line in lines) for j in range(len(head))]
         out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
         out.insert(1, "  ".join("-" * w for w in widths))
-        failed = [r.criterion for r in self.rows if r.status == "fail"]
-        verdict = ("FAIL: " + ", ".join(failed) if failed else "PASS: every criterion is within its limit"
-                   if self.passed else "NO VERDICT: no criterion with a limit was checked")
-        if self.unchecked:
-            verdict += f" (not checked: {', '.join(self.unchecked)}; see their notes)"
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
-        return "\n".join(out + ["", verdict] + (["notes:"] + notes if notes else []))
+        return "\n".join(out + ["", self.verdict()] + (["notes:"] + notes if notes else []))
 
     def store(self, path):
         """Write the table into the sweep's results file (/checks: one row per criterion, the
         settings in its attributes), atomically as the sweep writes (copy, write, rename)."""
         path = os.fspath(path)
         SweepResults(path)                     # a readable results file of a sweep, or a SweepError naming it
+        lock = ResultsFileLock(path)           # no sweep writes it meanwhile (a ResultsFileInUse naming it)
         tmp = path + ".partial"
-        shutil.copyfile(path, tmp)
         try:
+            shutil.copyfile(path, tmp)
             with h5py.File(tmp, "a") as f:
                 if "checks" in f:
                     del f["checks"]
@@ -165,6 +199,7 @@ class CheckResult:
                 g.attrs["settings"] = json.dumps(asdict(self.settings))
                 g.attrs["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
                 g.attrs["passed"] = self.passed
+                g.attrs["cases_done"], g.attrs["cases_total"] = self.cases_done, self.cases_total
                 for name in CheckRow.__dataclass_fields__:
                     values = [getattr(r, name) for r in self.rows]
                     if values and isinstance(values[0], str):
@@ -175,6 +210,7 @@ class CheckResult:
         finally:
             if os.path.exists(tmp):
                 os.remove(tmp)
+            lock.release()
 
 
 def stored_check(path):
@@ -199,7 +235,8 @@ def stored_check(path):
                 values[name] = v.decode() if isinstance(v, bytes) else (int(v) if name == "seed" else
                                                                          (str(v) if isinstance(v, str) else float(v)))
             rows.append(CheckRow(**values))
-    return CheckResult(settings, rows)
+        cases = int(g.attrs.get("cases_done", 0)), int(g.attrs.get("cases_total", 0))
+    return CheckResult(settings, rows, *cases)
 
 
 SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments include the bridge's self weight "
@@ -224,7 +261,7 @@ def check(results, settings=None):
         raise SweepError(SELF_WEIGHT_REFUSED)
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
-    out = CheckResult(settings)
+    out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases)
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
@@ -297,6 +334,12 @@ def _deck_acceleration(results, outputs, bridge, settings):
             not any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains):
         note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {hslm_b_below:g} m is checked with "
                  "HSLM-B, which this sweep does not hold")
+    hslm_a = [f"HSLM-A{k}" for k in range(1, 11)]
+    held = [n for n in hslm_a if n in {results.train_data(t)["name"] for t in results.trains}]
+    if held and len(held) < len(hslm_a) and np.max(spans) >= hslm_b_below:
+        note += (f"; EN 1991-2 6.4.6.1.1: HSLM-A is its ten trains A1 to A10 (spans of {hslm_b_below:g} m and more), "
+                 f"and this sweep holds {', '.join(t.removeprefix('HSLM-') for t in held)} only: enough only if they "
+                 "are the critical ones by Annex E (simply supported spans)")
     deck = spanned
     read = deck & set(np.asarray(columns).tolist())
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it

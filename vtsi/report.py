@@ -15,21 +15,25 @@ acceleration chart, and the times at which a train is on the deck in a history c
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
 
 ===========  ======================================================================================
-summary      the verdict (PASS / FAIL), the sweep's extent, one line per criterion with its
-             governing case
+summary      the verdict (PASS / FAIL, counting the criteria held to a limit), the sweep's
+             extent, one line per criterion with its governing case
 checks       the check's table: criterion, value, limit, utilisation, status, governing train,
              speed [km/h], place, clause; every number also as ``data-value`` (its ``repr``, the
-             stored float exactly) in the HTML; the rows' notes and the check's settings
+             stored float exactly) in the HTML; an info row has no utilisation and shows its
+             limit as a reference ('ref.', data-field ``reference``) or as not checked; the
+             rows' notes and the check's settings (those about cars only if cars ran)
 bridge       its description, spans, deck, first vertical frequencies [Hz], damping, a chart of
              the first mode shapes along the deck
-trains       name, axles, total static load [kN], length [m], characteristic length D [m],
-             fidelity
-settings     the passages' settings, the acceleration cut-off, the vtsi version, the results file
+trains       name, axles, total static load [kN], length [m], characteristic length D [m] (to
+             the mm), fidelity
+settings     the passages' settings, the acceleration cut-off, the vtsi version, the results
+             file (contact and car outputs only if cars ran)
 envelopes    charts against speed [km/h], one line per train: peak deck acceleration [m/s²] with
              the check's limit and the resonance speeds; largest deflection [mm]; DAF
 histories    per governing case recorded with :meth:`~vtsi.sweep.Sweep.record_histories`: the
-             mid-span acceleration [m/s²] and deflection [mm], and the contact forces [kN] (their
-             10 ms mean) if present, against time [s]
+             acceleration [m/s²] and deflection [mm] at each span's middle (a style per span),
+             and the contact forces [kN] (their 10 ms mean) if present, against time [s]; the
+             caption names only what is drawn
 scene        (optional) a 3-D scene image rendered elsewhere (:mod:`vtsi.scene3d`)
 ===========  ======================================================================================
 
@@ -43,13 +47,14 @@ import html
 import io
 import math
 import os
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from vtsi import __version__
+from vtsi.version import __version__
 from vtsi.check import stored_check
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, modal_basis_hz
@@ -58,7 +63,10 @@ from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key
 
 SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
 RESONANCE_ORDERS = (1, 2, 3)          # v = n0 D / i marked on the acceleration chart
+RESONANCE_RANGE_TOLERANCE = 0.005     # a resonance this fraction of the speed range past its end is marked
+RESONANCE_LABEL_BAND = 0.6            # resonance labels stay in this upper fraction of the chart
 MODES_SHOWN = 3
+CAR_RESPONSES = ("contact_force", "car_body_accel")   # outputs a sweep of moving forces does not fill
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 MIN = ENVELOPE_ROWS.index("min")
 
@@ -68,6 +76,11 @@ PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e
            "#bcbd22", "#17becf", "#000000", "#b8860b", "#4b0082", "#00a087", "#ff1493", "#556b2f",
            "#8b0000", "#4682b4", "#a0522d", "#708090")
 LIMIT_COLOUR = "#c0392b"
+# A history chart's spans other than the governing one (drawn in the train's colour): one style
+# each, colours outside PALETTE.
+SPAN_STYLES = (("#555555", "--"), ("#d4a017", "-."), ("#8e6bbf", (0, (1, 1.2))), ("#3a9b8f", (0, (6, 2, 1, 2))),
+               ("#a0a0a0", (0, (3, 1))), ("#c46a8a", (0, (8, 2))))
+HISTORY_PANELS = ("accel", "disp", "contact_force")
 UNIT_TEXT = {"m/s^2": "m/s²", "-": "", "rad": "rad", "m": "m", "passages": "passages"}
 CHART_STYLE = {"font.size": 11, "axes.titlesize": 12, "axes.labelsize": 11, "legend.fontsize": 9,
                "xtick.labelsize": 10, "ytick.labelsize": 10, "axes.grid": True, "grid.alpha": 0.3,
@@ -220,12 +233,16 @@ class _Report:
         self.rows = checked.rows
 
     def sections(self, scene):
-        out = [self.summary(), self.checks(), self.bridge_section(), self.trains_section(),
-               self.settings_section(), self.envelopes(), self.histories()]
-        if scene is not None:
-            out.append(Section("scene", "3-D scene", [
-                Chart("scene", scene.read_bytes(), f"The passage as a 3-D scene ({scene.name}).", "3-D scene")]))
-        return out
+        """The sections in the order of :data:`SECTIONS`; the scene only with a ``scene`` PNG."""
+        build = {"summary": self.summary, "checks": self.checks, "bridge": self.bridge_section,
+                 "trains": self.trains_section, "settings": self.settings_section,
+                 "envelopes": self.envelopes, "histories": self.histories,
+                 "scene": lambda: self.scene_section(scene)}
+        return [build[name]() for name in SECTIONS if name != "scene" or scene is not None]
+
+    def scene_section(self, scene):
+        return Section("scene", "3-D scene", [
+            Chart("scene", scene.read_bytes(), f"The passage as a 3-D scene ({scene.name}).", "3-D scene")])
 
     # -- helpers ------------------------------------------------------------------------------
     def row(self, criterion):
@@ -256,27 +273,24 @@ class _Report:
     # -- sections -----------------------------------------------------------------------------
     def summary(self):
         res, passed = self.results, self.checked.passed
-        failing = [_label(r.criterion) for r in self.rows if r.status == "fail"]
-        verdict = ("PASS: every criterion is within its limit" if passed else
-                   f"FAIL: {len(failing)} of {sum(r.status != 'info' for r in self.rows)} criteria with a limit "
-                   f"fail{'s' * (len(failing) == 1)}: {', '.join(failing)}")
-        if self.checked.unchecked:
-            verdict += f" (not checked: {', '.join(_label(c) for c in self.checked.unchecked)}; see their notes)"
+        verdict = self.checked.verdict(_label)
+        kind = "pass" if passed else "fail" if any(r.status == "fail" for r in self.rows) else "none"
         v = res.speeds_kmh
         seeds = "smooth rail" if res.seeds == [-1] else f"{len(res.seeds)} rail samples"
         extent = (f"{_plural(len(res.trains), 'train')} × {_plural(len(v), 'speed')} "
                   f"({_fmt_speed(v.min())}–{_fmt_speed(v.max())} km/h) "
                   f"× {seeds}: {res.n_done} of {res.n_cases} passages in the file.")
-        blocks = [Paragraph(verdict, "verdict " + ("pass" if passed else "fail")), Paragraph(extent)]
+        blocks = [Paragraph(verdict, "verdict " + kind), Paragraph(extent)]
         if res.n_done < res.n_cases:
             blocks.append(Paragraph(f"The sweep is incomplete ({res.n_cases - res.n_done} passages missing): "
                                     "the check covers the passages in the file only.", "warning"))
         lines = []
         for r in self.rows:
             value = f"{_num(r.value)} {_units(r.units)}".strip()
-            if not math.isnan(r.limit):
-                value += f" (limit {_num(r.limit)} {_units(r.units)}".rstrip()
-                value += f", utilisation {_num(r.utilisation)})" if not math.isnan(r.utilisation) else ")"
+            bound = self.bound_text(r)
+            if bound:
+                value += f" ({bound}" + (f", utilisation {_num(r.utilisation)})" if self.held(r) and
+                                         not math.isnan(r.utilisation) else ")")
             where = []
             if r.train:
                 where.append(self.case_text(r.train, r.speed_kmh, r.seed) if not math.isnan(r.speed_kmh) else r.train)
@@ -287,8 +301,26 @@ class _Report:
         blocks += [Heading("Governing cases"), Items(lines, "governing")]
         return Section("summary", "Summary", blocks)
 
+    def held(self, row):
+        """Whether ``row`` is held to its limit (pass or fail): only then has it a utilisation."""
+        return row.status != "info"
+
+    def bound_text(self, row):
+        """What the row's limit is, in words: 'limit 3.5 m/s²' for a row held to it; for an info
+        row 'reference 1' (a value to compare with, e.g. dynamic vs LM71: above 1 the dynamic
+        analysis governs) or 'limit 0.6, not checked' (the check cannot hold the value to it);
+        '' without one."""
+        if math.isnan(row.limit):
+            return ""
+        number = f"{_num(row.limit)} {_units(row.units)}".strip()
+        if self.held(row):
+            return f"limit {number}"
+        if row.criterion in self.checked.unchecked:
+            return f"limit {number}, not checked"
+        return f"reference {number}"
+
     def checks(self):
-        head = ["criterion", "value", "limit", "utilisation", "status", "governing train", "speed km/h",
+        head = ["criterion", "value", "limit / ref.", "utilisation", "status", "governing train", "speed km/h",
                 "place", "clause"]
         rows, attrs = [], []
         for r in self.rows:
@@ -297,10 +329,9 @@ class _Report:
                 Cell(_label(r.criterion), {"data-field": "criterion"}),
                 Cell(f"{_num(r.value)} {units}".strip(), {"data-field": "value", "data-value": repr(float(r.value)),
                                                           "data-units": r.units}, "num"),
-                Cell(f"{_num(r.limit)} {units}".strip() if not math.isnan(r.limit) else "—",
-                     {"data-field": "limit", "data-value": repr(float(r.limit))}, "num"),
+                self.limit_cell(r),
                 Cell(_num(r.utilisation), {"data-field": "utilisation", "data-value": repr(float(r.utilisation))},
-                     "num"),
+                     "num") if self.held(r) else Cell("—", {"data-field": "utilisation"}, "num"),
                 Cell(r.status.upper(), {"data-field": "status"}, "status " + r.status),
                 Cell(r.train + (f" (rail sample {r.seed})" if r.train and r.seed >= 0 else "") or "—",
                      {"data-field": "train", "data-seed": str(int(r.seed))}),
@@ -311,21 +342,46 @@ class _Report:
             ])
             attrs.append({"data-criterion": r.criterion, "data-status": r.status})
         s = self.checked.settings
-        blocks = [Table(head, rows, attrs, "check-table", "checks"),
-                  Paragraph(f"Check settings: {s.track.replace('_', ' ')} track, comfort level "
-                            f"'{s.comfort.replace('_', ' ')}', {s.maintenance} maintenance, α = {s.alpha:g}, "
-                            f"wheel unloading limit ΔQ/Q = {s.unloading_limit:g} (a project criterion).")]
+        blocks = [Table(head, rows, attrs, "check-table", "checks")]
+        kinds = {"ref.": "a value to compare with (dynamic vs LM71: above 1 the dynamic analysis, not Φ × LM71, "
+                         "governs the design)",
+                 "not checked": "a limit the check cannot hold the value to (see the row's note)"}
+        shown = [k for k in kinds if any(not self.held(r) and not math.isnan(r.limit)
+                                         and (r.criterion in self.checked.unchecked) == (k == "not checked")
+                                         for r in self.rows)]
+        if shown:
+            blocks.append(Paragraph("INFO rows are not held to a limit and have no utilisation; "
+                                    + "; ".join(f"'{k}': {kinds[k]}" for k in shown) + "."))
+        cars = self.settings.get("cars") != "force"
+        blocks.append(Paragraph(f"Check settings: {s.track.replace('_', ' ')} track, "
+                                + (f"comfort level '{s.comfort.replace('_', ' ')}', " if cars else "")
+                                + f"{s.maintenance} maintenance, α = {s.alpha:g}"
+                                + (f", wheel unloading limit ΔQ/Q = {s.unloading_limit:g} (a project criterion)"
+                                   if cars else "") + "."))
         notes = [f"{_label(r.criterion)}: {r.note}" for r in self.rows if r.note]
         if notes:
             blocks += [Heading("Notes"), Items(notes, "notes")]
         return Section("checks", "Checks", blocks)
+
+    def limit_cell(self, row):
+        """The limit of a row held to it (data-field 'limit'); an info row's value to compare with
+        as 'ref. …' (data-field 'reference') or its limit as '… (not checked)'; '—' without one."""
+        units = _units(row.units)
+        number = f"{_num(row.limit)} {units}".strip()
+        if math.isnan(row.limit) or self.held(row):
+            return Cell(number if not math.isnan(row.limit) else "—",
+                        {"data-field": "limit", "data-value": repr(float(row.limit))}, "num")
+        if row.criterion in self.checked.unchecked:
+            return Cell(f"{number} (not checked)", {"data-field": "limit", "data-value": repr(float(row.limit))}, "num")
+        return Cell(f"ref. {number}", {"data-field": "reference", "data-value": repr(float(row.limit))}, "num")
 
     def bridge_section(self):
         b, desc = self.bridge, self.results.identity["bridge"]
         spans = np.asarray(b["span_lengths_m"], dtype=float)
         freqs = np.asarray(b["frequencies_hz"], dtype=float)
         keys = sorted(desc, key=lambda k: k != "kind")        # spans_m: the 'spans' row below
-        rows = [[_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
+        rows = [[DESCRIPTION_TEXT[k][0], f"{_value_text(desc[k])} {DESCRIPTION_TEXT[k][1]}"] if k in DESCRIPTION_TEXT
+                else [_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
         x = np.asarray(b["deck_x_m"], dtype=float)
         rows += [["spans", " + ".join(f"{s:g}" for s in spans) + f" m ({len(spans)} span{'s' * (len(spans) > 1)})"],
                  ["deck", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes "
@@ -335,9 +391,9 @@ class _Report:
                  ["damping", _damping_text(self.settings)]]
         blocks = [Table(["property", "value"], rows, cls="properties")]
         if "mode_shapes_uy" in b and np.size(b["mode_shapes_uy"]):
-            blocks.append(Chart("mode_shapes", _mode_shapes_png(b), "The first vertical mode shapes along the deck "
-                                "(nodal values, normalised to a largest value of 1; a cubic spline between the "
-                                "nodes); triangles: the supports.", "mode shapes"))
+            blocks.append(Chart("mode_shapes", _mode_shapes_png(b), "The first vertical mode shapes along the deck: "
+                                "dots the nodal values, lines a cubic spline between them, each mode scaled so that "
+                                "its line's largest value is 1; triangles: the supports.", "mode shapes"))
         else:
             blocks.append(Paragraph("The results file holds no mode shapes."))
         return Section("bridge", "Bridge", blocks)
@@ -353,7 +409,7 @@ class _Report:
                 f"{int(d['n_cars'])} cars, {int(d['n_dof'])} DOF ({cars})"
             rows.append([Cell("", {"style": f"background:{self.colours[t]}"}, "swatch"), Cell(t),
                          Cell(str(len(d["axle_offsets_m"])), cls="num"), Cell(f"{loads.sum() / 1e3:.5g}", cls="num"),
-                         Cell(f"{float(d['length_m']):.5g}", cls="num"), Cell(_num(D), cls="num"), Cell(fidelity)])
+                         Cell(_length(d["length_m"]), cls="num"), Cell(_length(D), cls="num"), Cell(fidelity)])
             attrs.append({"data-train": t})
         head = ["", "train", "axles", "total static load kN", "length m", "D m", "fidelity"]
         return Section("trains", "Trains", [
@@ -365,11 +421,12 @@ class _Report:
         s, res = self.settings, self.results
         cutoffs = [f"{n}: {o['cutoff_hz']:.4g} Hz" for n, o in self.outputs.items() if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
+        cars = s.get("cars") != "force"
         rows = [["bridge model", _bridge_model_text(s, res.bridge()["frequencies_hz"])],
                 ["time step dt", f"{s['dt']:g} s"],
                 ["integrator", str(s["integrator"])],
-                ["cars (fidelity)", str(s["cars"])],
-                ["contact", str(s["contact"])],
+                ["cars (fidelity)", "force (moving axle loads)" if not cars else str(s["cars"])],
+                ["contact", str(s["contact"]) if cars else "not used (no cars in the sweep)"],
                 ["interpolation", str(s["interpolation"])],
                 ["exact events", "yes" if s.get("exact_events") else "no"],
                 ["damping", _damping_text(s)],
@@ -380,7 +437,8 @@ class _Report:
                  if s.get("free_vibration") is None else f"{s['free_vibration']:g} s"],
                 ["bridge self weight", "included" if s.get("bridge_self_weight") else "not included"],
                 ["acceleration cut-off", "; ".join(cutoffs) if cutoffs else "none (the FE model's full response)"],
-                ["outputs", ", ".join(f"{n} ({o['response']})" for n, o in self.outputs.items())],
+                ["outputs", ", ".join(f"{n} ({o['response']})" for n, o in self.outputs.items()
+                                      if cars or o["response"] not in CAR_RESPONSES)],
                 ["speeds", f"{len(res.speeds_kmh)} speeds, {_fmt_speed(res.speeds_kmh.min())}–"
                            f"{_fmt_speed(res.speeds_kmh.max())} km/h"],
                 ["vtsi version", f"{res.vtsi_version} (sweep), {__version__} (report)"],
@@ -422,12 +480,10 @@ class _Report:
                                         "histories recorded (Sweep.record_histories)."))
                 continue
             shown.add(key)
-            png = self.history_png(train, speed, seed)
-            blocks.append(Chart(f"history_{len(shown)}", png,
-                                f"{text}, governing {', '.join(_label(c) for c in criteria)}: "
-                                "mid-span response against time (contact forces: their 10 ms mean, as the check "
-                                "reads them); shaded: axles on the deck.",
-                                f"time histories of {text}"))
+            panels = self.history_panels(train, speed, seed)
+            blocks += [Heading(f"{text}: governs {', '.join(_label(c) for c in criteria)}"),
+                       Chart(f"history_{len(shown)}", self.history_png(train, speed, seed, panels),
+                             self.history_caption(text, panels), f"time histories of {text}")]
         if not self.governing_cases():
             blocks.append(Paragraph("The check names no governing passage."))
         elif not shown:
@@ -464,7 +520,7 @@ class _Report:
     def _governing_star(self, ax, row, y):
         if row is not None and row.train in self.results.trains and not math.isnan(row.speed_kmh):
             ax.plot([row.speed_kmh], [y], "*", color=self.colours[row.train], mec="black", ms=15, zorder=5,
-                    label=f"governing: {row.train}, {_fmt_speed(row.speed_kmh)} km/h")
+                    label=f"governing: {row.train}\nat {_fmt_speed(row.speed_kmh)} km/h")
 
     def acceleration_png(self, name):
         res = self.results
@@ -479,26 +535,15 @@ class _Report:
             top = max([np.nanmax(y) for _, y in curves.values()] + [row.limit if row is not None else 0.0])
             if top > 0:
                 ax.set_ylim(0, 1.22 * top)
-            lo, hi = float(res.speeds_kmh.min()), float(res.speeds_kmh.max())
             n0 = float(self.bridge["frequencies_hz"][0])
-            marks = []
-            for t in curves:
-                D = float(self.trains[t].get("characteristic_length_m", np.nan))
-                for i in RESONANCE_ORDERS if np.isfinite(D) else ():
-                    v = float(resonance_speeds([n0], [D], orders=(i,))[0])
-                    if lo <= v <= hi:
-                        marks.append((v, t, i))
-            tier, last = 0, -np.inf
-            for v, t, i in sorted(marks):         # labels closer than 1.6 % of the range step down
-                tier = (tier + 1) % 3 if v - last < 0.016 * (hi - lo) else 0
-                last = v
+            lengths = {t: float(self.trains[t].get("characteristic_length_m", np.nan)) for t in curves}
+            marks = _resonance_marks(n0, lengths, res.speeds_kmh)
+            for v, t, i in marks:
                 ax.axvline(v, color=self.colours[t], ls=":", lw=1.2, alpha=0.9)
-                ax.text(v, 1.0 - 0.155 * tier, f"{t} D/{i}", transform=ax.get_xaxis_transform(), rotation=90,
-                        ha="center", va="top", fontsize=7.5, color=self.colours[t],
-                        bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 0.6})
             self._speed_axis(ax)
             ax.set_ylabel("peak deck acceleration [m/s²]")
             ax.set_title(f"Peak deck acceleration (n₀ = {n0:#.4g} Hz)")
+            _resonance_labels(ax, marks, self.colours)
             _legend(ax)
             return _png(fig)
 
@@ -557,15 +602,43 @@ class _Report:
             out.append((node, f"node {node}\ngoverns {_label(criterion)}", True))
         return out
 
-    def history_png(self, train, speed, seed):
+    def history_panels(self, train, speed, seed):
+        """The panels of a case's history chart: ``{response: history name}`` in the order accel,
+        disp, contact_force, each response with a recorded history holding values."""
         h = self.results.history(train, speed, seed)
         responses = {o.name: o.response for o in HISTORY_OUTPUTS}
         responses.update({n: o["response"] for n, o in self.outputs.items()})
         kinds = {}
         for name in h:
-            if name != "attrs" and responses.get(name) in ("accel", "disp", "contact_force"):
+            if name != "attrs" and responses.get(name) in HISTORY_PANELS and np.size(h[name][1]):
                 kinds.setdefault(responses[name], name)
-        panels = [k for k in ("accel", "disp", "contact_force") if k in kinds]
+        return {k: kinds[k] for k in HISTORY_PANELS if k in kinds}
+
+    def history_caption(self, text, panels):
+        """The caption of a history chart: what its panels draw, and nothing else."""
+        n_spans = len(self.bridge["midspan_nodes"])
+        where = "at each span's middle" if n_spans > 1 else "at mid-span"
+        shown = []
+        if "accel" in panels:
+            row = self.row("deck_acceleration")
+            limit = row is not None and not math.isnan(row.limit)
+            shown.append("the deck acceleration [m/s²]" + (" (dashed red: ± the check's limit)" if limit else ""))
+        if "disp" in panels:
+            shown.append("the deflection [mm]")
+        parts = []
+        if shown:
+            parts.append(" and ".join(shown) + f" {where}" + (" (one line style per span; in the train's colour: the "
+                                                             "node at which this case governs)" if n_spans > 1 else ""))
+        if "contact_force" in panels:
+            parts.append("the contact force [kN] of every wheel (its 10 ms mean, as the check reads it; black: "
+                         "the wheel with the lowest)")
+        if not parts:
+            return f"{text}: no acceleration, deflection or contact force history recorded."
+        return f"{text}: " + "; ".join(parts) + ", against time; shaded: axles on the deck."
+
+    def history_png(self, train, speed, seed, kinds):
+        h = self.results.history(train, speed, seed)
+        panels = list(kinds)
         colour = self.colours[train]
         data = self.trains[train]
         x = np.asarray(self.bridge["deck_x_m"], dtype=float)
@@ -579,11 +652,12 @@ class _Report:
                 ax.axvspan(*on, color="#f2f2f2", zorder=0)
                 if kind in ("accel", "disp"):
                     scale = 1.0 if kind == "accel" else 1e3
-                    for node, label, governing in self._history_nodes(kind, train, speed, seed):
+                    for j, (node, label, governing) in enumerate(self._history_nodes(kind, train, speed, seed)):
                         c = np.flatnonzero(np.asarray(columns) == node)
                         if c.size:
-                            ax.plot(time, scale * values[:, c[0]], color=colour if governing else "#7a7a7a",
-                                    lw=1.3 if governing else 0.9, ls="-" if governing else "--", label=label,
+                            other, ls = SPAN_STYLES[j % len(SPAN_STYLES)]
+                            ax.plot(time, scale * values[:, c[0]], color=colour if governing else other,
+                                    lw=1.3 if governing else 1.0, ls="-" if governing else ls, label=label,
                                     zorder=3 if governing else 2)
                     if kind == "accel":
                         row = self.row("deck_acceleration")
@@ -615,6 +689,17 @@ class _Report:
             return _png(fig)
 
 
+def _drawn_mode_shape(x, phi, fine):
+    """A mode shape as drawn: ``(nodal values, curve at x = fine)``, the curve a cubic spline
+    through the nodes (linear if two nodes share an x), both scaled so that the curve's largest
+    absolute value (at ``fine`` and the nodes) is +1: the nodes stay within ±1."""
+    phi = np.asarray(phi, dtype=float)
+    smooth = CubicSpline(x, phi)(fine) if len(x) > 2 and np.all(np.diff(x) > 0) else np.interp(fine, x, phi)
+    drawn = np.concatenate([smooth, phi])
+    peak = drawn[np.argmax(np.abs(drawn))]
+    return (phi / peak, smooth / peak) if peak else (phi, smooth)
+
+
 def _mode_shapes_png(bridge):
     x = np.asarray(bridge["deck_x_m"], dtype=float)
     shapes = np.asarray(bridge["mode_shapes_uy"], dtype=float)
@@ -625,11 +710,8 @@ def _mode_shapes_png(bridge):
     supports = np.unique(bridge["span_ends_m"])
     with _figure((11, 3.8)) as (fig, ax):
         for k in range(min(MODES_SHOWN, shapes.shape[1])):
-            phi = shapes[:, k]
-            peak = phi[np.argmax(np.abs(phi))]
-            phi = phi / peak if peak else phi
+            phi, smooth = _drawn_mode_shape(x, shapes[:, k], fine)
             colour = ("#1f3b73", "#c0392b", "#27ae60")[k % 3]
-            smooth = CubicSpline(x, phi)(fine) if np.all(np.diff(x) > 0) else np.interp(fine, x, phi)
             ax.plot(fine, smooth, color=colour, lw=1.8,
                     label=f"mode {k + 1}: {freqs[k]:#.4g} Hz" if k < len(freqs) else f"mode {k + 1}")
             ax.plot(x, phi, "o", color=colour, ms=3)
@@ -643,6 +725,51 @@ def _mode_shapes_png(bridge):
         return _png(fig)
 
 
+def _resonance_marks(n0, lengths, speeds_kmh):
+    """The resonance speeds v = n₀ D / i [km/h] (i in RESONANCE_ORDERS) within the swept speeds:
+    ``[(v, train, i)]`` sorted by v, for ``lengths`` ``{train: D [m]}`` (NaN: none). A speed up to
+    RESONANCE_RANGE_TOLERANCE of the range beyond either end counts as in the range (and is
+    inside the chart's padding): the stored n₀ = 5.0000337 Hz puts D = 20 m at 360.0024 km/h,
+    the resonance of a sweep to 360 km/h."""
+    lo, hi = float(np.min(speeds_kmh)), float(np.max(speeds_kmh))
+    tol = RESONANCE_RANGE_TOLERANCE * (hi - lo if hi > lo else hi)
+    marks = []
+    for t, D in lengths.items():
+        for i in RESONANCE_ORDERS if np.isfinite(D) else ():
+            speed = float(resonance_speeds([n0], [D], orders=(i,))[0])
+            if lo - tol <= speed <= hi + tol:
+                marks.append((speed, t, i))
+    return sorted(marks)
+
+
+def _resonance_labels(ax, marks, colours):
+    """Label each resonance line 'train D/i' at the top of ``ax``, rotated: a label that would
+    overlap one placed before goes down below it; one that would reach below the upper
+    RESONANCE_LABEL_BAND of the axes is left out (its line stays, in the train's colour). The
+    axes' limits must be final. Returns the labels drawn (Text)."""
+    renderer = ax.figure.canvas.get_renderer()
+    to_axes = ax.transAxes.inverted()
+    gap = 2.0                                                       # [px] between labels
+    placed, drawn = [], []
+    for v, t, i in marks:
+        text = ax.text(v, 1.0, f"{t} D/{i}", transform=ax.get_xaxis_transform(), rotation=90, ha="center",
+                       va="top", fontsize=7.5, color=colours[t],
+                       bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 0.6})
+        for _ in range(len(placed) + 1):         # each move goes below a placed label: at most all of them
+            box = text.get_window_extent(renderer).padded(gap / 2)
+            hits = [b for b in placed if b.overlaps(box)]       # (touching counts as overlapping)
+            if not hits:
+                break
+            top = min(b.y0 for b in hits) - gap              # the padded box's top gap / 2 below theirs
+            text.set_y(to_axes.transform((0.0, top))[1])
+        if hits or to_axes.transform((0.0, box.y0))[1] < 1.0 - RESONANCE_LABEL_BAND:
+            text.remove()
+            continue
+        placed.append(box)
+        drawn.append(text)
+    return drawn
+
+
 # -- matplotlib ------------------------------------------------------------------------------------
 class _figure:
     """A matplotlib Figure (object API, Agg) under the report's style: ``with _figure(size) as
@@ -654,16 +781,18 @@ class _figure:
     def __init__(self, size, n_rows=1):
         try:
             import matplotlib
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
             from matplotlib.figure import Figure
         except ImportError as exc:
             raise ImportError("report: the charts need matplotlib (pip install vtsi[plot])") from exc
         self._context = matplotlib.rc_context(CHART_STYLE)
-        self._figure, self.size, self.n_rows = Figure, size, n_rows
+        self._figure, self._canvas, self.size, self.n_rows = Figure, FigureCanvasAgg, size, n_rows
 
     def __enter__(self):
         self._context.__enter__()
         (w, h), m = self.size, self.MARGINS
         fig = self._figure(figsize=(w, h))
+        self._canvas(fig)                      # Agg: a renderer to measure text with (legends, labels)
         panel = (h - m["bottom"] - m["top"] - (self.n_rows - 1) * m["gap"]) / self.n_rows
         fig.subplots_adjust(left=m["left"] / w, right=1 - m["right"] / w, bottom=m["bottom"] / h, top=1 - m["top"] / h,
                             hspace=m["gap"] / panel)
@@ -681,14 +810,24 @@ def _png(fig):
 
 
 def _legend(ax):
+    """The legend of ``ax`` in the figure's right margin, its labels wrapped (at spaces) until it
+    fits inside the figure. Returns the Legend."""
     handles, labels = ax.get_legend_handles_labels()
-    ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, borderaxespad=0.0)
+    renderer, right = ax.figure.canvas.get_renderer(), ax.figure.bbox.x1
+    width = max((len(line) for label in labels for line in label.split("\n")), default=0)
+    while True:
+        legend = ax.legend(handles, [_wrap(label, width) for label in labels], loc="upper left",
+                           bbox_to_anchor=(1.01, 1.0), frameon=False, borderaxespad=0.0)
+        if legend.get_window_extent(renderer).x1 <= right - 2 or width <= 8:
+            return legend
+        width -= 2
 
 
-def _mix(colour, white):
-    """``colour`` (hex) mixed with a fraction ``white`` of white."""
-    rgb = np.array([int(colour[i: i + 2], 16) for i in (1, 3, 5)], dtype=float)
-    return "#" + "".join(f"{int(round(c + (255 - c) * white)):02x}" for c in rgb)
+def _wrap(label, width):
+    """``label`` with each of its lines wrapped at spaces to ``width`` characters (a longer word
+    is broken)."""
+    return "\n".join("\n".join(textwrap.wrap(line, width, break_on_hyphens=False) or [""])
+                     for line in label.split("\n"))
 
 
 # -- text ------------------------------------------------------------------------------------------
@@ -696,6 +835,12 @@ def _num(value, digits=4):
     """A number with ``digits`` significant digits ('—' for NaN)."""
     value = float(value)
     return "—" if math.isnan(value) else f"{value:.{digits}g}"
+
+
+def _length(value):
+    """A length [m] to the millimetre, trailing zeros dropped: 24.775, 18, 193.3 ('—' for NaN)."""
+    value = float(value)
+    return "—" if math.isnan(value) else (f"{value:.3f}".rstrip("0").rstrip(".") or "0")
 
 
 def _fmt_speed(value):
@@ -710,8 +855,8 @@ def _label(criterion):
     return criterion.replace("_", " ").replace("lm71", "LM71")
 
 
-def _plural(n, word):
-    return f"{n} {word}{'s' * (n != 1)}"
+def _plural(n, word, words=None):
+    return f"{n} {word if n == 1 else words or word + 's'}"
 
 
 def _bridge_model_text(settings, frequencies_hz):
@@ -736,7 +881,11 @@ def _damping_text(settings):
     return f"ζ = {100 * zeta:.3g} % (Rayleigh, through {where})"
 
 
-KEY_UNITS = (("_kg_m", "kg/m"), ("_Pa", "Pa"), ("_m4", "m⁴"), ("_m2", "m²"), ("_m", "m"), ("_hz", "Hz"))
+KEY_UNITS = (("_kg_m", "kg/m"), ("_Pa", "Pa"), ("_m4", "m⁴"), ("_m2", "m²"), ("_m", "m"), ("_hz", "Hz"),
+             ("_Hz", "Hz"))
+# Bridge-file inputs whose name alone would be misread next to the model's own values:
+# {key: (label, what follows the value)}.
+DESCRIPTION_TEXT = {"f1_Hz": ("f1 of the bridge file [Hz]", "(of the first span taken as simply supported: it sets I)")}
 
 
 def _key_text(key):
@@ -789,6 +938,7 @@ tr[data-status="fail"] td { background: #fdf0ef; } tr[data-status="fail"] td.sta
 p.verdict { font-size: 19px; font-weight: 700; padding: 8px 14px; border-radius: 4px; margin: 4px 0 10px; }
 p.verdict.pass { background: #e5f4e8; color: var(--pass); border-left: 6px solid var(--pass); }
 p.verdict.fail { background: #fbe9e7; color: var(--fail); border-left: 6px solid var(--fail); }
+p.verdict.none { background: #eeeeee; color: #333333; border-left: 6px solid #777777; }
 p.warning { background: #fff6db; border-left: 6px solid #d9a400; padding: 6px 12px; }
 ul { margin: 4px 0 10px; padding-left: 22px; } ul.governing li, ul.notes li { margin: 2px 0; }
 ul.notes { color: var(--muted); font-size: 14px; }
