@@ -174,9 +174,11 @@ class CheckResult:
             case = r.train + ("" if np.isnan(r.speed_kmh) else f" {r.speed_kmh:g} km/h")
             if r.train and r.seed >= 0:
                 case += f" seed {r.seed}"
-            lines.append((r.criterion, f"{r.value:.4g} {r.units}", "" if np.isnan(r.limit) else f"{r.limit:.4g}",
-                          "" if np.isnan(r.utilisation) else f"{r.utilisation:.2f}", r.status.upper(), case,
-                          r.where, r.clause))
+            held = r.status != "info"          # an info row's limit is a reference: no utilisation
+            lines.append((r.criterion, f"{r.value:.4g} {r.units}",
+                          "" if np.isnan(r.limit) else f"{'' if held else 'ref. '}{r.limit:.4g}",
+                          "" if np.isnan(r.utilisation) or not held else f"{r.utilisation:.2f}", r.status.upper(),
+                          case, r.where, r.clause))
         widths = [max(len(line[j]) for line in lines) for j in range(len(head))]
         out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
         out.insert(1, "  ".join("-" * w for w in widths))

@@ -550,8 +550,12 @@ class _Report:
     def deflection_png(self, name):
         curves = self._per_train(self.results.envelope(f"{name}_min"), np.nanmin)
         curves = {t: (v, -1e3 * y) for t, (v, y) in curves.items()}
+        row = self.row("deflection")
         with _figure((11, 4.6)) as (fig, ax):
             self._lines(ax, curves)
+            if row is not None and not math.isnan(row.limit):      # the check's L/600 of the governing span
+                ax.axhline(1e3 * row.limit, color=LIMIT_COLOUR, ls="--", lw=2,
+                           label=f"limit L/600 = {_num(1e3 * row.limit)} mm")
             ax.set_ylim(bottom=0)
             self._speed_axis(ax)
             ax.set_ylabel("largest downward deflection [mm]")
