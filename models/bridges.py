@@ -8,7 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from vtsi.damping import rayleigh_damping
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, is_count
+
+MAX_ELEMENTS_PER_SPAN = 1000    # a beam's elements per span: finer than any deck needs (dofs, time)
 
 
 @dataclass
@@ -35,7 +37,7 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
     ----------
     model : vtsi.Model
     spans : sequence of span lengths [m].
-    elements_per_span : int, even (so that a node sits at each midspan).
+    elements_per_span : int, even (so that a node sits at each midspan), at most MAX_ELEMENTS_PER_SPAN.
     E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only).
     consistent_mass : True for the consistent mass matrix of each ``elasticBeamColumn`` (cubic
         Hermite bending, linear axial; ``cmass`` 1), False for the lumped one (μL/2 on ux and uy
@@ -53,11 +55,13 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
     if isinstance(spans, (str, bytes)) or not np.iterable(spans):
         raise ModelError(f"continuous_beam: spans must be a sequence of span lengths [m], got {spans!r}")
     spans = [as_number(s, "continuous_beam", "a span length [m]") for s in spans]
-    if not spans or any(not s > 0 for s in spans):
-        raise ModelError(f"continuous_beam: spans must be positive, got {spans}")
+    if not spans or any(not (0 < s < np.inf) for s in spans):
+        raise ModelError(f"continuous_beam: spans must be positive and finite, got {spans}")
+    if not (is_count(elements_per_span, 2) and elements_per_span % 2 == 0
+            and elements_per_span <= MAX_ELEMENTS_PER_SPAN):
+        raise ModelError(f"continuous_beam: elements_per_span must be an even integer from 2 to "
+                         f"{MAX_ELEMENTS_PER_SPAN}, got {elements_per_span!r}")
     n = int(elements_per_span)
-    if n < 2 or n % 2:
-        raise ModelError(f"continuous_beam: elements_per_span must be even and >= 2, got {elements_per_span}")
     xs = [x0]
     for s in spans:
         xs.extend(xs[-1] + s * np.arange(1, n + 1) / n)

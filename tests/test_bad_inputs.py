@@ -166,6 +166,11 @@ MODEL_CASES = [
      r"^pattern 1: element tag must be an integer, got 1.7$"),
     ("beam load on a text element tag", lambda m: m.patterns[1].beam_load("x", "uniform", -1.0, 0.0),
      r"^pattern 1: element tag must be an integer, got 'x'$"),
+    ("a beam of 1e10 elements a span (E slipped into its place: it tried to allocate 75 GB)",
+     lambda m: simply_supported_beam(m, 20.0, 1e10, 1.0, 1e4, 15e3, first_node=100, first_element=100),
+     r"^continuous_beam: elements_per_span must be an even integer from 2 to 1000, got 10000000000.0$"),
+    ("an infinite span", lambda m: simply_supported_beam(m, math.inf, 4, 3e10, 1.0, 1e4, first_node=100),
+     r"^continuous_beam: spans must be positive and finite, got \[inf\]$"),
 ]
 
 
@@ -818,6 +823,20 @@ COUPLED_CASES = [
      .irregularity_at(np.array([0.0, 0.1]), 1e-3),
      ModelError, r"^MovingLoadConstraint: the irregularity gives nan under contact wheel 0 at x = 2 m$"),
 ]
+
+
+def test_a_conditionally_stable_scheme_on_a_massless_dof_is_named_in_both_analyses():
+    """A lumped-mass beam has no rotary mass: under Newmark's linear-acceleration rule no dt is
+    stable. Both analyses (they build their stages in one place) name the dof; it said 'stability
+    limit 0 s (... omega_max = inf rad/s)'."""
+    m = vtsi.Model()
+    b = simply_supported_beam(m, 20.0, 4, 3e10, 1.0, 1e4, consistent_mass=False)
+    message = r"^integrator Newmark is conditionally stable and node \d dof 3 \(rz\) is a free dof without mass"
+    with pytest.raises(AnalysisError, match=message):
+        vtsi.TransientAnalysis(m, Newmark(0.5, 1 / 6), 1e-3).run(1)
+    train = TrainSubdomain(Train([sprung_mass(**CAR)], [0.0], 20.0), x_head0=-1.0)
+    with pytest.raises(AnalysisError, match=message):
+        CoupledAnalysis(m, MovingLoadConstraint(Track(m, b.elements), train), Newmark(0.5, 1 / 6), 1e-3).static()
 
 
 @pytest.mark.parametrize("bad, exc, match", [c[1:] for c in COUPLED_CASES], ids=[c[0] for c in COUPLED_CASES])

@@ -518,16 +518,6 @@ class TransientAnalysis:
                 return asm
         active = moving_dofs(asm, self.model, loaded=loaded)
         if stages is None or stages.assembly is not asm or not np.array_equal(active, stages.active):
-            # a free dof with stiffness but no mass makes omega_max infinite (an explicit scheme's
-            # effective matrix names it itself unless damping fills it)
-            filled = asm.C.diagonal() if self.integrator.explicit else asm.K.diagonal()
-            massless = active[(asm.M.diagonal()[active] <= 0.0) & (filled[active] > 0.0)]
-            if len(massless) and self.integrator.stability_limit(self.dt) is not None:
-                raise AnalysisError(f"integrator {self.integrator.name} is conditionally stable and "
-                                    f"{asm.dof_label(massless[0])} is a free dof without mass (omega_max is infinite: "
-                                    "no dt is stable); give it mass, fix it, or use an unconditionally stable scheme "
-                                    "(Newmark 0.5 0.25, HHT or GeneralizedAlpha with their default gamma and beta, "
-                                    "Bathe)")
             self.stages = FEStages(asm, active, self.integrator, self.dt)
         at_rest = np.ones(asm.n_free, dtype=bool)
         at_rest[self.stages.active] = False

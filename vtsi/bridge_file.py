@@ -43,6 +43,7 @@ from typing import Callable
 from vtsi import opensees
 from vtsi.commands.tcl import Interpreter, script_line
 from vtsi.errors import ModelError, VtsiError, is_int
+from vtsi.models.bridges import MAX_ELEMENTS_PER_SPAN
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
 from vtsi.track import Track
@@ -60,7 +61,6 @@ for their meaning and units), besides ``seeds`` (rail samples, a list of ints >=
 
 SCRIPT_SUFFIXES = (".tcl", ".py")
 DESCRIPTION_SUFFIXES = (".toml", ".yaml", ".yml")
-MAX_ELEMENTS_PER_SPAN = 1000    # a beam's elements per span: finer than any deck needs (dofs, time)
 SPAN_RANGE_M = (1.0, 1000.0)    # a beam's spans [m]: outside, spans_m is taken to be in mm or km
 
 

@@ -193,6 +193,13 @@ class FEStages(BridgeStages):
             factors.append(factor_stage(assembly, active, st.kv[A], st.ku[A], what, cause))
         limit = integrator.stability_limit(dt)
         if limit is not None:
+            massless = np.flatnonzero((assembly.M.diagonal() <= 0.0) & (assembly.K.diagonal() > 0.0))
+            if len(massless):          # omega_max (of every free dof, as max_frequency) is infinite: no dt is stable
+                raise AnalysisError(f"integrator {integrator.name} is conditionally stable and "
+                                    f"{assembly.dof_label(massless[0])} is a free dof without mass (omega_max is "
+                                    "infinite: no dt is stable); give it mass, fix it, or use an unconditionally "
+                                    "stable scheme (Newmark 0.5 0.25, HHT or GeneralizedAlpha with their default "
+                                    "gamma and beta, Bathe)")
             omega_max = max_frequency(assembly)
             if omega_max * dt > limit * (1.0 + 1e-12):
                 raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
