@@ -386,20 +386,29 @@ def _dynamic_increment(results, outputs, bridge, settings):
     return rows
 
 
-def _increment_rows(results, name, row, suffix, what, bridge, settings):
+def mid_span_ratios(results, name, row, bridge):
+    """The dynamic-to-static ratios of output ``name`` at each span's middle: ``(ratio (n_train,
+    n_speed, n_seed, n_spans) = y_dyn / y_stat of the envelope row ``row`` (MIN: the downward
+    deflection, MAX: the sagging moment) over the static value under the same train, the mid-span
+    columns, the static values under the trains (n_train, n_spans) and under LM71 (n_spans))``;
+    None when the sweep kept no static values or no mid-span column of ``name``."""
     static = results.static(name)
     if static is None:
-        return []
+        return None
     env, columns = results.column_envelopes(name)
     spans = [c for c in _span_columns(columns, bridge) if c >= 0]
     if not spans:
+        return None
+    stat = static[0][:, row, :][:, spans]                     # the same sign as the envelope row
+    return env[..., row, :][..., spans] / stat[:, None, None, :], spans, stat, static[1][row, spans]
+
+
+def _increment_rows(results, name, row, suffix, what, bridge, settings):
+    ratios = mid_span_ratios(results, name, row, bridge)
+    if ratios is None or np.all(np.isnan(ratios[0])):
         return []
-    stat_train, stat_lm71 = static
-    dyn = env[..., row, :][..., spans]                        # (n_train, n_speed, n_seed, n_spans)
-    stat = stat_train[:, row, :][:, spans]                    # (n_train, n_spans), the same sign
-    ratio = dyn / stat[:, None, None, :]
-    if np.all(np.isnan(ratio)):
-        return []
+    ratio, spans, stat, stat_lm71 = ratios
+    columns = results.column_envelopes(name)[1]
     train, speed, seed, idx = _governing(results, ratio, np.nanargmax)
     phi_dyn = float(ratio[idx]) - 1.0
     rows = [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
@@ -409,7 +418,7 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
     L_phi, Phi, phi2, share = _design_factors(results, bridge, settings)
     per_train = np.nanmax(ratio, axis=(1, 2)) - 1.0              # φ'_dyn per train and span
     design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
-    lm71 = Phi * settings.alpha * np.abs(stat_lm71[row, spans])
+    lm71 = Phi * settings.alpha * np.abs(stat_lm71)
     r = design / lm71[None, :]
     if np.all(np.isnan(r)):
         return rows

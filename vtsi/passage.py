@@ -519,10 +519,15 @@ class PassageRunner:
         return self._trains[name].with_speed(speed)
 
     def approach(self, train):
+        """The first wheel's distance before the track at t = 0 [m]."""
         s = self.settings
         if s.approach is not None:
             return s.approach
         return 0.0 if train.n_dof == 0 else CAR_APPROACH
+
+    def start_position(self, train):
+        """x_head0 [m]: the train's head at t = 0 (its first wheel ``approach`` before the track)."""
+        return self.track.x_begin - self.approach(train) + float(train.wheel_offsets[0])
 
     def n_steps(self, train):
         """Steps of a passage: to the last wheel leaving the track, plus the free vibration."""
@@ -580,7 +585,7 @@ class PassageRunner:
             return self._modal_passage(train_name, train, float(speed_kmh), int(seed),
                                        self.outputs if outputs is None else outputs, clock)
         approach = self.approach(train)
-        x_head0 = self.track.x_begin - approach + float(train.wheel_offsets[0])
+        x_head0 = self.start_position(train)
         n_steps = self.n_steps(train)
         irregularity = None
         if s.irregularity is not None and train.n_dof:
@@ -645,7 +650,7 @@ class PassageRunner:
         (:mod:`vtsi.modal_passage`): every node output's columns from one pass, sampled every Δt."""
         s, modal = self.settings, self.modal
         n_steps = self.n_steps(train)
-        x_head0 = self.track.x_begin - self.approach(train) + float(train.wheel_offsets[0])
+        x_head0 = self.start_position(train)
         rows, parts = self._modal_plan(outputs)
         values = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt, rows)
         result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)

@@ -55,7 +55,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import stored_check
+from vtsi.check import mid_span_ratios, stored_check
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, modal_basis_hz
 from vtsi.sweep import resonance_speeds
@@ -564,15 +564,10 @@ class _Report:
             return _png(fig)
 
     def daf_png(self, name):
-        static = self.results.static(name)
-        if static is None:
+        ratios = mid_span_ratios(self.results, name, MIN, self.bridge)
+        if ratios is None:
             return None
-        env, columns = self.results.column_envelopes(name)
-        spans = [int(np.flatnonzero(columns == m)[0]) for m in self.bridge["midspan_nodes"] if np.any(columns == m)]
-        if not spans:
-            return None
-        ratio = env[..., MIN, :][..., spans] / static[0][:, MIN, :][:, spans][:, None, None, :]
-        curves = self._per_train(ratio, np.nanmax)
+        curves = self._per_train(ratios[0], np.nanmax)
         row = self.row("dynamic_increment")
         with _figure((11, 4.6)) as (fig, ax):
             self._lines(ax, curves)

@@ -172,7 +172,7 @@ def run_peer(sweep, train_name, speed_kmh):
     """One passage in OpenSeesPy with the passage's own bridge, train and step count."""
     runner = sweep.runner
     train = runner.train(train_name, speed_kmh / 3.6)
-    x_head0 = runner.track.x_begin - runner.approach(train) + float(train.wheel_offsets[0])
+    x_head0 = runner.start_position(train)
     node_x = np.array([runner.model.nodes[n][0] for n in runner.deck_nodes])
     desc = sweep.bridge.description
     return peer.run_passage(node_x, desc["E_Pa"], desc["I_m4"], desc["mu_kg_m"], runner.model.rayleigh_factors,
