@@ -56,6 +56,7 @@ from scipy.sparse.linalg import spsolve
 from vtsi.analysis import component_labels, dofs_with
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.errors import AnalysisError, ModelError
+from vtsi.track import hermite, hermite_curvature, hermite_slope, host_element
 from vtsi.train import TrainSubdomain
 from vtsi.vehicle import GRAVITY
 
@@ -181,29 +182,25 @@ def irregularity_functions(irregularity, x_probe):
     return profile
 
 
-def hermite_rows(x, x_e, l_e):
-    """Hermite functions [H1, ℓH2, H3, ℓH4] of a beam element and their first and second
-    x-derivatives at positions ``x`` on elements starting at ``x_e`` of length ``l_e``
-    (arrays of equal shape) -> three arrays (..., 4) [1, 1/m, 1/m²] (rotation columns: [m, 1, 1/m])."""
-    xi = (x - x_e) / l_e
-    x2, x3 = xi * xi, xi * xi * xi
-    h = np.stack([1 - 3 * x2 + 2 * x3, l_e * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, l_e * (x3 - x2)], axis=-1)
-    d1 = np.stack([(6 * x2 - 6 * xi) / l_e, 1 - 4 * xi + 3 * x2, (6 * xi - 6 * x2) / l_e, 3 * x2 - 2 * xi], axis=-1)
-    d2 = np.stack([(12 * xi - 6) / l_e ** 2, (6 * xi - 4) / l_e, (6 - 12 * xi) / l_e ** 2, (6 * xi - 2) / l_e], axis=-1)
-    return h, d1, d2
-
-
 @njit(cache=True)
 def hermite3(x, x_e, l_e, h, d1, d2):
-    """Numba twin of :func:`hermite_rows` for one position: fills h, d1, d2 (4,)."""
+    """The track's Hermite row [H1, ℓH2, H3, ℓH4] (:mod:`vtsi.track`) and its first and second
+    x-derivatives at one position ``x`` on an element starting at ``x_e`` of length ``l_e``:
+    fills h, d1, d2 (4,) [1, 1/m, 1/m²] (rotation columns: [m, 1, 1/m])."""
     xi = (x - x_e) / l_e
-    x2 = xi * xi
-    x3 = x2 * xi
-    h[0], h[1], h[2], h[3] = 1 - 3 * x2 + 2 * x3, l_e * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, l_e * (x3 - x2)
-    d1[0], d1[1] = (6 * x2 - 6 * xi) / l_e, 1 - 4 * xi + 3 * x2
-    d1[2], d1[3] = (6 * xi - 6 * x2) / l_e, 3 * x2 - 2 * xi
-    d2[0], d2[1] = (12 * xi - 6) / (l_e * l_e), (6 * xi - 4) / l_e
-    d2[2], d2[3] = (6 - 12 * xi) / (l_e * l_e), (6 * xi - 2) / l_e
+    h[0], h[1], h[2], h[3] = hermite(xi, l_e)
+    d1[0], d1[1], d1[2], d1[3] = hermite_slope(xi, l_e)
+    d2[0], d2[1], d2[2], d2[3] = hermite_curvature(xi, l_e)
+
+
+def hermite_rows(x, x_e, l_e):
+    """:func:`hermite3` at positions ``x`` on elements ``x_e``, ``l_e`` (arrays of equal shape)
+    -> three arrays (..., 4)."""
+    x, x_e, l_e = (np.asarray(a, dtype=float) for a in (x, x_e, l_e))
+    h, d1, d2 = (np.empty(x.shape + (4,)) for _ in range(3))
+    for i in np.ndindex(x.shape):
+        hermite3(x[i], x_e[i], l_e[i], h[i], d1[i], d2[i])
+    return h, d1, d2
 
 
 @njit(cache=True)
@@ -490,10 +487,7 @@ class CoupledSystem:
         if self.track is None:
             return -np.ones(x.shape, dtype=np.int64)
         tr = self.track
-        e = np.searchsorted(tr.x_start, x, side="right") - 1
-        e = np.clip(e, 0, len(tr.x_start) - 1)
-        off = (x < tr.x_begin) | (x > tr.x_end)
-        return np.where(off, -1, e).astype(np.int64)
+        return np.array([host_element(xi, tr.x_start, tr.length) for xi in x], dtype=np.int64)
 
     def host_data(self, hosts):
         """(x_e, l_e, cols) of host elements (cols: bridge free dofs, -1 where fixed or off)."""
