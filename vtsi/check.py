@@ -416,7 +416,9 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
                      note=f"phi'_dyn of the {what} ({name}) against its static value under the same train"
                           f"{_truncation_note(results, bridge)}")]
     L_phi, Phi, phi2, share = _design_factors(results, bridge, settings)
-    per_train = np.nanmax(ratio, axis=(1, 2)) - 1.0              # φ'_dyn per train and span
+    ran = ~np.all(np.isnan(ratio), axis=(1, 2))                  # a train with no finished case (incomplete sweep): NaN
+    per_train = np.full(ran.shape, np.nan)
+    per_train[ran] = np.nanmax(ratio.transpose(0, 3, 1, 2)[ran], axis=(1, 2)) - 1.0   # φ'_dyn per train and span
     design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
     lm71 = Phi * settings.alpha * np.abs(stat_lm71)
     r = design / lm71[None, :]
