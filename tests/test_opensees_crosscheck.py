@@ -299,15 +299,21 @@ def test_queries_and_remove_recorders(tmp_path):
     assert len((val_dir / "node2.out").read_text().splitlines()) == 10
 
 
-def series_factors(ops, series_args, n=220, d_lambda=0.0137):
-    """The factors of a time series at pseudo-times 0.0137, 0.0274, … (LoadControl steps), read
-    with getLoadFactor."""
+def clamped_pair(ops, x2, y2):
+    """A fresh 2-D model (ndf 3): node 1 clamped at the origin, node 2 at (x2, y2), geomTransf
+    Linear 1."""
     ops.wipe()
     ops.model("basic", "-ndm", 2, "-ndf", 3)
     ops.node(1, 0.0, 0.0)
-    ops.node(2, 1.0, 0.0)
+    ops.node(2, x2, y2)
     ops.fix(1, 1, 1, 1)
     ops.geomTransf("Linear", 1)
+
+
+def series_factors(ops, series_args, n=220, d_lambda=0.0137):
+    """The factors of a time series at pseudo-times 0.0137, 0.0274, … (LoadControl steps), read
+    with getLoadFactor."""
+    clamped_pair(ops, 1.0, 0.0)
     ops.element("elasticBeamColumn", 1, 1, 2, 1.0, 1.0, 1.0, 1)
     ops.timeSeries(*series_args)
     ops.pattern("Plain", 1, series_args[1])
@@ -365,15 +371,22 @@ def ground_shaken_frame(ops, direction):
     ops.constraints("Plain")
     ops.numberer("Plain")
     ops.system("BandGeneral")
+    out = newmark_steps(ops, 300, 0.005, lambda: ops.nodeDisp(3) + ops.nodeDisp(5))
+    ops.wipe()
+    return np.array(out)
+
+
+def newmark_steps(ops, n, dt, read):
+    """``read()`` after each of ``n`` steps ``analyze(1, dt)`` of a linear Newmark (average
+    acceleration) analysis, as a list."""
     ops.algorithm("Linear")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
     out = []
-    for _ in range(300):
-        ops.analyze(1, 0.005)
-        out.append(ops.nodeDisp(3) + ops.nodeDisp(5))
-    ops.wipe()
-    return np.array(out)
+    for _ in range(n):
+        ops.analyze(1, dt)
+        out.append(read())
+    return out
 
 
 @pytest.mark.parametrize("direction", [1, 2])
@@ -744,12 +757,7 @@ def ground_shaken_cantilever(ops, element, mass_option, ground=True, loads=None)
     mass is ``element``'s own (``mass_option``: lumped or consistent) under a ground acceleration
     in x (a -dt Path, -fact 9.81), or (``ground=False``) a Plain pattern of nodal ``loads`` at node 2
     times the same series: node 2's x displacement over 40 Newmark steps."""
-    ops.wipe()
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
-    ops.node(1, 0.0, 0.0)
-    ops.node(2, 0.0, 4.0)
-    ops.fix(1, 1, 1, 1)
-    ops.geomTransf("Linear", 1)
+    clamped_pair(ops, 0.0, 4.0)
     if element == "elasticBeamColumn":
         ops.element("elasticBeamColumn", 1, 1, 2, 0.02, 2.1e11, 3e-4, 1, "-mass", 150.0, *mass_option)
     elif element == "ElasticTimoshenkoBeam":
@@ -767,13 +775,7 @@ def ground_shaken_cantilever(ops, element, mass_option, ground=True, loads=None)
     else:
         ops.pattern("Plain", 3, 7)
         ops.load(2, *loads)
-    ops.algorithm("Linear")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
-    out = []
-    for _ in range(40):
-        ops.analyze(1, 0.005)
-        out.append(ops.nodeDisp(2, 1))
+    out = newmark_steps(ops, 40, 0.005, lambda: ops.nodeDisp(2, 1))
     load = None
     if ops is vops:     # −M r a_g at node 2, per unit a_g
         asm = vops.session.domain.build()

@@ -184,22 +184,20 @@ def test_tcl_errors():
 def test_main_exit_codes(tmp_path, capsys):
     """A script's failing command: one line naming the script, its line and vtsi's message, exit
     status 2; ``--traceback`` adds the Tcl traceback; a Python script is refused, naming python."""
-    bad = tmp_path / "bad.tcl"
-    bad.write_text("model basic -ndm 2 -ndf 3\nnode 1 0 0\nbogusCommand 3\n")
-    assert main([str(bad)]) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert len(err) == 1 and err[0].startswith(f"vtsi: {bad} line 3: unknown command 'bogusCommand'")
-    nested = tmp_path / "nested.tcl"
-    nested.write_text("model basic -ndm 2 -ndf 3\nproc twice {} {\n  node 1 0 0\n  node 1 0 0\n}\ntwice\n")
-    assert main(["run", "--traceback", str(nested)]) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert err[0] == f"vtsi: {nested} line 6: node 1 already exists"
+    def run(name, text, *options):
+        script = tmp_path / name
+        script.write_text(text)
+        status = main(["run", *options, str(script)])
+        return status, script, capsys.readouterr().err.splitlines()
+
+    status, bad, err = run("bad.tcl", "model basic -ndm 2 -ndf 3\nnode 1 0 0\nbogusCommand 3\n")
+    assert status == 2 and len(err) == 1 and err[0].startswith(f"vtsi: {bad} line 3: unknown command 'bogusCommand'")
+    status, nested, err = run("nested.tcl", "model basic -ndm 2 -ndf 3\nproc twice {} {\n  node 1 0 0\n  node 1 0 0\n}\n"
+                                            "twice\n", "--traceback")
+    assert status == 2 and err[0] == f"vtsi: {nested} line 6: node 1 already exists"
     assert err[1] == "Tcl traceback:" and '(procedure "twice" line 3)' in "\n".join(err)
-    expr = tmp_path / "expr.tcl"
-    expr.write_text("puts ok\nset x [expr {1 +}]\n")
-    assert main([str(expr)]) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert len(err) == 1 and err[0].startswith(f"vtsi: {expr} line 2: Tcl error: missing operand")
+    status, expr, err = run("expr.tcl", "puts ok\nset x [expr {1 +}]\n")
+    assert status == 2 and len(err) == 1 and err[0].startswith(f"vtsi: {expr} line 2: Tcl error: missing operand")
     python = tmp_path / "model.py"
     python.write_text("import vtsi.opensees as ops\n")
     with pytest.raises(SystemExit) as info:
