@@ -423,6 +423,17 @@ def test_text_file_is_truncated_when_built_and_appended_across_runs(tmp_path):
     assert len(path.read_text().splitlines()) == 5
 
 
+def test_text_lines_end_as_the_platform_s(tmp_path, monkeypatch):
+    """OpenSees's text streams end lines with the platform's line end (CRLF on Windows): a text
+    recorder does too (it wrote LF everywhere); numpy reads either."""
+    import vtsi.recorders.sinks as sinks
+    monkeypatch.setattr(sinks, "LINE_END", b"\r\n")               # as on Windows
+    path = tmp_path / "node.out"
+    vtsi.TransientAnalysis(beam(), "Newmark", DT, recorders=[NodeRecorder([3], [2], sink=TextSink(path))]).run(3)
+    raw = path.read_bytes()
+    assert raw.count(b"\r\n") == 3 and raw.count(b"\n") == 3 and np.loadtxt(path).shape == (3,)
+
+
 def test_text_envelope_format():
     env = Envelope(2)
     env.update(np.array([0.1, 0.2]), np.array([[1.0, -4.0], [-2.0, 3.0]]))

@@ -21,6 +21,8 @@ import numpy as np
 from vtsi.errors import ModelError, as_flag, is_count
 from vtsi.recorders.number_text import format_g_bytes, format_g_rows
 
+LINE_END = os.linesep.encode()   # text recorders end lines as OpenSees's text streams do here (CRLF on Windows)
+
 
 class Sink:
     """Base class of the sinks (see the module docstring)."""
@@ -290,6 +292,8 @@ class TextSink(Sink):
         if values is None:
             return
         text = format_g_bytes(values, self.precision, times if self.echo_time else None)
+        if LINE_END != b"\n":
+            text = text.replace(b"\n", LINE_END)
         try:
             if self.close_on_write:
                 with open(self.path, "ab") as fh:
