@@ -23,7 +23,7 @@ from importlib import resources
 import numpy as np
 
 from vtsi.errors import ModelError, as_number
-from vtsi.vehicle import GRAVITY, Car
+from vtsi.vehicle import GRAVITY, Car, moving_force  # noqa: F401 (the core types, importable from here as before)
 
 TEN_DOF_PARAMETERS = (
     'body_mass', 'body_pitch_inertia', 'bogie_mass', 'bogie_pitch_inertia', 'wheelset_mass',

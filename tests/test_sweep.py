@@ -775,6 +775,10 @@ def test_a_changed_setting_is_named_not_the_bridge_hash(tmp_path):
     with pytest.raises(SweepError, match=r"differs in settings.damping \(0.02 here, 0.0125 in the file\)") as info:
         other.run(path, workers=1, resume=True)
     assert "fingerprint" not in str(info.value)
+    finer = Sweep(small_bridge(), ["HSLM-A1"], "200", PassageSettings(dt=2.5e-3, damping=0.0125))
+    with pytest.raises(SweepError, match=r"differs in settings.dt \(0.0025 here, 0.005 in the file\) \(to continue "
+                                         r"that file, give its dt = 0.005 s\)"):
+        finer.run(path, workers=1, resume=True)     # as a file of the old 1 ms default under today's default
     stiffer = beam_bridge([L], 1.1 * EI, 1.0, MU, elements_per_span=4)
     stiffer.description = small_bridge().description        # as a script that reads an edited file would
     outputs = [Output("deflection", "disp")]

@@ -335,3 +335,18 @@ def test_bad_train_inputs_name_the_object_and_value(setup, command, args, messag
         session.analysis("Static")
     with pytest.raises(CommandError, match=message):
         getattr(session, command)(*args)
+
+
+def test_a_train_of_cars_in_a_model_s_own_units():
+    """With units('N', 'mm') a train's speed is in mm/s: 'train -cars' at 300 km/h (83 333 mm/s)
+    ran, then was refused as faster than any train (200 m/s read as 200 mm/s); a speed above
+    200 m/s in the model's units still is."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.units("N", "mm")
+    ops.car(1, "movingForce", 170e3)
+    ops.train(1, "300km/h", "-cars", 1, 0.0)
+    ops.train(2, "300km/h", "-HSLM", "A1")
+    with pytest.raises(CommandError, match=r"train 3: speed: 250000 mm/s \(900 km/h\) is faster than any train"):
+        ops.train(3, 250e3, "-cars", 1, 0.0)
+    ops.wipe()

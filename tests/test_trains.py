@@ -143,6 +143,9 @@ def test_csv_tables_from_spreadsheets_and_their_slips(tmp_path):
         train = Train.from_csv(path, speed=50.0)
         np.testing.assert_array_equal(train.wheel_offsets, [0.0, 3.0, 14.5])
         np.testing.assert_array_equal(train.static_wheel_loads, [2e5, 2e5, 1.5e5])
+    trailing = tmp_path / 'trailing.csv'
+    trailing.write_text('position_m,load_kN\n0,170,\n3,170,\n')              # a trailing delimiter: read
+    np.testing.assert_array_equal(Train.from_csv(trailing, speed=50.0).static_wheel_loads, [1.7e5, 1.7e5])
     bad = tmp_path / 'bad.csv'
     for text, message in (('position_m,load_kN\n0,200\n3,-200\n', r"bad\.csv line 3: load must be > 0 \[kN\], got -200$"),
                           ('position_m,load_kN,position_m\n0,200,0\n', "line 1: the header names column 'position_m' twice"),

@@ -307,7 +307,10 @@ def _describe(diff):
         return "it differs in the bridge's matrices or track (bridge_fingerprint)"
     show = lambda value: "none" if value is None else json.dumps(value, sort_keys=True)[:60]   # noqa: E731
     where = "".join(f"[{key}]" if isinstance(key, int) else f".{key}" for key in path).lstrip(".")
-    return f"it differs in {where} ({show(here)} here, {show(there)} in the file)"
+    hint = ""
+    if path == ("settings", "dt") and there is not None:     # the default dt follows the bridge's cut-off
+        hint = f" (to continue that file, give its dt = {there:g} s)"
+    return f"it differs in {where} ({show(here)} here, {show(there)} in the file){hint}"
 
 
 def _stored_train_difference(f, runner, names):

@@ -376,6 +376,8 @@ class Train:
         columns = header.index('position_m'), header.index('load_kn')
         values, labels = [], []
         for line, row in rows[1:]:
+            while len(row) > len(header) and not row[-1].strip():     # a trailing delimiter
+                row = row[:-1]
             if len(row) > len(header):
                 raise ModelError(f"{path} line {line}: {len(row)} cells under a header of {len(header)} ({row}): "
                                  "a decimal comma in a comma-separated table?")
@@ -399,9 +401,12 @@ def _speed(value, where, max_speed):
     speed = as_number(value, where, "speed [m/s]")
     if not (np.isfinite(speed) and speed >= 0):
         raise ModelError(f"{where}: speed must be finite and >= 0, got {value!r}")
-    if speed > max_speed:
+    if speed > max_speed and max_speed == MAX_TRAIN_SPEED:
         raise ModelError(f"{where}: speed {speed:g} m/s ({3.6 * speed:.4g} km/h) is faster than any train (at most "
                          f"{MAX_TRAIN_SPEED:g} m/s); speeds are in m/s here: {speed:g} km/h is {speed / 3.6:.4g} m/s")
+    if speed > max_speed:                  # a train in a model's other units (the command layer's)
+        raise ModelError(f"{where}: speed {speed:g} is faster than any train (at most {max_speed:g} in the train's "
+                         f"units, {MAX_TRAIN_SPEED:g} m/s)")
     return speed
 
 

@@ -33,7 +33,7 @@ from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis, coupled_integrator
 from vtsi.errors import CommandError, ModelError, is_int
 from vtsi.models import Irregularity, cars, fra_psd, german_psd, trains
-from vtsi.vehicle import Train, moving_force
+from vtsi.vehicle import MAX_TRAIN_SPEED, Train, moving_force
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
@@ -149,7 +149,8 @@ class TrainCommands(SessionBase):
                     pairs.append((self._cars[car_tag], a.float(f"offset of car {car_tag}")))
                 if not pairs:
                     raise CommandError(f"train {tag}: no cars after -cars")
-                built = Train([c for c, _ in pairs], [o for _, o in pairs], speed, name=f"train {tag}")
+                built = Train([c for c, _ in pairs], [o for _, o in pairs], speed, name=f"train {tag}",
+                              max_speed=MAX_TRAIN_SPEED * self._units.f_length)     # speeds in model units
             elif opt == "-ICE3":
                 built = self._units.train(trains.ice3(a.int("number of cars"), speed=1.0), speed)
             elif opt == "-HSLM":
