@@ -268,6 +268,24 @@ def test_an_incomplete_sweep_gets_no_pass_and_a_pass_names_what_it_did_not_evalu
                                 "sweep: 1 of 2 cases)"
 
 
+def test_notes_of_a_continuous_short_deck_and_of_a_modal_basis_above_the_cut_off():
+    """A continuous deck takes all ten HSLM-A trains whatever its spans (HSLM-B is for simply
+    supported spans under 7 m): 2 × 5 m swept with A1 says so (it said nothing). A modal bridge
+    whose basis reaches 1.1 × the cut-off, time-stepped at the default dt (20 steps a period of
+    the cut-off), is not noted as unconverged (it was, from the basis' margin)."""
+    mu, f1, span = 8000.0, 20.0, 5.0
+    short = Sweep(beam_bridge([span, span], mu * (2 * np.pi * f1 * (span / np.pi) ** 2) ** 2, 1.0, mu,
+                              elements_per_span=4), ["HSLM-A1"], "300", PassageSettings(damping=0.013))
+    note = check(short.run(None, workers=1, progress=False)).row("deck_acceleration").note
+    assert "HSLM-A is its ten trains A1 to A10 (a continuous deck, or a span of 7 m or more)" in note
+    f1 = 48.0 / 9.0                                          # n₃ = 48 Hz: the default dt is 1 ms
+    stepped = Sweep(beam_bridge([L], MU * (2 * np.pi * f1 * (L / np.pi) ** 2) ** 2, 1.0, MU, elements_per_span=10),
+                    ["HSLM-A1"], "250", PassageSettings(damping=0.0125, bridge="modal-stepped"),
+                    [Output("deflection", "disp"), Output("acceleration", "accel")])
+    row = check(stepped.run(None, workers=1, progress=False)).row("deck_acceleration")
+    assert stepped.settings.dt == 1e-3 and "modal bridge's modes" in row.note and "not converged" not in row.note
+
+
 def test_a_short_span_without_hslm_b_says_so():
     """EN 1991-2 6.4.6.1.1: a simply supported span under 7 m is checked with HSLM-B (reference/
     README.md); a 5 m span swept with HSLM-A1 only says so in the deck acceleration's note, and
