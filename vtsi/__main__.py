@@ -3,6 +3,7 @@
     vtsi run SCRIPT.tcl [args ...]      run an OpenSees Tcl script with vtsi's command layer
     vtsi SCRIPT.tcl [args ...]          the same (the original form)
     vtsi sweep BRIDGE --trains ... --speeds ...   a speed sweep into an HDF5 results file
+    vtsi check BRIDGE --trains ... --line-speed ...   the EN 1990 A2 / EN 1991-2 design check and report
     vtsi trains                         the train catalogue
 
 Exit status of ``run``: the script's ``exit`` code, 0 when it ends normally; 2 a bad command line
@@ -15,6 +16,8 @@ ran (the finished cases stay in the results file); 130 interrupted (Ctrl-C) and 
 (SIGTERM, as Slurm and systemd stop a job): the finished cases stay in the results file
 (``--resume``). A reader that closes standard output early (``| head``) changes nothing: the
 results file is complete and the status is what it would have been.
+Exit status of ``check``: 0 every criterion passes; 1 a criterion fails, or no verdict; 2 and 130,
+143 as ``sweep``; 3 a passage failed.
 """
 import argparse
 import contextlib

@@ -251,9 +251,10 @@ SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments 
 
 
 def check(results, settings=None):
-    """Evaluate every criterion on ``results`` (a :class:`SweepResults` or a results file path);
-    a SweepError when no criterion can be evaluated (the sweep kept none of their outputs) or a
-    deck acceleration output counts fewer frequencies than the EN cut-off."""
+    """Evaluate every criterion on ``results`` (a :class:`SweepResults` or a results file path)
+    with ``settings`` (:class:`CheckSettings`; None: its defaults); a SweepError when no
+    criterion can be evaluated (the sweep kept none of their outputs) or a deck acceleration
+    output counts fewer frequencies than the EN cut-off."""
     settings = CheckSettings() if settings is None else settings
     if not isinstance(settings, CheckSettings):
         raise SweepError(f"check: settings must be CheckSettings, got {type(settings).__name__}")
@@ -396,7 +397,8 @@ def mid_span_ratios(results, name, row, bridge):
     n_speed, n_seed, n_spans) = y_dyn / y_stat of the envelope row ``row`` (MIN: the downward
     deflection, MAX: the sagging moment) over the static value under the same train, the mid-span
     columns, the static values under the trains (n_train, n_spans) and under LM71 (n_spans))``;
-    None when the sweep kept no static values or no mid-span column of ``name``."""
+    None when the sweep kept no static values or no mid-span column of ``name``. ``bridge``: the
+    results file's bridge record (:meth:`SweepResults.bridge`)."""
     static = results.static(name)
     if static is None:
         return None

@@ -15,7 +15,7 @@ acceleration chart, and the times at which a train is on the deck in a history c
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
 
 ===========  ======================================================================================
-summary      the verdict (PASS / FAIL, counting the criteria held to a limit), the sweep's
+summary      the verdict (the check's one line: PASS, FAIL or NO VERDICT), the sweep's
              extent, one line per criterion with its governing case
 checks       the check's table: criterion, value, limit, utilisation, status, governing train,
              speed [km/h], place, clause; every number also as ``data-value`` (its ``repr``, the

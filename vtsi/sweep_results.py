@@ -305,7 +305,10 @@ def _describe(diff):
                 "axle table, or a catalogue train changed between vtsi versions")
     if path == ("bridge_fingerprint",):
         return "it differs in the bridge's matrices or track (bridge_fingerprint)"
-    show = lambda value: "none" if value is None else json.dumps(value, sort_keys=True)[:60]   # noqa: E731
+
+    def show(value):
+        text = "none" if value is None else json.dumps(value, sort_keys=True)
+        return text if len(text) <= 60 else text[:57] + "..."
     where = "".join(f"[{key}]" if isinstance(key, int) else f".{key}" for key in path).lstrip(".")
     hint = ""
     if path == ("settings", "dt") and there is not None:     # the default dt follows the bridge's cut-off

@@ -223,7 +223,7 @@ class AnalysisCommands(SessionBase):
             extra = a.items[a.pos:]
             if len(extra) != 3:
                 raise CommandError(f"{name}: expected dLambda [numIter minLambda maxLambda] (the three together; "
-                                   f"OpenSees ignores one or two), got {list(args)!r}")
+                                   f"OpenSees ignores one or two), got {list(args[1:])!r}")
             num_iter, low, high = a.int("numIter"), a.float("minLambda"), a.float("maxLambda")
             if num_iter < 1:
                 raise CommandError(f"{name}: numIter must be >= 1, got {num_iter}")
