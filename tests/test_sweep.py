@@ -89,8 +89,8 @@ def test_a_damping_percentage_typed_as_a_ratio_is_refused():
 def test_a_bridge_in_gpa_is_refused_by_its_frequency():
     """E in GPa with the rest in SI: f₁ = 5 Hz × √1e-9 ≈ 1.6e-4 Hz, which no railway bridge has
     (its passage would run 1.5 periods of free vibration: 2.6 hours of bridge time)."""
-    with pytest.raises(SweepError, match=r"^sweep: bridge: first vertical frequency 0\.000158 Hz, below the 0\.1 Hz of "
-                                         r"any railway bridge: are E, I or the mass in other units\? "):
+    with pytest.raises(SweepError, match=r"^sweep: bridge: first vertical frequency 0\.000158 Hz, below 0\.2 x EN 1991-2 "
+                                         r"Figure 6\.10's lower limit .*: are E, I or the mass in other units\? "):
         Sweep(beam_bridge([L], EI * 1e-9, 1.0, MU, elements_per_span=4), ["HSLM-A1"], [300.0], FAST)
 
 
@@ -901,3 +901,15 @@ def test_a_damaged_header_is_one_error_naming_the_file(tmp_path, damage, words):
         SweepResults(path)
     with pytest.raises(SweepError, match=re.escape(f"results file {path}: {words}")):
         sweep.run(path, workers=1, resume=True)
+
+
+def test_a_bridge_with_e_in_kpa_is_refused_by_en_1991_2_figure_6_10():
+    """E in kPa (the rest SI) puts a 5 Hz 20 m span at 0.158 Hz, above the absolute 0.1 Hz floor:
+    it ran and FAILed with an 11.6 m deflection. Below a fifth of EN 1991-2 Figure 6.10's lower
+    limit (4 Hz at 20 m) a bridge is refused as one in other units."""
+    from vtsi.codes.en1991_2 import frequency_limits
+    assert frequency_limits(20.0) == pytest.approx((4.0, 94.76 * 20.0 ** -0.748))
+    assert frequency_limits(50.0)[0] == pytest.approx(23.58 * 50.0 ** -0.592)
+    with pytest.raises(SweepError, match=r"first vertical frequency 0\.158 Hz, below 0\.2 x EN 1991-2 Figure 6\.10's "
+                                         r"lower limit for its 20 m span \(4 Hz\).*E in kPa"):
+        Sweep(beam_bridge([L], EI / 1e3, 1.0, MU, elements_per_span=4), ["HSLM-A1"], "300", FAST)

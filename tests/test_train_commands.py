@@ -10,7 +10,7 @@ from vtsi.integrators import GeneralizedAlpha
 import vtsi.opensees as ops
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
-from vtsi.errors import CommandError
+from vtsi.errors import CommandError, ModelError
 from vtsi.models.scenes import S2, s2_model
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.track import Track
@@ -259,6 +259,13 @@ def test_units_undeclared_on_a_kn_t_m_model_are_refused():
     train meets the model, naming the fix; units after a train, or unknown ones, are refused too."""
     with pytest.raises(CommandError, match=r"movingLoadConstraint 1: the deck weighs 2\.303 kg/m.*units\('kN', 'm'\)"):
         _ice3_over_s2_bridge("kN", "m", declare=False)
+    with pytest.raises(CommandError, match=r"deck weighs 0\.002303 kg/m .* in N, mm, t .*it would weigh 2303 kg/m: "
+                                           r"declare them first \(Tcl: units N mm; Python: units\('N', 'mm'\)\)"):
+        _ice3_over_s2_bridge("N", "mm", declare=False)               # it said "units('kN', 'm')" whatever the units
+    from vtsi.units import Units
+    with pytest.raises(ModelError, match=r"the deck weighs 2\.303e\+06 kg/m .*above 1e\+06 kg/m \(no railway deck is "
+                                         r"that heavy\).* units kN m;"):
+        Units("N", "mm").check_deck_mass(2.303, "track 1")            # a kN-m deck declared N, mm: it ran
     session = ops.Session()
     session.model("basic", "-ndm", 2, "-ndf", 3)
     session.car(1, "movingForce", 1e5)
@@ -349,4 +356,50 @@ def test_a_train_of_cars_in_a_model_s_own_units():
     ops.train(2, "300km/h", "-HSLM", "A1")
     with pytest.raises(CommandError, match=r"train 3: speed: 250000 mm/s \(900 km/h\) is faster than any train"):
         ops.train(3, 250e3, "-cars", 1, 0.0)
+    ops.wipe()
+
+
+def test_hdf5_recorders_label_the_model_s_units(tmp_path):
+    """A script in kN and mm records mm, kN and kN mm: its HDF5 files said m, N and N m (the text
+    files and nodeDisp were already in the model's units; only the labels were SI)."""
+    import h5py
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.units("kN", "mm")
+    ops.node(1, 0.0, 0.0)
+    ops.node(2, 5000.0, 0.0)
+    ops.fix(1, 1, 1, 1)
+    ops.mass(2, 1.0, 1.0, 0.0)
+    ops.geomTransf("Linear", 1)
+    ops.element("elasticBeamColumn", 1, 1, 2, 5e5, 35.0, 7e11, 1)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(2, 0.0, -10.0, 0.0)
+    ops.recorder("Node", "-h5", str(tmp_path / "u.h5"), "-node", 2, "-dof", 2, 3, "disp")
+    ops.recorder("Element", "-h5", str(tmp_path / "f.h5"), "-ele", 1, "localForce")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    ops.analyze(1)
+    ops.wipe()
+    with h5py.File(tmp_path / "u.h5") as f:
+        assert [u.decode() if isinstance(u, bytes) else u for u in f["values"].attrs["units"]] == ["mm", "rad"]
+    with h5py.File(tmp_path / "f.h5") as f:
+        assert {u.decode() if isinstance(u, bytes) else u for u in f["values"].attrs["units"]} == {"kN", "kN mm"}
+
+
+def test_a_rail_profile_in_other_units_is_refused():
+    """A profile of 2 (mm meant) in an m model read as 2 m and gave a deck acceleration of
+    117 m/s²: deeper than 100 mm it is refused, naming the model's length unit; in an mm model
+    the same numbers are 2 mm and run."""
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    with pytest.raises(CommandError, match=r"^irregularity 1: a rail profile of 2 m \(2000 mm\), more than any "
+                                           r"track's 100 mm: is it in other units than the model's \(m\)\?$"):
+        ops.irregularity(1, "profile", "-x", 0.0, 10.0, 20.0, "-r", 0.0, 2.0, 0.0)
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.units("N", "mm")
+    ops.irregularity(1, "profile", "-x", 0.0, 1e4, 2e4, "-r", 0.0, 2.0, 0.0)
+    with pytest.raises(CommandError, match=r"a bare number is in mm/s: write km/h as text, e.g. '300km/h'"):
+        ops.train(1, 1.08e6, "-HSLM", "A1")
     ops.wipe()

@@ -30,6 +30,7 @@ from scipy.ndimage import convolve1d
 
 from vtsi.analysis import domain_state, modes_up_to
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+from vtsi.codes.en1991_2 import frequency_limits
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import rayleigh_damping, vertical_frequencies
@@ -56,6 +57,7 @@ STEPS_PER_PERIOD = 8            # Δt <= T₁/8: the first mode sampled 8 times 
 DEFAULT_DT = 1e-3               # [s] a passage's default time step ...
 STEPS_PER_CUTOFF_PERIOD = 20    # ... or finer: 20 steps a period of the EN cut-off frequency (Newmark's
                                 # period error there (2π/20)²/12 = 0.8 %, its samples' under-read 1.2 %)
+PLAUSIBLE_FREQUENCY_SHARE = 0.2  # a first frequency below this share of EN 1991-2 Fig. 6.10's lower limit: other units
 STEPS_ON_TRACK = 10             # an axle takes at least 10 steps to cross the track
 MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one passage
 TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
@@ -377,10 +379,18 @@ class PassageRunner:
             if missing and not o.vehicle:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
         self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3)
-        if not self.frequencies[0] >= MIN_FIRST_FREQUENCY_HZ:
-            raise ModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below the "
-                             f"{MIN_FIRST_FREQUENCY_HZ:g} Hz of any railway bridge: are E, I or the mass in other "
-                             "units? (vtsi's data are SI: Pa, m^4, kg/m)")
+        # a first frequency far below what a span of its length has: E, I or the mass in other units
+        # (E in kPa reads f₁ 31.6 times low: it passes an absolute floor on most spans)
+        span = max(self.span_lengths, default=None)
+        lowest = (MIN_FIRST_FREQUENCY_HZ if span is None else
+                  max(MIN_FIRST_FREQUENCY_HZ, PLAUSIBLE_FREQUENCY_SHARE * frequency_limits(span)[0]))
+        if not self.frequencies[0] >= lowest:
+            floor = (f"the {MIN_FIRST_FREQUENCY_HZ:g} Hz of any railway bridge" if span is None else
+                     f"{PLAUSIBLE_FREQUENCY_SHARE:g} x EN 1991-2 Figure 6.10's lower limit for its {span:g} m span "
+                     f"({frequency_limits(span)[0]:.3g} Hz)")
+            raise ModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below {floor}: are E, I "
+                             "or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; E in kPa reads f1 31.6 "
+                             "times low)")
         if settings.dt is None:
             settings = replace(settings, dt=default_dt(self.frequencies))
         self.settings = settings

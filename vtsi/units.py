@@ -37,6 +37,12 @@ LENGTH_UNITS = {"m": 1.0, "cm": 1e2, "mm": 1e3}
 MIN_MASS_PER_METRE = 500.0
 """[kg/m] The lightest mass per metre of track accepted where trains meet a model: railway decks
 weigh more than 1000 kg/m; a model written in t/m but read as kg/m shows 1000 times less."""
+MAX_MASS_PER_METRE = 1e6
+"""[kg/m] The heaviest (1000 t/m): a kN, t, m model declared N, mm reads 10⁶ times heavier."""
+COMMON_UNITS = (("kN", "m"), ("N", "mm"), ("N", "m"), ("kN", "mm"), ("MN", "m"), ("kN", "cm"), ("N", "cm"),
+                ("MN", "mm"), ("MN", "cm"))
+"""(force, length) systems, the commonest first: a deck's mass in the wrong ones names the first
+that makes it plausible."""
 MIN_FIRST_FREQUENCY_HZ = 0.1
 """[Hz] The lowest first vertical frequency of a bridge a sweep accepts: railway bridges are
 stiffer; E in GPa or MPa with the rest in SI shows a 3·10⁴ to 10³ times lower frequency."""
@@ -97,6 +103,12 @@ class Units:
     def __str__(self):
         return f"{self.force}, {self.length}, {self.mass_unit} (= {self.force}·s²/{self.length}), s"
 
+    def label(self, si):
+        """The SI unit label ``si`` ('m', 'N m', 'm/s^2', 'kg', 'rad') in these units ('mm',
+        'kN mm', 'mm/s^2', 't', 'rad'): what a recorder's column holds in a model of these units."""
+        names = {"N": self.force, "m": self.length, "kg": self.mass_unit}
+        return re.sub(r"\b(N|m|kg)\b", lambda match: names[match.group(1)], si)
+
     def speed(self, value, what="speed"):
         """A speed in the model's units (length/s): a number as it is, or a text with its unit
         ('300km/h', '83.3m/s')."""
@@ -118,7 +130,9 @@ class Units:
             raise ModelError(f"{what}: must be finite, got {number}")
         si = abs(number) / self.f_length
         if si > MAX_TRAIN_SPEED:
-            hint = "" if isinstance(value, str) else f"; a speed in km/h is written '{number:g}km/h'"
+            hint = ("" if isinstance(value, str) else f"; a speed in km/h is written '{number:g}km/h'"
+                    if self.f_length == 1.0 else f"; a bare number is in {self.length}/s: write km/h as text, e.g. "
+                    "'300km/h'")
             raise ModelError(f"{what}: {number:g} {self.length}/s ({3.6 * si:.4g} km/h) is faster than any train "
                              f"(at most {MAX_TRAIN_SPEED:g} m/s){hint}")
         return number
@@ -144,11 +158,19 @@ class Units:
                      max_speed=MAX_TRAIN_SPEED * self.f_length)
 
     def check_deck_mass(self, mass_per_length, what):
-        """Refuse a deck lighter than :data:`MIN_MASS_PER_METRE` once its mass per length (model
-        units) is read in these units."""
+        """Refuse a deck lighter than :data:`MIN_MASS_PER_METRE` or heavier than
+        :data:`MAX_MASS_PER_METRE` once its mass per length (model units) is read in these units,
+        naming the units that would make it a railway deck's."""
         per_metre = mass_per_length * self.f_length / self.f_mass
-        if not per_metre >= MIN_MASS_PER_METRE:
-            raise ModelError(f"{what}: the deck weighs {per_metre:.4g} kg/m along the track in the declared units "
-                             f"({self}), below {MIN_MASS_PER_METRE:g} kg/m (no railway deck is that light); "
-                             "the trains' data are SI: declare the model's units first, e.g. units('kN', 'm') for "
-                             "a model in kN, t, m")
+        if MIN_MASS_PER_METRE <= per_metre <= MAX_MASS_PER_METRE:
+            return
+        bound = (f"below {MIN_MASS_PER_METRE:g} kg/m (no railway deck is that light)" if per_metre < MIN_MASS_PER_METRE
+                 else f"above {MAX_MASS_PER_METRE:g} kg/m (no railway deck is that heavy)")
+        weight = lambda u: mass_per_length * u.f_length / u.f_mass                     # noqa: E731 [kg/m]
+        fits = [u for u in (Units(f, L) for f, L in COMMON_UNITS)
+                if MIN_MASS_PER_METRE <= weight(u) <= MAX_MASS_PER_METRE]
+        remedy = (f"; in {fits[0]} it would weigh {weight(fits[0]):.4g} kg/m: declare them first (Tcl: units "
+                  f"{fits[0].force} {fits[0].length}; Python: units('{fits[0].force}', '{fits[0].length}'))"
+                  if fits else "")
+        raise ModelError(f"{what}: the deck weighs {per_metre:.4g} kg/m along the track read in {self}, {bound}; "
+                         f"the trains' data are SI{remedy}")

@@ -47,6 +47,18 @@ def _span(span, clause):
     return as_positive(span, f"EN 1991-2 {clause}", "span [m]")
 
 
+FREQUENCY_SPANS = (4.0, 100.0)   # [m] the span range of Figure 6.10
+
+
+def frequency_limits(span):
+    """EN 1991-2 Figure 6.10: the lower and upper limits [Hz] of the first bending frequency n₀ of
+    a span of ``span`` [m] inside which the simplified rules of 6.4.4 may apply: lower 80 / L for
+    L <= 20 m, 23.58 L^-0.592 above; upper 94.76 L^-0.748 (the figure covers 4 to 100 m; a span
+    outside is taken at its nearest end)."""
+    L = min(max(_span(span, "Figure 6.10"), FREQUENCY_SPANS[0]), FREQUENCY_SPANS[1])
+    return (80.0 / L if L <= 20.0 else 23.58 * L ** -0.592), 94.76 * L ** -0.748
+
+
 # Table 6.2, case 5.2: L_Φ = k × mean span of a continuous beam of n spans.
 CONTINUOUS_K = {2: 1.2, 3: 1.3, 4: 1.4}
 CONTINUOUS_K_MANY = 1.5

@@ -185,6 +185,8 @@ class QueryCommands(SessionBase):
                 else:
                     elements = tags
         text = model_text(model, domain_state(model) if model.nodes else None, nodes, elements)
+        if nodes is None and elements is None:
+            text = f"Units: {self._units}\n{text}"
         if path is None:
             print(text)
         else:

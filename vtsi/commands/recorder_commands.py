@@ -8,6 +8,7 @@ import numpy as np
 from vtsi import recorders as rec
 from vtsi.errors import CommandError
 from vtsi.recorders import ElementRecorder
+from vtsi.units import Units
 
 from .args import Args
 from .base import SessionBase
@@ -269,6 +270,8 @@ class RecorderCommands(SessionBase):
         tag = self._recorder_count
         self._recorder_count += 1
         recorder.tag = tag
+        if self._units != Units():                  # its values are in the model's units: so are its labels
+            recorder.unit_label = self._units.label
         self.recorders[tag] = recorder
         self._kept[tag] = KeptOpen(recorder)
         return tag

@@ -49,6 +49,8 @@ IRREGULARITY_STEP = 0.05
 """[m] The spacing of a random irregularity profile's samples."""
 MAX_IRREGULARITY_SAMPLES = 200_000
 """The most samples of a random profile (10 km at 5 cm; the sampling time grows with the square)."""
+MAX_IRREGULARITY_M = 0.1
+"""[m] The deepest rail profile accepted: a deeper one is in other units (mm in an m model)."""
 
 
 class TrainCommands(SessionBase):
@@ -183,6 +185,7 @@ class TrainCommands(SessionBase):
                     raise CommandError(f"irregularity {tag}: -x and -r need the same number (>= 2) of values, "
                                        f"got {len(x)} and {len(r)}")
                 profile = Irregularity(x, r)
+                r = np.asarray(r, dtype=float)
             elif kind == "file":
                 path = a.word("file name")
                 try:
@@ -193,6 +196,7 @@ class TrainCommands(SessionBase):
                 if data.shape[1] != 2:
                     raise CommandError(f"irregularity {tag}: the file needs two columns x r, got {data.shape[1]}")
                 profile = Irregularity(data[:, 0], data[:, 1])
+                r = data[:, 1]
             else:
                 level = a.word("level", ("low", "high")) if kind == "german" else a.int("FRA class")
                 x0, x1 = a.float("x_first"), a.float("x_last")
@@ -219,6 +223,13 @@ class TrainCommands(SessionBase):
         except ValueError as exc:
             raise CommandError(f"irregularity {tag}: {exc}") from None
         a.done()
+        if kind in ("profile", "file"):
+            deepest = float(np.max(np.abs(r))) / self._units.f_length           # [m]
+            if deepest > MAX_IRREGULARITY_M:
+                raise CommandError(f"irregularity {tag}: a rail profile of {deepest * self._units.f_length:g} "
+                                   f"{self._units.length} ({1e3 * deepest:.4g} mm), more than any track's "
+                                   f"{1e3 * MAX_IRREGULARITY_M:g} mm: is it in other units than the model's "
+                                   f"({self._units.length})?")
         self._irregularities[tag] = profile
 
     def movingLoadConstraint(self, *args):

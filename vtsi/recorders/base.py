@@ -65,6 +65,7 @@ class Recorder:
     tag = None
     dt = None
     name = "Recorder"
+    unit_label = None   # maps each column's SI unit label to the model's (the command layer's `units`)
     load_lag = 0.0      # [s] set by the analysis: how long before the record times the steps applied their
                         # loads (HHT, generalized-α: (1 − α)Δt); element loads are taken then
 
@@ -107,6 +108,8 @@ class Recorder:
             raise ModelError(f"{self.name}: the model now gives {n_columns} columns, the record "
                              f"started with {self._layout['n_columns']}")
         layout["n_columns"] = n_columns
+        if self.unit_label is not None:
+            layout["units"] = [self.unit_label(u) for u in layout["units"]]
         layout.setdefault("attrs", {}).update(_model_metadata(assembly, info))
         layout["attrs"].update(recorder=type(self).__name__, record_dt=float(self.dt or 0.0))
         self._layout = layout
