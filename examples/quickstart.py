@@ -5,8 +5,8 @@ The bridge is a vtsi model (nodes, elements, supports); the train is a separate 
 multipliers are the wheel-rail contact forces (Fedorova & Sivaselvan 2017). The run starts
 from the dead-load equilibrium, uses Newmark's trapezoidal rule with the B-spline constraint
 (no spurious contact-force ringing) and reports what a bridge engineer checks: peak deck
-acceleration against EN 1990 A2 (3.5 m/s² on ballasted track), the dynamic amplification of
-the midspan deflection, and the wheel unloading.
+acceleration against EN 1990 A2 (3.5 m/s² on ballasted track), the largest midspan
+deflection, and the wheel unloading.
 
 Run: ``python examples/quickstart.py [out.png]`` (the plot is written only if matplotlib is
 installed).
@@ -73,7 +73,7 @@ def main(out=None, n_cars=8, speed=SPEED, integrator="Newmark", dt=DT):
     unloading = np.max((q_static - wheels.values) / q_static)
     peak_acc = np.abs(deck_acc.values).max()
     print(f"ICE3 x {n_cars} at {speed * 3.6:.0f} km/h over 3 x 30 m: {n_steps} steps in {elapsed:.2f} s "
-          f"({elapsed / n_steps * 1e6:.1f} us/step; {compile_s:.1f} s before it compiling or loading the kernels)")
+          f"({elapsed / n_steps * 1e6:.1f} us/step; {compile_s:.1f} s before it to compile or load the kernels)")
     print(f"peak deck acceleration {peak_acc:.2f} m/s^2 (EN 1990 A2 limit 3.5 m/s^2 ballasted: "
           f"{'OK' if peak_acc <= 3.5 else 'EXCEEDED'})")
     print(f"max midspan deflection {-deck.values.min() * 1e3:.2f} mm; "

@@ -473,6 +473,7 @@ def test_events_are_exact_where_the_interpolation_model_is():
     assert summary.unloading_ratio == pytest.approx([1.0, 0.0])
     assert list(summary.in_contact_at_end) == [True, True]
     assert "separations" in summary.table()
+    assert ("landing impact's impulse over one step" in summary.table()) == bool(np.any(summary.separations))
 
 
 def test_touching_steps_and_open_flight():

@@ -157,8 +157,9 @@ def test_unavailable_rendering_raises_with_the_reason(scene, tmp_path, monkeypat
         scene.render_png(tmp_path / "x.png", SAG, WHEELS, CARS)
 
 
-def test_scene_and_animation_of_a_recorded_case(tmp_path):
-    """render_case / animate_case read a sweep's results file: the governing case's deck history."""
+def test_scene_and_animation_of_a_recorded_case(tmp_path, caplog):
+    """render_case / animate_case read a sweep's results file: the governing case's deck history;
+    3 frames over the passage alias a 5 Hz deck's vibration, and a warning says so."""
     require_rendering()
     import imageio.v3 as iio
 
@@ -179,10 +180,13 @@ def test_scene_and_animation_of_a_recorded_case(tmp_path):
     assert iio.imread(png).shape[:2] == (180, 400)
     gif = animate_case(path, tmp_path / "s.gif", max_frames=3, window_size=(400, 176))
     assert iio.imread(gif, index=None).shape[0] == 3
+    assert "the deck's vibration is aliased; max_frames >= " in caplog.text
     with pytest.raises(ModelError, match=r"render_case: time 1e\+06 s is outside the recorded passage"):
         render_case(path, tmp_path / "t.png", time=1e6)
     with pytest.raises(ModelError, match=r"render_case: time \[s\] must be a number, got 'x'"):
         render_case(path, tmp_path / "t.png", time="x")
     with pytest.raises(SweepError, match=r"scene: train 'ICE9' is not in the sweep .* \(trains: HSLM-A1\)"):
         render_case(path, tmp_path / "t.png", train="ICE9")
+    with pytest.raises(SweepError, match=r"scene: speed_kmh = 300 km/h without a train"):    # it drew another case
+        render_case(path, tmp_path / "t.png", speed_kmh=300.0)
     assert not (tmp_path / "t.png").exists()

@@ -86,7 +86,8 @@ class ContactSummary:
     in_contact_at_end: np.ndarray
 
     def table(self):
-        """The summary as a text table, one row per wheel."""
+        """The summary as a text table, one row per wheel; after a landing, a line saying that its
+        max force is the impact's impulse over one step (it scales with 1/Δt)."""
         head = f"{'wheel':>5}  {'separations':>11}  {'longest flight [s]':>18}  {'min force [kN]':>14}  " \
                f"{'max force [kN]':>14}  {'ΔQ/Q':>6}  {'on rail at end':>14}"
         rows = [head, "-" * len(head)]
@@ -94,6 +95,9 @@ class ContactSummary:
             rows.append(f"{i:5d}  {self.separations[i]:11d}  {self.longest_flight[i]:18.5f}  "
                         f"{self.min_force[i] / 1e3:14.2f}  {self.max_force[i] / 1e3:14.2f}  "
                         f"{self.unloading_ratio[i]:6.3f}  {str(bool(self.in_contact_at_end[i])):>14}")
+        if np.any(self.separations):
+            rows.append("max force of a wheel that landed: its landing impact's impulse over one step (it scales with "
+                        "1/dt; quote the impulse, docs/theory/contact.md)")
         return "\n".join(rows)
 
 

@@ -56,6 +56,7 @@ from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
 from vtsi.check import mid_span_ratios, stored_check
+from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, modal_basis_hz
 from vtsi.sweep import resonance_speeds
@@ -553,9 +554,15 @@ class _Report:
         row = self.row("deflection")
         with _figure((11, 4.6)) as (fig, ax):
             self._lines(ax, curves)
-            if row is not None and not math.isnan(row.limit):      # the check's L/600 of the governing span
-                ax.axhline(1e3 * row.limit, color=LIMIT_COLOUR, ls="--", lw=2,
-                           label=f"limit L/600 = {_num(1e3 * row.limit)} mm")
+            if row is not None and not math.isnan(row.limit):      # the check's L/600, one line per span length
+                spans = sorted({round(float(L), 6) for L in self.bridge["span_lengths_m"]})
+                for k, L in enumerate(spans):
+                    limit = 1e3 * L / DEFLECTION_SPAN_RATIO
+                    label = f"limit L/600 = {_num(limit)} mm" + (f" ({_num(L)} m spans)" if len(spans) > 1 else "")
+                    ax.axhline(limit, color=LIMIT_COLOUR, ls=("--", "-.", ":")[k % 3], lw=2, label=label)
+                if row.train == "LM71":                  # the row's value is LM71's, which no curve shows
+                    ax.axhline(1e3 * row.value, color="0.35", ls=":", lw=1.5,
+                               label=f"Φ α × LM71: {_num(1e3 * row.value)} mm (governs)")
             ax.set_ylim(bottom=0)
             self._speed_axis(ax)
             ax.set_ylabel("largest downward deflection [mm]")

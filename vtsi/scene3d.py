@@ -798,6 +798,9 @@ def _recorded_case(results_path, train, speed_kmh, seed):
     """(results, train, speed, seed, history, scene) of a case with recorded histories: by default
     the governing case of the stored check's deck acceleration (else of the envelope)."""
     results = SweepResults(results_path)
+    if train is None and speed_kmh is not None:
+        raise SweepError(f"scene: speed_kmh = {speed_kmh:g} km/h without a train: name the train too (or neither, "
+                         "for the governing case)")
     if train is None:
         stored = stored_check(results_path)
         rows = [r for r in (stored.rows if stored else []) if r.criterion == "deck_acceleration"]
@@ -845,9 +848,17 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
 
 def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_frames=60, **kwargs):
     """A GIF (or MP4) of a recorded case's passage (the case chosen as :func:`render_case`
-    chooses it), ``max_frames`` frames over the whole record. Returns the path written."""
+    chooses it), ``max_frames`` frames over the whole record. Returns the path written. Frames
+    further apart than a quarter period of the first mode alias the deck's vibration (it appears
+    slower, its peaks are missed): a warning then names the ``max_frames`` that resolves it."""
     results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
     times, uy, _ = history["deck_displacement"]
+    n0 = float(results.bridge()["frequencies_hz"][0])
+    spacing = (times[-1] - times[0]) / max(min(len(times), int(max_frames)) - 1, 1)
+    if spacing > 0.25 / n0:
+        logger.warning("animation of %s at %g km/h: frames %.3g s apart, more than a quarter period of the first "
+                       "mode (%.3g Hz): the deck's vibration is aliased; max_frames >= %d resolves it", train,
+                       speed_kmh, spacing, n0, int(np.ceil(4 * n0 * (times[-1] - times[0]))) + 1)
     offsets = results.train_data(train)["axle_offsets_m"]
     wheels = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[:, None] - offsets[None, :]
     title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
