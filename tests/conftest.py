@@ -37,6 +37,26 @@ def custom_element():
 
 
 @pytest.fixture(scope="session")
+def cantilever():
+    """``cantilever(o)``: with the command module or Session ``o``, a fresh 2-D model of a 5-length
+    cantilever (node 1 clamped, node 2 free) with nodal mass on the translations only (its rotation
+    is a free dof with stiffness and no mass), a Linear series and a load of 100 down at node 2."""
+    def build(o):
+        o.wipe()
+        o.model("basic", "-ndm", 2, "-ndf", 3)
+        o.node(1, 0.0, 0.0)
+        o.node(2, 5.0, 0.0)
+        o.fix(1, 1, 1, 1)
+        o.mass(2, 10.0, 10.0, 0.0)
+        o.geomTransf("Linear", 1)
+        o.element("elasticBeamColumn", 1, 1, 2, 0.5, 3e10, 0.05, 1)
+        o.timeSeries("Linear", 1)
+        o.pattern("Plain", 1, 1)
+        o.load(2, 0.0, -100.0, 0.0)
+    return build
+
+
+@pytest.fixture(scope="session")
 def required_args():
     """``required_args(name)``: the arguments a registered integrator needs by name, those of its
     parameters without a default (OpenSees's ``integrator HHT`` needs α)."""

@@ -868,29 +868,13 @@ def test_zero_length_options_and_recorder_files_are_given_once(tmp_path):
         ops.recorder("Node", "-file", str(tmp_path / "a.out"), "-file", str(tmp_path / "b.out"), "-dof", 1, "disp")
 
 
-def _cantilever_without_rotary_mass(o):
-    """A cantilever (node 1 fixed, node 2 free) with nodal mass on the translations only: its
-    rotation is a free dof with stiffness and no mass."""
-    o.wipe()
-    o.model("basic", "-ndm", 2, "-ndf", 3)
-    o.node(1, 0.0, 0.0)
-    o.node(2, 5.0, 0.0)
-    o.fix(1, 1, 1, 1)
-    o.mass(2, 10.0, 10.0, 0.0)
-    o.geomTransf("Linear", 1)
-    o.element("elasticBeamColumn", 1, 1, 2, 0.5, 3e10, 0.05, 1)
-    o.timeSeries("Linear", 1)
-    o.pattern("Plain", 1, 1)
-    o.load(2, 0.0, -100.0, 0.0)
-
-
 @pytest.mark.parametrize("integrator, rayleigh", [(("Newmark", 0.5, 1 / 6), None), (("HHT", 0.9, 0.6, 0.2), None),
                                                   (("CentralDifference",), (0.0, 1e-4, 0.0, 0.0))],
                          ids=["Newmark linear acceleration", "HHT user gamma beta", "CentralDifference betaK"])
-def test_conditionally_stable_integrator_names_the_massless_dof(integrator, rayleigh):
+def test_conditionally_stable_integrator_names_the_massless_dof(integrator, rayleigh, cantilever):
     """A conditionally stable scheme on a model with a free dof without mass: no dt is stable, and
     the message names that dof (it said 'stability limit 0 s ... omega_max = inf rad/s')."""
-    _cantilever_without_rotary_mass(ops)
+    cantilever(ops)
     if rayleigh:
         ops.rayleigh(*rayleigh)
     ops.integrator(*integrator)
@@ -909,12 +893,12 @@ def test_conditionally_stable_integrator_names_the_massless_dof(integrator, rayl
     ((-0.1, 2, -1.0, -0.05), (2, 3)),         # unloading
     ((0.3,), (2, 3)),
 ], ids=["grow-cap", "grow", "clip-first", "constant", "negative", "plain"])
-def test_load_control_adaptive_increment_equals_opensees(control, steps):
+def test_load_control_adaptive_increment_equals_opensees(control, steps, cantilever):
     """LoadControl dλ numIter minλ maxλ: OpenSees scales dλ by numIter / (iterations of the last
     step), clipped to [minλ, maxλ] (LoadControl::newStep); with algorithm Linear a step takes one
     iteration. The arguments were accepted and ignored (λ grew by dλ a step)."""
     def run(o):
-        _cantilever_without_rotary_mass(o)          # static: its masses do not count
+        cantilever(o)          # static: its masses do not count
         o.algorithm("Linear")
         o.integrator("LoadControl", *control)
         o.analysis("Static")
@@ -929,8 +913,8 @@ def test_load_control_adaptive_increment_equals_opensees(control, steps):
     assert np.allclose(val[:, 1], ref[:, 1], rtol=1e-12, atol=0.0)
 
 
-def test_load_control_adaptive_refusals():
-    _cantilever_without_rotary_mass(ops)
+def test_load_control_adaptive_refusals(cantilever):
+    cantilever(ops)
     for args, message in [((0.5, 3), r"the three together"), ((0.5, 3, 0.1), r"the three together"),
                           ((0.5, 0, 0.1, 1.0), r"numIter must be >= 1, got 0"),
                           ((0.5, 3, 1.0, 0.1), r"minLambda = 1 is above maxLambda = 0.1")]:

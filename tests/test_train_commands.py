@@ -359,22 +359,12 @@ def test_a_train_of_cars_in_a_model_s_own_units():
     ops.wipe()
 
 
-def test_hdf5_recorders_label_the_model_s_units(tmp_path):
+def test_hdf5_recorders_label_the_model_s_units(tmp_path, cantilever):
     """A script in kN and mm records mm, kN and kN mm: its HDF5 files said m, N and N m (the text
     files and nodeDisp were already in the model's units; only the labels were SI)."""
     import h5py
-    ops.wipe()
-    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    cantilever(ops)
     ops.units("kN", "mm")
-    ops.node(1, 0.0, 0.0)
-    ops.node(2, 5000.0, 0.0)
-    ops.fix(1, 1, 1, 1)
-    ops.mass(2, 1.0, 1.0, 0.0)
-    ops.geomTransf("Linear", 1)
-    ops.element("elasticBeamColumn", 1, 1, 2, 5e5, 35.0, 7e11, 1)
-    ops.timeSeries("Linear", 1)
-    ops.pattern("Plain", 1, 1)
-    ops.load(2, 0.0, -10.0, 0.0)
     ops.recorder("Node", "-h5", str(tmp_path / "u.h5"), "-node", 2, "-dof", 2, 3, "disp")
     ops.recorder("Element", "-h5", str(tmp_path / "f.h5"), "-ele", 1, "localForce")
     ops.integrator("LoadControl", 1.0)
