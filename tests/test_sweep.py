@@ -913,3 +913,18 @@ def test_a_bridge_with_e_in_kpa_is_refused_by_en_1991_2_figure_6_10():
     with pytest.raises(SweepError, match=r"first vertical frequency 0\.158 Hz, below 0\.2 x EN 1991-2 Figure 6\.10's "
                                          r"lower limit for its 20 m span \(4 Hz\).*E in kPa"):
         Sweep(beam_bridge([L], EI / 1e3, 1.0, MU, elements_per_span=4), ["HSLM-A1"], "300", FAST)
+
+
+def test_a_missing_history_is_named_as_what_it_is(tmp_path):
+    """Asking a file for a history said 'no histories of case …' for a speed the sweep never ran
+    and for a file with no histories at all; each is now said as it is."""
+    path = tmp_path / "h.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST)
+    res = sweep.run(path, workers=1, progress=False)
+    with pytest.raises(SweepError, match=r"250 km/h is not one of the sweep's 2 speeds \(200 to 300 km/h\)"):
+        res.history("HSLM-A1", 250.0)
+    with pytest.raises(SweepError, match=r"h\.h5 holds no histories \(Sweep\.record_histories records them"):
+        res.history("HSLM-A1", 200.0)
+    sweep.record_histories(path, [("HSLM-A1", 200.0, -1)])
+    with pytest.raises(SweepError, match=r"no histories of case HSLM-A1/300kmh/smooth; recorded: HSLM-A1/200kmh/smooth"):
+        SweepResults(path).history("HSLM-A1", 300.0)

@@ -796,9 +796,21 @@ class SweepResults:
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
             raise SweepError(f"sweep results: a case's seed must be an integer (-1: smooth rail), got {seed!r}")
         key = case_key(train, as_number(speed_kmh, "sweep results", "speed [km/h]", SweepError), seed)
+        if not np.any(np.isclose(self.speeds_kmh, float(speed_kmh), rtol=0.0, atol=1e-9)):
+            v = self.speeds_kmh
+            raise SweepError(f"sweep results: {float(speed_kmh):g} km/h is not one of the sweep's {len(v)} speeds "
+                             f"({v.min():g} to {v.max():g} km/h)")
         with self._open() as f:
-            if "histories" not in f or key not in f["histories"]:
-                raise SweepError(f"sweep results: no histories of case {key} (Sweep.record_histories)")
+            if "histories" not in f or not len(f["histories"]):
+                raise SweepError(f"sweep results: {self.path} holds no histories (Sweep.record_histories records "
+                                 "them; vtsi check does for the governing cases)")
+            if key not in f["histories"]:
+                cases = []                     # a case key's '/' nests its groups: the cases are the groups of data
+                f["histories"].visititems(lambda name, node: cases.append(name) if isinstance(node, h5py.Group) and any(
+                    isinstance(v, h5py.Dataset) for v in node.values()) else None)
+                recorded = ", ".join(sorted(cases))
+                raise SweepError(f"sweep results: no histories of case {key}; recorded: {recorded} "
+                                 "(Sweep.record_histories)")
             g = f["histories"][key]
             names = sorted({k.rsplit("_", 1)[0] for k in g})
             out = {n: (g[n + "_time"][()], g[n + "_values"][()], g[n + "_columns"][()]) for n in names}
