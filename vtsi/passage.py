@@ -382,12 +382,14 @@ class PassageRunner:
         # a first frequency far below what a span of its length has: E, I or the mass in other units
         # (E in kPa reads f₁ 31.6 times low: it passes an absolute floor on most spans)
         span = max(self.span_lengths, default=None)
-        lowest = (MIN_FIRST_FREQUENCY_HZ if span is None else
-                  max(MIN_FIRST_FREQUENCY_HZ, PLAUSIBLE_FREQUENCY_SHARE * frequency_limits(span)[0]))
+        if span is None:
+            lowest, floor = MIN_FIRST_FREQUENCY_HZ, f"the {MIN_FIRST_FREQUENCY_HZ:g} Hz of any railway bridge"
+        else:                          # (a fifth of Fig. 6.10's limit is >= 0.31 Hz: above the absolute floor)
+            limit = frequency_limits(span)[0]
+            lowest = PLAUSIBLE_FREQUENCY_SHARE * limit
+            floor = (f"{PLAUSIBLE_FREQUENCY_SHARE:g} x EN 1991-2 Figure 6.10's lower limit for its {span:g} m span "
+                     f"({limit:.3g} Hz)")
         if not self.frequencies[0] >= lowest:
-            floor = (f"the {MIN_FIRST_FREQUENCY_HZ:g} Hz of any railway bridge" if span is None else
-                     f"{PLAUSIBLE_FREQUENCY_SHARE:g} x EN 1991-2 Figure 6.10's lower limit for its {span:g} m span "
-                     f"({frequency_limits(span)[0]:.3g} Hz)")
             raise ModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below {floor}: are E, I "
                              "or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; E in kPa reads f1 31.6 "
                              "times low)")

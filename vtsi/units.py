@@ -166,7 +166,9 @@ class Units:
             return
         bound = (f"below {MIN_MASS_PER_METRE:g} kg/m (no railway deck is that light)" if per_metre < MIN_MASS_PER_METRE
                  else f"above {MAX_MASS_PER_METRE:g} kg/m (no railway deck is that heavy)")
-        weight = lambda u: mass_per_length * u.f_length / u.f_mass                     # noqa: E731 [kg/m]
+        def weight(u):                 # [kg/m] the deck's mass per metre read in the units u
+            return mass_per_length * u.f_length / u.f_mass
+
         fits = [u for u in (Units(f, L) for f, L in COMMON_UNITS)
                 if MIN_MASS_PER_METRE <= weight(u) <= MAX_MASS_PER_METRE]
         remedy = (f"; in {fits[0]} it would weigh {weight(fits[0]):.4g} kg/m: declare them first (Tcl: units "
