@@ -431,6 +431,7 @@ def test_print_model_and_tags(tmp_path, capsys):
     assert "node 2: x 0 y 4" in first and "node 3: x 6 y 4" in first and "node 1:" not in first
     assert "element 7: elasticBeamColumn, nodes 2 3, A 0.02, E 2.1e+11, I 8e-05" in first
     assert "Model: 2-D, 3 dofs per node, 4 nodes, 3 elements, 1 load patterns" in whole and "fix 1 1 1" in whole
+    assert whole.startswith("Units: N, m, kg (= N·s²/m), s\n") and "Units:" not in first   # the whole model's text
     assert "pattern 1: series Linear 1, factor 1, node 2: 1000 0 0" in whole
     with pytest.raises(vops.CommandError, match="'-JSON' is not supported"):
         vops.printModel("-JSON")
