@@ -365,7 +365,7 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, caps
     (["--resume", "--overwrite"], "argument --overwrite: not allowed with argument --resume"),
     (["--cars", "half"], "argument --cars: invalid choice: 'half'"),
     (["--bridge-model", "modl"], "argument --bridge-model: invalid choice: 'modl'"),
-    (["--modal-hz", "40"], "unrecognized arguments: --modal-hz 40"),
+    (["--modes", "40"], "unrecognized arguments: --modes 40"),
     ([], "the following arguments are required: --speeds"),
 ], ids=["workers", "resume-overwrite", "cars", "bridge-model", "unknown-option", "missing"])
 def test_usage_errors_exit_2_with_one_line(command, args, message, tmp_path, capsys):
@@ -540,3 +540,13 @@ def test_sigterm_stops_like_ctrl_c(tmp_path):
     gone, alive = psutil.wait_procs(workers, timeout=10)
     assert not alive
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bridge.toml", "out.h5"]
+
+
+def test_the_modal_settings_from_the_command_line(tmp_path):
+    """``--bridge-model`` offers every bridge model ('modal-stepped' was reachable only from a
+    bridge file) and ``--modal-hz`` sets the basis; both are stored with the sweep's settings."""
+    from vtsi.sweep_results import SweepResults
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    assert sweep(tmp_path, bridge, *FAST, "--bridge-model", "modal-stepped", "--modal-hz", "40", "--damping", "0.01") == 0
+    settings = SweepResults(tmp_path / "out.h5").identity["settings"]
+    assert settings["bridge"] == "modal-stepped" and settings["modal_hz"] == 40.0

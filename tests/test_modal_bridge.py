@@ -82,7 +82,7 @@ def s5_ice3(bridge_kind, contact, interpolation, integrator="Newmark", n_steps=7
     track = Track(model, bridge.elements)
     train = catalogue_train("ICE3", 300.0 / 3.6, fidelity="full")
     con = MovingLoadConstraint(track, TrainSubdomain(train, -1.0), interpolation=interpolation)
-    n_modes = model.build().n_free if n_modes is None else n_modes
+    n_modes = "all" if n_modes is None else n_modes
     modal = ModalBridge(model, track, n_modes=n_modes) if bridge_kind == "modal" else None
     mid = NodeRecorder([6, 16], [2], "disp")
     an = CoupledAnalysis(model, con, integrator, dt=dt, contact=contact, bridge_self_weight=True,
@@ -226,3 +226,100 @@ def test_an_explicit_integrator_is_held_to_the_highest_kept_mode():
     with pytest.raises(AnalysisError, match="stability limit"):
         vtsi.TransientAnalysis(model, "CentralDifference", dt=1.01 * limit, bridge=modal).run(1)
     vtsi.TransientAnalysis(model, "CentralDifference", dt=0.99 * limit, bridge=modal).run(10)
+
+
+def test_n_modes_counts_the_modes_that_move_the_track():
+    """``n_modes`` keeps the lowest modes that move the track: a 20 m beam's axial mode lies
+    between its vertical ones and was counted, then dropped (n_modes = 3 kept 2). Now three
+    vertical modes, f_j = j² f₁; asking more than the model has that move the track is refused
+    naming both counts."""
+    model = vtsi.Model()
+    deck = simply_supported_beam(model, 20.0, 10, 3.5e10, 0.6948, 15000.0)
+    track = Track(model, deck.elements)
+    modal = ModalBridge(model, track, n_modes=3, zeta=0.01)
+    assert modal.n_modes == 3
+    assert modal.frequencies / modal.frequencies[0] == pytest.approx([1.0, 4.0, 9.0], rel=0.02)
+    lumped = vtsi.Model()
+    bare = simply_supported_beam(lumped, 20.0, 10, 3.5e10, 0.6948, 0.0)
+    for node in bare.nodes[1:-1]:
+        lumped.mass(node, 15000.0, 15000.0, 0.0)
+    with pytest.raises(ModelError, match=r"^modal bridge: n_modes = 12, but only 9 modes of the model move the track"):
+        ModalBridge(lumped, Track(lumped, bare.elements), n_modes=12, zeta=0.01)
+
+
+def test_a_basis_below_the_first_mode_and_bad_ratios_are_refused():
+    """f_max below the first mode kept that mode, and a sweep's modal_hz = 1 Hz ran with a 5 Hz
+    mode; ζ = True was taken as 1 (critical)."""
+    model = vtsi.Model()
+    deck = simply_supported_beam(model, 20.0, 10, 3.5e10, 0.6948, 15000.0)
+    track = Track(model, deck.elements)
+    with pytest.raises(ModelError, match=r"^modal bridge: f_max = 1 Hz is below the first mode \(5 Hz\)"):
+        ModalBridge(model, track, f_max=1.0, zeta=0.01)
+    with pytest.raises(ModelError, match=r"^modal bridge: damping ratios must be numbers, got True$"):
+        ModalBridge(model, track, zeta=True)
+
+
+def test_a_modal_sweeps_settings_are_refused_before_anything_runs(tmp_path):
+    """A modal_hz below the first mode, the model's Rayleigh damping overdamping a mode of the
+    exact passages' basis (it failed at the first case, leaving a file), a flag given as text
+    ('no' acted as True) and a modal_hz with the FE bridge (ignored) are refused when the sweep
+    is built, naming the setting."""
+    from vtsi.errors import SweepError
+    from vtsi.passage import PassageSettings
+    from vtsi.sweep import Sweep, beam_bridge
+    with pytest.raises(SweepError, match=r"^sweep: modal_hz = 1 Hz is below the bridge's first frequency \(5 Hz\)"):
+        Sweep(beam_bridge([20.0], 3.5e10, 0.6948, 15000.0), ["HSLM-A1"], "300",
+              PassageSettings(bridge="modal", modal_hz=1.0, damping=0.013))
+    overdamped = beam_bridge([20.0], 3.5e10, 0.6948, 15000.0, elements_per_span=40, damping=0.013)
+    with pytest.raises(SweepError, match=r"^sweep: modal bridge: mode \d+ \(\d+ Hz\) has ζ = 1\.\d+ >= 1"):
+        Sweep(overdamped, ["HSLM-A1"], "300", PassageSettings(bridge="modal", modal_hz=20000.0))
+    assert not list(tmp_path.iterdir())
+    with pytest.raises(ModelError, match=r"^sweep settings: static_correction must be True or False, got 'no'$"):
+        PassageSettings(bridge="modal", static_correction="no")
+    with pytest.raises(ModelError, match=r"^sweep settings: exact_events must be True or False, got 1$"):
+        PassageSettings(exact_events=1)
+    with pytest.raises(ModelError, match=r"^sweep settings: modal_hz = 30\.0 is the modal bridge's highest frequency, "
+                                         r"and bridge is 'fe'"):
+        PassageSettings(bridge="fe", modal_hz=30.0)
+
+
+DAMPED_SCRIPT = """import vtsi.opensees as ops
+ops.model('basic', '-ndm', 2, '-ndf', 3)
+for i in range(11):
+    ops.node(i + 1, 2.0 * i, 0.0)
+ops.fix(1, 1, 1, 0)
+ops.fix(11, 0, 1, 0)
+ops.geomTransf('Linear', 1)
+for i in range(1, 11):
+    ops.element('elasticBeamColumn', i, i, i + 1, 5.0, 3.5e10, 0.6948, 1, '-mass', 15000.0, '-cMass')
+ops.track(1, '-eleRange', 1, 10)
+omega2 = ops.eigen(4)
+ops.modalDamping(0.02, 0.01, 0.03, 0.04)
+"""
+
+
+def test_a_scripts_modal_damping_reaches_the_modal_bridge_of_a_sweep(tmp_path):
+    """A bridge script's ``modalDamping`` (ratios of its eigen modes) was dropped by sweeps: the
+    passages ran undamped (43.9 m/s² where 2 % gives 16.6). The modal bridge now adds each ratio to
+    the kept mode of its frequency (a 20 m beam's eigen(4) holds an axial mode, not kept: its ratio
+    goes nowhere); the FE bridge, which steps Rayleigh damping, refuses them; the sweep's own
+    damping replaces them, as it replaces the script's rayleigh."""
+    from vtsi.bridge_file import script_bridge
+    from vtsi.errors import SweepError
+    from vtsi.passage import PassageSettings
+    from vtsi.sweep import Sweep
+    path = tmp_path / "deck.py"
+    path.write_text(DAMPED_SCRIPT)
+    bridge = script_bridge(path)
+    assert [z for _, z in bridge.modal_damping] == [0.02, 0.01, 0.03, 0.04]
+    ratio_of = dict(bridge.modal_damping)
+    modal = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(bridge="modal")).runner.modal
+    for f, zeta in zip(modal.frequencies, modal.zeta):
+        near = [g for g in ratio_of if abs(g - f) <= 1e-6 * f]
+        assert zeta == (ratio_of[near[0]] if near else 0.0)
+    assert sum(z > 0 for z in modal.zeta) == 3                  # the 4th eigen mode is axial: not kept
+    with pytest.raises(SweepError, match=r"^sweep: the bridge's modalDamping \(0\.02, 0\.01, 0\.03, 0\.04\) damps its modes: "
+                                         r"the FE bridge steps Rayleigh damping only"):
+        Sweep(bridge, ["HSLM-A1"], "300", PassageSettings())
+    replaced = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(bridge="modal", damping=0.015)).runner.modal
+    assert np.all(replaced.zeta == 0.015)

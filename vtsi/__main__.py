@@ -255,11 +255,14 @@ def _sweep_options(p, check):
                           help="trains as moving axle forces (default) or multibody cars (catalogue trains with cars)")
     settings.add_argument("--contact", choices=("bilateral", "lcp"), help="bilateral (default) or lcp (contact loss)")
     settings.add_argument("--interpolation", choices=("hermite", "bspline"),
-                          help="rail shape functions: hermite (default) or bspline")
-    settings.add_argument("--bridge-model", choices=("fe", "modal"),
-                          help="fe (the FE bridge, time-stepped; default) or modal (its modes up to 1.1 x the EN "
-                               "cut-off, the damping ratio on every mode: exact passages for moving forces, "
-                               "time-stepped for cars)")
+                          help="rail shape functions: hermite or bspline (default: bspline with --cars full, "
+                               "hermite for moving forces)")
+    settings.add_argument("--bridge-model", choices=_bridge_models(),
+                          help="fe (the FE bridge, time-stepped; default), modal (its modes up to --modal-hz, the "
+                               "damping ratio on every mode: exact passages for moving forces, time-stepped for "
+                               "cars) or modal-stepped (the modes, time-stepped for moving forces too)")
+    settings.add_argument("--modal-hz", type=float, metavar="HZ",
+                          help="the modal bridge's highest frequency [Hz] (default: 1.1 x the EN cut-off)")
     settings.add_argument("--damping", type=float, metavar="ZETA",
                           help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh through n0 and the EN cut-off; with "
                                "--bridge-model modal: on every mode); "
@@ -284,6 +287,11 @@ def _positive_int(text):
 def _irregularities():
     from vtsi.passage import IRREGULARITIES
     return IRREGULARITIES
+
+
+def _bridge_models():
+    from vtsi.passage import BRIDGE_MODELS
+    return BRIDGE_MODELS
 
 
 # -- vtsi run ----------------------------------------------------------------------------------
@@ -390,7 +398,7 @@ def _prepare_sweep(ns, out):
     with _stdout_to_stderr():                          # stdout carries only the results table
         source = read_bridge_file(ns.bridge, ns.track)
     values = dict(source.settings)
-    for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping", "irregularity"):
+    for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping", "irregularity", "modal_hz"):
         if getattr(ns, name) is not None:
             values[name] = getattr(ns, name)
     if ns.bridge_model is not None:

@@ -319,8 +319,13 @@ def script_bridge(path, track=None):
         Track(model, tracks[track])
     except ModelError as exc:
         raise ModelError(f"bridge script {path}: track {track}: {exc}") from None
-    return SweepBridge(model, list(tracks[track]),
-                       {"kind": "script", "path": path, "sha256": sha256, "track": int(track)})
+    description = {"kind": "script", "path": path, "sha256": sha256, "track": int(track)}
+    modal_damping = ()
+    if session._modal_damping is not None:      # modalDamping's ratios, on the modes of the last eigen
+        omega2, ratios = session._eigen[1], session._modal_damping[1]
+        modal_damping = tuple((math.sqrt(w2) / (2 * math.pi), float(z)) for w2, z in zip(omega2, ratios))
+        description["modal_damping"] = [list(pair) for pair in modal_damping]
+    return SweepBridge(model, list(tracks[track]), description, modal_damping)
 
 
 def _run_tcl(path, session):

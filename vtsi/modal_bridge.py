@@ -39,6 +39,36 @@ from vtsi.subdomain import BridgeStages, factor
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
 
 
+def _moving(asm, track, shapes):
+    """The columns of ``shapes`` that move ``track`` (all without one): a straight beam's axial
+    modes load no wheel."""
+    if track is None:
+        return np.arange(shapes.shape[1])
+    on_track = np.abs(shapes[asm.full_of_free[track.free_index]])
+    return np.flatnonzero(np.max(on_track, axis=0) > 1e-9 * np.max(on_track))
+
+
+def _lowest_modes(model, asm, track, n_modes):
+    """``(frequencies [Hz], shapes, keep)``: the lowest ``n_modes`` modes that move ``track``
+    (``keep`` their columns), asking :func:`eigen` for twice as many until there are enough;
+    'all': every mode."""
+    if isinstance(n_modes, str) and n_modes == "all":
+        omega2, shapes = eigen(model, n_modes)
+        return np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi), shapes, _moving(asm, track, shapes)
+    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))      # dofs with mass: at most that many modes
+    k = n_modes
+    while True:
+        omega2, shapes = eigen(model, "all" if isinstance(k, int) and k == n_mass < asm.n_free else k)
+        keep = _moving(asm, track, shapes)
+        if len(keep) >= n_modes or k >= min(n_mass, asm.n_free):
+            break
+        k = min(n_mass, asm.n_free, 2 * k)
+    if len(keep) < n_modes:
+        raise ModelError(f"modal bridge: n_modes = {n_modes}, but only {len(keep)} modes of the model move the track "
+                         f"(of {shapes.shape[1]}: the others, a straight beam's axial modes, load no wheel)")
+    return np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi), shapes, keep[:n_modes]
+
+
 class ModalBridge:
     """The modes of a FE bridge model, mass-normalised, with a damping ratio per mode.
 
@@ -53,8 +83,9 @@ class ModalBridge:
     zeta : damping ratio [-] (>= 0; < 1 for exact passages) of every mode, a sequence (one per kept mode) or a function of the
         frequency [Hz] -> ratio. None: the model's own damping, ζ_j = φ_jᵀ C φ_j / (2 ω_j), which
         must be classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
-    n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound; 'all': every mode
-        of finite frequency (with every dof carrying mass, the FE model's own equations).
+    n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound (with a track: the
+        lowest that move it); 'all': every mode of finite frequency (with every dof carrying
+        mass, the FE model's own equations).
 
     Attributes
     ----------
@@ -72,19 +103,18 @@ class ModalBridge:
         if n_modes is not None:
             if f_max is not None:
                 raise ModelError("modal bridge: give f_max or n_modes, not both")
-            omega2, shapes = eigen(model, n_modes)
-            f = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
+            f, shapes, keep = _lowest_modes(model, asm, track, n_modes)
         else:
             if f_max is None:
                 f_max = CUTOFF_MARGIN * acceleration_cutoff_hz(vertical_frequencies(model, 3)[0])
             f_max = _positive_hz(f_max)
             f, shapes = modes_up_to(model, f_max)
-        keep = np.arange(len(f))
-        if track is not None:
-            on_track = shapes[asm.full_of_free[track.free_index]]
-            keep = np.flatnonzero(np.max(np.abs(on_track), axis=0) > 1e-9 * np.max(np.abs(on_track)))
-            if len(keep) == 0:
-                raise ModelError(f"modal bridge: no mode up to {f[-1]:g} Hz moves the track")
+            if f[0] > f_max:
+                raise ModelError(f"modal bridge: f_max = {f_max:g} Hz is below the first mode ({f[0]:.4g} Hz): "
+                                 "no mode to keep")
+            keep = _moving(asm, track, shapes)
+        if len(keep) == 0:
+            raise ModelError(f"modal bridge: no mode up to {f[-1]:g} Hz moves the track")
         self.assembly, self.track = asm, track
         self.frequencies, self.shapes = f[keep], np.ascontiguousarray(shapes[:, keep])
         self.omega = 2 * np.pi * self.frequencies
@@ -110,6 +140,8 @@ class ModalBridge:
         elif callable(zeta):
             ratios = np.array([_ratio_of(zeta, fi) for fi in self.frequencies])
         else:
+            if np.asarray(zeta).dtype == bool:
+                raise ModelError(f"modal bridge: damping ratios must be numbers, got {zeta!r}")
             ratios = _float_array(zeta, "damping ratios")
             ratios = np.broadcast_to(ratios, (n,)).copy() if ratios.ndim == 0 else ratios
         if ratios.shape != (n,) or not np.all((ratios >= 0) & np.isfinite(ratios)):
@@ -143,6 +175,13 @@ class ModalBridge:
         zeta = self._zeta.copy()
         zeta[: len(ratios)] += ratios
         self._set_ratios(zeta)
+
+    def check_underdamped(self):
+        """Raise unless every mode has ζ < 1, as an exact passage needs (naming the first that has not)."""
+        if self._overdamped >= 0:
+            j = self._overdamped
+            raise ModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
+                             "an exact passage needs underdamped modes (lower f_max or give the ratios)")
 
     def stages(self, integrator, dt, track=None, self_weight_load=None):
         """The bridge subdomain for ``integrator`` and ``dt`` [s] (:class:`ModalStages`)."""
@@ -191,10 +230,7 @@ class ModalBridge:
         output times), column c = Σ_j rows[0, j, c] q_j + rows[1, j, c] q̇_j + rows[2, j, c] q̈_j
         (``rows (3, n_modes, n_columns)``: a node response is its row of Φ on q, q̇ or q̈)."""
         x0, loads, speed, n_samples, dt = self._axles(offsets, loads, speed, x_head0, n_samples, dt)
-        if self._overdamped >= 0:
-            j = self._overdamped
-            raise ModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
-                             "an exact passage needs underdamped modes (lower f_max or give the ratios)")
+        self.check_underdamped()
         rows = _float_array(rows, "passage rows")
         if rows.ndim != 3 or rows.shape[:2] != (3, self.n_modes):
             raise ModelError(f"modal bridge: passage rows must be (3, {self.n_modes}, n_columns), got {rows.shape}")

@@ -258,6 +258,11 @@ class PassageSettings:
         if self.bridge not in BRIDGE_MODELS:
             raise ModelError(f"sweep settings: unknown bridge {self.bridge!r}; valid: {', '.join(BRIDGE_MODELS)}")
         positive("modal_hz", allow_none=True)
+        if self.modal_hz is not None and self.bridge == "fe":
+            raise ModelError(f"sweep settings: modal_hz = {self.modal_hz!r} is the modal bridge's highest frequency, and "
+                             "bridge is 'fe': take bridge='modal' (or 'modal-stepped'), or leave modal_hz unset")
+        for name in ("exact_events", "bridge_self_weight", "static_correction"):
+            as_flag(getattr(self, name), "sweep settings", name)
         try:
             integrator = coupled_integrator(self.integrator, self.contact, "sweep settings")
         except VtsiError as exc:
@@ -274,6 +279,16 @@ class PassageSettings:
         out["integrator"] = self.integrator if isinstance(self.integrator, str) else repr(self.integrator)
         return out
 
+
+
+def _ratios_by_frequency(frequencies, modal_damping):
+    """The ratios (n,) that ``modal_damping`` ((frequency [Hz], ratio), ...) gives the modes of
+    ``frequencies`` (n,) [Hz]: each pair's ratio to the modes within 1e-6 of its frequency (0
+    elsewhere: a mode the script's eigen did not reach)."""
+    ratios = np.zeros(len(frequencies))
+    for f, zeta in modal_damping:
+        ratios[np.abs(frequencies - f) <= 1e-6 * f] += zeta
+    return ratios
 
 
 def contact_force_mean(forces, dt, window=CONTACT_FORCE_WINDOW):
@@ -351,6 +366,11 @@ class PassageRunner:
     track_elements : tags of the track's elements (the chain the wheels run along).
     settings : PassageSettings.
     outputs : sequence of Output.
+    modal_damping : ``((frequency [Hz], ratio [-]), ...)``: damping ratios of the model's modes
+        (a script's ``modalDamping``, :class:`~vtsi.sweep.SweepBridge`), added on the modal
+        bridge to each kept mode of that frequency (within 1e-6) over the model's own damping,
+        as the command layer adds them; replaced, as the model's own damping is, by
+        ``settings.damping``; the FE bridge, which steps Rayleigh damping, refuses them.
 
     Attributes
     ----------
@@ -365,7 +385,7 @@ class PassageRunner:
         the track's.
     """
 
-    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS):
+    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=()):
         self.model = copy.deepcopy(model)
         self.outputs = tuple(outputs)
         names = [o.name for o in self.outputs]
@@ -396,6 +416,10 @@ class PassageRunner:
         if settings.dt is None:
             settings = replace(settings, dt=default_dt(self.frequencies))
         self.settings = settings
+        if modal_damping and settings.damping is None and settings.bridge == "fe":
+            raise ModelError(f"the bridge's modalDamping ({', '.join(f'{z:g}' for _, z in modal_damping)}) damps its modes: "
+                             "the FE bridge steps Rayleigh damping only; take the modal bridge (bridge='modal', "
+                             "--bridge-model modal) or the sweep's own damping ratio (damping=..., --damping)")
         if settings.damping is not None and settings.bridge == "fe":
             rayleigh_damping(self.model, settings.damping,
                              settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
@@ -403,7 +427,14 @@ class PassageRunner:
         self.modal = None
         if settings.bridge != "fe":      # damping None: the model's own (classical) damping on its modes
             f_max = modal_basis_hz(settings.bridge, settings.modal_hz, self.frequencies)
+            if f_max < self.frequencies[0]:
+                raise ModelError(f"modal_hz = {f_max:g} Hz is below the bridge's first frequency "
+                                 f"({self.frequencies[0]:.4g} Hz): no mode to keep")
             self.modal = ModalBridge(self.model, self.track, f_max, settings.damping)
+            if modal_damping and settings.damping is None:
+                self.modal.add_ratios(_ratios_by_frequency(self.modal.frequencies, modal_damping))
+            if settings.bridge == "modal" and settings.cars == "force":     # exact passages: before any case runs
+                self.modal.check_underdamped()
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}

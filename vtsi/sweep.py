@@ -162,12 +162,15 @@ def _count(value, name):
 # -- the bridge --------------------------------------------------------------------------------
 @dataclass
 class SweepBridge:
-    """A bridge model for a sweep: the model, the tags of its track elements and a description
-    (JSON-able dict, stored in the results; e.g. the beam's data or the script's path)."""
+    """A bridge model for a sweep: the model, the tags of its track elements, a description
+    (JSON-able dict, stored in the results; e.g. the beam's data or the script's path) and the
+    ``modal_damping`` of a script: ``((frequency [Hz], ratio [-]), ...)`` that its
+    ``modalDamping`` gave the modes of its ``eigen`` (:class:`~vtsi.passage.PassageRunner`)."""
 
     model: object
     track_elements: list
     description: dict
+    modal_damping: tuple = ()
 
 
 def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0, damping=None):
@@ -264,7 +267,7 @@ class Sweep:
             if not isinstance(o, Output):
                 raise SweepError(f"sweep: outputs must be vtsi.passage.Output, got {o!r}")
         try:
-            self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs)
+            self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs, bridge.modal_damping)
             self.settings = self.runner.settings       # dt set from the bridge when it was None
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
