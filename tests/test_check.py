@@ -396,3 +396,14 @@ def test_ringing_passages_grow_the_deck_acceleration_as_dt_shrinks():
     assert smooth_fine[0] == pytest.approx(smooth_coarse[0], rel=0.05)
     assert ring_fine[0] > 2.5 * smooth_fine[0]
     assert ring_fine[1] == pytest.approx(smooth_fine[1], rel=1e-3)
+
+
+def test_speeds_below_the_en_series_are_noted():
+    """Speeds typed in m/s where km/h are read (70 and 83) ran at 70 and 83 km/h and the check said
+    nothing: the deck acceleration's note now says the speeds stop below 144 km/h (40 m/s), where
+    EN 1991-2 6.4.6.2(1)'s series starts, and what they would be in m/s."""
+    sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["HSLM-A1"], "70,83",
+                  PassageSettings(damping=0.013))
+    note = check(sweep.run(None, workers=1, progress=False)).row("deck_acceleration").note
+    assert note.endswith("; the sweep's speeds stop at 83 km/h, below 144 km/h (40 m/s), where EN 1991-2 6.4.6.2(1)'s "
+                         "series starts (speeds are km/h: 83 m/s would be 298.8 km/h)")

@@ -61,6 +61,11 @@ def test_check_writes_results_checks_histories_and_report(tmp_path, bridge, caps
     (["--bridge-type", "steel", "--line-speed", "300"],                        # 300 km/h given, 360 asked
      "--speeds reach 300 km/h, short of 1.2 x --line-speed 300 = 360 km/h that EN 1991-2 6.4.6.2(1) asks"),
     (["--bridge-type", "steel", "--line-speed", "250", "--speeds", "en:300"], "name two line speeds"),
+    (["--bridge-type", "steel", "--line-speed", "83.3", "NO_SPEEDS"],       # m/s typed: it named '(0, 99.96]'
+     "line speed 83.3 km/h: 1.2 x it = 99.96 km/h is below 144 km/h, where the series starts (EN 1991-2 6.4.6.2(1): "
+     "from 40 m/s); if 83.3 is in m/s, the line speed is 299.88 km/h"),
+    (["--bridge-type", "steel", "--line-speed", "3000", "NO_SPEEDS"],       # it named '3600 km/h' only
+     "line speed 3000 km/h: 1.2 x it = 3600 km/h is faster than any train (at most 720 km/h)"),
     (["--bridge-type", "steel", "SELF_WEIGHT"],                               # totals would be read as train effects
      "include the bridge's self weight (bridge_self_weight), and the EN criteria read the trains' effects"),
 ])
@@ -72,7 +77,8 @@ def test_bad_check_input_is_one_line_exit_2_nothing_written(tmp_path, bridge, ca
     if "SELF_WEIGHT" in extra:
         extra = [e for e in extra if e != "SELF_WEIGHT"]
         bridge.write_text(BEAM_TOML + "bridge_self_weight = true\n")
-    speeds = [] if "--speeds" in extra else ["--speeds", "300"]
+    speeds = [] if "--speeds" in extra or "NO_SPEEDS" in extra else ["--speeds", "300"]
+    extra = [e for e in extra if e != "NO_SPEEDS"]
     status = main(["check", str(bridge), "--trains", "HSLM-A1", *speeds, "--workers", "1", *extra])
     err = capsys.readouterr().err
     assert status == 2

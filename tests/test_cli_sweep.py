@@ -507,6 +507,17 @@ def test_a_closed_standard_output_is_not_an_error(tmp_path):
     assert SweepResults(tmp_path / "out.h5").n_done == 3
 
 
+
+def test_a_closed_pipe_of_both_streams_is_not_an_error(tmp_path):
+    """'vtsi sweep ... 2>&1 | head -1' exited 1 ('a passage failed') now and then: the closing
+    line on standard error ('results in ...') met the closed pipe."""
+    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    proc = subprocess.Popen([sys.executable, "-m", "vtsi", "sweep", str(bridge), *FAST[:-1], "--out", "out.h5"],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    proc.stdout.close()                          # the reader is gone before anything is printed
+    assert proc.wait(120) == 0
+    assert SweepResults(tmp_path / "out.h5").n_done == 3
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="SIGTERM and /proc")
 def test_sigterm_stops_like_ctrl_c(tmp_path):
     """SIGTERM (Slurm, systemd) exited 143 without a word, leaving pool workers and out.h5.partial."""

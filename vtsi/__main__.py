@@ -313,16 +313,16 @@ def _run(parser, argv):
     except ImportError as exc:
         if "tkinter" not in str(exc):
             raise
-        print("vtsi: running Tcl scripts needs Python's tkinter, which this Python lacks "
-              "(Debian/Ubuntu: apt-get install python3-tk)", file=sys.stderr)
+        _print_err("vtsi: running Tcl scripts needs Python's tkinter, which this Python lacks "
+                   "(Debian/Ubuntu: apt-get install python3-tk)")
         return EXIT_FAILED
     except (VtsiError, OSError) as exc:
         sys.stdout.flush()
         line = script_line(exc, ns.script)
         message = " ".join(str(exc).split("\n"))
-        print(f"vtsi: {ns.script}" + (f" line {line}" if line else "") + f": {message}", file=sys.stderr)
+        _print_err(f"vtsi: {ns.script}" + (f" line {line}" if line else "") + f": {message}")
         if ns.traceback:
-            print("\n".join(getattr(exc, "__notes__", ())), file=sys.stderr)
+            _print_err("\n".join(getattr(exc, "__notes__", ())))
         return EXIT_FAILED if isinstance(exc, (DivergenceError, OSError)) else EXIT_USAGE
     return interp.exit_code or 0
 
@@ -513,8 +513,8 @@ def _check_and_report(sweep, out, report_dir, settings, ns):
                                  animation=ns.animation)
     _print_out(result.text())
     if not ns.quiet:
-        print(f"vtsi check: results in {out}; report in {paths['html']}" +
-              ("" if paths["scene"] else " (no 3-D scene: off-screen rendering is not available)"), file=sys.stderr)
+        _print_err(f"vtsi check: results in {out}; report in {paths['html']}" +
+                   ("" if paths["scene"] else " (no 3-D scene: off-screen rendering is not available)"))
     return 0 if result.passed else EXIT_CHECK_FAILS
 
 
@@ -592,7 +592,7 @@ def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
     if summary:
         _print_out(results.summary())
         if not ns.quiet:
-            print(f"vtsi sweep: results in {out}", file=sys.stderr)
+            _print_err(f"vtsi sweep: results in {out}")
     return 0
 
 
@@ -603,20 +603,27 @@ def _stopped(exc, command="sweep", detail=""):
     return _fail("interrupted" + detail, EXIT_INTERRUPTED, command)
 
 
-def _print_out(text):
-    """Print ``text`` on standard output. A reader that closed it (``vtsi sweep ... | head -1``)
-    is not an error: the rest of the text is dropped (standard output goes to the null device,
-    so that nothing fails again when Python flushes it at exit)."""
+def _print_out(text, stream=None):
+    """Print ``text`` on standard output (or ``stream``, standard error). A reader that closed it
+    (``vtsi sweep ... | head -1``, or ``2>&1 | head -1``) is not an error: the rest of the text
+    is dropped (the stream goes to the null device, so that nothing fails again when Python
+    flushes it at exit), and the exit status stays what the run's outcome makes it."""
+    stream = stream or sys.stdout
     try:
-        print(text)
-        sys.stdout.flush()
+        print(text, file=stream)
+        stream.flush()
     except BrokenPipeError:
         try:
             null = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(null, sys.stdout.fileno())
+            os.dup2(null, stream.fileno())
             os.close(null)
         except (AttributeError, OSError, ValueError):
             pass
+
+
+def _print_err(text):
+    """Print ``text`` on standard error (:func:`_print_out`)."""
+    _print_out(text, sys.stderr)
 
 
 def _message(exc):
@@ -634,7 +641,7 @@ def _fail(exc, status, command="sweep"):
         sys.stdout.flush()
     except OSError:                 # a closed pipe: the line below still goes to standard error
         pass
-    print(f"vtsi {command}: {exc if isinstance(exc, str) else _message(exc)}", file=sys.stderr)
+    _print_err(f"vtsi {command}: {exc if isinstance(exc, str) else _message(exc)}")
     return status
 
 

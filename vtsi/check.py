@@ -364,6 +364,10 @@ def _deck_acceleration(results, outputs, bridge, settings):
         note += (f"; dt = {1e3 * dt:g} ms {'samples' if exact else 'steps'} the highest counted frequency, {f_top:.4g} Hz, "
                  f"only {steps:.3g} times a period: {effect}; take dt <= {1e3 * finer:g} ms "
                  f"({STEPS_PER_CUTOFF_PERIOD} steps a period, the default)")
+    top, start = float(np.max(results.speeds_kmh)), en1991_2.SPEED_SERIES_START_KMH
+    if top < start:
+        note += (f"; the sweep's speeds stop at {top:g} km/h, below {start:g} km/h (40 m/s), where EN 1991-2 "
+                 f"6.4.6.2(1)'s series starts (speeds are km/h: {top:g} m/s would be {3.6 * top:g} km/h)")
     rings = _rings(sweep)
     if rings:
         note += (f"; not checked: {RINGING}, and the deck's acceleration grows as dt shrinks (an ICE3 on a 20 m span: "

@@ -30,6 +30,7 @@ from functools import partial
 import numpy as np
 from tqdm.auto import tqdm
 
+from vtsi.codes.en1991_2 import SPEED_SERIES_START_KMH
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import PassageError, SweepError, VtsiError, is_int
@@ -43,7 +44,6 @@ from vtsi.vehicle import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
-EN_START_KMH = 144.0        # 40 m/s, EN 1991-2 §6.4.6.2(1)
 
 
 # -- speeds ------------------------------------------------------------------------------------
@@ -93,7 +93,7 @@ def resonance_speeds(frequencies_hz, lengths_m, orders=(1, 2, 3, 4)):
     return np.unique((f[:, None, None] * D[None, :, None] / i[None, None, :]).ravel() * 3.6)
 
 
-def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=EN_START_KMH, step_kmh=10.0,
+def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=SPEED_SERIES_START_KMH, step_kmh=10.0,
                   fine_step_kmh=2.0, band=0.1):
     """The EN 1991-2 §6.4.6.2 speed series [km/h]: from ``start_kmh`` (40 m/s) up to 1.2 × the
     line speed in steps of ``step_kmh``, plus every resonance speed v = n·D/i
@@ -103,8 +103,15 @@ def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=EN_START_
     v_max = 1.2 * float(line_speed_kmh)
     if not (math.isfinite(v_max) and v_max > 0):
         raise SweepError(f"EN speed grid: the line speed must be > 0 km/h, got {line_speed_kmh!r}")
+    if v_max > 3.6 * MAX_TRAIN_SPEED:
+        raise SweepError(f"EN speed grid: line speed {line_speed_kmh:g} km/h: 1.2 x it = {v_max:g} km/h is faster than "
+                         f"any train (at most {3.6 * MAX_TRAIN_SPEED:g} km/h)")
     if not (0 < start_kmh <= v_max):
-        raise SweepError(f"EN speed grid: start {start_kmh:g} km/h must be in (0, {v_max:g}] (1.2 x the line speed)")
+        in_ms = (f"; if {line_speed_kmh:g} is in m/s, the line speed is {3.6 * line_speed_kmh:g} km/h"
+                 if 1.2 * 3.6 * line_speed_kmh >= start_kmh else "")
+        raise SweepError(f"EN speed grid: line speed {line_speed_kmh:g} km/h: 1.2 x it = {v_max:g} km/h is below "
+                         f"{start_kmh:g} km/h, where the series starts"
+                         f"{' (EN 1991-2 6.4.6.2(1): from 40 m/s)' if start_kmh == SPEED_SERIES_START_KMH else ''}{in_ms}")
     if not (step_kmh > 0 and fine_step_kmh > 0 and band >= 0):
         raise SweepError("EN speed grid: steps must be > 0 km/h and band >= 0")
     grid = [np.arange(start_kmh, v_max + 1e-9, step_kmh), [v_max]]

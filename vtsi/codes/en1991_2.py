@@ -16,6 +16,7 @@ DAMPING_TABLE_6_6 = {
 }
 ADDITIONAL_DAMPING_SPANS = (0.0, 30.0)   # [m] range of Eq. 6.13 (Figure 6.15)
 HSLM_B_SPAN_RANGE = (1.0, 7.0)          # [m] spans L_min <= L < L_max loaded by HSLM-B (§6.4.6.1.1, Fig. 6.13)
+SPEED_SERIES_START_KMH = 144.0          # [km/h] 40 m/s: the series of speeds starts there (§6.4.6.2(1))
 
 
 def damping_lower_bound(kind, span):
