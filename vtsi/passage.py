@@ -34,7 +34,7 @@ from vtsi.codes.en1991_2 import frequency_limits
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import rayleigh_damping, vertical_frequencies
-from vtsi.errors import ModelError, VtsiError, as_positive
+from vtsi.errors import ModelError, VtsiError, as_flag, as_positive
 from vtsi.influence import InfluenceLines
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
