@@ -78,7 +78,14 @@ def bridge():
 
 BAD_INFLUENCE = [
     ("no responses", lambda m, t, il: InfluenceLines(m, t),
-     r"^influence lines: give the responses as dofs=\[\(node, dof\), \.\.\.\] or as functionals, one of the two$"),
+     r"^influence lines: give the responses as dofs=\[\(node, dof\), \.\.\.\], as functionals or as "
+     r"moments=\[node, \.\.\.\], one of the three$"),
+    ("dofs and moments", lambda m, t, il: InfluenceLines(m, t, dofs=[(3, 2)], moments=[3]),
+     r"^influence lines: give the responses as dofs=.*one of the three$"),
+    ("no moment nodes", lambda m, t, il: InfluenceLines(m, t, moments=[]),
+     r"^influence lines: moments must be a non-empty list of node tags, got \[\]$"),
+    ("a moment off the track", lambda m, t, il: InfluenceLines(m, t, moments=[99]),
+     r"^bending moment: node 99 does not exist$"),
     ("a dof without its node", lambda m, t, il: InfluenceLines(m, t, dofs=[(3,)]),
      r"^influence lines: dofs must be a non-empty list of \(node, dof\) pairs, got \[\(3,\)\]$"),
     ("no dofs", lambda m, t, il: InfluenceLines(m, t, dofs=[]),

@@ -30,7 +30,11 @@ acceleration Φ_d q̈, rotation, bending moment; in the kept modes only, the EN 
 construction), summed in the kernel. Truncated modes are left out entirely: a displacement
 misses their quasi-static part (for a simply supported span the first omitted symmetric mode,
 the 5th, carries 1/625 of the first's static mid-span deflection), which
-:func:`add_static_correction` adds back.
+:func:`add_static_correction` adds back. A bending moment's columns are its elements' end
+moments K_e u_e (:func:`vtsi.recorders.moment.moment_rows`); the fixed-end share of the axles
+standing inside the elements next to its node is no function of the modes, and the caller adds it
+at the same samples (:func:`vtsi.recorders.moment.add_fixed_end_moments`, as
+:meth:`vtsi.passage.PassageRunner.run` does).
 
 Peaks are taken on the samples and refined by a parabola through the largest sample and its
 neighbours: a response of frequency f sampled every Δt is under-read by at most 1 − cos(π f Δt)

@@ -43,7 +43,7 @@ from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_p
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.envelope import Envelope
 from vtsi.recorders.modal import ModalNodeRecorder
-from vtsi.recorders.moment import BendingMomentRecorder, moment_rows
+from vtsi.recorders.moment import BendingMomentRecorder, add_fixed_end_moments, fixed_end_moments, moment_rows
 from vtsi.subdomain import BridgeStageCache
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
@@ -441,6 +441,7 @@ class PassageRunner:
         self._modes = {}
         self._modal_plans = {}
         self._residuals = {}
+        self._fixed_ends = {}
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
@@ -539,8 +540,7 @@ class PassageRunner:
             return None
         nodes = self.output_nodes(output.nodes)
         if output.response == "moment":
-            lines = InfluenceLines(self.model, self.track,
-                                   functionals=moment_rows(self.model.build(), self.track, nodes))
+            lines = InfluenceLines(self.model, self.track, moments=nodes)
         else:
             lines = InfluenceLines(self.model, self.track, [(n, 3 if output.response == "rotation" else 2)
                                                             for n in nodes])
@@ -703,6 +703,9 @@ class PassageRunner:
             if residual is not None and s.static_correction:   # the truncated modes' quasi-static part
                 part += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
                                                 train.speed, x_head0, n_steps, s.dt)
+            if o.response == "moment":      # the axles' fixed-end share where they stand inside an element
+                add_fixed_end_moments(self._fixed_end(nodes), x_head0 - train.wheel_offsets, train.static_wheel_loads,
+                                      train.speed, s.dt * np.arange(1, n_steps + 1), part)
             result.envelopes[o.name] = peaks(part, s.dt)
             result.columns[o.name] = nodes
             if o.history:
@@ -789,6 +792,14 @@ class PassageRunner:
             return {}
         return {o: G for o in outputs if (G := self._residual(o)) is not None}
 
+    def _fixed_end(self, nodes):
+        """The :class:`~vtsi.recorders.moment.FixedEndMoments` of the bending moments at ``nodes``
+        (tags), computed once per set of nodes."""
+        key = tuple(int(n) for n in nodes)
+        if key not in self._fixed_ends:
+            self._fixed_ends[key] = fixed_end_moments(self.model.build(), self.track, list(key))
+        return self._fixed_ends[key]
+
     def _residual(self, output):
         """The residual flexibility G (n_track, n_columns) of ``output``'s static correction (a
         displacement, rotation or bending moment without a cut-off; None for others), computed
@@ -809,7 +820,8 @@ class PassageRunner:
             if o.response == "moment":
                 if o.cutoff is not None:
                     raise ModelError(f"output {o.name!r}: bending moments take no cut-off")
-                rec = BendingMomentRecorder(self.track, self.output_nodes(o.nodes), **kwargs)
+                # with the fixed-end share of the forces and contact forces inside the elements
+                rec = BendingMomentRecorder(self.track, self.output_nodes(o.nodes), constraint=tie, **kwargs)
             elif o.response in NODE_RESPONSES:
                 dof, response = (3, "disp") if o.response == "rotation" else (2, o.response)
                 nodes = self.output_nodes(o.nodes)
