@@ -19,8 +19,10 @@ dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71)
 deflection             the more unfavourable of Φ α × LM71's static deflection and   EN 1990
                        (1 + φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| +       A2.4.4.2.3(1),
                        φ''/2 × |y_stat,train| (φ'' whole for standard maintenance),  EN 1991-2
-                       ≤ L/600 per span                                              6.4.6.5(3)
-end_rotation           max |θ| at the deck's end supports under the trains (info)   —
+                       ≤ L/600 per span (Φ, φ'' of the span's deck's L_Φ)            6.4.6.5(3)
+deflection_overhang    the same on a deck's overhang, against L_c/600 of its length  EN 1991-2
+                       for reference only (info: EN 1990 gives no cantilever limit)  6.4.6.5(3)
+end_rotation           max |θ| at the decks' end supports under the trains (info)   —
 car_body_acceleration  max |a| of the car bodies, at each centre or over either      EN 1990
                        bogie pivot, ≤ b_v (Table A2.9)                               A2.4.4.3.1
 wheel_unloading        max ΔQ/Q = 1 − λ_min / Q (Q the static wheel load, λ the      project
@@ -176,7 +178,7 @@ class CheckResult:
             if r.train and r.seed >= 0:
                 case += f" seed {r.seed}"
             held = r.status != "info"          # an info row's limit is a reference: no utilisation
-            lines.append((r.criterion, f"{r.value:.4g} {r.units}",
+            lines.append((r.criterion, "not evaluated" if np.isnan(r.value) else f"{r.value:.4g} {r.units}",
                           "" if np.isnan(r.limit) else f"{'' if held else 'ref. '}{r.limit:.4g}",
                           "" if np.isnan(r.utilisation) or not held else f"{r.utilisation:.2f}", r.status.upper(),
                           case, r.where, r.clause))
@@ -318,8 +320,8 @@ def _deck_acceleration(results, outputs, bridge, settings):
         return []
     name = name[0]
     env, columns = results.column_envelopes(name)
-    spanned = _spanned_nodes(bridge)
-    on_deck = np.isin(np.asarray(columns), np.asarray(sorted(spanned)))
+    deck = deck_nodes(bridge)             # spans and overhangs: EN 1990 A2.4.4.2.1 reads the deck's peak
+    on_deck = np.isin(np.asarray(columns), np.asarray(sorted(deck)))
     if not on_deck.any():
         raise SweepError(f"check: the deck acceleration output {name!r} holds no deck node (nodes "
                          f"{', '.join(str(int(c)) for c in columns)}): keep one at the deck's nodes (nodes='deck')")
@@ -335,6 +337,12 @@ def _deck_acceleration(results, outputs, bridge, settings):
         note = f"frequencies up to {basis:.4g} Hz (the modal bridge's modes)"
     else:
         note = "the FE model's full response: no EN cut-off output was kept"
+    x_peak = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist())).get(int(columns[idx[-1]]))
+    tol = _x_tolerance(bridge)
+    for _, a, b in overhangs(bridge):
+        if x_peak is not None and abs(x_peak - a) > tol and min(a, b) - tol <= x_peak <= max(a, b) + tol:
+            note += (f"; the peak is on the overhang from x = {min(a, b):g} to {max(a, b):g} m (deck: it carries "
+                     "the track)")
     spans = np.asarray(bridge["span_lengths_m"])
     hslm_b_below = en1991_2.HSLM_B_SPAN_RANGE[1]
     if len(spans) == 1 and spans[0] < hslm_b_below and \
@@ -347,7 +355,6 @@ def _deck_acceleration(results, outputs, bridge, settings):
         note += (f"; EN 1991-2 6.4.6.1.1: HSLM-A is its ten trains A1 to A10 (a continuous deck, or a span of "
                  f"{hslm_b_below:g} m or more), and this sweep holds {', '.join(t.removeprefix('HSLM-') for t in held)} "
                  "only: enough only if they are the critical ones by Annex E (simply supported spans)")
-    deck = spanned
     read = deck & set(np.asarray(columns).tolist())
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
         note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
@@ -377,13 +384,52 @@ def _deck_acceleration(results, outputs, bridge, settings):
                      f"node {int(columns[idx[-1]])}", f"{settings.track.replace('_', ' ')} track; {note}")]
 
 
-def _spanned_nodes(bridge):
-    """The deck nodes on its spans (between the first span's first support and the last span's
-    last one): the track's nodes on an approach (ground) are no deck."""
-    x, ends = np.asarray(bridge["deck_x_m"]), np.asarray(bridge["span_ends_m"])
-    tol = 1e-9 * max(ends[-1, 1] - ends[0, 0], 1.0)
-    inside = (x >= ends[0, 0] - tol) & (x <= ends[-1, 1] + tol)
+def deck_ranges(bridge):
+    """(n_decks, 2) the x [m] of each deck's ends, its spans and overhangs (/bridge/deck_ends_m,
+    :mod:`vtsi.deck`); in a results file of an older vtsi, which kept none, from the first span's
+    first support to the last span's last."""
+    if "deck_ends_m" in bridge:
+        return np.asarray(bridge["deck_ends_m"], dtype=float).reshape(-1, 2)
+    ends = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2)
+    return np.array([[ends[0, 0], ends[-1, 1]]])
+
+
+def _x_tolerance(bridge):
+    ends = np.asarray(bridge["span_ends_m"], dtype=float)
+    return 1e-9 * max(float(np.ptp(ends)), 1.0)
+
+
+def deck_nodes(bridge):
+    """The track's nodes on a deck (its spans and overhangs): the track's nodes on an approach
+    (ground) or on a joint between two decks are no deck."""
+    x, tol = np.asarray(bridge["deck_x_m"]), _x_tolerance(bridge)
+    inside = np.zeros(len(x), dtype=bool)
+    for a, b in deck_ranges(bridge):
+        inside |= (x >= a - tol) & (x <= b + tol)
     return set(np.asarray(bridge["deck_nodes"])[inside].tolist())
+
+
+def span_decks(bridge):
+    """(n_spans,) the deck (row of :func:`deck_ranges`) of each span."""
+    decks, tol = deck_ranges(bridge), _x_tolerance(bridge)
+    middle = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2).mean(axis=1)
+    return np.array([int(np.flatnonzero((decks[:, 0] - tol <= m) & (m <= decks[:, 1] + tol))[0]) for m in middle])
+
+
+def overhangs(bridge):
+    """The decks' overhangs: ``[(deck, x of its support, x of its free end)]`` [m], the stretches
+    of a deck beyond its outermost spans' supports."""
+    ends, tol = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2), _x_tolerance(bridge)
+    out, of = [], span_decks(bridge)
+    for d, (a, b) in enumerate(deck_ranges(bridge)):
+        mine = ends[of == d]
+        if not len(mine):
+            continue
+        if mine[0, 0] > a + tol:
+            out.append((d, float(mine[0, 0]), float(a)))
+        if mine[-1, 1] < b - tol:
+            out.append((d, float(mine[-1, 1]), float(b)))
+    return out
 
 
 def _span_columns(columns, bridge):
@@ -408,8 +454,10 @@ def mid_span_ratios(results, name, row, bridge):
     n_speed, n_seed, n_spans) = y_dyn / y_stat of the envelope row ``row`` (MIN: the downward
     deflection, MAX: the sagging moment) over the static value under the same train, the mid-span
     columns, the static values under the trains (n_train, n_spans) and under LM71 (n_spans))``;
-    None when the sweep kept no static values or no mid-span column of ``name``. ``bridge``: the
-    results file's bridge record (:meth:`SweepResults.bridge`)."""
+    None when the sweep kept no static values or no mid-span column of ``name``. A ratio whose
+    static value has not the row's sign (no downward deflection, no sagging moment: a
+    'mid-span' over a support) is NaN. ``bridge``: the results file's bridge record
+    (:meth:`SweepResults.bridge`)."""
     static = results.static(name)
     if static is None:
         return None
@@ -418,29 +466,64 @@ def mid_span_ratios(results, name, row, bridge):
     if not spans:
         return None
     stat = static[0][:, row, :][:, spans]                     # the same sign as the envelope row
-    return env[..., row, :][..., spans] / stat[:, None, None, :], spans, stat, static[1][row, spans]
+    usable = _of_the_sign(stat, row)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = env[..., row, :][..., spans] / np.where(usable, stat, np.nan)[:, None, None, :]
+    return ratio, spans, stat, static[1][row, spans]
+
+
+def _nanmax(values, axis):
+    """np.nanmax over ``axis`` with NaN (not a RuntimeWarning) where every value is NaN."""
+    values = np.asarray(values, dtype=float)
+    top = np.max(np.where(np.isnan(values), -np.inf, values), axis=axis, initial=-np.inf)
+    return np.where(np.isneginf(top) & np.all(np.isnan(values), axis=axis), np.nan, top)
+
+
+def _of_the_sign(values, row):
+    """Where ``values`` have the sign of the envelope row ``row`` (MIN: < 0, MAX: > 0), beyond
+    1e-9 of the largest magnitude (a value of rounding size is none)."""
+    values = np.asarray(values, dtype=float)
+    sign = -1.0 if row == MIN else 1.0
+    scale = np.nanmax(np.abs(values), initial=0.0)
+    return np.isfinite(values) & (sign * values > 1e-9 * scale) if scale > 0 else np.zeros(values.shape, dtype=bool)
 
 
 def _increment_rows(results, name, row, suffix, what, bridge, settings):
     ratios = mid_span_ratios(results, name, row, bridge)
-    if ratios is None or np.all(np.isnan(ratios[0])):
+    if ratios is None:
         return []
     ratio, spans, stat, stat_lm71 = ratios
     columns = results.column_envelopes(name)[1]
+    kept = [k for k, c in enumerate(_span_columns(columns, bridge)) if c >= 0]    # the span of each column
+    sense = "downward" if row == MIN else "sagging"
+    lacking = [k for j, k in enumerate(kept) if not np.all(_of_the_sign(stat, row)[:, j])]
+    gap = (f"; span{'s' if len(lacking) > 1 else ''} {', '.join(str(k + 1) for k in lacking)} not read: "
+           f"{'their middles have' if len(lacking) > 1 else 'its middle has'} no {sense} static value under "
+           f"{'a train' if len(results.trains) > 1 else 'the train'} (the node is on a support, or the span is "
+           "not loaded there)") if lacking else ""
+    if np.all(np.isnan(ratio)):
+        if not lacking or np.all(np.isnan(results.column_envelopes(name)[0][..., row, :])):
+            return []          # no finished case
+        return [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", np.nan, "-",
+                         note=f"not evaluated: phi'_dyn of the {what} ({name}) needs a {sense} static value{gap}")]
     train, speed, seed, idx = _governing(results, ratio, np.nanargmax)
     phi_dyn = float(ratio[idx]) - 1.0
     rows = [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
                      speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
                      note=f"phi'_dyn of the {what} ({name}) against its static value under the same train"
-                          f"{_truncation_note(results, bridge)}")]
-    L_phi, Phi, phi2, share = _design_factors(results, bridge, settings)
+                          f"{_truncation_note(results, bridge)}{gap}")]
+    L_phi, Phi, phi2, share = (f[kept] if np.ndim(f) else f for f in _design_factors(results, bridge, settings))
     ran = ~np.all(np.isnan(ratio), axis=(1, 2))                  # a train with no finished case (incomplete sweep): NaN
     per_train = np.full(ran.shape, np.nan)
-    per_train[ran] = np.nanmax(ratio.transpose(0, 3, 1, 2)[ran], axis=(1, 2)) - 1.0   # φ'_dyn per train and span
-    design = (1.0 + per_train + share * phi2) * np.abs(stat)     # (n_train, n_spans)
+    per_train[ran] = _nanmax(ratio.transpose(0, 3, 1, 2)[ran], axis=(1, 2)) - 1.0   # φ'_dyn per train and span
+    design = (1.0 + per_train + share * phi2[None, :]) * np.abs(stat)     # (n_train, n_spans)
     lm71 = Phi * settings.alpha * np.abs(stat_lm71)
-    r = design / lm71[None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(_of_the_sign(stat_lm71, row)[None, :], design / lm71[None, :], np.nan)
     if np.all(np.isnan(r)):
+        rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", np.nan, "-", 1.0,
+                             np.nan, "info", note=f"not evaluated: {what}: LM71 gives no {sense} static value at "
+                                                  f"the spans' middles read{gap}"))
         return rows
     i, j = np.unravel_index(np.nanargmax(r), r.shape)
     value = float(r[i, j])
@@ -448,18 +531,23 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
     rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
                          results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
                          f"{what}: (1 + phi'dyn + {share:g} phi'') y_train / (Phi alpha y_LM71) = {value:.3f}: "
-                         f"{governs} (L_Phi = {L_phi:.3g} m, Phi = {Phi:.3f}, phi'' = {phi2:.3f}, "
-                         f"alpha = {settings.alpha:g}){_irregular_note(results)}"))
+                         f"{governs} (L_Phi = {L_phi[j]:.3g} m, Phi = {Phi[j]:.3f}, phi'' = {phi2[j]:.3f}, "
+                         f"alpha = {settings.alpha:g}){_irregular_note(results)}{gap}"))
     return rows
 
 
 def _design_factors(results, bridge, settings):
-    """(L_Φ [m], Φ, φ'', the share of φ'' counted: ½ for careful maintenance, 1 for standard)
-    of EN 1991-2 6.4.5.2, Annex C and 6.4.6.5(3), φ'' at the sweep's highest speed."""
-    L_phi = en1991_2.determinant_length(bridge["span_lengths_m"])
-    Phi = en1991_2.dynamic_factor(L_phi, settings.maintenance)
+    """Per span (n_spans,): L_Φ [m], Φ and φ'' of EN 1991-2 6.4.5.2, Annex C (φ'' at the sweep's
+    highest speed), and the share of φ'' counted (6.4.6.5(3): ½ for careful maintenance, 1 for
+    standard). L_Φ is that of the span's deck (Table 6.2: its span, or k × the mean span of a
+    continuous one): two simply supported decks side by side are two L_Φ, not one continuous."""
+    spans, decks = np.asarray(bridge["span_lengths_m"], dtype=float), span_decks(bridge)
+    by_deck = {d: en1991_2.determinant_length(spans[decks == d]) for d in set(decks.tolist())}
+    L_phi = np.array([by_deck[d] for d in decks.tolist()])
+    Phi = np.array([en1991_2.dynamic_factor(L, settings.maintenance) for L in L_phi])
     v_max = float(np.max(results.speeds_kmh)) / 3.6
-    phi2 = en1991_2.track_irregularity_increment(L_phi, float(bridge["frequencies_hz"][0]), v_max)
+    n0 = float(bridge["frequencies_hz"][0])
+    phi2 = np.array([en1991_2.track_irregularity_increment(L, n0, v_max) for L in L_phi])
     return L_phi, Phi, phi2, 0.5 if settings.maintenance == "careful" else 1.0
 
 
@@ -486,59 +574,79 @@ def _truncation_note(results, bridge):
 def _deflection(results, outputs, bridge, settings):
     """The deflection of every deck node under the more unfavourable of Φ α × LM71 (static) and
     (1 + φ'_dyn + φ''/2) × each train of the sweep (EN 1991-2 6.4.6.5(3): the dynamic analysis
-    governs where that is larger), against L/600 of its span (EN 1990 A2.4.4.2.3(1)). At a
-    node (1 + φ'_dyn + φ''/2) y_stat,train = max |y_dyn| + φ''/2 |y_stat,train| (downward)."""
+    governs where that is larger), against L/600 of its span (EN 1990 A2.4.4.2.3(1)), Φ and φ''
+    of its deck's L_Φ. At a node (1 + φ'_dyn + φ''/2) y_stat,train = max |y_dyn| + φ''/2
+    |y_stat,train| (downward). An overhang's nodes (a cantilever carrying the track) are read the
+    same way in a row of their own, ``deflection_overhang``, against L_c/600 of the overhang's
+    length L_c for reference only (info): A2.4.4.2.3(1) gives L/600 for spans, no limit for a
+    cantilever."""
     for name in _outputs_of(outputs, "disp", cutoff=False):
         static = results.static(name)
         if static is None:
             continue
         env, columns = results.column_envelopes(name)
         deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
-        spans, ends = bridge["span_lengths_m"], bridge["span_ends_m"]
+        spans, ends = np.asarray(bridge["span_lengths_m"]), np.asarray(bridge["span_ends_m"]).reshape(-1, 2)
         _, Phi, phi2, share = _design_factors(results, bridge, settings)
-        lm71 = Phi * settings.alpha * np.abs(static[1][MIN])                        # (n_columns,)
-        dynamic = np.abs(env[..., MIN, :]) + share * phi2 * np.abs(static[0][:, MIN])[:, None, None, :]
-        worst = None
+        decks, hangs, tol = span_decks(bridge), overhangs(bridge), _x_tolerance(bridge)
+        lm71_static, train_static = np.abs(static[1][MIN]), np.abs(static[0][:, MIN])
+        worst = {"deflection": None, "deflection_overhang": None}
         for c, node in enumerate(columns):
-            inside = np.flatnonzero((ends[:, 0] <= deck_x.get(int(node), np.nan))
-                                    & (deck_x.get(int(node), np.nan) <= ends[:, 1]))
-            if not len(inside):       # off the deck, or on the ground beyond its spans
-                continue
-            k = int(inside[0])
-            limit = spans[k] / en1990_a2.DEFLECTION_SPAN_RATIO
-            at = dynamic[..., c]
+            x = deck_x.get(int(node), np.nan)
+            inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
+            if len(inside):
+                k = f = int(inside[0])
+                key, length, place = "deflection", spans[k], f"span {k + 1}"
+            else:
+                on = [h for h, (d, a, b) in enumerate(hangs) if min(a, b) - tol <= x <= max(a, b) + tol]
+                if not on:            # off the deck: on the ground beyond its spans, or a joint
+                    continue
+                d, a, b = hangs[on[0]]
+                f = int(np.flatnonzero(decks == d)[0])
+                key, length, place = "deflection_overhang", abs(b - a), f"overhang x = {min(a, b):g} to {max(a, b):g} m"
+            limit = length / en1990_a2.DEFLECTION_SPAN_RATIO
+            lm71 = Phi[f] * settings.alpha * lm71_static[c]
+            at = np.abs(env[..., MIN, c]) + share * phi2[f] * train_static[:, c][:, None, None]
             case = np.unravel_index(np.nanargmax(at), at.shape) if np.any(np.isfinite(at)) else None
-            value = max(lm71[c], at[case] if case is not None else -np.inf)
-            if worst is None or value / limit > worst[0] / worst[1]:
-                worst = (value, limit, int(node), k, c, None if value == lm71[c] else case)
-        if worst is None:
-            return []
-        value, limit, node, k, c, case = worst
-        where = f"node {node} (span {k + 1})"
-        status = "pass" if value <= limit else "fail"
-        rule = (f"the more unfavourable of Phi x alpha x LM71 ({lm71[c]:.4g} m; Phi = {Phi:.3f}, alpha = "
-                f"{settings.alpha:g}) and (1 + phi'dyn + {share:g} phi'') x each train (phi'' = {phi2:.3f}; "
-                "EN 1991-2 6.4.6.5(3)); limit L/600")
-        if case is None:
-            return [CheckRow("deflection", "EN 1990 A2.4.4.2.3(1), EN 1991-2 6.4.6.5(3)", value, "m", limit, value / limit, status,
-                             "LM71", np.nan, -1, where, f"LM71 governs: {rule}")]
-        t, v, s = case
-        return [CheckRow("deflection", "EN 1990 A2.4.4.2.3(1), EN 1991-2 6.4.6.5(3)", value, "m", limit, value / limit, status,
-                         results.trains[t], float(results.speeds_kmh[v]), results.seeds[s], where,
-                         f"the dynamic analysis governs: {rule}{_irregular_note(results)}")]
+            value = max(lm71, at[case] if case is not None else -np.inf)
+            if worst[key] is None or value / limit > worst[key][0] / worst[key][1]:
+                worst[key] = (value, limit, int(node), place, lm71, Phi[f], phi2[f], length,
+                              None if value == lm71 else case)
+        rows = []
+        for key, found in worst.items():
+            if found is None:
+                continue
+            value, limit, node, place, lm71, Phi_f, phi2_f, length, case = found
+            rule = (f"the more unfavourable of Phi x alpha x LM71 ({lm71:.4g} m; Phi = {Phi_f:.3f}, alpha = "
+                    f"{settings.alpha:g}) and (1 + phi'dyn + {share:g} phi'') x each train (phi'' = {phi2_f:.3f}; "
+                    "EN 1991-2 6.4.6.5(3)); limit L/600")
+            status = "pass" if value <= limit else "fail"
+            clause = "EN 1990 A2.4.4.2.3(1), EN 1991-2 6.4.6.5(3)"
+            if key == "deflection_overhang":
+                status, clause = "info", "EN 1991-2 6.4.6.5(3)"
+                rule = (rule.removesuffix("; limit L/600") + f"; reference L_c/600 of the overhang's length L_c = "
+                        f"{length:g} m, not checked: EN 1990 A2.4.4.2.3(1) gives L/600 for spans, no limit for a "
+                        "cantilever")
+            governs = "LM71 governs" if case is None else "the dynamic analysis governs"
+            who = ("LM71", np.nan, -1) if case is None else \
+                (results.trains[case[0]], float(results.speeds_kmh[case[1]]), results.seeds[case[2]])
+            rows.append(CheckRow(key, clause, value, "m", limit, value / limit, status, *who, f"node {node} ({place})",
+                                 f"{governs}: {rule}{'' if case is None else _irregular_note(results)}"))
+        return rows
     return []
 
 
 def _end_rotation(results, outputs, bridge, settings):
-    """The largest rotation at the deck's end supports (an output's nodes there; at all its nodes,
-    so said, when it has none there)."""
+    """The largest rotation at the decks' end supports (each deck's outermost spans' outer
+    supports; an output's nodes there; at all its nodes, so said, when it has none there)."""
     deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
-    ends = (float(bridge["span_ends_m"][0, 0]), float(bridge["span_ends_m"][-1, 1]))
+    spans, decks, tol = np.asarray(bridge["span_ends_m"]).reshape(-1, 2), span_decks(bridge), _x_tolerance(bridge)
+    ends = sorted({float(x) for d in set(decks.tolist()) for x in (spans[decks == d][0, 0], spans[decks == d][-1, 1])})
     for name in _outputs_of(outputs, "rotation"):
         env, columns = results.column_envelopes(name)
         peak = np.maximum(np.abs(env[..., MIN, :]), np.abs(env[..., MAX, :]))
         at_end = [c for c, n in enumerate(columns.tolist())
-                  if n in deck_x and min(abs(deck_x[n] - e) for e in ends) <= 1e-9 * (ends[1] - ends[0])]
+                  if n in deck_x and min(abs(deck_x[n] - e) for e in ends) <= tol]
         where = "at the deck's ends" if at_end else "at the output's nodes, none at the deck's ends"
         if at_end:
             peak, columns = peak[..., at_end], columns[at_end]

@@ -16,10 +16,15 @@ from vtsi.errors import ModelError, as_number
 from vtsi.model import Model
 
 
-def vertical_frequencies(model, n=3):
+def vertical_frequencies(model, n=3, ground=()):
     """The first ``n`` (an integer >= 1) vertical (bending) natural frequencies [Hz] and mode
     shapes of a model: the modes whose mass-weighted uy motion exceeds their ux motion (a
-    beam's axial modes are skipped). A ModelError says how many the model has if fewer than ``n``."""
+    beam's axial modes are skipped) and, with ``ground`` (node tags: a track's stretches on the
+    ground, :mod:`vtsi.deck`), whose vertical kinetic energy lies at most half at those nodes
+    (a mode of an approach on springs is not the bridge's: it read a 20 m deck's n₃ = 74.5 Hz as
+    the approach's 36.2 Hz). As many modes are computed as needed, at most one per dof with mass
+    (lumped mass leaves rotations without). A ModelError says how many the model has if fewer
+    than ``n``."""
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ModelError(f"vertical frequencies: the count must be an integer >= 1, got {n!r}")
     if not isinstance(model, Model):
@@ -27,14 +32,27 @@ def vertical_frequencies(model, n=3):
     asm = model.build()
     M = asm.M_full
     on = lambda dof: np.arange(asm.n_full) % asm.ndf == dof
-    for k in (min(asm.n_free, max(3 * n, 12)), asm.n_free):
-        omega2, shapes = eigen(model, k)
+    on_ground = np.zeros(asm.n_full, dtype=bool)
+    for node in ground:
+        on_ground[asm.full_dof(node, 2)] = True
+    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))     # at most that many modes of finite frequency
+    if n_mass == 0:
+        raise ModelError("vertical frequencies: no dof carries mass")
+    k = min(n_mass, max(3 * n, 12))
+    while True:
+        omega2, shapes = eigen(model, "all" if k == n_mass < asm.n_free else k)
         motion = lambda mask: np.einsum("ij,ij->j", shapes * mask[:, None], M @ (shapes * mask[:, None]))
-        keep = np.flatnonzero(motion(on(1)) > motion(on(0)))[:n]
-        if len(keep) == n:
+        vertical = motion(on(1))
+        keep = np.flatnonzero((vertical > motion(on(0))) & ~(motion(on_ground) > 0.5 * vertical))[:n]
+        if len(keep) == n or k >= n_mass:
             break
+        k = min(n_mass, 2 * k)
     if len(keep) < n:
-        raise ModelError(f"vertical frequencies: {n} asked, the model has {len(keep)} vertical modes")
+        approach = int(np.sum((vertical > motion(on(0))) & (motion(on_ground) > 0.5 * vertical)))
+        raise ModelError(f"vertical frequencies: {n} asked, the model has {len(keep)} vertical modes"
+                         + (f" besides {approach} of its approaches" if approach else "")
+                         + (f" (only {n_mass} of its {asm.n_free} free dofs carry mass: mesh the deck finer, or "
+                            "give it mass)" if n_mass < asm.n_free else ""))
     return np.sqrt(np.maximum(omega2[keep], 0.0)) / (2 * np.pi), shapes[:, keep]
 
 

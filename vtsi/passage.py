@@ -34,6 +34,7 @@ from vtsi.codes.en1991_2 import frequency_limits
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import rayleigh_damping, vertical_frequencies
+from vtsi.deck import deck_layout
 from vtsi.errors import ModelError, VtsiError, as_flag, as_positive
 from vtsi.influence import InfluenceLines
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
@@ -69,7 +70,6 @@ IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range
 NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
 PLACES = ("deck", "midspan", "supports")
-SUPPORT_X_TOLERANCE = 0.01    # [m] how far off a deck node's x a bearing or pier under it may reach
 CONTACT_FORCE_WINDOW = 0.01   # [s] a sweep's contact forces are their centred moving mean over this window
 BODY_ON_TWO_SUPPORTS = ("four_dof", "ten_dof")   # car kinds whose body rests at the mean of each wheel half
 BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
@@ -95,7 +95,7 @@ class Output:
         cars (fidelity 'full'); a train of moving forces skips them.
     nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
         span's middle), 'supports' (the track's nodes that carry it: uy fixed, or on bearings or piers,
-        :meth:`PassageRunner._supports`) or a tuple of node tags.
+        :func:`vtsi.deck.deck_layout`) or a tuple of node tags.
     history : keep the time history too.
     cutoff : None (the FE model's full response), 'en' (the EN 1990 A2.4.4.2.1 cut-off
         max(30 Hz, 1.5 n₀, n₃)) or a frequency [Hz]: the node response in the modes up to it
@@ -375,14 +375,16 @@ class PassageRunner:
     Attributes
     ----------
     frequencies : (3,) first vertical frequencies [Hz] (with the sweep's damping applied: the
-        undamped ones of the model).
+        undamped ones of the model), of the modes that do not move mostly the approaches
+        (:func:`~vtsi.damping.vertical_frequencies` ``ground``).
     deck_nodes, midspan_nodes : node tags along the track (x order) and at each span's middle.
-    span_ends : (n_spans, 2) x of each span's first and last support [m] (:meth:`_supports`; the
-        elements between three or more supported nodes in a row are ground, not spans);
-        span_lengths [m] their distances.
+    span_ends : (n_spans, 2) x of each span's first and last support [m]; span_lengths [m]
+        their distances; span_decks the deck of each span; deck_ends (n_decks, 2) the x of each
+        deck's ends (its spans and overhangs); ground_nodes the track's nodes on no deck
+        (approaches); support_nodes the track's nodes that carry it. The rules:
+        :mod:`vtsi.deck` (docs/sweeps.md).
     track_on_a_structure : the track stands on elements over another structure at most of its
-        nodes (a rail on its pads over the deck, :meth:`_on_a_structure`): the deck outputs are
-        the track's.
+        nodes (a rail on its pads over the deck): the deck outputs are the track's.
     """
 
     def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=()):
@@ -398,7 +400,11 @@ class PassageRunner:
             missing = [n for n in self.output_nodes(o.nodes) if n not in self.model.nodes]
             if missing and not o.vehicle:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
-        self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3)
+        try:                           # the modes of the approaches (ground) are not the bridge's
+            self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3, ground=self.ground_nodes)
+        except ModelError as exc:
+            raise ModelError(f"bridge (its track: {len(self.track.elements)} elements, x = {self.track.x_begin:g} "
+                             f"to {self.track.x_end:g} m): {exc}") from None
         # a first frequency far below what a span of its length has: E, I or the mass in other units
         # (E in kPa reads f₁ 31.6 times low: it passes an absolute floor on most spans)
         span = max(self.span_lengths, default=None)
@@ -445,79 +451,16 @@ class PassageRunner:
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
-        asm = self.model.build()
-        nodes = set()
-        for tag in self.track.elements:
-            b, i = asm.element_location[tag]
-            nodes.update(asm.blocks[b][0].nodes[i])
-        x = {n: float(self.model.nodes[n][0]) for n in nodes}
-        deck = sorted(nodes, key=x.get)
-        links, fixed_y = self._links(), {n for n, flags in self.model.fixities.items() if flags[1]}
-        fixed = self._supports(deck, x, links, fixed_y)
-        self.support_nodes = list(fixed)
-        self.track_on_a_structure = self._on_a_structure(deck, x, fixed, links, fixed_y)
-        place = {n: i for i, n in enumerate(deck)}
-        runs = []                    # the supports in runs on consecutive nodes
-        for n in fixed:
-            if runs and place[n] - place[runs[-1][-1]] == 1:
-                runs[-1].append(n)
-            else:
-                runs.append([n])
-        # a run of three or more supported nodes is ground (an approach on springs or fixed nodes);
-        # one element between two supports is a span
-        ground = {n for r in runs if len(r) >= 3 for n in r}
-        pairs = [(a, b) for a, b in zip(fixed[:-1], fixed[1:])
-                 if not (a in ground and b in ground and place[b] - place[a] == 1)] or [(deck[0], deck[-1])]
-        middle = [min(deck, key=lambda n: abs(x[n] - 0.5 * (x[a] + x[b]))) for a, b in pairs]
-        return deck, middle, [(x[a], x[b]) for a, b in pairs]
-
-    def _links(self):
-        """``{node: set of nodes}`` tied to it by an element off the track (a model with
-        equalDOF/rigidLink ties has no track: :class:`~vtsi.track.Track` refuses it)."""
-        track, links = set(self.track.elements), {}
-        for etype, tags, *_ in self.model.build().blocks:
-            for i, tag in enumerate(tags):
-                if tag in track:
-                    continue
-                ends = [int(n) for n in etype.nodes[i]]
-                for n in ends:
-                    links.setdefault(n, set()).update(m for m in ends if m != n)
-        return links
-
-    def _on_a_structure(self, deck, x, supports, links, fixed_y):
-        """True when most of the track's other nodes stand on elements over another structure
-        (a node at or below them, within SUPPORT_X_TOLERANCE of their x, off the deck and not
-        fixed; pads between coincident nodes too): a rail on its pads over the deck, whose
-        outputs are the rail's, not the deck's."""
-        on_deck = set(deck)
-        inner = [n for n in deck if n not in set(supports)]
-        under = [n for n in inner if any(m not in on_deck and m not in fixed_y
-                                         and abs(self.model.nodes[m][0] - x[n]) <= SUPPORT_X_TOLERANCE
-                                         and self.model.nodes[m][1] <= self.model.nodes[n][1]
-                                         for m in links.get(n, ()))]
-        return len(inner) > 0 and 2 * len(under) > len(inner)
-
-    def _supports(self, deck, x, links, fixed_y):
-        """The deck nodes that carry the deck, in order: uy fixed, or standing on a vertical line
-        of other elements (bearings, springs, piers: every node of the line within
-        SUPPORT_X_TOLERANCE of the deck node's x, off the deck) that reaches a node with uy
-        fixed. Hangers and stays are not vertical lines to a fixed node, nor is the deck under a
-        rail modelled as its own beam on springs."""
-        on_deck = set(deck)
-
-        def stands(node):
-            seen, stack = {node}, [node]
-            while stack:
-                for m in links.get(stack.pop(), ()):
-                    if m in seen or m in on_deck or abs(self.model.nodes[m][0] - x[node]) > SUPPORT_X_TOLERANCE:
-                        continue
-                    if m in fixed_y:
-                        return True
-                    seen.add(m)
-                    stack.append(m)
-            return False
-
-        return [n for n in deck if n in fixed_y or stands(n)]
+        """The bridge's layout along its track (:func:`vtsi.deck.deck_layout`): sets
+        ``support_nodes``, ``span_decks``, ``deck_ends``, ``ground_nodes`` and
+        ``track_on_a_structure``; returns the deck nodes, mid-span nodes and span ends."""
+        layout = deck_layout(self.model, self.track)
+        self.support_nodes = list(layout.support_nodes)
+        self.span_decks = list(layout.span_decks)
+        self.deck_ends = list(layout.deck_ends)
+        self.ground_nodes = layout.ground_nodes
+        self.track_on_a_structure = layout.track_on_a_structure
+        return list(layout.deck_nodes), list(layout.midspan_nodes), list(layout.span_ends)
 
     def cutoff_hz(self, cutoff):
         """The cut-off [Hz] of an output's ``cutoff`` ('en' or a frequency)."""

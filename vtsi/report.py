@@ -55,7 +55,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import mid_span_ratios, stored_check
+from vtsi.check import ABSMAX, deck_nodes, mid_span_ratios, stored_check
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, modal_basis_hz
@@ -451,7 +451,8 @@ class _Report:
         accel = self.output("accel", cutoff=True)
         if accel is not None:
             blocks.append(Chart("acceleration", self.acceleration_png(accel),
-                                f"Peak deck acceleration ({accel}, the largest over its nodes"
+                                f"Peak deck acceleration ({accel}, the largest over its nodes on the deck, spans "
+                                f"and overhangs"
                                 f"{' and rail samples' if len(self.results.seeds) > 1 else ''}) against speed. "
                                 "Dashed red: the check's limit. Dotted verticals: the resonance speeds "
                                 "v = n₀ D / i (i = 1, 2, 3) of each train, labelled 'train D/i'. "
@@ -525,7 +526,10 @@ class _Report:
 
     def acceleration_png(self, name):
         res = self.results
-        curves = self._per_train(res.envelope(f"{name}_absmax"), np.nanmax)
+        env, columns = res.column_envelopes(name)       # the deck's nodes, as the check reads them
+        on_deck = np.isin(columns, np.asarray(sorted(deck_nodes(self.bridge))))
+        curves = self._per_train(env[..., ABSMAX, :][..., on_deck] if on_deck.any() else
+                                 res.envelope(f"{name}_absmax"), np.nanmax)
         row = self.row("deck_acceleration")
         with _figure((11, 5.6)) as (fig, ax):
             self._lines(ax, curves)

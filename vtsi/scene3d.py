@@ -291,7 +291,8 @@ class PassageScene:
     Parameters
     ----------
     deck_x : (n_nodes,) array [m]
-        x of the deck nodes, strictly increasing (the deck runs from the first to the last).
+        x of the deck nodes, increasing (the deck runs from the first to the last); two nodes at
+        one x (two decks ending on one pier) are drawn as one, at the first's displacement.
     supports_x : (n_supports,) array [m]
         x of the supports, within the deck; those at the deck's ends (within 2 % of its length)
         are drawn as abutments, the others as piers.
@@ -307,10 +308,12 @@ class PassageScene:
     def __init__(self, deck_x, supports_x, deck_depth=1.5, deck_width=6.0, approach=None):
         x = _vector("deck_x", deck_x, min_size=2)
         steps = np.diff(x)
-        if np.any(steps <= 0):
-            i = int(np.flatnonzero(steps <= 0)[0])
-            raise ModelError(f"deck_x: must increase strictly, but deck_x[{i + 1}] = {x[i + 1]:g} "
-                             f"<= deck_x[{i}] = {x[i]:g}")
+        if np.any(steps < 0):
+            i = int(np.flatnonzero(steps < 0)[0])
+            raise ModelError(f"deck_x: must increase, but deck_x[{i + 1}] = {x[i + 1]:g} < deck_x[{i}] = {x[i]:g}")
+        if x[-1] <= x[0]:
+            raise ModelError(f"deck_x: must increase, but every node is at x = {x[0]:g}")
+        self._line = np.concatenate([[True], steps > 0])       # the nodes the deck line runs through
         s = _vector("supports_x", supports_x, min_size=2)
         length = x[-1] - x[0]
         outside = (s < x[0] - 1e-9 * length) | (s > x[-1] + 1e-9 * length)
@@ -464,9 +467,10 @@ class PassageScene:
         """The deck's displacement [m] at ``x`` [m] from its node values ``uy``: a cubic spline
         (not-a-knot; linear for two nodes)."""
         x = np.asarray(x, dtype=float)
-        if self.deck_x.size >= 3:
-            return CubicSpline(self.deck_x, uy)(x)
-        return np.interp(x, self.deck_x, uy)
+        nodes, uy = self.deck_x[self._line], np.asarray(uy, dtype=float)[self._line]
+        if nodes.size >= 3:
+            return CubicSpline(nodes, uy)(x)
+        return np.interp(x, nodes, uy)
 
     def rail_top(self, uy, scale, x):
         """y [m] of the rail top at ``x`` [m]: the deck line exaggerated by ``scale`` on the

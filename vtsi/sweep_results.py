@@ -6,7 +6,8 @@ Layout (docs/sweeps.md)::
                            identity (JSON: bridge, settings, outputs, trains, speeds, seeds)
     /train, /speed_kmh, /seed          the envelope tables' coordinates (seed -1: smooth rail)
     /bridge/               frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m,
-                           span_ends_m (n_spans, 2: each span's supports' x), mode_shapes_uy,
+                           span_ends_m (n_spans, 2: each span's supports' x), deck_ends_m
+                           (n_decks, 2: each deck's ends, spans and overhangs), mode_shapes_uy,
                            track_on_a_structure (a rail on pads over the deck: outputs are the rail's)
     /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
                            columns per case (NaN: not run yet, or not produced by that train);
@@ -425,6 +426,7 @@ class ResultsWriter:
                 b["midspan_nodes"] = np.asarray(runner.midspan_nodes, dtype=np.int64)
                 b["span_lengths_m"] = np.asarray(runner.span_lengths, dtype=float)
                 b["span_ends_m"] = np.asarray(runner.span_ends, dtype=float).reshape(-1, 2)
+                b["deck_ends_m"] = np.asarray(runner.deck_ends, dtype=float).reshape(-1, 2)
                 b["track_on_a_structure"] = bool(runner.track_on_a_structure)
                 asm = runner.model.build()
                 b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.deck_nodes]]
@@ -782,7 +784,8 @@ class SweepResults:
 
     def bridge(self):
         """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m,
-        span_ends_m (n_spans, 2), mode_shapes_uy, track_on_a_structure."""
+        span_ends_m (n_spans, 2), deck_ends_m (n_decks, 2; not in a file of an older vtsi),
+        mode_shapes_uy, track_on_a_structure."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 

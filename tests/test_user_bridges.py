@@ -1,0 +1,342 @@
+"""Bridges as users write them (Tcl scripts run by ``vtsi sweep`` / ``vtsi check``): the
+supports, spans, decks, overhangs, joints and frequencies read from them (vtsi.deck,
+docs/sweeps.md "Spans"), and what the check makes of them (docs/check.md). Each test is a
+model a probe found misread."""
+import textwrap
+import warnings
+
+import numpy as np
+import pytest
+
+from vtsi.bridge_file import load_bridge
+from vtsi.errors import ModelError, SweepError
+from vtsi.passage import PassageRunner, PassageSettings
+from vtsi.sweep import Sweep
+
+pytest.importorskip("tkinter")
+
+FAST = PassageSettings(dt=2e-3, damping=0.01)
+
+BEAM = "elasticBeamColumn"
+TWO_DECKS = """
+# two simply supported 15 m decks on one pier: deck 1 ends on node 11, deck 2 starts on node 12, both at x = 15
+model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 1}] [expr {$i * 1.5}] 0.0 }
+for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 12}] [expr {15.0 + $i * 1.5}] 0.0 }
+fix 1 1 1 0
+fix 11 0 1 0
+fix 12 1 1 0
+fix 22 0 1 0
+geomTransf Linear 1
+for {set i 1} {$i <= 10} {incr i} {
+    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
+    element elasticBeamColumn [expr {$i + 10}] [expr {$i + 11}] [expr {$i + 12}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
+}
+track 1 -eleRange 1 20
+"""
+
+
+def _bridge(tmp_path, text, name="bridge.tcl", track=None):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return load_bridge(path, track=track, min_mass_per_metre=0)
+
+
+def _runner(bridge):
+    return PassageRunner(bridge.model, bridge.track_elements, PassageSettings(), outputs=())
+
+
+def _checked(bridge, tmp_path, trains=("HSLM-A1",), speeds="300"):
+    """(results, check rows by criterion) of a small sweep, with every warning an error."""
+    from vtsi.check import check
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        results = Sweep(bridge, list(trains), speeds, FAST).run(tmp_path / "s.h5", workers=1, progress=False)
+        rows = {r.criterion: r for r in check(results).rows}
+    for r in rows.values():         # no inf, and a NaN only with a note saying why
+        assert not np.isinf(r.value) and (np.isfinite(r.value) or "not evaluated" in r.note), r
+    return results, rows
+
+
+def test_two_decks_ending_on_one_pier_are_two_spans(tmp_path):
+    """Two simply supported decks whose ends are separate nodes at x = 15 m on one pier: two
+    15 m spans, two decks, L_Φ = 15 m. Before: spans [0, 15], [15, 15], [15, 30] with a
+    'mid-span' over the pier, and the check stopped on 'span [m] must be > 0, got 0.0'."""
+    from vtsi.check import CheckSettings, _design_factors
+
+    bridge = _bridge(tmp_path, TWO_DECKS)
+    runner = _runner(bridge)
+    assert runner.span_lengths == pytest.approx([15.0, 15.0])
+    assert runner.midspan_nodes == [6, 17] and runner.deck_ends == [(0.0, 15.0), (15.0, 30.0)]
+    results, rows = _checked(bridge, tmp_path)
+    L_phi = _design_factors(results, results.bridge(), CheckSettings())[0]
+    assert L_phi == pytest.approx([15.0, 15.0])         # two simply supported decks: not 1.2 x 15 m
+    assert "L_Phi = 15 m" in rows["dynamic_vs_lm71"].note
+    assert rows["deflection"].limit == pytest.approx(15.0 / 600)
+    assert rows["end_rotation"].where in ("node 1", "node 11", "node 12", "node 22")
+
+
+PIER_CAP = """
+# 2 x 15 m continuous deck; the middle pier has a cap with two bearings 1 m apart (x = 14.5, 15.5),
+# tied to deck node 11 (x = 15) by two stiff arms; the deck's ends are fixed
+model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 20} {incr i} { node [expr {$i + 1}] [expr {$i * 1.5}] 0.0 }
+fix 1 1 1 0
+fix 21 0 1 0
+node 301 14.5 -1.0
+node 302 15.5 -1.0
+node 311 14.5 -1.0
+node 312 15.5 -1.0
+node 320 15.0 -1.0
+node 330 15.0 -9.0
+fix 330 1 1 1
+geomTransf Linear 1
+for {set i 1} {$i <= 20} {incr i} {
+    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
+}
+element elasticBeamColumn 401 11 301 10.0 3.5e10 10.0 1
+element elasticBeamColumn 402 11 302 10.0 3.5e10 10.0 1
+uniaxialMaterial Elastic 1 1.0e12
+uniaxialMaterial Elastic 2 1.0e3
+element zeroLength 411 311 301 -mat 1 2 -dir 2 1
+element zeroLength 412 312 302 -mat 1 2 -dir 2 1
+element elasticBeamColumn 421 311 320 10.0 3.5e10 10.0 1
+element elasticBeamColumn 422 320 312 10.0 3.5e10 10.0 1
+element elasticBeamColumn 430 330 320 6.0 3.5e10 4.5 1 -mass 15000.0
+track 1 -eleRange 1 20
+"""
+
+
+def test_a_pier_cap_with_bearings_beside_the_deck_node_is_a_support(tmp_path):
+    """Bearings 0.5 m either side of the deck node, on a pier cap of its own: the pier carries
+    the deck. Before: one 30 m span (L/600 = 50 mm instead of 25), its 'mid-span' on the pier,
+    dynamic_increment_moment = inf, dynamic_vs_lm71_moment gone, RuntimeWarnings."""
+    bridge = _bridge(tmp_path, PIER_CAP)
+    runner = _runner(bridge)
+    assert runner.support_nodes == [1, 11, 21] and runner.span_lengths == pytest.approx([15.0, 15.0])
+    assert runner.midspan_nodes == [6, 16] and runner.deck_ends == [(0.0, 30.0)]     # one continuous deck
+    _, rows = _checked(bridge, tmp_path)
+    assert rows["deflection"].limit == pytest.approx(0.025)
+    assert {"dynamic_increment_moment", "dynamic_vs_lm71_moment"} <= set(rows)
+    assert "L_Phi = 18 m" in rows["dynamic_vs_lm71"].note            # 1.2 x the mean span
+
+
+def test_bearings_of_two_decks_on_a_shared_pier_cap(tmp_path):
+    """Two decks whose end bearings (x = 14.7 and 15.3) stand on one pier cap, a rail across the
+    0.6 m gap: both bearings are supports (the cap is shared by the two decks' nodes only), the
+    gap a joint, the decks two."""
+    text = """
+    model basic -ndm 2 -ndf 3
+    for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 1}] [expr {$i * 1.47}] 0.0 }
+    for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 12}] [expr {15.3 + $i * 1.47}] 0.0 }
+    fix 1 1 1 0
+    fix 22 0 1 0
+    node 301 14.7 -1.0
+    node 302 15.3 -1.0
+    node 320 15.0 -1.0
+    node 330 15.0 -9.0
+    fix 330 1 1 1
+    geomTransf Linear 1
+    for {set i 1} {$i <= 10} {incr i} {
+        element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
+        element elasticBeamColumn [expr {$i + 10}] [expr {$i + 11}] [expr {$i + 12}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
+    }
+    element elasticBeamColumn 50 11 12 0.0154 2.1e11 6.1e-5 1 -mass 120.0
+    uniaxialMaterial Elastic 1 1.0e12
+    element zeroLength 411 301 11 -mat 1 -dir 2
+    element zeroLength 412 302 12 -mat 1 -dir 2
+    element elasticBeamColumn 421 301 320 10.0 3.5e10 10.0 1
+    element elasticBeamColumn 422 320 302 10.0 3.5e10 10.0 1
+    element elasticBeamColumn 430 330 320 6.0 3.5e10 4.5 1
+    track 1 -ele 1 2 3 4 5 6 7 8 9 10 50 11 12 13 14 15 16 17 18 19 20
+    """
+    runner = _runner(_bridge(tmp_path, text))
+    assert runner.support_nodes == [1, 11, 12, 22]
+    assert runner.span_lengths == pytest.approx([14.7, 14.7]) and runner.midspan_nodes == [6, 17]
+    assert runner.deck_ends == pytest.approx([(0.0, 14.7), (15.3, 30.0)])
+
+
+def test_a_mid_span_without_a_static_value_is_named_not_inf(tmp_path):
+    """A 'mid-span' node with no downward static deflection (here: a record whose middle node
+    sits on the pier): its ratio is not y_dyn / 0 (NaN or inf, with RuntimeWarnings), the row
+    says the span is not read; with no span readable the row says 'not evaluated'."""
+    from vtsi.check import MIN, CheckSettings, _increment_rows
+
+    bridge = _bridge(tmp_path, TWO_DECKS)
+    results, _ = _checked(bridge, tmp_path)
+    record = results.bridge()
+    record["midspan_nodes"] = np.array([6, 12])                      # span 2's 'middle' on the pier
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        rows = {r.criterion: r for r in _increment_rows(results, "deflection", MIN, "", "deflection", record,
+                                                        CheckSettings())}
+        assert np.isfinite(rows["dynamic_increment"].value) and rows["dynamic_increment"].where == "node 6"
+        assert "span 2 not read" in rows["dynamic_increment"].note
+        assert np.isfinite(rows["dynamic_vs_lm71"].value) and "span 2 not read" in rows["dynamic_vs_lm71"].note
+        record["midspan_nodes"] = np.array([1, 12])
+        rows = _increment_rows(results, "deflection", MIN, "", "deflection", record, CheckSettings())
+    assert len(rows) == 1 and np.isnan(rows[0].value) and "not evaluated" in rows[0].note
+
+
+CANTILEVER = """
+# a 20 m span with a 5 m overhang carrying the track at its right end
+model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 25} {incr i} { node [expr {$i + 1}] [expr {$i * 1.0}] 0.0 }
+fix 1 1 1 0
+fix 21 0 1 0
+geomTransf Linear 1
+for {set i 1} {$i <= 25} {incr i} { element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 12000.0 }
+track 1 -eleRange 1 25
+"""
+
+
+def test_an_overhang_is_deck(tmp_path):
+    """An overhang carrying the track is deck (EN 1990 A2.4.4.2.1 reads the deck's peak): its
+    acceleration is checked (before: 12.1 m/s² at node 7, between the supports, against 26.0 at
+    the tip, no note), its tip deflection is read (info) against L_c/600 of its 5 m, and the
+    report's acceleration chart reads the nodes the check reads."""
+    from vtsi.check import deck_nodes, overhangs
+
+    bridge = _bridge(tmp_path, CANTILEVER)
+    runner = _runner(bridge)
+    assert runner.span_ends == [(0.0, 20.0)] and runner.deck_ends == [(0.0, 25.0)]
+    results, rows = _checked(bridge, tmp_path, speeds="200")
+    record = results.bridge()
+    assert deck_nodes(record) == set(range(1, 27)) and overhangs(record) == [(0, 20.0, 25.0)]
+    env, columns = results.column_envelopes("acceleration")
+    assert rows["deck_acceleration"].value == pytest.approx(np.nanmax(env[..., 2, :]))
+    assert rows["deck_acceleration"].where == f"node {int(columns[np.nanargmax(env[0, 0, 0, 2])])}"
+    assert "overhang from x = 20 to 25 m" in rows["deck_acceleration"].note
+    hang = rows["deflection_overhang"]
+    assert hang.status == "info" and hang.limit == pytest.approx(5.0 / 600) and hang.where.startswith("node 26")
+    assert rows["deflection"].limit == pytest.approx(20.0 / 600) and "(span 1)" in rows["deflection"].where
+
+
+APPROACH = """
+# 5 m approaches of rail on ground springs either side of a 20 m simply supported deck (x = 5 … 25 m)
+model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 30} {incr i} { node [expr {$i + 1}] [expr {$i * 1.0}] 0.0 }
+geomTransf Linear 1
+uniaxialMaterial Elastic 1 1.0e8
+for {set i 1} {$i <= 30} {incr i} {
+  if {$i <= 5 || $i > 25} {
+    element elasticBeamColumn $i $i [expr {$i + 1}] 0.0154 2.1e11 6.1e-5 1 -mass 2000.0 -cMass
+  } else {
+    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.9 1 -mass 15000.0 -cMass
+  }
+}
+foreach n {1 2 3 4 5 27 28 29 30 31} {
+  node [expr {$n + 100}] [expr {($n - 1) * 1.0}] 0.0
+  fix [expr {$n + 100}] 1 1 1
+  element zeroLength [expr {$n + 100}] [expr {$n + 100}] $n -mat 1 1 -dir 1 2
+}
+fix 6 1 1 0
+fix 26 0 1 0
+track 1 -eleRange 1 30
+"""
+
+
+def test_approach_modes_are_not_the_bridge_frequencies(tmp_path):
+    """The approaches' modes on their springs are not the bridge's: n₀, n₂, n₃ are the deck's
+    (8.28, 33.1, 74.4 Hz; the deck alone 8.27, 33.1, 74.5), so the EN cut-off is 74.4 Hz and the
+    default dt 0.5 ms. Before: n₃ = 36.2 Hz, an approach mode, and the cut-off, Rayleigh damping
+    and dt anchored there."""
+    from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+    from vtsi.sweep import beam_bridge
+
+    runner = _runner(_bridge(tmp_path, APPROACH))
+    alone = _runner(beam_bridge([20.0], 3.5e10, 1.9, 15000.0, elements_per_span=20))
+    assert runner.frequencies == pytest.approx(alone.frequencies, rel=0.01)
+    assert acceleration_cutoff_hz(runner.frequencies) == pytest.approx(74.4, abs=0.1)
+    assert runner.settings.dt == 5e-4 and sorted(runner.ground_nodes) == [1, 2, 3, 4, 5, 27, 28, 29, 30, 31]
+
+
+def test_a_joint_between_two_decks_is_no_span(tmp_path):
+    """A 0.6 m rail joint between two simply supported decks: no span (before: a span
+    [14.7, 15.3] with its 'mid-span' on a support, where dynamic_vs_lm71_moment governed, 0.661
+    against 0.515 at a real mid-span), and the decks are two (L_Φ = 14.7 m each)."""
+    text = TWO_DECKS.replace("$i * 1.5}] 0.0 }\nfor", "$i * 1.47}] 0.0 }\nfor").replace(
+        "[expr {15.0 + $i * 1.5}]", "[expr {15.3 + $i * 1.47}]").replace(
+        "track 1 -eleRange 1 20", "element elasticBeamColumn 50 11 12 0.0154 2.1e11 6.1e-5 1 -mass 120.0\n"
+                                  "track 1 -ele 1 2 3 4 5 6 7 8 9 10 50 11 12 13 14 15 16 17 18 19 20")
+    bridge = _bridge(tmp_path, text)
+    runner = _runner(bridge)
+    assert runner.span_lengths == pytest.approx([14.7, 14.7]) and runner.midspan_nodes == [6, 17]
+    assert runner.deck_ends == pytest.approx([(0.0, 14.7), (15.3, 30.0)])
+    _, rows = _checked(bridge, tmp_path)
+    assert rows["dynamic_vs_lm71_moment"].where in ("node 6", "node 17")
+    assert "L_Phi = 14.7 m" in rows["dynamic_vs_lm71_moment"].note
+
+
+@pytest.mark.parametrize("text, n3", [
+    ("""# 10 m deck of five elements, lumped mass (OpenSees's default)
+     model basic -ndm 2 -ndf 3
+     for {set i 0} {$i <= 5} {incr i} { node [expr {$i + 1}] [expr {$i * 2.0}] 0.0 }
+     fix 1 1 1 0
+     fix 6 0 1 0
+     geomTransf Linear 1
+     for {set i 1} {$i <= 5} {incr i} { element elasticBeamColumn $i $i [expr {$i + 1}] 3.0 3.5e10 0.3 1 -mass 10000.0 }
+     track 1 -eleRange 1 5
+     """, 142.2),
+    ("""# 20 m deck, mass on uy only (the mass command)
+     model basic -ndm 2 -ndf 3
+     for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 1}] [expr {$i * 2.0}] 0.0 }
+     fix 1 1 1 0
+     fix 11 0 1 0
+     geomTransf Linear 1
+     for {set i 1} {$i <= 10} {incr i} { element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.9 1 }
+     track 1 -eleRange 1 10
+     for {set i 1} {$i <= 11} {incr i} { mass $i 0.0 30000.0 0.0 }
+     """, 74.4),
+], ids=["lumped_mass", "mass_on_uy_only"])
+def test_lumped_mass_decks_get_their_frequencies(tmp_path, text, n3):
+    """A deck whose mass sits on fewer dofs than the modes the frequency search first asked
+    (12): before, 'eigen: only 9 dofs carry mass, 12 modes requested', naming nothing."""
+    runner = _runner(_bridge(tmp_path, text))
+    assert runner.frequencies[2] == pytest.approx(n3, abs=0.1)
+
+
+def test_a_bridge_with_too_few_vertical_modes_says_so(tmp_path):
+    text = """
+    model basic -ndm 2 -ndf 3
+    for {set i 0} {$i <= 2} {incr i} { node [expr {$i + 1}] [expr {$i * 5.0}] 0.0 }
+    fix 1 1 1 0
+    fix 3 0 1 0
+    geomTransf Linear 1
+    for {set i 1} {$i <= 2} {incr i} { element elasticBeamColumn $i $i [expr {$i + 1}] 3.0 3.5e10 0.3 1 -mass 10000.0 }
+    track 1 -eleRange 1 2
+    """
+    bridge = _bridge(tmp_path, text)
+    message = (r"^sweep: bridge \(its track: 2 elements, x = 0 to 10 m\): vertical frequencies: 3 asked, the "
+               r"model has 1 vertical modes \(only 3 of its \d+ free dofs carry mass")
+    with pytest.raises(SweepError, match=message):
+        Sweep(bridge, ["HSLM-A1"], "300", FAST)
+
+
+HALF_TRACK = """
+import vtsi.opensees as ops
+ops.wipe()
+ops.model('basic', '-ndm', 2, '-ndf', 3)
+for i in range(11):
+    ops.node(i + 1, 2.0 * i, 0.0)
+ops.fix(1, 1, 1, 0)
+ops.fix(11, 0, 1, 0)
+ops.geomTransf('Linear', 1)
+for i in range(1, 11):
+    ops.element('elasticBeamColumn', i, i, i + 1, 5.0, 3.5e10, 1.9, 1, '-mass', 15000.0, '-cMass')
+ops.track(1, '-eleRange', 1, 10)
+ops.track(2, '-eleRange', 1, 5)
+"""
+
+
+def test_a_track_stopping_mid_deck_is_refused(tmp_path):
+    """A track over half of a 20 m span: its end (node 6, x = 10 m) is not a support (before: a
+    10 m span, L/600 = 16.7 mm, L_Φ = 10 m, no note), and the deck goes on off the track there:
+    refused, naming the node and the element. The whole track is one 20 m span."""
+    path = tmp_path / "half.py"
+    path.write_text(HALF_TRACK)
+    with pytest.raises(ModelError, match=r"track: its last node 6 \(x = 10 m\) carries no support, and the deck "
+                                         r"goes on beyond it off the track \(element 6 to node 7 at x = 12 m\)"):
+        _runner(load_bridge(path, track=2))
+    assert _runner(load_bridge(path, track=1)).span_lengths == [20.0]

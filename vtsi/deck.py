@@ -1,0 +1,270 @@
+"""The layout of a bridge along its track: which track nodes carry it (supports), the spans
+between them, the decks the spans make (with their overhangs), the joints between decks, and
+the track's stretches on the ground (approaches). docs/sweeps.md, "Spans", states the rules;
+a sweep stores the layout in its results file (/bridge) and the check reads it from there.
+
+The rules, in order (:func:`deck_layout`):
+
+1. **Supports.** A track node carries the deck when its uy is fixed, or when it stands on a
+   vertical line of other elements (bearings, springs, piers: every node of the line within
+   SUPPORT_X_TOLERANCE of its x, off the track) that reaches a node with uy fixed, or when it
+   stands on a structure of its own that reaches one: off-track elements going from it to
+   nodes below it (or under it, at its x), none of them tied to another track node (one at its
+   x excepted), down to a node with uy fixed, at any x (arms to bearings beside the node, a
+   pier cap, a V-pier). Hangers and stays (going up), a deck going on at the track's level off
+   the track, the chords of a truss and the deck under a rail on pads (tied to other track
+   nodes) are not.
+2. **Support lines.** Supported nodes within SUPPORT_X_TOLERANCE of each other's x are one
+   support (two deck ends on one pier).
+3. **Ground.** Three or more support lines in a row, one element apart, are ground (an approach
+   on springs or fixed nodes); the elements between them are no deck.
+4. **Joints.** A stretch between two support lines holding a track element whose bending
+   stiffness is below JOINT_STIFFNESS_SHARE of the track elements beside the stretch on both
+   sides is a joint (a rail across the gap between two decks): that element is no deck, the
+   decks on either side are separate, and the pieces between it and the support lines are those
+   decks' overhangs. A stretch shorter than MIN_SPAN_LENGTH is no span either (its elements
+   stay deck: a continuous deck over two close bearings).
+5. **Spans.** Every other stretch between two support lines is a span.
+6. **Decks.** The runs of deck elements, separated at ground, at joints, and at a support line
+   where the track passes from one element to the next without a shared node (two decks ending
+   on one pier). A deck is its spans and its overhangs: the track beyond its outermost support
+   lines up to a free end (the track's end, or a joint). A piece of track with no span of its
+   own is no deck.
+7. **Track ends.** A track end on no support is a free end, unless the deck goes on off the
+   track there (a horizontal beam element continuing beyond it): that is refused, for the
+   track would stop mid-deck. With fewer than two support lines the track's ends are the one
+   span's (as before).
+
+Units: m.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from vtsi.errors import ModelError
+
+SUPPORT_X_TOLERANCE = 0.01    # [m] how far off a node's x a vertical line under it may reach; supports as close: one
+MIN_SPAN_LENGTH = 1.0         # [m] the shortest span: EN 1991-2's HSLM-B loads spans from 1 m (6.4.6.1.1, Fig. 6.13)
+JOINT_STIFFNESS_SHARE = 0.01  # a track element this much less stiff in bending than the deck on both sides is a joint
+
+
+@dataclass(frozen=True)
+class DeckLayout:
+    """A bridge's layout along its track (see the module docstring).
+
+    deck_nodes : the track's nodes in x order (nodes at one x in the track's order).
+    support_nodes : the track nodes that carry it, in x order.
+    span_ends : ((x_a, x_b), ...) [m] each span's supports.
+    midspan_nodes : the track node nearest each span's middle.
+    span_decks : the deck of each span (index into ``deck_ends``).
+    deck_ends : ((x_0, x_1), ...) [m] each deck's ends: its spans and overhangs.
+    ground_nodes : the track's nodes on no deck (approaches on the ground).
+    track_on_a_structure : the track stands on elements over another structure at most of its
+        nodes (a rail on its pads over the deck): the deck outputs are the track's.
+    """
+
+    deck_nodes: tuple
+    support_nodes: tuple
+    span_ends: tuple
+    midspan_nodes: tuple
+    span_decks: tuple
+    deck_ends: tuple
+    ground_nodes: frozenset
+    track_on_a_structure: bool
+
+    @property
+    def span_lengths(self):
+        return [b - a for a, b in self.span_ends]
+
+
+def deck_layout(model, track):
+    """The :class:`DeckLayout` of ``model`` along ``track`` (a :class:`~vtsi.track.Track`); a
+    ModelError when the track stops mid-deck (rule 7)."""
+    asm = model.build()
+    x = {}
+    ends = []                           # each track element's (left, right) node, in x order
+    for tag in track.elements:
+        b, i = asm.element_location[tag]
+        a, c = (int(n) for n in asm.blocks[b][0].nodes[i])
+        if model.nodes[a][0] > model.nodes[c][0]:
+            a, c = c, a
+        ends.append((a, c))
+        x[a], x[c] = float(model.nodes[a][0]), float(model.nodes[c][0])
+    deck = list(dict.fromkeys(n for pair in ends for n in pair))
+    place = {n: k for k, n in enumerate(deck)}
+    links = _links(model, set(track.elements))
+    fixed_y = {n for n, flags in model.fixities.items() if flags[1]}
+    supports = [n for n in deck if n in fixed_y or _stands(model, n, x, set(deck), links, fixed_y)]
+    on_structure = _on_a_structure(model, deck, x, supports, links, fixed_y)
+
+    lines = []                          # rule 2
+    for n in supports:
+        if lines and abs(x[n] - x[lines[-1][0]]) <= SUPPORT_X_TOLERANCE:
+            lines[-1].append(n)
+        else:
+            lines.append([n])
+    for end in (deck[0], deck[-1]):     # rule 7
+        if not any(end in line for line in lines):
+            _refuse_mid_deck_end(model, asm, track, end, x[end], 1.0 if end == deck[-1] else -1.0)
+    n_el = len(ends)
+    whole = DeckLayout(tuple(deck), tuple(supports), ((x[deck[0]], x[deck[-1]]),),   # the track's ends are the span's
+                       (_middle(deck, x, x[deck[0]], x[deck[-1]]),), (0,), ((x[deck[0]], x[deck[-1]]),),
+                       frozenset(), on_structure)
+    if len(lines) < 2:
+        return whole
+
+    adjacent = [place[lines[k + 1][0]] - place[lines[k][-1]] == 1 for k in range(len(lines) - 1)]
+    ground_line = [False] * len(lines)  # rule 3
+    start = 0
+    for k in range(1, len(lines) + 1):
+        if k == len(lines) or not adjacent[k - 1]:
+            if k - start >= 3:
+                ground_line[start:k] = [True] * (k - start)
+            start = k
+    kind = ["deck"] * n_el              # per element: 'deck', 'ground' or 'joint'
+    stiffness = _bending_stiffness(asm, track)
+    segments = []                       # (its left line, its elements, whether it is a span)
+    for k in range(len(lines) - 1):
+        a, b = lines[k][-1], lines[k + 1][0]
+        elements = [e for e in range(n_el) if place[ends[e][0]] >= place[a] and place[ends[e][1]] <= place[b]]
+        if ground_line[k] and ground_line[k + 1] and adjacent[k]:
+            for e in elements:
+                kind[e] = "ground"
+            continue
+        before = [e for e in range(n_el) if place[ends[e][1]] <= place[a]]
+        after = [e for e in range(n_el) if place[ends[e][0]] >= place[b]]
+        weak = []
+        if before and after:            # rule 4
+            beside = min(stiffness[before[-1]], stiffness[after[0]])
+            weak = [e for e in elements if stiffness[e] < JOINT_STIFFNESS_SHARE * beside]
+        for e in weak:
+            kind[e] = "joint"
+        segments.append((k, elements, not weak and x[b] - x[a] >= MIN_SPAN_LENGTH))
+
+    on_line = {n: k for k, line in enumerate(lines) for n in line}
+    deck_of = [-1] * n_el               # rule 6
+    runs, current = [], None
+    for e in range(n_el):
+        if kind[e] != "deck":
+            current = None
+            continue
+        if current is not None:
+            joined = ends[e - 1][1] == ends[e][0]
+            if not joined and ends[e - 1][1] in on_line and ends[e][0] in on_line:
+                current = None          # two decks end on one support line
+        if current is None:
+            runs.append([])
+            current = len(runs) - 1
+        runs[current].append(e)
+        deck_of[e] = current
+    spans = [(lines[k][-1], lines[k + 1][0], deck_of[elements[0]])
+             for k, elements, is_span in segments if is_span and elements]
+    if not spans:                       # no stretch is a span (ground and joints only): as with < 2 supports
+        return whole
+    used = sorted({d for *_, d in spans})
+    renumber = {d: j for j, d in enumerate(used)}
+    deck_ends = tuple((x[ends[runs[d][0]][0]], x[ends[runs[d][-1]][1]]) for d in used)
+    on_deck = {n for d in used for e in runs[d] for n in ends[e]}
+    return DeckLayout(tuple(deck), tuple(supports), tuple((x[a], x[b]) for a, b, _ in spans),
+                      tuple(_middle(deck, x, x[a], x[b]) for a, b, _ in spans),
+                      tuple(renumber[d] for *_, d in spans), deck_ends,
+                      frozenset(n for n in deck if n not in on_deck), on_structure)
+
+
+def _middle(deck, x, a, b):
+    """The node of ``deck`` nearest the middle of [a, b] (the first of two as near)."""
+    return min(deck, key=lambda n: abs(x[n] - 0.5 * (a + b)))
+
+
+def _links(model, track_elements):
+    """``{node: set of nodes}`` tied to it by an element off the track (a model with
+    equalDOF/rigidLink ties has no track: :class:`~vtsi.track.Track` refuses it)."""
+    links = {}
+    for etype, tags, *_ in model.build().blocks:
+        for i, tag in enumerate(tags):
+            if tag in track_elements:
+                continue
+            ends = [int(n) for n in etype.nodes[i]]
+            for n in ends:
+                links.setdefault(n, set()).update(m for m in ends if m != n)
+    return links
+
+
+def _stands(model, node, x, on_track, links, fixed_y):
+    """Whether track node ``node`` stands on a vertical line or on a structure of its own that
+    reaches a node with uy fixed (rule 1)."""
+    nodes = model.nodes
+    seen, stack = {node}, [node]                  # a vertical line (any height), off the track
+    while stack:
+        for m in links.get(stack.pop(), ()):
+            if m in seen or m in on_track or abs(nodes[m][0] - x[node]) > SUPPORT_X_TOLERANCE:
+                continue
+            if m in fixed_y:
+                return True
+            seen.add(m)
+            stack.append(m)
+    level = nodes[node][1]
+    seen, stack = {node}, [node]                  # a structure of its own below it
+    while stack:
+        for m in links.get(stack.pop(), ()):
+            below = nodes[m][1] < level - SUPPORT_X_TOLERANCE
+            under = abs(nodes[m][0] - x[node]) <= SUPPORT_X_TOLERANCE and nodes[m][1] <= level + SUPPORT_X_TOLERANCE
+            if m in seen or m in on_track or not (below or under):
+                continue
+            seen.add(m)
+            if any(k in on_track and k != node and abs(x[k] - x[node]) > SUPPORT_X_TOLERANCE
+                   for k in links.get(m, ())):
+                continue                          # shared with another track node: not its own
+            if m in fixed_y:
+                return True
+            stack.append(m)
+    return False
+
+
+def _on_a_structure(model, deck, x, supports, links, fixed_y):
+    """True when most of the track's other nodes stand on elements over another structure
+    (a node at or below them, within SUPPORT_X_TOLERANCE of their x, off the track and not
+    fixed; pads between coincident nodes too): a rail on its pads over the deck, whose
+    outputs are the rail's, not the deck's."""
+    on_track, supported = set(deck), set(supports)
+    inner = [n for n in deck if n not in supported]
+    under = [n for n in inner if any(m not in on_track and m not in fixed_y
+                                     and abs(model.nodes[m][0] - x[n]) <= SUPPORT_X_TOLERANCE
+                                     and model.nodes[m][1] <= model.nodes[n][1]
+                                     for m in links.get(n, ()))]
+    return len(inner) > 0 and 2 * len(under) > len(inner)
+
+
+def _bending_stiffness(asm, track):
+    """(n_el,) a bending stiffness EI [N·m²] of each track element, from its own stiffness:
+    k_θθ L / 4 (exact for an Euler-Bernoulli beam, a little less with shear flexibility), the
+    mean of its two ends."""
+    out = np.zeros(len(track.elements))
+    for e, tag in enumerate(track.elements):
+        b, i = asm.element_location[tag]
+        etype, _, coords, params, _ = asm.blocks[b]
+        k = etype.stiffness(coords[i:i + 1], params[i:i + 1])[0]
+        rz = [j * len(etype.node_dofs) + list(etype.node_dofs).index(2) for j in range(2)]
+        out[e] = 0.5 * (k[rz[0], rz[0]] + k[rz[1], rz[1]]) * track.length[e] / 4.0
+    return out
+
+
+def _refuse_mid_deck_end(model, asm, track, node, x_end, outward):
+    """A ModelError when the deck goes on off the track beyond its unsupported end ``node``
+    (a horizontal 2-node beam off the track reaching further out, ``outward`` +1 right, -1 left)."""
+    on_track = set(track.elements)
+    y_end = model.nodes[node][1]
+    for etype, tags, *_ in asm.blocks:
+        if etype.n_nodes != 2 or 2 not in tuple(etype.node_dofs):
+            continue
+        for i, tag in enumerate(tags):
+            if int(tag) in on_track or node not in (int(n) for n in etype.nodes[i]):
+                continue
+            other = next(int(n) for n in etype.nodes[i] if int(n) != node)
+            ox, oy = model.nodes[other][0], model.nodes[other][1]
+            if abs(oy - y_end) <= SUPPORT_X_TOLERANCE and outward * (ox - x_end) > SUPPORT_X_TOLERANCE:
+                side = "last" if outward > 0 else "first"
+                raise ModelError(f"track: its {side} node {node} (x = {x_end:g} m) carries no support, and the deck "
+                                 f"goes on beyond it off the track (element {int(tag)} to node {other} at x = {ox:g} m): a "
+                                 "track stopping mid-deck would read that end as a support; run the track over the "
+                                 "whole deck, or end it on a support")
