@@ -914,3 +914,74 @@ def test_unknown_tcl_command_is_named():
     from vtsi.tcl import Interpreter
     with pytest.raises(ops.UnknownCommand, match=r"unknown command 'nodee'"):
         Interpreter(ops.Session()).eval("model basic -ndm 2 -ndf 3\nnodee 1 0 0")
+
+
+def test_newmark_with_beta_zero_is_named_as_what_makes_it_explicit(coupled):
+    """CoupledAnalysis(..., Newmark(0.5, 0.0)) said 'Newmark is explicit; ... needs an implicit
+    integrator (Newmark, HHT, Bathe)', naming Newmark as both the fault and the cure."""
+    m, track, train = coupled
+    match = (r"^CoupledAnalysis: Newmark with beta = 0 \(central differences\) is explicit; a constrained analysis "
+             r"needs an implicit integrator: Newmark with beta > 0 \(e\.g\. Newmark\(0\.5, 0\.25\)\), HHT or Bathe$")
+    with pytest.raises(AnalysisError, match=match) as info:
+        CoupledAnalysis(m, MovingLoadConstraint(track, train), Newmark(0.5, 0.0), 1e-3)
+    _assert_message(info, match)
+
+
+def test_two_recorders_on_one_file_of_a_coupled_analysis_are_refused_when_it_is_built(coupled, tmp_path):
+    m, track, train = coupled
+    con = MovingLoadConstraint(track, train)
+    first = TrainRecorder(train, None, "disp", sink=TextSink(tmp_path / "same.out"))
+    second = ContactRecorder(con, sink=TextSink(tmp_path / "same.out"))
+    with pytest.raises(ModelError, match=r"^CoupledAnalysis: recorders\[0\] TrainRecorder.* and recorders\[1\] "
+                                         r"ContactRecorder.* both write .*same\.out; give each recorder its own file$"):
+        CoupledAnalysis(m, con, "Newmark", 1e-3, recorders=[first, second])
+
+
+H5_SCRIPT = """model basic -ndm 2 -ndf 3
+node 1 0.0 0.0
+node 2 5.0 0.0
+node 3 10.0 0.0
+fix 1 1 1 0
+fix 3 0 1 0
+geomTransf Linear 1
+element elasticBeamColumn 1 1 2 0.5 3e10 0.04 1 -mass 1000.0
+element elasticBeamColumn 2 2 3 0.5 3e10 0.04 1 -mass 1000.0
+timeSeries Linear 1
+pattern Plain 1 1 { load 2 0.0 -1e5 0.0 }
+recorder Node -h5 {H5} -time -node 2 -dof 2 disp
+recorder Node -file {OUT} -time -node 2 -dof 2 disp
+integrator Newmark 0.5 0.25
+analysis Transient
+analyze {N} 0.01
+"""
+
+
+def test_a_script_run_again_replaces_its_hdf5_recorder_file(tmp_path):
+    """`vtsi run beam.tcl` a second time failed: 'HDF5 recorder: mid.h5 already exists; pass
+    overwrite=True to replace it', advice a script cannot follow. The command layer's -h5 file
+    is replaced, as OpenSees's -file recorders are; the Python API keeps its refusal."""
+    from vtsi.tcl import Interpreter
+    h5, out = tmp_path / "mid.h5", tmp_path / "mid.out"
+    for n in (10, 4):
+        script = H5_SCRIPT.replace("{H5}", str(h5)).replace("{OUT}", str(out)).replace("{N}", str(n))
+        session = ops.Session()
+        Interpreter(session).eval(script)
+        session.wipe()
+        with h5py.File(h5, "r") as f:
+            assert f["values"].shape == (n, 1)
+        assert len(out.read_text().splitlines()) == n
+    with pytest.raises(FileExistsError, match=r"mid\.h5 already exists; pass overwrite=True"):
+        HDF5Sink(h5)
+
+
+def test_a_second_recorder_command_on_a_recorder_s_file_is_refused(tmp_path):
+    """Two `recorder ... -file same.out` of one script interleaved rows of different widths (the
+    second truncated the first's file); the second is refused before it touches the file."""
+    s = session()
+    s.recorder("Node", "-file", str(tmp_path / "same.out"), "-node", 2, "-dof", 2, "disp")
+    (tmp_path / "same.out").write_text("kept\n")
+    for option in ("-file", "-h5"):
+        with pytest.raises(CommandError, match=r"^recorder Node: recorder \d+ already writes .*same\.out; give each "
+                                               r"recorder its own file \(or remove recorder \d+ first\)$"):
+            s.recorder("Node", option, str(tmp_path / "same.out"), "-node", 1, "-dof", 1, "disp")
+    assert (tmp_path / "same.out").read_text() == "kept\n"

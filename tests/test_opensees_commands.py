@@ -624,8 +624,11 @@ def test_recorder_tags_memory_hdf5_and_errors(tmp_path):
     with h5py.File(tmp_path / "f.h5", "r") as f:
         assert f["values"].shape == (4, 6)
         np.testing.assert_allclose(f["values"][-1], ops.eleForce(2))
-    with pytest.raises(FileExistsError, match="f.h5"):
-        ops.recorder("Element", "-h5", str(tmp_path / "f.h5"), "-ele", 2, "force")
+    t3 = ops.recorder("Element", "-h5", str(tmp_path / "f.h5"), "-ele", 2, "force")   # replaced, as -file's
+    ops.analyze(2, 0.01)
+    ops.remove("recorder", t3)
+    with h5py.File(tmp_path / "f.h5", "r") as f:
+        assert f["values"].shape == (2, 6)
     with pytest.raises(CommandError, match="recorder 99 does not exist"):
         ops.remove("recorder", 99)
     with pytest.raises(CommandError, match="'Drift'"):
@@ -650,7 +653,7 @@ def test_recorder_tags_memory_hdf5_and_errors(tmp_path):
         ops.recorder("Element", "-ele", 1)
     ops.wipe()
     beam(ops)
-    assert ops.recorder("Node", "-node", 3, "-dof", 2, "disp") == t2 + 1   # wipe does not reset tags
+    assert ops.recorder("Node", "-node", 3, "-dof", 2, "disp") == t3 + 1   # wipe does not reset tags
 
 
 def test_remove_and_wipe_analysis():

@@ -3,6 +3,7 @@
 Cross-code checks run OpenSeesPy (skipped when it is not installed) on the same small beams
 and compare the text files byte for byte where the numbers are not round-off noise.
 """
+import re
 import subprocess
 import sys
 
@@ -542,3 +543,80 @@ def test_a_sink_serves_one_recorder():
     NodeRecorder([1], [2], sink=sink)
     with pytest.raises(ModelError, match="already belongs to NodeRecorder"):
         NodeRecorder([2], [2], sink=sink)
+
+
+def test_reading_a_memory_recorder_before_its_run_changes_nothing():
+    """Reading .values before run() kept a (0, 0) chunk; every read after the run then raised a
+    bare numpy ValueError."""
+    rec, ref = NodeRecorder([3], [1, 2]), NodeRecorder([3], [1, 2])
+    assert rec.values.shape == (0, 0) and rec.time.shape == (0,)
+    analysis = vtsi.TransientAnalysis(beam(), "Newmark", DT, recorders=[rec, ref], chunk_steps=4)
+    analysis.run(6)
+    assert rec.values.shape == (6, 2)                        # read between runs: kept as one array
+    analysis.run(6)
+    np.testing.assert_array_equal(rec.values, ref.values)
+    np.testing.assert_array_equal(rec.time, ref.time)
+    assert rec.values.shape == (12, 2) and rec.time.shape == (12,)
+
+
+@pytest.mark.parametrize("sink", [lambda p: TextSink(p / "same.out"), lambda p: HDF5Sink(p / "same.h5")],
+                         ids=["text", "hdf5"])
+def test_two_recorders_on_one_file_are_refused_when_the_analysis_is_built(tmp_path, sink):
+    """Two text recorders on one path interleaved rows of different widths without a word; two
+    HDF5 recorders failed at the analysis start naming no recorder."""
+    first, second = NodeRecorder([3], [2], sink=sink(tmp_path)), ElementRecorder([1], "force", sink=sink(tmp_path))
+    path = first.sink.path
+    with pytest.raises(ModelError, match=re.escape(f"transient analysis: recorders[0] {first!r} and recorders[1] "
+                                                   f"{second!r} both write {path}; give each recorder its own file")):
+        vtsi.TransientAnalysis(beam(), "Newmark", DT, recorders=[first, second])
+    with pytest.raises(ModelError, match=r"^static analysis: recorders\[0\] .* both write"):
+        vtsi.StaticAnalysis(beam(series="constant"), recorders=[first, NodeRecorder([2], [2]), second])
+
+
+READ_LIVE = r"""
+import errno, sys, h5py
+try:
+    h5py.File(sys.argv[1], "r").close()
+    print("opened")
+except OSError as exc:
+    print("locked", exc.errno == errno.EAGAIN)
+with h5py.File(sys.argv[1], "r", locking=False) as f:
+    print(f["values"].shape[0])
+"""
+
+
+class _ReadWhileRunning:
+    """A recorder that, at the chunk ``when``, has another process read ``path`` (the run waits)."""
+
+    def __init__(self, path, when):
+        self.path, self.when, self.seen, self.chunk = path, when, None, 0
+
+    def requests(self, assembly):
+        return []
+
+    def start(self, assembly, model, info=None):
+        pass
+
+    def write(self, times, columns, assembly):
+        self.chunk += 1
+        if self.chunk == self.when:
+            self.seen = subprocess.run([sys.executable, "-c", READ_LIVE, str(self.path)], capture_output=True,
+                                       text=True, timeout=60).stdout.split()
+
+    def close(self):
+        pass
+
+
+def test_an_hdf5_recorder_s_file_is_locked_while_a_run_writes_it(tmp_path):
+    """docs/recorders.md said the file 'can be opened independently while a run is going': a
+    plain h5py.File(path, 'r') of another process fails then (HDF5's file lock, errno 11); the
+    docs now say so, and how it is read: between runs (closed at the end of each), or without
+    the lock (locking=False), which reads what the last flush wrote."""
+    path = tmp_path / "live.h5"
+    rec = NodeRecorder([3], [2], sink=HDF5Sink(path))
+    probe = _ReadWhileRunning(path, when=2)
+    analysis = vtsi.TransientAnalysis(beam(), "Newmark", DT, recorders=[rec, probe], chunk_steps=4)
+    analysis.run(12)
+    assert probe.seen == ["locked", "True", "8"]            # two chunks of 4 steps flushed
+    out = subprocess.run([sys.executable, "-c", READ_LIVE, str(path)], capture_output=True, text=True, timeout=60)
+    assert out.stdout.split() == ["opened", "12"]            # between runs: closed, readable

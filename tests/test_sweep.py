@@ -921,10 +921,165 @@ def test_a_missing_history_is_named_as_what_it_is(tmp_path):
     path = tmp_path / "h.h5"
     sweep = Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST)
     res = sweep.run(path, workers=1, progress=False)
-    with pytest.raises(SweepError, match=r"250 km/h is not one of the sweep's 2 speeds \(200 to 300 km/h\)"):
+    with pytest.raises(SweepError, match=r"250 km/h is not one of the sweep's 2 speeds \(200 to 300 km/h: 200, 300\)"):
         res.history("HSLM-A1", 250.0)
-    with pytest.raises(SweepError, match=r"h\.h5 holds no histories \(Sweep\.record_histories records them"):
+    with pytest.raises(SweepError, match=r"h\.h5 holds no histories \(an output with history=True keeps them for every "
+                                         r"case; Sweep\.record_histories records them for chosen cases"):
         res.history("HSLM-A1", 200.0)
     sweep.record_histories(path, [("HSLM-A1", 200.0, -1)])
     with pytest.raises(SweepError, match=r"no histories of case HSLM-A1/300kmh/smooth; recorded: HSLM-A1/200kmh/smooth"):
         SweepResults(path).history("HSLM-A1", 300.0)
+
+
+def test_record_histories_takes_only_the_sweep_s_cases(tmp_path):
+    """record_histories stored 'ice3' as its own group beside 'ICE3' (history('ICE3', 250) missed
+    it), and stored a train, a speed (later refused by the reader) and a seed the sweep does not
+    have. Names are read as the sweep reads them; a case not in the sweep is refused, naming it
+    and what is valid, before anything runs or is written."""
+    path = tmp_path / "h.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "ICE3"], "200,250", FAST)
+    sweep.run(path, workers=1, progress=False)
+    res = sweep.record_histories(path, [("ice3", 250, -1)])
+    assert res.histories() == ["ICE3/250kmh/smooth"]
+    assert res.history("ICE3", 250)["attrs"]["train"] == "ICE3"
+    before = path.read_bytes()
+    for case, words in [
+        (("HSLM-A5", 250, -1), "case ('HSLM-A5', 250, -1): train 'HSLM-A5' is not in the sweep; its trains: HSLM-A1, ICE3"),
+        (("ICE3", 275, -1), "case ('ICE3', 275, -1): speed 275 km/h is not one of the sweep's (200, 250 km/h)"),
+        (("ICE3", 250, 3), "case ('ICE3', 250, 3): seed 3 is not one of the sweep's: -1 (a smooth rail)"),
+        (("ICE3", 250), "a case is (train, speed_kmh, seed), got ('ICE3', 250)"),
+    ]:
+        with pytest.raises(SweepError, match=re.escape(f"record_histories: {words}")):
+            sweep.record_histories(path, [("HSLM-A1", 200, -1), case])
+    assert path.read_bytes() == before and sorted(p.name for p in tmp_path.iterdir()) == ["h.h5"]
+
+
+def test_history_finds_the_histories_the_sweep_s_outputs_keep(tmp_path):
+    """history() and histories() saw only Sweep.record_histories' /histories: a file whose
+    outputs kept histories (Output(..., history=True), /cases/histories) 'held no histories'."""
+    path = tmp_path / "h.h5"
+    outputs = [Output("deflection", "disp", "midspan", history=True), Output("acceleration", "accel")]
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200,300", FAST, outputs=outputs)
+    res = sweep.run(path, workers=1, progress=False)
+    assert res.histories() == ["HSLM-A1/200kmh/smooth", "HSLM-A1/300kmh/smooth"]
+    h = res.history("HSLM-A1", 300)
+    t, d, nodes = h["deflection"]
+    case = res.case("HSLM-A1", 300)
+    np.testing.assert_array_equal(d, case["deflection"]["values"])
+    np.testing.assert_array_equal(nodes, case["deflection"]["columns"])
+    assert "acceleration" not in h and h["attrs"]["n_steps"] == len(t)
+    assert h["attrs"]["outputs"]["deflection"] == {"response": "disp", "units": "m", "kind": "node",
+                                                   "cutoff_hz": None, "source": "sweep"}
+    res = sweep.record_histories(path, [("HSLM-A1", 300, -1)])     # both kinds of one case, together
+    assert res.histories() == ["HSLM-A1/200kmh/smooth", "HSLM-A1/300kmh/smooth"]
+    h = res.history("HSLM-A1", 300)
+    assert {"deflection", "deck_displacement", "deck_acceleration"} <= set(h)
+    assert h["attrs"]["outputs"]["deck_acceleration"]["source"] == "record_histories"
+
+
+def test_a_case_is_named_as_a_sweep_names_it(tmp_path):
+    """case('hslm-a1', 300) and case('A1', 300) said 'no case' (a sweep takes those names),
+    case('HSLM-A1', 275) did not list the speeds, case('HSLM-A1', None) was a TypeError
+    traceback and static('nonsense') returned None."""
+    res = Sweep(small_bridge(), ["HSLM-A1", "ICE3"], "200,300", FAST).run(tmp_path / "r.h5", workers=1,
+                                                                          progress=False)
+    reference = res.case("HSLM-A1", 300)["deflection"]["envelope"]
+    for name in ("hslm-a1", "A1", " HSLM-A1 "):
+        np.testing.assert_array_equal(res.case(name, 300)["deflection"]["envelope"], reference)
+    assert res.case("ice3", 200)["attrs"]["train"] == "ICE3"
+    np.testing.assert_array_equal(res.train_data("ice3")["axle_offsets_m"], res.train_data("ICE3")["axle_offsets_m"])
+    for call, words in [
+        (lambda: res.case("HSLM-A2", 300), "train 'HSLM-A2' is not one of the sweep's: HSLM-A1, ICE3 (names "
+                                           "ignore case; 'A1' is 'HSLM-A1')"),
+        (lambda: res.case("HSLM-A1", 275), "275 km/h is not one of the sweep's 2 speeds (200 to 300 km/h: 200, 300)"),
+        (lambda: res.case("HSLM-A1", None), "speed [km/h] must be a number, got None"),
+        (lambda: res.case("HSLM-A1", 300, 0), "seed 0 is not one of the sweep's: -1 (a smooth rail)"),
+        (lambda: res.history("A2", 300), "train 'A2' is not one of the sweep's: HSLM-A1, ICE3"),
+        (lambda: res.static("nonsense"), "unknown output 'nonsense'; valid: deflection, acceleration, end_rotation"),
+    ]:
+        with pytest.raises(SweepError, match=re.escape(f"sweep results: {words}")):
+            call()
+    assert res.static("acceleration") is None and res.static("deflection") is not None
+
+
+HOLD_OPEN = "import h5py, sys, time; f = h5py.File(sys.argv[1], 'r+'); print('open', flush=True); time.sleep(120)"
+
+
+def test_a_results_file_open_for_writing_elsewhere_is_said_to_be_in_use(tmp_path):
+    """A results file another process holds open for writing was 'not a readable HDF5 file
+    ([Errno 11] … unable to lock file …)'."""
+    from vtsi.sweep_results import ResultsFileInUse
+    path = tmp_path / "r.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "200", FAST)
+    sweep.run(path, workers=1, progress=False)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD_OPEN, str(path)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "open"
+        words = f"results file {path} is in use by another process, which holds it open for writing"
+        with pytest.raises(ResultsFileInUse, match=re.escape(words)):
+            SweepResults(path)
+        with pytest.raises(ResultsFileInUse, match=re.escape(words)):
+            sweep.run(path, workers=1, progress=False, resume=True)
+    finally:
+        holder.kill()
+        holder.wait()
+    assert SweepResults(path).n_done == 1
+
+
+def test_units_and_cut_offs_of_histories_and_where_are_in_the_file_and_returned(tmp_path):
+    """Histories had no units attribute and case()/history() returned none; record_histories'
+    outputs were nowhere in the file, nor whether its acceleration was cut off at the EN
+    frequency; to_xarray's <q>_where did not say whether it held a node, a wheel or a car."""
+    from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+    path = tmp_path / "u.h5"
+    outputs = [Output("deflection", "disp", "midspan", history=True),
+               Output("acceleration", "accel", cutoff="en", history=True)]
+    sweep = Sweep(small_bridge(), ["HSLM-A1"], "300", FAST, outputs=outputs)
+    sweep.run(path, workers=1, progress=False)
+    res = sweep.record_histories(path, [("HSLM-A1", 300, -1)])
+    cutoff = acceleration_cutoff_hz(res.frequencies_hz)
+    with h5py.File(path, "r") as f:
+        case = f["cases/histories/HSLM-A1/300kmh/smooth"]
+        assert case["deflection_values"].attrs["units"] == "m" and case["deflection_time"].attrs["units"] == "s"
+        assert "cutoff_hz" not in case["deflection_values"].attrs
+        assert case["acceleration_values"].attrs["cutoff_hz"] == pytest.approx(cutoff)
+        assert f["outputs/acceleration"].attrs["cutoff_hz"] == pytest.approx(cutoff)
+        kept = f["histories/HSLM-A1/300kmh/smooth"]
+        assert kept["deck_acceleration_values"].attrs["units"] == "m/s^2"
+        assert kept["deck_acceleration_values"].attrs["cutoff_hz"] == pytest.approx(cutoff)
+        assert kept["deck_displacement_values"].attrs["units"] == "m"
+        assert "cutoff_hz" not in kept["deck_displacement_values"].attrs
+        assert f["envelopes/deflection_min_where"].attrs["kind"] == "node"
+    c = res.case("HSLM-A1", 300)
+    assert (c["deflection"]["units"], c["acceleration"]["units"]) == ("m", "m/s^2")
+    assert c["acceleration"]["cutoff_hz"] == pytest.approx(cutoff) and "cutoff_hz" not in c["deflection"]
+    described = res.history("HSLM-A1", 300)["attrs"]["outputs"]
+    assert described["deck_acceleration"]["units"] == "m/s^2"
+    assert described["deck_acceleration"]["cutoff_hz"] == pytest.approx(cutoff)
+    assert described["deck_displacement"]["cutoff_hz"] is None
+    assert described["acceleration"]["cutoff_hz"] == pytest.approx(cutoff)
+    ds = res.to_xarray()
+    assert ds["deflection_min_where"].attrs["kind"] == "node" and "node tag" in ds["deflection_min_where"].attrs["holds"]
+    assert ds["acceleration_absmax"].attrs["cutoff_hz"] == pytest.approx(cutoff)
+    cars = Sweep(small_bridge(), ["ICE3"], "300", PassageSettings(dt=5e-3, damping=0.0125, cars="full"))
+    ds = cars.run(None, workers=1, progress=False).to_xarray()
+    assert ds["contact_force_min_where"].attrs["kind"] == "contact wheel"
+    assert ds["car_body_acceleration_absmax_where"].attrs["kind"] == "car"
+
+
+def test_an_interrupted_sweep_says_so_in_critical_and_to_xarray(tmp_path, monkeypatch):
+    """A file of an interrupted sweep gave a governing case without a word, and its xarray
+    view had no completeness attribute."""
+    path = tmp_path / "p.h5"
+    sweep = Sweep(small_bridge(), ["HSLM-A1", "HSLM-A2"], "200,300", FAST)
+    _interrupt_after(monkeypatch, 1)
+    with pytest.raises(_Stop):
+        sweep.run(path, workers=1, progress=False, cases_per_task=1)
+    res = SweepResults(path)
+    worst = res.critical("deflection_min")
+    assert (worst["cases_done"], worst["cases_total"]) == (1, 4)
+    ds = res.to_xarray()
+    assert (ds.attrs["cases_done"], ds.attrs["cases_total"]) == (1, 4)
+    with pytest.raises(SweepError, match=re.escape("case HSLM-A2/300kmh/smooth is not in the file yet (1 of 4 cases: "
+                                                   "an interrupted sweep; resume=True (--resume) runs the rest)")):
+        res.case("HSLM-A2", 300)

@@ -15,6 +15,7 @@ from vtsi.banded import pad, solve_band
 from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_number, as_positive
 from vtsi.integrators import make_integrator
 from vtsi.model import Model
+from vtsi.recorders.sinks import check_own_files
 from vtsi.subdomain import FEStages, factor
 from vtsi.timeloop import run_from_state, run_linear_steps
 
@@ -125,7 +126,8 @@ def _model(who, model):
 def _recorders(who, recorders):
     """``recorders`` as a list, each checked to follow the recorder contract
     (:mod:`vtsi.recorders.base`: ``requests``, ``start``, ``write``, ``close``), else an
-    AnalysisError naming ``who`` and the value."""
+    AnalysisError naming ``who`` and the value; two recorders writing one file are a ModelError
+    naming both and the path."""
     if isinstance(recorders, (str, bytes)) or not hasattr(recorders, "__iter__"):
         raise AnalysisError(f"{who}: recorders must be a list of recorders, got {recorders!r}")
     recorders = list(recorders)
@@ -133,6 +135,7 @@ def _recorders(who, recorders):
         if not all(callable(getattr(rec, name, None)) for name in ("requests", "start", "write", "close")):
             raise AnalysisError(f"{who}: recorders[{i}] is not a recorder (NodeRecorder, ElementRecorder...), "
                                 f"got {rec!r}")
+    check_own_files(who, recorders)      # two recorders writing one file
     return recorders
 
 

@@ -38,6 +38,7 @@ from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_positive
 from vtsi.integrators import HHT, make_integrator
 from vtsi.lcp import lcp_workspace
+from vtsi.recorders.sinks import check_own_files
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
 from vtsi.vehicle import GRAVITY
@@ -130,10 +131,13 @@ class CoupledAnalysis:
         self.train = constraint.train
         self.integrator = coupled_integrator(integrator, contact)
         if self.integrator.explicit:
-            raise AnalysisError(f"CoupledAnalysis: {self.integrator.name} is explicit; a constrained "
-                                "analysis needs an implicit integrator (Newmark, HHT, Bathe)")
+            why = " with beta = 0 (central differences)" if self.integrator.name == "Newmark" else ""
+            raise AnalysisError(f"CoupledAnalysis: {self.integrator.name}{why} is explicit; a constrained "
+                                "analysis needs an implicit integrator: Newmark with beta > 0 (e.g. Newmark(0.5, "
+                                "0.25)), HHT or Bathe")
         self.gravity, self.bridge_self_weight = float(gravity), bool(bridge_self_weight)
         self.recorders = list(recorders)
+        check_own_files("CoupledAnalysis", self.recorders)      # two recorders writing one file
         self.chunk_steps = _integer("CoupledAnalysis", "chunk_steps", chunk_steps, 1)
         self.divergence_limit = as_positive(divergence_limit, "CoupledAnalysis", "divergence_limit", AnalysisError,
                                             finite=False)

@@ -38,7 +38,7 @@ from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
 from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
-from vtsi.sweep_results import ResultsWriter, case_key
+from vtsi.sweep_results import ResultsWriter, canonical_train_name, case_key
 from vtsi.train import TrainSubdomain
 from vtsi.vehicle import MAX_TRAIN_SPEED
 
@@ -131,17 +131,14 @@ def train_list(trains):
     stands for HSLM-A1 … HSLM-A10; anything else (an axle-table path) as given. The one reading
     of train names (``vtsi sweep --trains`` and :class:`Sweep`)."""
     items = trains.split(",") if isinstance(trains, str) else trains
-    names = train_names()
-    canonical = {n.upper(): n for n in names}
     out = []
     for item in (str(t).strip() for t in items):
-        key = item.upper()
         if not item:
             continue
-        if key == "HSLM-A":
-            out.extend(n for n in names if n.upper().startswith("HSLM-A"))
+        if item.upper() == "HSLM-A":
+            out.extend(n for n in train_names() if n.upper().startswith("HSLM-A"))
         else:
-            out.append(canonical.get(key) or canonical.get(f"HSLM-{key}") or item)
+            out.append(canonical_train_name(item))
     return out
 
 
@@ -388,17 +385,59 @@ class Sweep:
     def record_histories(self, path, cases, outputs=HISTORY_OUTPUTS):
         """Run ``cases`` ((train, speed_kmh, seed), e.g. the governing ones a check names) again
         in this process, keeping the time histories of ``outputs`` (default: the deck's
-        displacement and EN-filtered acceleration at every deck node, and the contact forces),
-        and add them to the results file ``path`` of this sweep (/histories). Returns the
-        results."""
+        displacement [m] and acceleration up to the EN cut-off [m/s²] at every deck node, and the
+        contact forces [N]), and add them to the results file ``path`` of this sweep
+        (/histories; each ``<output>_values`` has attrs response, units, kind and cutoff_hz).
+        Returns the results.
+
+        Every case must be one of the sweep's: a train of the sweep (named as :func:`train_list`
+        reads it: 'ice3' is 'ICE3'), one of its speeds and one of its seeds (-1 on a smooth
+        rail); anything else is a SweepError naming the case and what is valid, before anything
+        runs or is written."""
+        cases = self.sweep_cases(cases, "record_histories")
+        for o in outputs:
+            if not isinstance(o, Output):
+                raise SweepError(f"record_histories: outputs must be vtsi.passage.Output, got {o!r}")
         with ResultsWriter(path, self.identity(), self.runner, resume=True) as writer:
             self.prepare()
             try:
-                results = [self.runner.run(t, float(v), int(s), outputs=outputs) for t, v, s in cases]
+                results = [self.runner.run(t, v, s, outputs=outputs) for t, v, s in cases]
             except VtsiError as exc:
                 raise PassageError(f"record_histories: {exc}") from None
-            writer.write_histories(results)
+            writer.write_histories(results, outputs)
         return writer.results()
+
+    def sweep_cases(self, cases, who="sweep"):
+        """``cases`` ((train, speed_kmh, seed), ...) as the sweep names them (train names read by
+        :func:`train_list`, the sweep's own speed values), or a SweepError naming ``who``, the
+        first case that is not one of the sweep's and what is valid."""
+        if isinstance(cases, (str, bytes)) or not np.iterable(cases):
+            raise SweepError(f"{who}: cases must be a list of (train, speed_kmh, seed), got {cases!r}")
+        out = []
+        for case in cases:
+            if isinstance(case, (str, bytes)) or not np.iterable(case) or len(case) != 3:
+                raise SweepError(f"{who}: a case is (train, speed_kmh, seed), got {case!r}")
+            train, speed, seed = case
+            shown = f"case ({train!r}, {_shown(speed)}, {_shown(seed)})"
+            name = canonical_train_name(train) if isinstance(train, (str, os.PathLike)) else None
+            if name not in self.trains:
+                raise SweepError(f"{who}: {shown}: train {train!r} is not in the sweep; its trains: "
+                                 f"{', '.join(self.trains)}")
+            try:
+                value = math.nan if isinstance(speed, (bool, np.bool_)) else float(speed)
+            except (TypeError, ValueError):
+                value = math.nan
+            hit = np.flatnonzero(np.isclose(self.speeds_kmh, value, rtol=0.0, atol=1e-9))
+            if not len(hit):
+                v = self.speeds_kmh
+                listing = ", ".join(f"{x:g}" for x in v) if len(v) <= 12 else f"{len(v)} speeds, {v[0]:g} to {v[-1]:g}"
+                raise SweepError(f"{who}: {shown}: speed {_shown(speed)} km/h is not one of the sweep's "
+                                 f"({listing} km/h)")
+            if not is_int(seed) or int(seed) not in self.seeds:
+                valid = "-1 (a smooth rail)" if self.seeds == [-1] else ", ".join(map(str, self.seeds))
+                raise SweepError(f"{who}: {shown}: seed {_shown(seed)} is not one of the sweep's: {valid}")
+            out.append((name, float(self.speeds_kmh[hit[0]]), int(seed)))
+        return out
 
     def _dispatch(self, executor, tasks, writer, bar):
         """Submit every task (the pool's processes start now, before the progress bar's thread
@@ -420,6 +459,13 @@ class Sweep:
             for future in pending:
                 future.cancel()
             raise
+
+
+def _shown(value):
+    """A number of a case as a message shows it (``275``, not ``np.float64(275.0)``), else its repr."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        return repr(value)
+    return f"{value:g}"
 
 
 def _worker_start():

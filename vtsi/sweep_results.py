@@ -11,8 +11,8 @@ Layout (docs/sweeps.md)::
                            track_on_a_structure (a rail on pads over the deck: outputs are the rail's)
     /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
                            columns per case (NaN: not run yet, or not produced by that train);
-                           <q>_where (the column: node tag, contact wheel or car), <q>_time [s];
-                           attrs units, output, statistic, dims
+                           <q>_where (the column: node tag, contact wheel or car; attrs kind,
+                           holds, missing -1), <q>_time [s]; attrs units, output, statistic, dims
     /static/<name>         for displacement and rotation outputs: trains (n_train, 2, n_columns)
                            and lm71 (2, n_columns), static min and max under each train's static
                            axle loads and under Load Model 71 (α = 1) (vtsi.influence)
@@ -21,7 +21,8 @@ Layout (docs/sweeps.md)::
                            static_wheel_loads_N [N] of every train end to end, train i's axles
                            the rows axle_ptr[i]:axle_ptr[i + 1]; contact_wheels by contact_ptr
     /outputs/<name>        attrs response, units, kind of column ('node', 'contact wheel', 'car'),
-                           rows (of an envelope), history; columns: the node tags (n_columns,)
+                           rows (of an envelope), history, cutoff_hz (a response in the modes up
+                           to a cut-off [Hz]; absent: the full response); columns: the node tags (n_columns,)
                            of a node output, or per train its wheel or car indices (n_train,
                            n_columns) of a vehicle output (-1 pads a train with fewer; none: the
                            train does not produce it)
@@ -31,7 +32,11 @@ Layout (docs/sweeps.md)::
                            absmax, time_of_min, time_of_max, time_of_absmax; NaN in the columns
                            its train does not have); with a history,
                            histories/<train>/<speed>kmh/<seed>/<name>_time (m,) [s] and
-                           <name>_values (m, n_columns)
+                           <name>_values (m, n_columns) (attrs response, units, kind, cutoff_hz
+                           as /outputs; group attrs train, speed_kmh, seed, x_head0, n_steps)
+    /histories/<train>/<speed>kmh/<seed>/   the cases Sweep.record_histories re-ran: per output
+                           <name>_time [s], <name>_values (attrs as above), <name>_columns;
+                           attrs train, speed_kmh, seed, x_head0 [m], n_steps
 
 Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements, rotations,
 bending moments and contact forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
@@ -49,6 +54,7 @@ written to ``<file>.new`` (a complete results file itself, resumed by the next `
 the same sweep) and renamed over the file only then (:meth:`ResultsWriter.commit`).
 """
 import datetime
+import errno
 import json
 import numbers
 import os
@@ -61,6 +67,7 @@ import numpy as np
 
 from vtsi.version import __version__
 from vtsi.errors import SweepError, as_number
+from vtsi.models.catalogue import train_names
 
 try:                                    # POSIX
     import fcntl
@@ -84,6 +91,44 @@ STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), 
 COLUMN_KIND = {"contact_force": "contact wheel", "car_body_accel": "car"}
 UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m", "contact_force": "N",
          "car_body_accel": "m/s^2"}
+
+
+WHERE_HOLDS = {"node": "the node tag", "contact wheel": "the contact wheel's index in its train (0: the first)",
+               "car": "the car's index in its train (0: the first)"}
+"""What an envelope's ``<q>_where`` holds, by the kind of its output's columns (COLUMN_KIND)."""
+
+
+def canonical_train_name(name):
+    """A train's name as a sweep reads it: a catalogue name in the catalogue's spelling (case is
+    ignored; 'A1' is 'HSLM-A1'), anything else (an axle-table path) as given, stripped. The one
+    reading of a train's name (:func:`vtsi.sweep.train_list`, :class:`SweepResults`)."""
+    item = str(name).strip()
+    canonical = {n.upper(): n for n in train_names()}
+    key = item.upper()
+    return canonical.get(key) or canonical.get(f"HSLM-{key}") or item
+
+
+def output_description(response, cutoff_hz=None):
+    """The attributes that say what an output's values are: response, units, kind of column and,
+    for a response in the modes up to a cut-off, cutoff_hz [Hz] (none: the full response)."""
+    out = {"response": response, "units": UNITS[response], "kind": COLUMN_KIND.get(response, "node")}
+    if cutoff_hz is not None:
+        out["cutoff_hz"] = float(cutoff_hz)
+    return out
+
+
+def open_results(path, mode="r"):
+    """``h5py.File(path, mode)``, or a SweepError naming the file: :class:`ResultsFileInUse` when
+    another process holds it open for writing (HDF5's file lock), else 'not a readable HDF5
+    file' with h5py's reason."""
+    try:
+        return h5py.File(path, mode)
+    except OSError as exc:
+        if exc.errno in (errno.EAGAIN, errno.EWOULDBLOCK, errno.EACCES) and "lock" in str(exc) \
+                or "unable to lock file" in str(exc):
+            raise ResultsFileInUse(f"results file {path} is in use by another process, which holds it open for "
+                                   "writing (HDF5's file lock); wait for that process to close it") from None
+        raise SweepError(f"results file {path}: not a readable HDF5 file ({exc})") from None
 
 
 def case_key(train, speed_kmh, seed):
@@ -155,7 +200,8 @@ def staging_path(path):
 
 
 class ResultsFileInUse(SweepError):
-    """Another process is writing the results file (it holds the file's lock)."""
+    """Another process is writing the results file: another sweep (it holds the file's lock,
+    ``<file>.lock``), or any process holding the file open for writing (HDF5's own file lock)."""
 
 
 class ResultsFileLock:
@@ -436,15 +482,16 @@ class ResultsWriter:
                     ds = env.create_dataset(q, shape=shape, dtype=float, fillvalue=np.nan)
                     ds.attrs.update({"units": units, "output": output, "statistic": stat,
                                      "dims": ["train", "speed_kmh", "seed"]})
-                    env.create_dataset(q + "_where", shape=shape, dtype=np.int64, fillvalue=-1)
+                    kind = COLUMN_KIND.get(_response(ident["outputs"], output), "node")
+                    env.create_dataset(q + "_where", shape=shape, dtype=np.int64, fillvalue=-1).attrs.update(
+                        {"kind": kind, "holds": WHERE_HOLDS[kind], "missing": -1})
                     env.create_dataset(q + "_time", shape=shape, dtype=float, fillvalue=np.nan).attrs["units"] = "s"
                 catalogue = [runner.train(name, 1.0) for name in ident["trains"]]
                 outs = f.create_group("outputs")
                 for o, output in zip(ident["outputs"], runner.outputs):
                     g = outs.create_group(o["name"])
-                    g.attrs.update({"response": o["response"], "units": UNITS[o["response"]],
-                                    "kind": COLUMN_KIND.get(o["response"], "node"), "rows": list(ENVELOPE_ROWS),
-                                    "history": bool(o["history"])})
+                    g.attrs.update(output_description(o["response"], o.get("cutoff_hz")))
+                    g.attrs.update({"rows": list(ENVELOPE_ROWS), "history": bool(o["history"])})
                     g["columns"] = _column_table([runner.columns(output, train) for train in catalogue]) \
                         if o["response"] in COLUMN_KIND else runner.columns(output, catalogue[0])
                 static = f.create_group("static")
@@ -479,18 +526,15 @@ class ResultsWriter:
 
     def _check(self, path):
         """A SweepError unless the file ``path`` holds this sweep (the first difference named)."""
-        try:
-            with h5py.File(path, "r") as f:
-                version, stored = _header(f, path)
-                if stored is not None and "train_fingerprints" in self.identity \
-                        and "train_fingerprints" not in stored:     # written before identities kept them
-                    stored = dict(stored, train_fingerprints=dict(self.identity["train_fingerprints"]))
-                    if not _first_difference(self.identity, stored):   # else that difference is named
-                        changed = _stored_train_difference(f, self.runner, self.identity["trains"])
-                        if changed is not None:
-                            stored["train_fingerprints"][changed] = None
-        except OSError as exc:
-            raise SweepError(f"results file {path}: not a readable HDF5 file ({exc})") from None
+        with open_results(path) as f:
+            version, stored = _header(f, path)
+            if stored is not None and "train_fingerprints" in self.identity \
+                    and "train_fingerprints" not in stored:     # written before identities kept them
+                stored = dict(stored, train_fingerprints=dict(self.identity["train_fingerprints"]))
+                if not _first_difference(self.identity, stored):   # else that difference is named
+                    changed = _stored_train_difference(f, self.runner, self.identity["trains"])
+                    if changed is not None:
+                        stored["train_fingerprints"][changed] = None
         if version != FORMAT_VERSION:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
                              "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
@@ -510,7 +554,7 @@ class ResultsWriter:
                     for i, v, k in zip(cases["train"][()], cases["speed_kmh"][()], cases["seed"][()])}
 
     def _read(self):
-        return _KeepOpen(self._memory) if self._memory is not None else h5py.File(self.path, "r")
+        return _KeepOpen(self._memory) if self._memory is not None else open_results(self.path)
 
     def write(self, results):
         """Add a batch of :class:`~vtsi.passage.CaseResult` (atomically, see the module docstring)."""
@@ -561,12 +605,14 @@ class ResultsWriter:
                     rows[k, :, : r.envelopes[name].shape[1]] = r.envelopes[name]
             _append(cases, name, rows)
             stacked[name] = rows
+        described = {o["name"]: output_description(o["response"], o.get("cutoff_hz")) for o in ident["outputs"]}
         for r in results:
             for name, (time, values) in r.histories.items():
                 h = cases.require_group("histories").require_group(train_key(r.train)).require_group(
                     _speed_seed(r.speed_kmh, r.seed))
-                h[name + "_time"] = time
-                h.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+                h.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
+                                "n_steps": r.n_steps})
+                _put_history(h, name, time, values, described[name])
         # the cases' cells of the envelope tables: the extreme over the columns, where and when
         env_group = f["envelopes"]
         index = (train_index, np.argmin(np.abs(speeds[None, :] - np.array([r.speed_kmh for r in results])[:, None]), axis=1),
@@ -589,10 +635,15 @@ class ResultsWriter:
                 table[cell] = values
                 env_group[ds][...] = table
 
-    def write_histories(self, results):
+    def write_histories(self, results, outputs):
         """Add the time histories of re-run cases (:meth:`vtsi.sweep.Sweep.record_histories`)
-        under /histories/<case>: per output ``<name>_time``, ``<name>_values``, ``<name>_columns``;
-        attrs train, speed_kmh, seed, x_head0 [m]. Atomic as :meth:`write`."""
+        under /histories/<case>: per output ``<name>_time`` [s], ``<name>_values`` (attrs
+        response, units, kind and, up to a cut-off, cutoff_hz: :func:`output_description`),
+        ``<name>_columns``; group attrs train, speed_kmh, seed, x_head0 [m], n_steps. ``outputs``:
+        the :class:`~vtsi.passage.Output` they were recorded with. Atomic as :meth:`write`."""
+        described = {o.name: output_description(o.response, None if o.cutoff is None else
+                                                self.runner.cutoff_hz(o.cutoff)) for o in outputs}
+
         def put(f):
             for r in results:
                 key = case_key(r.train, r.speed_kmh, r.seed)
@@ -602,20 +653,33 @@ class ResultsWriter:
                 g.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
                                 "n_steps": r.n_steps})
                 for name, (time, values) in r.histories.items():
-                    g[name + "_time"] = time
-                    g.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+                    _put_history(g, name, time, values, described[name])
                     g[name + "_columns"] = r.columns[name]
+                    g[name + "_columns"].attrs["kind"] = described[name]["kind"]
         self._atomic(put, f"cannot write the histories of {len(results)} cases", "the file holds what it held")
 
     def results(self):
         return SweepResults(self._memory if self._memory is not None else self.path)
 
 
-def _group_keys(group):
-    """Paths of the groups below ``group`` that carry a case (attribute 'train')."""
-    keys = []
-    group.visititems(lambda name, obj: keys.append(name) if isinstance(obj, h5py.Group) and "train" in obj.attrs else None)
-    return keys
+def _response(outputs, name):
+    """The response of the output ``name`` of ``outputs`` (the identity's dicts)."""
+    return next(o["response"] for o in outputs if o["name"] == name)
+
+
+def _put_history(group, name, time, values, description):
+    """``<name>_time`` [s] and ``<name>_values`` (gzip; attrs: ``description``) in ``group``."""
+    group[name + "_time"] = time
+    group[name + "_time"].attrs["units"] = "s"
+    ds = group.create_dataset(name + "_values", data=values, compression="gzip", compression_opts=4)
+    ds.attrs.update(description)
+
+
+def _plain(value):
+    """An HDF5 attribute's value as a Python value (bytes as str, numpy scalars as Python's)."""
+    if isinstance(value, bytes):
+        return value.decode()
+    return value.item() if isinstance(value, np.generic) else value
 
 
 class _KeepOpen:
@@ -640,6 +704,11 @@ class SweepResults:
     identity : dict (bridge, settings, outputs, trains, speeds, seeds)
     quantities : dict quantity -> units
     frequencies_hz : the bridge's first vertical frequencies [Hz]
+    n_done, n_cases : the cases in the file, and in the sweep (fewer done: an interrupted sweep)
+
+    A case is named as a sweep names it: a train by its name (case ignored, 'A1' is 'HSLM-A1',
+    :func:`canonical_train_name`), a speed of the sweep [km/h], a seed of the sweep (-1: smooth
+    rail); anything else is a SweepError listing what is valid.
     """
 
     def __init__(self, source):
@@ -647,10 +716,7 @@ class SweepResults:
         self.path = None if self._file is not None else os.fspath(source)
         if self.path is not None and not os.path.isfile(self.path):
             raise SweepError(f"results file {self.path}: " + ("not a file" if os.path.exists(self.path) else "no such file"))
-        try:
-            handle = self._open()
-        except OSError as exc:
-            raise SweepError(f"results file {self.path}: not a readable HDF5 file ({exc})") from None
+        handle = self._open()
         name = self.path or "(in memory)"
         with handle as f:
             version, self.identity = _header(f, name)
@@ -670,14 +736,59 @@ class SweepResults:
                 self.n_done = f["cases"]["train"].shape[0] if "train" in f["cases"] else 0
             except (KeyError, TypeError, ValueError) as exc:
                 raise SweepError(f"results file {name}: damaged or incomplete ({exc})") from None
+        self._outputs = {o["name"]: o for o in self.identity["outputs"]}
 
     def _open(self):
-        return _KeepOpen(self._file) if self._file is not None else h5py.File(self.path, "r")
+        return _KeepOpen(self._file) if self._file is not None else open_results(self.path)
 
     @property
     def n_cases(self):
         return len(self.trains) * len(self.speeds_kmh) * len(self.seeds)
 
+    # -- naming a case ------------------------------------------------------------------------
+    def train_name(self, train):
+        """``train`` as the sweep spells it (:func:`canonical_train_name`), or a SweepError listing
+        the sweep's trains."""
+        name = canonical_train_name(train) if isinstance(train, (str, os.PathLike)) else None
+        if name not in self.trains:
+            raise SweepError(f"sweep results: train {train!r} is not one of the sweep's: {', '.join(self.trains)} "
+                             "(names ignore case; 'A1' is 'HSLM-A1')")
+        return name
+
+    def speed(self, speed_kmh):
+        """The sweep's speed [km/h] equal to ``speed_kmh`` (to 1e-9), or a SweepError naming it and
+        listing the sweep's speeds."""
+        value = as_number(speed_kmh, "sweep results", "speed [km/h]", SweepError)
+        hit = np.flatnonzero(np.isclose(self.speeds_kmh, value, rtol=0.0, atol=1e-9))
+        if not len(hit):
+            raise SweepError(f"sweep results: {value:g} km/h is not one of the sweep's {_speed_list(self.speeds_kmh, value)}")
+        return float(self.speeds_kmh[hit[0]])
+
+    def seed(self, seed):
+        """``seed`` as an int if it is one of the sweep's, else a SweepError listing them."""
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+            raise SweepError(f"sweep results: a case's seed must be an integer (-1: smooth rail), got {seed!r}")
+        if int(seed) not in self.seeds:
+            valid = "-1 (a smooth rail)" if self.seeds == [-1] else ", ".join(map(str, self.seeds))
+            raise SweepError(f"sweep results: seed {int(seed)} is not one of the sweep's: {valid}")
+        return int(seed)
+
+    def _case(self, train, speed_kmh, seed):
+        """``(train, speed [km/h], seed)`` as the sweep names them (checked: see the class docstring)."""
+        return self.train_name(train), self.speed(speed_kmh), self.seed(seed)
+
+    def _output(self, output):
+        if output not in self._outputs:
+            raise SweepError(f"sweep results: unknown output {output!r}; valid: {', '.join(self._outputs)}")
+        return self._outputs[output]
+
+    def describe(self, output):
+        """What the values of the sweep's ``output`` are: response, units, kind ('node', 'contact
+        wheel', 'car') and, for a response in the modes up to a cut-off, cutoff_hz [Hz]."""
+        o = self._output(output)
+        return output_description(o["response"], o.get("cutoff_hz"))
+
+    # -- the envelope tables ------------------------------------------------------------------
     def envelope(self, quantity):
         """``(n_train, n_speed, n_seed)`` values of ``quantity`` (NaN where not computed)."""
         if quantity not in self._tables:
@@ -686,48 +797,60 @@ class SweepResults:
 
     def critical(self, quantity):
         """The governing case of ``quantity`` (its largest value; smallest for a 'min'): a dict
-        with value, units, train, speed_kmh, seed, where (node tag / wheel / car), time [s];
-        None when no case produced it."""
+        with value, units, train, speed_kmh, seed, where (node tag / wheel / car: 'where_kind'),
+        time [s], and cases_done and cases_total: fewer done than the sweep has (an interrupted
+        sweep) and the case governs only those done. None when no case produced it."""
         values, where, when = self._tables[quantity] if quantity in self._tables else (None, None, None)
         if values is None:
             raise SweepError(f"sweep results: unknown quantity {quantity!r}; valid: {', '.join(self._tables)}")
         if np.all(np.isnan(values)):
             return None
         idx = np.unravel_index(np.nanargmin(values) if quantity.endswith("_min") else np.nanargmax(values), values.shape)
+        output = quantity.rsplit("_", 1)[0]
         return {"quantity": quantity, "value": float(values[idx]), "units": self.quantities[quantity],
                 "train": self.trains[idx[0]], "speed_kmh": float(self.speeds_kmh[idx[1]]), "seed": self.seeds[idx[2]],
-                "where": int(where[idx]), "time": float(when[idx])}
+                "where": int(where[idx]), "where_kind": self.describe(output)["kind"], "time": float(when[idx]),
+                "cases_done": int(self.n_done), "cases_total": int(self.n_cases)}
 
+    # -- one case -------------------------------------------------------------------------------
     def case(self, train, speed_kmh, seed=-1):
-        """One case: ``{output: {'envelope': (6, n), 'columns': (n,)[, 'time': (m,), 'values':
-        (m, n)]}}`` (envelope rows: min, max, absmax and their times; only the outputs its train
-        produces) plus 'attrs'."""
+        """One case: ``{output: {'envelope': (6, n), 'columns': (n,), 'response', 'units', 'kind'[,
+        'cutoff_hz'][, 'time': (m,) [s], 'values': (m, n)]}}`` (envelope rows: min, max, absmax and
+        their times; only the outputs its train produces; time and values of the outputs kept with
+        ``history=True``) plus 'attrs' (train, speed_kmh, seed, n_steps, seconds)."""
+        train, speed_kmh, seed = self._case(train, speed_kmh, seed)
         key = case_key(train, speed_kmh, seed)
         row = self._row(train, speed_kmh, seed)
         if row is None:
-            raise SweepError(f"sweep results: no case {key}")
+            raise SweepError(f"sweep results: case {key} is not in the file yet ({self.n_done} of {self.n_cases} "
+                             "cases: an interrupted sweep; resume=True (--resume) runs the rest)")
         i = self.trains.index(train)
         with self._open() as f:
             g = f["cases"]
             out = {"attrs": {"train": train, "speed_kmh": float(g["speed_kmh"][row]), "seed": int(g["seed"][row]),
                              "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row])}}
             h = g.get(f"histories/{train_key(train)}/{_speed_seed(speed_kmh, seed)}")
-            for o in self.identity["outputs"]:
-                name = o["name"]
-                columns = f["outputs"][name]["columns"][()]
-                if columns.ndim == 2:                 # a vehicle output: this train's columns
-                    columns = columns[i][columns[i] >= 0]
+            if h is not None and "x_head0" in h.attrs:
+                out["attrs"]["x_head0"] = float(h.attrs["x_head0"])
+            for name in self._outputs:
+                columns = self._columns(f, name, i)
                 if len(columns) == 0:
                     continue
-                out[name] = {"envelope": g[name][row][:, : len(columns)], "columns": columns}
+                out[name] = {"envelope": g[name][row][:, : len(columns)], "columns": columns, **self.describe(name)}
                 if h is not None and name + "_time" in h:
                     out[name]["time"], out[name]["values"] = h[name + "_time"][()], h[name + "_values"][()]
         return out
 
+    @staticmethod
+    def _columns(f, name, i):
+        """The columns of output ``name`` for train ``i`` (a vehicle output's: that train's row)."""
+        columns = f["outputs"][name]["columns"][()]
+        if columns.ndim == 2:                 # a vehicle output: this train's columns
+            columns = columns[i][columns[i] >= 0]
+        return columns
+
     def _row(self, train, speed_kmh, seed):
-        """The row of the case (train, speed [km/h], seed) in /cases, or None."""
-        if train not in self.trains:
-            return None
+        """The row of the case (train, speed [km/h], seed), as the sweep names them, in /cases, or None."""
         with self._open() as f:
             g = f["cases"]
             if "train" not in g:
@@ -741,9 +864,7 @@ class SweepResults:
         """Every case's envelope of ``output``: (n_train, n_speed, n_seed, 6, n_columns) (NaN
         where a case is missing or did not produce it; rows as in :data:`ENVELOPE_ROWS`) and the
         columns (node tags; wheel or car indices: the columns of the train with most)."""
-        names = [o["name"] for o in self.identity["outputs"]]
-        if output not in names:
-            raise SweepError(f"sweep results: unknown output {output!r}; valid: {', '.join(names)}")
+        self._output(output)
         with self._open() as f:
             columns = f["outputs"][output]["columns"][()]
             g = f["cases"]
@@ -759,8 +880,11 @@ class SweepResults:
         return out, columns
 
     def static(self, output):
-        """Static envelopes of ``output`` (rows min, max): ``(trains (n_train, 2, n_columns),
-        lm71 (2, n_columns))`` or None (vtsi.influence; only displacement and rotation outputs)."""
+        """Static envelopes of the sweep's ``output`` (rows min, max): ``(trains (n_train, 2,
+        n_columns), lm71 (2, n_columns))``, or None for an output that has none (vtsi.influence:
+        only displacement, rotation and bending-moment outputs without a cut-off); an output the
+        sweep does not have is a SweepError listing its outputs."""
+        self._output(output)
         with self._open() as f:
             if "static" not in f or output not in f["static"]:
                 return None
@@ -769,9 +893,7 @@ class SweepResults:
     def train_data(self, train):
         """The stored axle data of ``train``: dict with axle_offsets_m, static_wheel_loads_N,
         contact_wheels, name, n_cars, n_dof, length_m, characteristic_length_m."""
-        if train not in self.trains:
-            raise SweepError(f"sweep results: unknown train {train!r}; valid: {', '.join(self.trains)}")
-        i = self.trains.index(train)
+        i = self.trains.index(self.train_name(train))
         with self._open() as f:
             g = f["trains"]
             axles = slice(int(g["axle_ptr"][i]), int(g["axle_ptr"][i + 1]))
@@ -789,48 +911,73 @@ class SweepResults:
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 
+    # -- time histories -----------------------------------------------------------------------
     def histories(self):
-        """Keys of the cases with recorded time histories (/histories)."""
+        """Keys of the cases with recorded time histories (:func:`case_key`, sorted): those kept by
+        the sweep's outputs with ``history=True`` (/cases/histories, every case) and those added
+        by :meth:`vtsi.sweep.Sweep.record_histories` (/histories)."""
         with self._open() as f:
-            return [] if "histories" not in f else [k for k in _group_keys(f["histories"])]
+            return sorted(set(_history_keys(f, "histories")) | set(_history_keys(f, "cases/histories")))
 
     def history(self, train, speed_kmh, seed=-1):
-        """A case's recorded histories: ``{output: (time, values, columns)}`` plus 'attrs'."""
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-            raise SweepError(f"sweep results: a case's seed must be an integer (-1: smooth rail), got {seed!r}")
-        key = case_key(train, as_number(speed_kmh, "sweep results", "speed [km/h]", SweepError), seed)
-        if not np.any(np.isclose(self.speeds_kmh, float(speed_kmh), rtol=0.0, atol=1e-9)):
-            v = self.speeds_kmh
-            raise SweepError(f"sweep results: {float(speed_kmh):g} km/h is not one of the sweep's {len(v)} speeds "
-                             f"({v.min():g} to {v.max():g} km/h)")
+        """A case's recorded histories: ``{output: (time (m,) [s], values (m, n), columns (n,))}``
+        of the sweep's outputs kept with ``history=True`` and of those Sweep.record_histories
+        added (its own, e.g. 'deck_displacement', 'deck_acceleration'; where a name is in both,
+        record_histories' is given: :meth:`case` has the sweep's), plus 'attrs': train,
+        speed_kmh, seed, n_steps, x_head0 [m] where stored, and 'outputs': per output its
+        response, units, kind, cutoff_hz (for a response in the modes up to a cut-off; None: the
+        full response) and source ('sweep' or 'record_histories')."""
+        train, speed_kmh, seed = self._case(train, speed_kmh, seed)
+        key = case_key(train, speed_kmh, seed)
         with self._open() as f:
-            if "histories" not in f or not len(f["histories"]):
-                raise SweepError(f"sweep results: {self.path} holds no histories (Sweep.record_histories records "
-                                 "them; vtsi check does for the governing cases)")
-            if key not in f["histories"]:
-                cases = []                     # a case key's '/' nests its groups: the cases are the groups of data
-                f["histories"].visititems(lambda name, node: cases.append(name) if isinstance(node, h5py.Group) and any(
-                    isinstance(v, h5py.Dataset) for v in node.values()) else None)
-                recorded = ", ".join(sorted(cases))
+            places = [p for p in ("histories", "cases/histories") if p in f and len(_history_keys(f, p))]
+            if not places:
+                raise SweepError(f"sweep results: {self.path or 'the sweep'} holds no histories (an output with "
+                                 "history=True keeps them for every case; Sweep.record_histories records them for "
+                                 "chosen cases; vtsi check does for the governing cases)")
+            out, attrs, outputs = {}, {}, {}
+            row = self._row(train, speed_kmh, seed)
+            if row is not None:
+                g = f["cases"]
+                attrs.update({"train": train, "speed_kmh": float(g["speed_kmh"][row]), "seed": int(g["seed"][row]),
+                              "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row])})
+            h = f.get(f"cases/histories/{key}")
+            if isinstance(h, h5py.Group):
+                attrs.update({k: _plain(v) for k, v in h.attrs.items()})
+                i = self.trains.index(train)
+                for name in self._outputs:
+                    if name + "_time" in h:
+                        out[name] = (h[name + "_time"][()], h[name + "_values"][()], self._columns(f, name, i))
+                        outputs[name] = dict(self.describe(name), source="sweep")
+            h = f.get(f"histories/{key}")
+            if isinstance(h, h5py.Group):
+                attrs.update({k: _plain(v) for k, v in h.attrs.items()})
+                for name in sorted({k.rsplit("_", 1)[0] for k in h}):
+                    out[name] = (h[name + "_time"][()], h[name + "_values"][()], h[name + "_columns"][()])
+                    outputs[name] = {k: _plain(v) for k, v in h[name + "_values"].attrs.items()}
+                    for k in ("response", "units", "kind"):     # a file written before they were stored
+                        outputs[name].setdefault(k, None)
+                    outputs[name]["source"] = "record_histories"
+            if not out:
+                recorded = ", ".join(sorted(set(_history_keys(f, "histories")) | set(_history_keys(f, "cases/histories"))))
                 raise SweepError(f"sweep results: no histories of case {key}; recorded: {recorded} "
-                                 "(Sweep.record_histories)")
-            g = f["histories"][key]
-            names = sorted({k.rsplit("_", 1)[0] for k in g})
-            out = {n: (g[n + "_time"][()], g[n + "_values"][()], g[n + "_columns"][()]) for n in names}
-            out["attrs"] = dict(g.attrs)
+                                 "(Sweep.record_histories adds a case's)")
+        for description in outputs.values():
+            description.setdefault("cutoff_hz", None)
+        attrs["outputs"] = outputs
+        out["attrs"] = attrs
         return out
 
+    # -- views ----------------------------------------------------------------------------------
     def summary(self):
         """A text table: per quantity its extreme, the governing train, speed, place and time."""
-        where_kind = {o["name"]: COLUMN_KIND.get(o["response"], "node") for o in self.identity["outputs"]}
         rows = [("quantity", "value", "units", "train", "speed km/h", "seed", "where", "t [s]")]
         for q in self.quantities:
             c = self.critical(q)
             if c is None:
                 continue
-            output = q.rsplit("_", 1)[0]
             rows.append((q, f"{c['value']:.5g}", c["units"], c["train"], f"{c['speed_kmh']:g}",
-                         "smooth" if c["seed"] < 0 else str(c["seed"]), f"{where_kind[output]} {c['where']}",
+                         "smooth" if c["seed"] < 0 else str(c["seed"]), f"{c['where_kind']} {c['where']}",
                          f"{c['time']:.3f}"))
         widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
         lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
@@ -840,7 +987,11 @@ class SweepResults:
 
     def to_xarray(self):
         """The envelope tables as an ``xarray.Dataset`` (dims train, speed_kmh, seed; units in
-        each variable's attrs; ``<q>_where`` and ``<q>_time`` beside each quantity)."""
+        each variable's attrs, and the output's response and cutoff_hz where it has one;
+        ``<q>_where`` (attrs kind, holds: a node tag, a contact wheel's or a car's index; -1
+        where not computed) and ``<q>_time`` [s] beside each quantity). Dataset attrs:
+        vtsi_version, identity (JSON), cases_done and cases_total (fewer done: an interrupted
+        sweep, NaN in the cases not run)."""
         import xarray
         coords = {"train": self.trains, "speed_kmh": ("speed_kmh", self.speeds_kmh, {"units": "km/h"}),
                   "seed": self.seeds}
@@ -848,8 +999,40 @@ class SweepResults:
         data = {}
         for q, units in self.quantities.items():
             values, where, when = self._tables[q]
-            data[q] = xarray.Variable(dims, values, {"units": units})
-            data[q + "_where"] = xarray.Variable(dims, where)
+            described = self.describe(q.rsplit("_", 1)[0])
+            attrs = {"units": units, "response": described["response"]}
+            if "cutoff_hz" in described:
+                attrs["cutoff_hz"] = described["cutoff_hz"]
+            data[q] = xarray.Variable(dims, values, attrs)
+            data[q + "_where"] = xarray.Variable(dims, where, {"kind": described["kind"],
+                                                               "holds": WHERE_HOLDS[described["kind"]], "missing": -1})
             data[q + "_time"] = xarray.Variable(dims, when, {"units": "s"})
         return xarray.Dataset(data, coords=coords, attrs={"vtsi_version": self.vtsi_version,
-                                                          "identity": json.dumps(self.identity)})
+                                                          "identity": json.dumps(self.identity),
+                                                          "cases_done": int(self.n_done),
+                                                          "cases_total": int(self.n_cases)})
+
+
+def _history_keys(f, place):
+    """Keys (:func:`case_key`) of the cases with histories under ``place`` of ``f`` ('histories'
+    or 'cases/histories'): a case key's '/' nests its groups, the cases are the groups of data."""
+    group = f.get(place)
+    if not isinstance(group, h5py.Group):
+        return []
+    keys = []
+    group.visititems(lambda name, node: keys.append(name) if isinstance(node, h5py.Group) and any(
+        isinstance(v, h5py.Dataset) for v in node.values()) else None)
+    return keys
+
+
+def _speed_list(speeds_kmh, value):
+    """The sweep's speeds for a message: all of them when few, else their range and the two
+    nearest ``value``."""
+    v = np.asarray(speeds_kmh, dtype=float)
+    text = f"{len(v)} speeds ({v.min():g} to {v.max():g} km/h"
+    if len(v) <= 12:
+        return text + ": " + ", ".join(f"{x:g}" for x in v) + ")"
+    below, above = v[v < value], v[v > value]
+    nearest = [f"{x:g}" for x in (below.max() if len(below) else None, above.min() if len(above) else None)
+               if x is not None]
+    return text + f"; nearest {' and '.join(nearest)})" if nearest and np.isfinite(value) else text + ")"

@@ -31,9 +31,17 @@ class KeptOpen:
         self._requests = None     # (assembly, requests)
         self._started = None      # (assembly, model.load_version, [(tag, pattern, n_loads)])
 
+    def __repr__(self):
+        return repr(self.recorder)
+
     @property
     def dt(self):
         return self.recorder.dt
+
+    @property
+    def sink(self):
+        """The wrapped recorder's sink (an analysis refuses two recorders writing one file)."""
+        return getattr(self.recorder, "sink", None)
 
     def requests(self, assembly):
         if self._requests is None or self._requests[0] is not assembly:
@@ -159,7 +167,8 @@ class RecorderCommands(SessionBase):
 
     def recorder(self, *args):
         """``recorder('Node'|'EnvelopeNode'|'Element'|'EnvelopeElement', ...)``; returns its tag.
-        Options: ``-file f`` (OpenSees text), vtsi's ``-h5 f``/``-hdf5 f`` (HDF5), ``-time``,
+        Options: ``-file f`` (OpenSees text), vtsi's ``-h5 f``/``-hdf5 f`` (HDF5; an existing file
+        is replaced, as ``-file`` replaces its file), ``-time``,
         ``-precision p``, ``-dT dt``, ``-closeOnWrite``, ``-node``, ``-nodeRange a b``, ``-dof``,
         ``-ele``, ``-eleRange a b``; then the response."""
         if args and args[0] in ("Contact", "Train"):
@@ -280,10 +289,18 @@ class RecorderCommands(SessionBase):
         if "sink" not in opts:
             return rec.MemorySink()
         opt, path = opts["sink"]
+        same = os.path.normcase(os.path.realpath(path)) if isinstance(path, str) and path.strip() else None
+        for tag, kept in self._kept.items():      # before the file is truncated or replaced
+            other = getattr(kept.sink, "path", None)
+            if same is not None and isinstance(other, str) and os.path.normcase(os.path.realpath(other)) == same:
+                raise CommandError(f"{name}: recorder {tag} already writes {path}; give each recorder its own "
+                                   f"file (or remove recorder {tag} first)")
         if opt == "-file":
             if opts["-precision"] < 1:
                 raise CommandError(f"{name}: -precision must be >= 1, got {opts['-precision']}")
             return rec.TextSink(path, time=opts["-time"], precision=opts["-precision"],
                                 close_on_write=opts["-closeOnWrite"])
-        return rec.HDF5Sink(path)
+        # as OpenSees's file recorders (-file): a re-run script replaces its file (the Python API's
+        # HDF5Sink refuses an existing file unless overwrite=True)
+        return rec.HDF5Sink(path, overwrite=True)
 

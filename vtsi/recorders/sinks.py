@@ -57,6 +57,9 @@ class MemorySink(Sink):
 
     Chunks are stored as they come and concatenated once, when read (then kept as one array),
     so recording costs no copy per step. ``layout`` describes the columns after the first run.
+    Reading is possible at any time: before the first record it gives empty arrays (``(0,)``
+    and ``(0, n_columns)``, ``n_columns`` 0 before the first run), and nothing read is kept
+    until there is something to keep, so a read never changes what later reads give.
     """
 
     def __init__(self):
@@ -73,15 +76,18 @@ class MemorySink(Sink):
 
     @property
     def time(self):
-        if len(self._times) != 1:
-            self._times = [np.concatenate(self._times) if self._times else np.zeros(0)]
+        if not self._times:
+            return np.zeros(0)
+        if len(self._times) > 1:
+            self._times = [np.concatenate(self._times)]
         return self._times[0]
 
     @property
     def values(self):
-        if len(self._chunks) != 1:
-            n = self.layout["n_columns"] if self.layout else 0
-            self._chunks = [np.concatenate(self._chunks) if self._chunks else np.zeros((0, n))]
+        if not self._chunks:            # nothing recorded yet: an empty array, not kept
+            return np.zeros((0, self.layout["n_columns"] if self.layout else 0))
+        if len(self._chunks) > 1:
+            self._chunks = [np.concatenate(self._chunks)]
         return self._chunks[0]
 
 
@@ -116,7 +122,10 @@ class HDF5Sink(Sink):
     compression_opts : the filter's options (gzip: level 0-9), default h5py's.
 
     A run killed at any moment (even SIGKILL) leaves a readable file holding every step up
-    to the last flush; a run that raises closes the file with every completed step.
+    to the last flush; a run that raises closes the file with every completed step. The file
+    is open, and locked by HDF5, only during a run: another process reads it between runs and
+    after them; during a run only with ``locking=False``, and then not reliably (no SWMR:
+    docs/recorders.md says why and how).
     """
 
     def __init__(self, path, overwrite=False, flush_every=None, compression=None, compression_opts=None):
@@ -334,6 +343,25 @@ class TextSink(Sink):
     @property
     def values(self):
         raise AttributeError(f"TextSink keeps no values in memory: read {self.path} (numpy.loadtxt)")
+
+
+def check_own_files(who, recorders):
+    """A ModelError naming ``who`` (the analysis), both recorders and the path when two of
+    ``recorders`` write one file (their sinks' ``path``, compared as resolved absolute paths):
+    two text recorders would interleave rows of different widths, two HDF5 recorders would
+    fail at the analysis start. Called when an analysis is built; recorders without a file
+    sink are skipped."""
+    seen = {}
+    for i, rec in enumerate(recorders):
+        path = getattr(getattr(rec, "sink", None), "path", None)
+        if not isinstance(path, str):
+            continue
+        key = os.path.normcase(os.path.realpath(path))
+        if key in seen:
+            j, first = seen[key]
+            raise ModelError(f"{who}: recorders[{j}] {first!r} and recorders[{i}] {rec!r} both write {path}; "
+                             "give each recorder its own file")
+        seen[key] = (i, rec)
 
 
 def format_rows(times, values, precision=6):
