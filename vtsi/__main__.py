@@ -380,6 +380,7 @@ def _speeds_reach(spec, line_kmh):
 
 def _prepare_sweep(ns, out):
     from vtsi.bridge_file import read_bridge_file
+    from vtsi.errors import VtsiError
     from vtsi.passage import PassageRunner, PassageSettings
     from vtsi.sweep import Sweep, en_speed_grid, speeds
     from vtsi.sweep_results import ResultsWriter
@@ -403,22 +404,30 @@ def _prepare_sweep(ns, out):
             values[name] = getattr(ns, name)
     if ns.bridge_model is not None:
         values["bridge"] = ns.bridge_model
-    if getattr(ns, "command", None) == "check":
-        values["damping"] = _code_damping(ns, source, values)
-    settings = PassageSettings(**values)
-    seeds = source.seeds or (0,)
-    if source.seeds is not None and ns.seeds is None and settings.irregularity is None:
-        raise _UsageError(f"bridge file {source.path}: [analysis] seeds: rail samples need an irregular rail "
-                          "([analysis] irregularity, or --irregularity NAME)")
-    if ns.seeds is not None:
-        if settings.irregularity is None:
-            raise _UsageError("--seeds: rail samples need an irregular rail (--irregularity NAME)")
-        seeds = _seed_list(ns.seeds)
-    if en_line is not None:
-        runner = PassageRunner(source.bridge.model, source.bridge.track_elements, settings, outputs=())
-        lengths = [runner.train(t, 40.0).characteristic_length for t in trains]
-        spec = en_speed_grid(en_line, runner.frequencies, lengths)
-    sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
+    try:                                               # the bridge is analysed from here on
+        if getattr(ns, "command", None) == "check":
+            values["damping"] = _code_damping(ns, source, values)
+        settings = PassageSettings(**values)
+        seeds = source.seeds or (0,)
+        if source.seeds is not None and ns.seeds is None and settings.irregularity is None:
+            raise _UsageError(f"bridge file {source.path}: [analysis] seeds: rail samples need an irregular rail "
+                              "([analysis] irregularity, or --irregularity NAME)")
+        if ns.seeds is not None:
+            if settings.irregularity is None:
+                raise _UsageError("--seeds: rail samples need an irregular rail (--irregularity NAME)")
+            seeds = _seed_list(ns.seeds)
+        if en_line is not None:
+            runner = PassageRunner(source.bridge.model, source.bridge.track_elements, settings, outputs=())
+            lengths = [runner.train(t, 40.0).characteristic_length for t in trains]
+            spec = en_speed_grid(en_line, runner.deck_frequencies.ravel(), lengths)    # every deck's resonances
+        sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
+    except VtsiError as exc:
+        # what the analysis found wrong with the bridge names the file it came from (a script's
+        # model has no other name): 'bridge file b.tcl: bridge (its track: ...): vertical frequencies ...'
+        text = _message(exc)
+        if str(source.path) not in text and re.match(r"(bridge\b|track\b|modal bridge\b|the bridge's\b)", text):
+            raise _UsageError(f"bridge file {source.path}: {text}") from None
+        raise
     sweep.prepare()                                    # integrator, contact ...: refused before any file is written
     if os.path.exists(out) and not ns.overwrite:      # refuses, or checks the file to resume (and its lock)
         ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume).close()

@@ -8,8 +8,9 @@ each row means:
 criterion              value                                                        clause
 =====================  ===========================================================  ==========
 deck_acceleration      max |a| of the deck, frequencies up to max(30 Hz, 1.5 n₀,    EN 1990
-                       n₃) (an output with ``cutoff='en'``), ≤ 3.5 m/s² ballasted,   A2.4.4.2.1
-                       5 m/s² direct fastening
+                       n₃) (an output with ``cutoff='en'``; of several decks the     A2.4.4.2.1
+                       largest of their cut-offs), ≤ 3.5 m/s² ballasted, 5 m/s²
+                       direct fastening
 dynamic_increment      φ'_dyn = max |y_dyn / y_stat| − 1 of the deflection of each   EN 1991-2
                        span's middle, y_stat the static deflection under the same    6.4.6.5(3)
                        train (info); ``_moment``: the same for the bending moment
@@ -19,7 +20,7 @@ dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71)
 deflection             the more unfavourable of Φ α × LM71's static deflection and   EN 1990
                        (1 + φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| +       A2.4.4.2.3(1),
                        φ''/2 × |y_stat,train| (φ'' whole for standard maintenance),  EN 1991-2
-                       ≤ L/600 per span (Φ, φ'' of the span's deck's L_Φ)            6.4.6.5(3)
+                       ≤ L/600 per span (Φ, φ'' of the span's deck's L_Φ and n₀)     6.4.6.5(3)
 deflection_overhang    the same on a deck's overhang, against L_c/600 of its length  EN 1991-2
                        for reference only (info: EN 1990 gives no cantilever limit)  6.4.6.5(3)
 end_rotation           max |θ| at the decks' end supports under the trains (info)   —
@@ -50,8 +51,9 @@ import numpy as np
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
-from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, modal_basis_hz
-from vtsi.sweep_results import ENVELOPE_ROWS, ResultsFileLock, SweepResults
+from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz
+from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
+                                deck_ranges, span_decks, x_tolerance)
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
 RENAMED = {"deflection_lm71": "deflection"}   # rows of checks stored by an older vtsi, by today's name
@@ -115,6 +117,7 @@ class CheckResult:
     rows: list = field(default_factory=list)
     cases_done: int = 0         # the sweep's finished cases when it was checked, of ...
     cases_total: int = 0        # ... its cases (0 and 0: not known, a check stored by an older vtsi)
+    bridge: str = ""            # the bridge as the check read it (vtsi.sweep_results.bridge_text): one line
 
     @property
     def complete(self):
@@ -170,7 +173,8 @@ class CheckResult:
         raise SweepError(f"check: no row {criterion!r}; the rows are {', '.join(r.criterion for r in self.rows)}")
 
     def text(self):
-        """The table as text (one line per criterion)."""
+        """The bridge as the check read it (one line: its decks, spans, n₀, EN cut-off, L_Φ), then
+        the table (one line per criterion), the verdict and the rows' notes."""
         head = ("criterion", "value", "limit", "util.", "status", "governing case", "where", "clause")
         lines = [head]
         for r in self.rows:
@@ -186,7 +190,8 @@ class CheckResult:
         out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
         out.insert(1, "  ".join("-" * w for w in widths))
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
-        return "\n".join(out + ["", self.verdict()] + (["notes:"] + notes if notes else []))
+        return "\n".join(([self.bridge] if self.bridge else []) + out + ["", self.verdict()]
+                         + (["notes:"] + notes if notes else []))
 
     def store(self, path):
         """Write the table into the sweep's results file (/checks: one row per criterion, the
@@ -244,7 +249,7 @@ def stored_check(path):
         # sweep may have more now: its verdict is then that of a sweep incomplete when checked)
         cases = (int(g.attrs["cases_done"]), int(g.attrs["cases_total"])) if "cases_total" in g.attrs \
             else (results.n_done, results.n_cases)
-    return CheckResult(settings, rows, *cases)
+    return CheckResult(settings, rows, *cases, bridge=bridge_text(results.bridge()))
 
 
 SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments include the bridge's self weight "
@@ -270,7 +275,7 @@ def check(results, settings=None):
         raise SweepError(SELF_WEIGHT_REFUSED)
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
-    out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases)
+    out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases, bridge=bridge_text(bridge))
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
@@ -301,9 +306,9 @@ def _deck_acceleration(results, outputs, bridge, settings):
     """The deck acceleration of an output counting at least the EN cut-off's frequencies (one
     with ``cutoff='en'``, or the full response); an output counting fewer (a lower cut-off, or a
     modal bridge whose modes stop below it) is refused."""
-    en_cutoff = en1990_a2.acceleration_cutoff_hz(bridge["frequencies_hz"][:3])
+    en_cutoff = en_cutoff_hz(bridge)            # of several decks, the largest of theirs
     sweep = results.identity["settings"]
-    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge["frequencies_hz"][:3])
+    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge)
     accel = _outputs_of(outputs, "accel")
     counted = {n: min((f for f in (outputs[n].get("cutoff_hz"), basis) if f is not None), default=None) for n in accel}
     short = [n for n in accel if counted[n] is not None and counted[n] < en_cutoff * (1 - 1e-9)]
@@ -338,7 +343,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     else:
         note = "the FE model's full response: no EN cut-off output was kept"
     x_peak = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist())).get(int(columns[idx[-1]]))
-    tol = _x_tolerance(bridge)
+    tol = x_tolerance(bridge)
     for _, a, b in overhangs(bridge):
         if x_peak is not None and abs(x_peak - a) > tol and min(a, b) - tol <= x_peak <= max(a, b) + tol:
             note += (f"; the peak is on the overhang from x = {min(a, b):g} to {max(a, b):g} m (deck: it carries "
@@ -384,42 +389,20 @@ def _deck_acceleration(results, outputs, bridge, settings):
                      f"node {int(columns[idx[-1]])}", f"{settings.track.replace('_', ' ')} track; {note}")]
 
 
-def deck_ranges(bridge):
-    """(n_decks, 2) the x [m] of each deck's ends, its spans and overhangs (/bridge/deck_ends_m,
-    :mod:`vtsi.deck`); in a results file of an older vtsi, which kept none, from the first span's
-    first support to the last span's last."""
-    if "deck_ends_m" in bridge:
-        return np.asarray(bridge["deck_ends_m"], dtype=float).reshape(-1, 2)
-    ends = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2)
-    return np.array([[ends[0, 0], ends[-1, 1]]])
-
-
-def _x_tolerance(bridge):
-    ends = np.asarray(bridge["span_ends_m"], dtype=float)
-    return 1e-9 * max(float(np.ptp(ends)), 1.0)
-
-
 def deck_nodes(bridge):
     """The track's nodes on a deck (its spans and overhangs): the track's nodes on an approach
     (ground) or on a joint between two decks are no deck."""
-    x, tol = np.asarray(bridge["deck_x_m"]), _x_tolerance(bridge)
+    x, tol = np.asarray(bridge["deck_x_m"]), x_tolerance(bridge)
     inside = np.zeros(len(x), dtype=bool)
     for a, b in deck_ranges(bridge):
         inside |= (x >= a - tol) & (x <= b + tol)
     return set(np.asarray(bridge["deck_nodes"])[inside].tolist())
 
 
-def span_decks(bridge):
-    """(n_spans,) the deck (row of :func:`deck_ranges`) of each span."""
-    decks, tol = deck_ranges(bridge), _x_tolerance(bridge)
-    middle = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2).mean(axis=1)
-    return np.array([int(np.flatnonzero((decks[:, 0] - tol <= m) & (m <= decks[:, 1] + tol))[0]) for m in middle])
-
-
 def overhangs(bridge):
     """The decks' overhangs: ``[(deck, x of its support, x of its free end)]`` [m], the stretches
     of a deck beyond its outermost spans' supports."""
-    ends, tol = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2), _x_tolerance(bridge)
+    ends, tol = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2), x_tolerance(bridge)
     out, of = [], span_decks(bridge)
     for d, (a, b) in enumerate(deck_ranges(bridge)):
         mine = ends[of == d]
@@ -539,15 +522,17 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
 def _design_factors(results, bridge, settings):
     """Per span (n_spans,): L_Φ [m], Φ and φ'' of EN 1991-2 6.4.5.2, Annex C (φ'' at the sweep's
     highest speed), and the share of φ'' counted (6.4.6.5(3): ½ for careful maintenance, 1 for
-    standard). L_Φ is that of the span's deck (Table 6.2: its span, or k × the mean span of a
-    continuous one): two simply supported decks side by side are two L_Φ, not one continuous."""
+    standard). L_Φ and n₀ are those of the span's deck (Table 6.2: its span, or k × the mean span
+    of a continuous one; n₀ its own first frequency, :func:`deck_first_frequencies`): two simply
+    supported decks side by side are two L_Φ, not one continuous, and a 30 m deck beside a 15 m
+    one keeps its own n₀."""
     spans, decks = np.asarray(bridge["span_lengths_m"], dtype=float), span_decks(bridge)
     by_deck = {d: en1991_2.determinant_length(spans[decks == d]) for d in set(decks.tolist())}
     L_phi = np.array([by_deck[d] for d in decks.tolist()])
     Phi = np.array([en1991_2.dynamic_factor(L, settings.maintenance) for L in L_phi])
     v_max = float(np.max(results.speeds_kmh)) / 3.6
-    n0 = float(bridge["frequencies_hz"][0])
-    phi2 = np.array([en1991_2.track_irregularity_increment(L, n0, v_max) for L in L_phi])
+    n0 = deck_first_frequencies(bridge)[decks]
+    phi2 = np.array([en1991_2.track_irregularity_increment(L, f, v_max) for L, f in zip(L_phi, n0)])
     return L_phi, Phi, phi2, 0.5 if settings.maintenance == "careful" else 1.0
 
 
@@ -564,7 +549,7 @@ def _truncation_note(results, bridge):
     the truncated modes' quasi-static share back (cars, static_correction off; a sweep with self
     weight is refused); '' otherwise."""
     sweep = results.identity["settings"]
-    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge["frequencies_hz"][:3])
+    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge)
     corrected = sweep.get("cars", "force") == "force" and sweep.get("static_correction", True)
     if basis is None or corrected:
         return ""
@@ -588,7 +573,7 @@ def _deflection(results, outputs, bridge, settings):
         deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
         spans, ends = np.asarray(bridge["span_lengths_m"]), np.asarray(bridge["span_ends_m"]).reshape(-1, 2)
         _, Phi, phi2, share = _design_factors(results, bridge, settings)
-        decks, hangs, tol = span_decks(bridge), overhangs(bridge), _x_tolerance(bridge)
+        decks, hangs, tol = span_decks(bridge), overhangs(bridge), x_tolerance(bridge)
         lm71_static, train_static = np.abs(static[1][MIN]), np.abs(static[0][:, MIN])
         worst = {"deflection": None, "deflection_overhang": None}
         for c, node in enumerate(columns):
@@ -640,7 +625,7 @@ def _end_rotation(results, outputs, bridge, settings):
     """The largest rotation at the decks' end supports (each deck's outermost spans' outer
     supports; an output's nodes there; at all its nodes, so said, when it has none there)."""
     deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
-    spans, decks, tol = np.asarray(bridge["span_ends_m"]).reshape(-1, 2), span_decks(bridge), _x_tolerance(bridge)
+    spans, decks, tol = np.asarray(bridge["span_ends_m"]).reshape(-1, 2), span_decks(bridge), x_tolerance(bridge)
     ends = sorted({float(x) for d in set(decks.tolist()) for x in (spans[decks == d][0, 0], spans[decks == d][-1, 1])})
     for name in _outputs_of(outputs, "rotation"):
         env, columns = results.column_envelopes(name)

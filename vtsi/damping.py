@@ -25,35 +25,113 @@ def vertical_frequencies(model, n=3, ground=()):
     the approach's 36.2 Hz). As many modes are computed as needed, at most one per dof with mass
     (lumped mass leaves rotations without). A ModelError says how many the model has if fewer
     than ``n``."""
+    n = _count(n)
+    modes = _VerticalModes(model, ground)
+    k = min(modes.n_mass, max(3 * n, 12))
+    while True:
+        modes.compute(k)
+        keep = np.flatnonzero(modes.bridge)[:n]
+        if len(keep) == n or k >= modes.n_mass:
+            break
+        k = min(modes.n_mass, 2 * k)
+    if len(keep) < n:
+        approach = int(np.sum(modes.vertical_share & ~modes.bridge))
+        raise ModelError(f"vertical frequencies: {n} asked, the model has {len(keep)} vertical modes"
+                         + (f" besides {approach} of its approaches" if approach else "") + modes.mass_hint())
+    return modes.frequencies[keep], modes.shapes[:, keep]
+
+
+def deck_frequencies(model, decks, n=3, ground=()):
+    """``(n_decks, n)`` [Hz]: each deck's first ``n`` vertical frequencies (n₀, n₂, n₃ …), for
+    ``decks`` the node tags of each deck (:attr:`vtsi.deck.DeckLayout.nodes_by_deck`) and
+    ``ground`` as :func:`vertical_frequencies`.
+
+    One deck: :func:`vertical_frequencies`'. Several: each vertical mode that is not an
+    approach's (as there) counts for deck d by the share of its vertical kinetic energy on the
+    deck's nodes, s_d = E_d / (E_vertical − E_ground); in ascending frequency, the deck's k-th
+    frequency is that of the mode at which the running sum of s_d reaches k − ½. A mode on one
+    deck counts 1 there and 0 on the others; two identical decks' equal frequencies make a
+    degenerate pair, whose shapes an eigensolver may return combined in any proportion, and the
+    running sum, the pair's trace, does not depend on how (a rule 'kept where it lies mostly'
+    would count both of a 50/50 pair for each deck); a mode on no deck (a pier's) counts for
+    none. Two identical simply supported 15 m decks on one pier: 10.66, 42.66, 96.03 Hz each,
+    where the model's first three are 10.66, 10.66, 42.66. A ModelError names a deck with fewer
+    than ``n``."""
+    n = _count(n)
+    decks = [list(nodes) for nodes in decks]
+    if len(decks) == 1:
+        return vertical_frequencies(model, n, ground)[0][None, :]
+    modes = _VerticalModes(model, ground)
+    k = min(modes.n_mass, max(3 * n * len(decks), 12))
+    while True:
+        modes.compute(k)
+        found = [modes.deck_frequencies(nodes, n) for nodes in decks]
+        if all(len(f) == n for f in found) or k >= modes.n_mass:
+            break
+        k = min(modes.n_mass, 2 * k)
+    for d, f in enumerate(found):
+        if len(f) < n:
+            raise ModelError(f"vertical frequencies: {n} asked of deck {d + 1} of {len(decks)} (its track nodes "
+                             f"{decks[d][0]} to {decks[d][-1]}), the model's vertical modes give it {len(f)}"
+                             + modes.mass_hint())
+    return np.array(found)
+
+
+class _VerticalModes:
+    """The lowest modes of a model with their vertical, horizontal and ground shares of kinetic
+    energy (:func:`vertical_frequencies`, :func:`deck_frequencies`)."""
+
+    def __init__(self, model, ground):
+        if not isinstance(model, Model):
+            raise ModelError(f"vertical frequencies: model must be a vtsi.Model, got {model!r}")
+        self.model = model
+        self.asm = asm = model.build()
+        self.on_ground = self.mask(ground)
+        self.n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))   # at most that many modes of finite frequency
+        if self.n_mass == 0:
+            raise ModelError("vertical frequencies: no dof carries mass")
+
+    def mask(self, nodes):
+        """(n_full,) True at the uy dofs of ``nodes``."""
+        out = np.zeros(self.asm.n_full, dtype=bool)
+        for node in nodes:
+            out[self.asm.full_dof(node, 2)] = True
+        return out
+
+    def energy(self, mask):
+        """(n_modes,) each mode's φᵀ M φ over the dofs of ``mask`` (twice its kinetic energy there at ω = 1)."""
+        part = self.shapes * mask[:, None]
+        return np.einsum("ij,ij->j", part, self.asm.M_full @ part)
+
+    def compute(self, k):
+        asm = self.asm
+        omega2, self.shapes = eigen(self.model, "all" if k == self.n_mass < asm.n_free else k)
+        self.frequencies = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
+        dof = np.arange(asm.n_full) % asm.ndf
+        self.vertical = self.energy(dof == 1)
+        self.ground = self.energy(self.on_ground)
+        self.vertical_share = self.vertical > self.energy(dof == 0)
+        self.bridge = self.vertical_share & ~(self.ground > 0.5 * self.vertical)     # not an approach's
+
+    def deck_frequencies(self, nodes, n):
+        """The first (at most ``n``) frequencies of the deck of ``nodes`` (:func:`deck_frequencies`)."""
+        keep = np.flatnonzero(self.bridge)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            share = self.energy(self.mask(nodes))[keep] / (self.vertical - self.ground)[keep]
+        running = np.cumsum(np.nan_to_num(np.clip(share, 0.0, 1.0)))
+        at = np.searchsorted(running, np.arange(n) + 0.5 - 1e-9)       # the first mode reaching k - 1/2
+        return self.frequencies[keep[at[at < len(keep)]]]
+
+    def mass_hint(self):
+        asm = self.asm
+        return (f" (only {self.n_mass} of its {asm.n_free} free dofs carry mass: mesh the deck finer, or give it mass)"
+                if self.n_mass < asm.n_free else "")
+
+
+def _count(n):
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ModelError(f"vertical frequencies: the count must be an integer >= 1, got {n!r}")
-    if not isinstance(model, Model):
-        raise ModelError(f"vertical frequencies: model must be a vtsi.Model, got {model!r}")
-    asm = model.build()
-    M = asm.M_full
-    on = lambda dof: np.arange(asm.n_full) % asm.ndf == dof
-    on_ground = np.zeros(asm.n_full, dtype=bool)
-    for node in ground:
-        on_ground[asm.full_dof(node, 2)] = True
-    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))     # at most that many modes of finite frequency
-    if n_mass == 0:
-        raise ModelError("vertical frequencies: no dof carries mass")
-    k = min(n_mass, max(3 * n, 12))
-    while True:
-        omega2, shapes = eigen(model, "all" if k == n_mass < asm.n_free else k)
-        motion = lambda mask: np.einsum("ij,ij->j", shapes * mask[:, None], M @ (shapes * mask[:, None]))
-        vertical = motion(on(1))
-        keep = np.flatnonzero((vertical > motion(on(0))) & ~(motion(on_ground) > 0.5 * vertical))[:n]
-        if len(keep) == n or k >= n_mass:
-            break
-        k = min(n_mass, 2 * k)
-    if len(keep) < n:
-        approach = int(np.sum((vertical > motion(on(0))) & (motion(on_ground) > 0.5 * vertical)))
-        raise ModelError(f"vertical frequencies: {n} asked, the model has {len(keep)} vertical modes"
-                         + (f" besides {approach} of its approaches" if approach else "")
-                         + (f" (only {n_mass} of its {asm.n_free} free dofs carry mass: mesh the deck finer, or "
-                            "give it mass)" if n_mass < asm.n_free else ""))
-    return np.sqrt(np.maximum(omega2[keep], 0.0)) / (2 * np.pi), shapes[:, keep]
+    return n
 
 
 def rayleigh_coefficients(zeta, f_a, f_b):

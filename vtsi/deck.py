@@ -58,6 +58,8 @@ class DeckLayout:
     midspan_nodes : the track node nearest each span's middle.
     span_decks : the deck of each span (index into ``deck_ends``).
     deck_ends : ((x_0, x_1), ...) [m] each deck's ends: its spans and overhangs.
+    nodes_by_deck : ((node tags), ...) each deck's track nodes, in x order (a deck's end nodes
+        at a joint are its own; two decks ending on one pier each keep their end node).
     ground_nodes : the track's nodes on no deck (approaches on the ground).
     track_on_a_structure : the track stands on elements over another structure at most of its
         nodes (a rail on its pads over the deck): the deck outputs are the track's.
@@ -69,6 +71,7 @@ class DeckLayout:
     midspan_nodes: tuple
     span_decks: tuple
     deck_ends: tuple
+    nodes_by_deck: tuple
     ground_nodes: frozenset
     track_on_a_structure: bool
 
@@ -109,7 +112,7 @@ def deck_layout(model, track):
     n_el = len(ends)
     whole = DeckLayout(tuple(deck), tuple(supports), ((x[deck[0]], x[deck[-1]]),),   # the track's ends are the span's
                        (_middle(deck, x, x[deck[0]], x[deck[-1]]),), (0,), ((x[deck[0]], x[deck[-1]]),),
-                       frozenset(), on_structure)
+                       (tuple(deck),), frozenset(), on_structure)
     if len(lines) < 2:
         return whole
 
@@ -164,10 +167,12 @@ def deck_layout(model, track):
     used = sorted({d for *_, d in spans})
     renumber = {d: j for j, d in enumerate(used)}
     deck_ends = tuple((x[ends[runs[d][0]][0]], x[ends[runs[d][-1]][1]]) for d in used)
-    on_deck = {n for d in used for e in runs[d] for n in ends[e]}
+    members = [{n for e in runs[d] for n in ends[e]} for d in used]
+    on_deck = set().union(*members)
     return DeckLayout(tuple(deck), tuple(supports), tuple((x[a], x[b]) for a, b, _ in spans),
                       tuple(_middle(deck, x, x[a], x[b]) for a, b, _ in spans),
                       tuple(renumber[d] for *_, d in spans), deck_ends,
+                      tuple(tuple(n for n in deck if n in mine) for mine in members),
                       frozenset(n for n in deck if n not in on_deck), on_structure)
 
 

@@ -33,7 +33,7 @@ from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.codes.en1991_2 import frequency_limits
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
-from vtsi.damping import rayleigh_damping, vertical_frequencies
+from vtsi.damping import deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
 from vtsi.errors import ModelError, VtsiError, as_flag, as_positive
 from vtsi.influence import InfluenceLines
@@ -98,8 +98,9 @@ class Output:
         :func:`vtsi.deck.deck_layout`) or a tuple of node tags.
     history : keep the time history too.
     cutoff : None (the FE model's full response), 'en' (the EN 1990 A2.4.4.2.1 cut-off
-        max(30 Hz, 1.5 n₀, n₃)) or a frequency [Hz]: the node response in the modes up to it
-        only (modal projection, :class:`~vtsi.recorders.modal.ModalNodeRecorder`).
+        max(30 Hz, 1.5 n₀, n₃); of several decks the largest of theirs, :func:`en_cutoff_hz`)
+        or a frequency [Hz]: the node response in the modes up to it only (modal projection,
+        :class:`~vtsi.recorders.modal.ModalNodeRecorder`).
     """
 
     name: str
@@ -158,9 +159,10 @@ class PassageSettings:
     Parameters
     ----------
     dt : time step [s]; None: DEFAULT_DT (1 ms), or finer where the bridge's EN cut-off
-        max(30 Hz, 1.5 n₀, n₃) needs it to get STEPS_PER_CUTOFF_PERIOD (20) steps a period
-        (:func:`default_dt`; a 5 m span's n₃ = 183 Hz: 0.25 ms, where 1 ms read its deck
-        acceleration 45 % high); the runner sets it from the bridge.
+        max(30 Hz, 1.5 n₀, n₃) (of several decks the largest of theirs) needs it to get
+        STEPS_PER_CUTOFF_PERIOD (20) steps a period (:func:`default_dt`; a 5 m span's n₃ =
+        183 Hz: 0.25 ms, where 1 ms read its deck acceleration 45 % high); the runner sets it
+        from the bridge.
     integrator : a registered name ('Newmark', 'Bathe', …), a name with its parameters
         ('HHT(0.9)') or an integrator instance such as ``vtsi.integrators.HHT(0.9)`` (implicit;
         stored in results by its repr); None:
@@ -175,9 +177,10 @@ class PassageSettings:
     exact_events : take span entries and exits at their own time (see CoupledAnalysis).
     damping : None (the bridge as built) or a damping ratio ζ [-] given to the bridge by
         Rayleigh damping through the two frequencies ``damping_hz`` (default: the first
-        vertical frequency n₀ and the EN 1991-2 cut-off max(30 Hz, 1.5 n₀, n₃)): modes between
-        them get less than ζ, modes outside more. On a modal bridge ζ goes to every mode, and
-        None keeps the model's own damping, projected on the modes (refused unless classical).
+        vertical frequency n₀ and the EN 1990 A2 cut-off max(30 Hz, 1.5 n₀, n₃), of several
+        decks the largest of theirs): modes between them get less than ζ, modes outside more.
+        On a modal bridge ζ goes to every mode, and None keeps the model's own damping,
+        projected on the modes (refused unless classical).
     damping_hz : (f_a, f_b) [Hz] or None.
     irregularity : None (smooth rail) or 'german-low', 'german-high', 'fra-1' … 'fra-6'; each
         case's seed selects the sample. Only with cars='full' (moving forces do not feel it).
@@ -306,10 +309,27 @@ def contact_force_mean(forces, dt, window=CONTACT_FORCE_WINDOW):
     return convolve1d(np.asarray(forces, dtype=float), weights / (2 * m), axis=0, mode="nearest")
 
 
-def default_dt(frequencies_hz):
-    """The default time step [s] of a bridge with vertical frequencies ``frequencies_hz`` (n₀, n₂,
-    n₃ …): :func:`dt_resolving` its EN cut-off max(30 Hz, 1.5 n₀, n₃)."""
-    return dt_resolving(acceleration_cutoff_hz(frequencies_hz))
+def en_cutoff_hz(bridge):
+    """The bridge's EN 1990 A2.4.4.2.1(4)P cut-off [Hz] from its record ``bridge`` (a mapping: a
+    results file's /bridge, :meth:`SweepResults.bridge() <vtsi.sweep_results.SweepResults.bridge>`,
+    or :attr:`PassageRunner.frequency_record`): the largest of its decks' cut-offs max(30 Hz,
+    1.5 n₀, n₃), each deck's from its own first vertical frequencies (``deck_frequencies_hz``
+    (n_decks, 3), :func:`~vtsi.damping.deck_frequencies`). Counting every frequency up to the
+    largest is on the safe side for each deck (the EN asks at least its own). A record without
+    ``deck_frequencies_hz`` (an older results file): the cut-off of ``frequencies_hz``. The one
+    reading of the cut-off: the passage's default Δt, 'en' outputs, Rayleigh damping and modal
+    basis, the check and the report all call it."""
+    if "deck_frequencies_hz" in bridge:
+        rows = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
+    else:
+        rows = np.asarray(bridge["frequencies_hz"], dtype=float).ravel()[None, :3]
+    return max(acceleration_cutoff_hz(f) for f in rows)
+
+
+def default_dt(bridge):
+    """The default time step [s] of a bridge of record ``bridge`` (:func:`en_cutoff_hz`):
+    :func:`dt_resolving` its EN cut-off."""
+    return dt_resolving(en_cutoff_hz(bridge))
 
 
 def dt_resolving(frequency_hz):
@@ -320,14 +340,14 @@ def dt_resolving(frequency_hz):
     return max(m for m in (1.0, 2.0, 2.5, 5.0) if m * decade <= dt * (1 + 1e-12)) * decade
 
 
-def modal_basis_hz(bridge, modal_hz, frequencies_hz):
+def modal_basis_hz(bridge, modal_hz, record):
     """The highest frequency [Hz] of a sweep's modal bridge (``bridge`` 'modal' or
     'modal-stepped'): ``modal_hz``, or by default CUTOFF_MARGIN × the EN cut-off of the bridge's
-    first vertical ``frequencies_hz``; None for the FE bridge ('fe'). Every output of a modal
+    ``record`` (:func:`en_cutoff_hz`); None for the FE bridge ('fe'). Every output of a modal
     sweep counts the frequencies up to it at most."""
     if bridge == "fe":
         return None
-    return float(modal_hz) if modal_hz else CUTOFF_MARGIN * acceleration_cutoff_hz(frequencies_hz)
+    return float(modal_hz) if modal_hz else CUTOFF_MARGIN * en_cutoff_hz(record)
 
 
 @dataclass
@@ -376,7 +396,13 @@ class PassageRunner:
     ----------
     frequencies : (3,) first vertical frequencies [Hz] (with the sweep's damping applied: the
         undamped ones of the model), of the modes that do not move mostly the approaches
-        (:func:`~vtsi.damping.vertical_frequencies` ``ground``).
+        (:func:`~vtsi.damping.vertical_frequencies` ``ground``): a single deck's n₀, n₂, n₃; of
+        several decks, the model's first three (two identical decks: their n₀ twice).
+    deck_frequencies : (n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (:func:`~vtsi.damping.deck_frequencies`;
+        one deck: ``frequencies``).
+    en_cutoff_hz : the bridge's EN cut-off [Hz], the largest of its decks'
+        (:func:`en_cutoff_hz`): the default Δt, 'en' outputs, the Rayleigh damping's upper
+        anchor and the modal basis follow it.
     deck_nodes, midspan_nodes : node tags along the track (x order) and at each span's middle.
     span_ends : (n_spans, 2) x of each span's first and last support [m]; span_lengths [m]
         their distances; span_decks the deck of each span; deck_ends (n_decks, 2) the x of each
@@ -402,6 +428,8 @@ class PassageRunner:
                 raise ModelError(f"output {o.name!r}: node {missing[0]} does not exist")
         try:                           # the modes of the approaches (ground) are not the bridge's
             self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3, ground=self.ground_nodes)
+            self.deck_frequencies = self.frequencies[None, :] if len(self.nodes_by_deck) == 1 else \
+                deck_frequencies(self.model, self.nodes_by_deck, 3, ground=self.ground_nodes)
         except ModelError as exc:
             raise ModelError(f"bridge (its track: {len(self.track.elements)} elements, x = {self.track.x_begin:g} "
                              f"to {self.track.x_end:g} m): {exc}") from None
@@ -419,8 +447,9 @@ class PassageRunner:
             raise ModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below {floor}: are E, I "
                              "or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; E in kPa reads f1 31.6 "
                              "times low)")
+        self.en_cutoff_hz = en_cutoff_hz(self.frequency_record)
         if settings.dt is None:
-            settings = replace(settings, dt=default_dt(self.frequencies))
+            settings = replace(settings, dt=default_dt(self.frequency_record))
         self.settings = settings
         if modal_damping and settings.damping is None and settings.bridge == "fe":
             raise ModelError(f"the bridge's modalDamping ({', '.join(f'{z:g}' for _, z in modal_damping)}) damps its modes: "
@@ -428,11 +457,11 @@ class PassageRunner:
                              "--bridge-model modal) or the sweep's own damping ratio (damping=..., --damping)")
         if settings.damping is not None and settings.bridge == "fe":
             rayleigh_damping(self.model, settings.damping,
-                             settings.damping_hz or (self.frequencies[0], acceleration_cutoff_hz(self.frequencies)))
+                             settings.damping_hz or (self.frequencies[0], self.en_cutoff_hz))
         self.cache = BridgeStageCache()
         self.modal = None
         if settings.bridge != "fe":      # damping None: the model's own (classical) damping on its modes
-            f_max = modal_basis_hz(settings.bridge, settings.modal_hz, self.frequencies)
+            f_max = modal_basis_hz(settings.bridge, settings.modal_hz, self.frequency_record)
             if f_max < self.frequencies[0]:
                 raise ModelError(f"modal_hz = {f_max:g} Hz is below the bridge's first frequency "
                                  f"({self.frequencies[0]:.4g} Hz): no mode to keep")
@@ -452,26 +481,34 @@ class PassageRunner:
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
         """The bridge's layout along its track (:func:`vtsi.deck.deck_layout`): sets
-        ``support_nodes``, ``span_decks``, ``deck_ends``, ``ground_nodes`` and
+        ``support_nodes``, ``span_decks``, ``deck_ends``, ``nodes_by_deck``, ``ground_nodes`` and
         ``track_on_a_structure``; returns the deck nodes, mid-span nodes and span ends."""
         layout = deck_layout(self.model, self.track)
         self.support_nodes = list(layout.support_nodes)
         self.span_decks = list(layout.span_decks)
         self.deck_ends = list(layout.deck_ends)
+        self.nodes_by_deck = layout.nodes_by_deck
         self.ground_nodes = layout.ground_nodes
         self.track_on_a_structure = layout.track_on_a_structure
         return list(layout.deck_nodes), list(layout.midspan_nodes), list(layout.span_ends)
 
+    @property
+    def frequency_record(self):
+        """The bridge's frequencies as a results file records them (/bridge): ``{'frequencies_hz':
+        (3,), 'deck_frequencies_hz': (n_decks, 3)}`` [Hz], what :func:`en_cutoff_hz` reads."""
+        return {"frequencies_hz": self.frequencies, "deck_frequencies_hz": self.deck_frequencies}
+
     def cutoff_hz(self, cutoff):
-        """The cut-off [Hz] of an output's ``cutoff`` ('en' or a frequency)."""
-        return acceleration_cutoff_hz(self.frequencies) if cutoff == "en" else float(cutoff)
+        """The cut-off [Hz] of an output's ``cutoff`` ('en': the bridge's, :func:`en_cutoff_hz`; or a frequency)."""
+        return self.en_cutoff_hz if cutoff == "en" else float(cutoff)
 
     def modes_up_to(self, cutoff):
         """``(cutoff [Hz], shapes (n_full, n))``: every mode of the bridge up to the cut-off
-        (mass-normalised; at least one), computed once per cut-off."""
+        (mass-normalised; at least one; a mode within 1e-9 above it too: the other of a
+        degenerate pair on the cut-off, two identical decks' n₃), computed once per cut-off."""
         f_max = self.cutoff_hz(cutoff)
         if f_max not in self._modes:
-            self._modes[f_max] = modes_up_to(self.model, f_max)[1]
+            self._modes[f_max] = modes_up_to(self.model, f_max * (1.0 + 1e-9))[1]
         return f_max, self._modes[f_max]
 
     def static_envelopes(self, output, train_names):

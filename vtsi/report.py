@@ -10,7 +10,7 @@ A report lays out what the check found (DESIGN §9): it reads everything from th
 derives are plotting quantities from stored values: the peak over rail samples of each train's
 envelope, DAF = y_dyn / y_stat (the stored dynamic mid-span deflection over the stored static one
 under the same train), the resonance speeds v = n₀ D / i (EN 1991-2 §6.4.6.2) marked on the
-acceleration chart, and the times at which a train is on the deck in a history chart.
+acceleration chart (n₀ each deck's), and the times at which a train is on the deck in a history chart.
 
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
 
@@ -22,8 +22,9 @@ checks       the check's table: criterion, value, limit, utilisation, status, go
              stored float exactly) in the HTML; an info row has no utilisation and shows its
              limit as a reference ('ref.', data-field ``reference``) or as not checked; the
              rows' notes and the check's settings (those about cars only if cars ran)
-bridge       its description, spans, deck, first vertical frequencies [Hz], damping, a chart of
-             the first mode shapes along the deck
+bridge       its description, spans, deck, first vertical frequencies [Hz] (of several decks
+             each deck's too), the EN cut-off [Hz], damping, a chart of the first mode shapes
+             along the deck
 trains       name, axles, total static load [kN], length [m], characteristic length D [m] (to
              the mm), fidelity
 settings     the passages' settings, the acceleration cut-off, the vtsi version, the results
@@ -58,9 +59,9 @@ from vtsi.version import __version__
 from vtsi.check import ABSMAX, deck_nodes, mid_span_ratios, stored_check
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.errors import SweepError
-from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, modal_basis_hz
+from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, en_cutoff_hz, modal_basis_hz
 from vtsi.sweep import resonance_speeds
-from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key
+from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges
 
 SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
 RESONANCE_ORDERS = (1, 2, 3)          # v = n0 D / i marked on the acceleration chart
@@ -380,6 +381,7 @@ class _Report:
         b, desc = self.bridge, self.results.identity["bridge"]
         spans = np.asarray(b["span_lengths_m"], dtype=float)
         freqs = np.asarray(b["frequencies_hz"], dtype=float)
+        several = len(deck_ranges(b)) > 1
         keys = sorted(desc, key=lambda k: k != "kind")        # spans_m: the 'spans' row below
         rows = [[DESCRIPTION_TEXT[k][0], f"{_value_text(desc[k])} {DESCRIPTION_TEXT[k][1]}"] if k in DESCRIPTION_TEXT
                 else [_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
@@ -388,7 +390,15 @@ class _Report:
                  ["deck", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes "
                           f"(x = {x.min():g} … {x.max():g} m)"],
                  ["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
-                 ["first vertical frequencies", ", ".join(f"{f:#.4g}" for f in freqs) + " Hz"],
+                 ["first vertical frequencies" + (" of the model" if several else ""),
+                  ", ".join(f"{f:#.4g}" for f in freqs) + " Hz"]]
+        if several and "deck_frequencies_hz" in b:      # each deck's n₀, n₂, n₃
+            deck_freqs = np.reshape(b["deck_frequencies_hz"], (-1, 3))
+            rows += [[f"deck {d + 1} (x = {a:g} … {e:g} m): n₀, n₂, n₃",
+                      ", ".join(f"{f:#.4g}" for f in row) + " Hz"]
+                     for d, ((a, e), row) in enumerate(zip(deck_ranges(b), deck_freqs))]
+        rows += [["EN cut-off max(30 Hz, 1.5 n₀, n₃)",
+                  f"{en_cutoff_hz(b):#.4g} Hz" + (" (the largest of the decks')" if several else "")],
                  ["damping", _damping_text(self.settings)]]
         blocks = [Table(["property", "value"], rows, cls="properties")]
         if "mode_shapes_uy" in b and np.size(b["mode_shapes_uy"]):
@@ -423,7 +433,7 @@ class _Report:
         cutoffs = [f"{n}: {o['cutoff_hz']:.4g} Hz" for n, o in self.outputs.items() if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
         cars = s.get("cars") != "force"
-        rows = [["bridge model", _bridge_model_text(s, res.bridge()["frequencies_hz"])],
+        rows = [["bridge model", _bridge_model_text(s, res.bridge())],
                 ["time step dt", f"{s['dt']:g} s"],
                 ["integrator", str(s["integrator"])],
                 ["cars (fidelity)", "force (moving axle loads)" if not cars else str(s["cars"])],
@@ -540,14 +550,14 @@ class _Report:
             top = max([np.nanmax(y) for _, y in curves.values()] + [row.limit if row is not None else 0.0])
             if top > 0:
                 ax.set_ylim(0, 1.22 * top)
-            n0 = float(self.bridge["frequencies_hz"][0])
+            n0 = np.unique(deck_first_frequencies(self.bridge))     # each deck's: its own resonances
             lengths = {t: float(self.trains[t].get("characteristic_length_m", np.nan)) for t in curves}
             marks = _resonance_marks(n0, lengths, res.speeds_kmh)
             for v, t, i in marks:
                 ax.axvline(v, color=self.colours[t], ls=":", lw=1.2, alpha=0.9)
             self._speed_axis(ax)
             ax.set_ylabel("peak deck acceleration [m/s²]")
-            ax.set_title(f"Peak deck acceleration (n₀ = {n0:#.4g} Hz)")
+            ax.set_title(f"Peak deck acceleration (n₀ = {', '.join(f'{f:#.4g}' for f in n0)} Hz)")
             _resonance_labels(ax, marks, self.colours)
             _legend(ax)
             return _png(fig)
@@ -737,18 +747,20 @@ def _mode_shapes_png(bridge):
 
 def _resonance_marks(n0, lengths, speeds_kmh):
     """The resonance speeds v = n₀ D / i [km/h] (i in RESONANCE_ORDERS) within the swept speeds:
-    ``[(v, train, i)]`` sorted by v, for ``lengths`` ``{train: D [m]}`` (NaN: none). A speed up to
+    ``[(v, train, i)]`` sorted by v, for ``lengths`` ``{train: D [m]}`` (NaN: none) and ``n0``
+    [Hz] one frequency or each deck's (a 15 m and a 30 m deck resonate at their own speeds). A speed up to
     RESONANCE_RANGE_TOLERANCE of the range beyond either end counts as in the range (and is
     inside the chart's padding): the stored n₀ = 5.0000337 Hz puts D = 20 m at 360.0024 km/h,
     the resonance of a sweep to 360 km/h."""
     lo, hi = float(np.min(speeds_kmh)), float(np.max(speeds_kmh))
     tol = RESONANCE_RANGE_TOLERANCE * (hi - lo if hi > lo else hi)
     marks = []
-    for t, D in lengths.items():
-        for i in RESONANCE_ORDERS if np.isfinite(D) else ():
-            speed = float(resonance_speeds([n0], [D], orders=(i,))[0])
-            if lo - tol <= speed <= hi + tol:
-                marks.append((speed, t, i))
+    for f in np.unique(np.atleast_1d(np.asarray(n0, dtype=float))):
+        for t, D in lengths.items():
+            for i in RESONANCE_ORDERS if np.isfinite(D) else ():
+                speed = float(resonance_speeds([f], [D], orders=(i,))[0])
+                if lo - tol <= speed <= hi + tol:
+                    marks.append((speed, t, i))
     return sorted(marks)
 
 
@@ -869,12 +881,13 @@ def _plural(n, word, words=None):
     return f"{n} {word if n == 1 else words or word + 's'}"
 
 
-def _bridge_model_text(settings, frequencies_hz):
-    """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz]."""
+def _bridge_model_text(settings, bridge):
+    """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz]
+    (``bridge`` the results file's bridge record)."""
     kind = settings.get("bridge", "fe")
     if kind == "fe":
         return "FE model, time-stepped"
-    f_max = modal_basis_hz(kind, settings.get("modal_hz"), frequencies_hz[:3])
+    f_max = modal_basis_hz(kind, settings.get("modal_hz"), bridge)
     how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
     return f"modal: its modes up to {f_max:.4g} Hz, {how}"
 

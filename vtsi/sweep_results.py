@@ -5,10 +5,14 @@ Layout (docs/sweeps.md)::
     /                      attrs: format 'vtsi-sweep', format_version, vtsi_version, created,
                            identity (JSON: bridge, settings, outputs, trains, speeds, seeds)
     /train, /speed_kmh, /seed          the envelope tables' coordinates (seed -1: smooth rail)
-    /bridge/               frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m,
-                           span_ends_m (n_spans, 2: each span's supports' x), deck_ends_m
-                           (n_decks, 2: each deck's ends, spans and overhangs), mode_shapes_uy,
-                           track_on_a_structure (a rail on pads over the deck: outputs are the rail's)
+    /bridge/               frequencies_hz (3,: the first vertical frequencies n₀, n₂, n₃ of a
+                           single deck; of several, the model's first three), deck_frequencies_hz
+                           (n_decks, 3: each deck's n₀, n₂, n₃), en_cutoff_hz (the EN 1990 A2 cut-off:
+                           the largest of the decks', vtsi.passage.en_cutoff_hz), deck_nodes,
+                           deck_x_m, midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2: each
+                           span's supports' x), deck_ends_m (n_decks, 2: each deck's ends, spans
+                           and overhangs), mode_shapes_uy, track_on_a_structure (a rail on pads
+                           over the deck: outputs are the rail's)
     /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
                            columns per case (NaN: not run yet, or not produced by that train);
                            <q>_where (the column: node tag, contact wheel or car; attrs kind,
@@ -66,8 +70,10 @@ import h5py
 import numpy as np
 
 from vtsi.version import __version__
+from vtsi.codes.en1991_2 import determinant_length
 from vtsi.errors import SweepError, as_number
 from vtsi.models.catalogue import train_names
+from vtsi.passage import en_cutoff_hz
 
 try:                                    # POSIX
     import fcntl
@@ -96,6 +102,66 @@ UNITS = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment
 WHERE_HOLDS = {"node": "the node tag", "contact wheel": "the contact wheel's index in its train (0: the first)",
                "car": "the car's index in its train (0: the first)"}
 """What an envelope's ``<q>_where`` holds, by the kind of its output's columns (COLUMN_KIND)."""
+
+
+def deck_ranges(bridge):
+    """(n_decks, 2) the x [m] of each deck's ends, its spans and overhangs (/bridge/deck_ends_m,
+    :mod:`vtsi.deck`); in a results file of an older vtsi, which kept none, from the first span's
+    first support to the last span's last."""
+    if "deck_ends_m" in bridge:
+        return np.asarray(bridge["deck_ends_m"], dtype=float).reshape(-1, 2)
+    ends = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2)
+    return np.array([[ends[0, 0], ends[-1, 1]]])
+
+
+def x_tolerance(bridge):
+    """[m] how far apart two x of the bridge record ``bridge`` may lie and be one (rounding)."""
+    ends = np.asarray(bridge["span_ends_m"], dtype=float)
+    return 1e-9 * max(float(np.ptp(ends)), 1.0)
+
+
+def span_decks(bridge):
+    """(n_spans,) the deck (row of :func:`deck_ranges`) of each span."""
+    decks, tol = deck_ranges(bridge), x_tolerance(bridge)
+    middle = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2).mean(axis=1)
+    return np.array([int(np.flatnonzero((decks[:, 0] - tol <= m) & (m <= decks[:, 1] + tol))[0]) for m in middle])
+
+
+def deck_first_frequencies(bridge):
+    """(n_decks,) each deck's first vertical frequency n₀ [Hz] (/bridge/deck_frequencies_hz);
+    in a results file of an older vtsi, which kept none, the bridge's n₀ for every deck."""
+    n_decks = len(deck_ranges(bridge))
+    if "deck_frequencies_hz" in bridge:
+        n0 = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)[:, 0]
+        if len(n0) == n_decks:
+            return n0
+    return np.full(n_decks, float(np.ravel(bridge["frequencies_hz"])[0]))
+
+
+def bridge_text(bridge):
+    """One line: what vtsi read of the bridge from its record ``bridge`` (/bridge): its decks,
+    spans [m], each deck's n₀ [Hz], the EN cut-off [Hz] (:func:`~vtsi.passage.en_cutoff_hz`) and
+    each deck's L_Φ [m] (EN 1991-2 Table 6.2); e.g. 'bridge: 2 decks; spans 15 + 15 m; n0 10.66
+    Hz; EN cut-off 96.03 Hz; L_Phi 15 m' (a value the decks share is given once)."""
+    spans = np.asarray(bridge["span_lengths_m"], dtype=float).ravel()
+    decks, n_decks = span_decks(bridge), len(deck_ranges(bridge))
+    L_phi = [determinant_length(spans[decks == d]) for d in range(n_decks) if np.any(decks == d)]
+    if len(spans) <= 6:
+        span_list = f"span{'s' * (len(spans) > 1)} {' + '.join(f'{x:g}' for x in spans)} m"
+    else:
+        span_list = f"{len(spans)} spans of {spans.min():g} to {spans.max():g} m"
+    return (f"bridge: {n_decks} deck{'s' * (n_decks > 1)}; {span_list}; n0 "
+            f"{_listed(deck_first_frequencies(bridge), '#.4g')} Hz; EN cut-off {en_cutoff_hz(bridge):#.4g} Hz; "
+            f"L_Phi {_listed(L_phi, '.4g')} m")
+
+
+def _listed(values, fmt, most=4):
+    """``values`` in format ``fmt``, comma-separated: once if they all read the same, as a range
+    if more than ``most`` differ."""
+    text = [format(v, fmt) for v in values]
+    if len(set(text)) == 1:
+        return text[0]
+    return ", ".join(text) if len(text) <= most else f"{min(values):{fmt}} to {max(values):{fmt}}"
 
 
 def canonical_train_name(name):
@@ -467,6 +533,8 @@ class ResultsWriter:
                 f.create_dataset("seed", data=np.array(ident["seeds"], dtype=np.int64)).attrs["note"] = "-1: smooth rail"
                 b = f.create_group("bridge")
                 b["frequencies_hz"] = runner.frequencies
+                b["deck_frequencies_hz"] = np.asarray(runner.deck_frequencies, dtype=float).reshape(-1, 3)
+                b["en_cutoff_hz"] = float(runner.en_cutoff_hz)
                 b["deck_nodes"] = np.asarray(runner.deck_nodes, dtype=np.int64)
                 b["deck_x_m"] = np.array([runner.model.nodes[n][0] for n in runner.deck_nodes])
                 b["midspan_nodes"] = np.asarray(runner.midspan_nodes, dtype=np.int64)
@@ -905,9 +973,10 @@ class SweepResults:
                     **{k: g[k][i] for k in ("n_cars", "n_dof", "length_m", "characteristic_length_m")}}
 
     def bridge(self):
-        """The stored bridge data: frequencies_hz, deck_nodes, deck_x_m, midspan_nodes, span_lengths_m,
-        span_ends_m (n_spans, 2), deck_ends_m (n_decks, 2; not in a file of an older vtsi),
-        mode_shapes_uy, track_on_a_structure."""
+        """The stored bridge data: frequencies_hz, deck_frequencies_hz (n_decks, 3) and en_cutoff_hz
+        (not in a file of an older vtsi: :func:`~vtsi.passage.en_cutoff_hz` reads either), deck_nodes,
+        deck_x_m, midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2), deck_ends_m (n_decks,
+        2; not in a file of an older vtsi), mode_shapes_uy, track_on_a_structure."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 
@@ -970,7 +1039,8 @@ class SweepResults:
 
     # -- views ----------------------------------------------------------------------------------
     def summary(self):
-        """A text table: per quantity its extreme, the governing train, speed, place and time."""
+        """The cases done, the bridge as vtsi read it (:func:`bridge_text`), then a text table: per
+        quantity its extreme, the governing train, speed, place and time."""
         rows = [("quantity", "value", "units", "train", "speed km/h", "seed", "where", "t [s]")]
         for q in self.quantities:
             c = self.critical(q)
@@ -982,7 +1052,7 @@ class SweepResults:
         widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
         lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
         lines.insert(1, "  ".join("-" * w for w in widths))
-        head = f"{self.n_done} of {self.n_cases} cases"
+        head = f"{self.n_done} of {self.n_cases} cases\n{bridge_text(self.bridge())}"
         return head + "\n" + "\n".join(lines)
 
     def to_xarray(self):
