@@ -2,6 +2,7 @@
 after SIGKILL, executors (process pool, dask LocalCluster), the results file and its xarray
 view, and every bad input."""
 import gc
+import math
 import json
 import re
 import shutil
@@ -874,11 +875,24 @@ def test_bad_run_arguments_are_refused(tmp_path, kwargs, words):
 
 
 def test_seeds_and_train_spellings_are_checked():
-    """seeds=[0.5, 0.7] became [0]; 'HSLM-A1, hslm-a1' were two trains."""
+    """seeds=[0.5, 0.7] became [0]; 'HSLM-A1, hslm-a1' were two trains; a seed of 2⁶³ or more
+    gave an OverflowError traceback when the results file was made; seeds on a smooth rail were
+    dropped without a word, and a seed given twice was run once."""
     rough = PassageSettings(dt=5e-3, damping=0.0125, cars="full", irregularity="german-low")
-    for seeds in ([0.5, 0.7], [True], "01", [-1]):
-        with pytest.raises(SweepError, match=re.escape(f"seeds must be integers >= 0, got {seeds!r}")):
+    for seeds, bad in (([0.5, 0.7], "0.5"), ([True], "True"), ([-1], "-1"), ([2 ** 63], str(2 ** 63))):
+        with pytest.raises(SweepError, match=re.escape(f"sweep: a seed is an integer in [0, 2^63), got {bad}")):
             Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=seeds)
+    with pytest.raises(SweepError, match=re.escape("sweep: seeds must be a list of integers >= 0, got '01'")):
+        Sweep(small_bridge(), ["ICE3"], "200", rough, seeds="01")
+    with pytest.raises(SweepError, match=r"^sweep: seed 0 is given twice$"):
+        Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=[0, 0])
+    with pytest.raises(SweepError, match=r"^sweep: an irregular rail needs 1 to 10000 seeds, got 10001$"):
+        Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=range(10001))
+    with pytest.raises(SweepError, match=r"^sweep: seeds \[0, 1\] select samples of an irregular rail, and the rail "
+                                         r"is smooth"):
+        Sweep(small_bridge(), ["ICE3"], "200", PassageSettings(dt=5e-3, cars="full"), seeds=[0, 1])
+    assert Sweep(small_bridge(), ["ICE3"], "200", rough).seeds == [0]
+    assert Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=[2 ** 63 - 1, 3]).seeds == [3, 2 ** 63 - 1]
     for trains in ("HSLM-A1, hslm-a1", ["A1", "HSLM-A1"]):
         with pytest.raises(SweepError, match="train HSLM-A1 is listed twice"):
             Sweep(small_bridge(), trains, "200", FAST)
@@ -1083,3 +1097,16 @@ def test_an_interrupted_sweep_says_so_in_critical_and_to_xarray(tmp_path, monkey
     with pytest.raises(SweepError, match=re.escape("case HSLM-A2/300kmh/smooth is not in the file yet (1 of 4 cases: "
                                                    "an interrupted sweep; resume=True (--resume) runs the rest)")):
         res.case("HSLM-A2", 300)
+
+
+def test_tasks_of_cars_hold_fewer_cases():
+    """A coupled step of cars costs several steps of moving forces (CAR_STEP_COST, measured in
+    its comment): a task of an ICE3 sweep of cars held 50 cases (~30 s of work, all lost to a
+    Ctrl-C) where one of moving forces holds the same steps' worth."""
+    from vtsi.sweep import CAR_STEP_COST, TASK_STEPS
+    forces = Sweep(small_bridge(), ["ICE3"], "200:300:10", PassageSettings(dt=5e-3))
+    cars = Sweep(small_bridge(), ["ICE3"], "200:300:10", PassageSettings(dt=5e-3, cars="full"))
+    ratio = cars.case_cost(cars.cases) / forces.case_cost(forces.cases)     # cars run a little longer (their approach)
+    assert CAR_STEP_COST <= ratio <= 1.25 * CAR_STEP_COST
+    cost = cars.case_cost(cars.cases)
+    assert Sweep.task_size(10_000, cost, 1) == math.ceil(TASK_STEPS / cost)

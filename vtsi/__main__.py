@@ -408,7 +408,7 @@ def _prepare_sweep(ns, out):
         if getattr(ns, "command", None) == "check":
             values["damping"] = _code_damping(ns, source, values)
         settings = PassageSettings(**values)
-        seeds = source.seeds or (0,)
+        seeds = source.seeds
         if source.seeds is not None and ns.seeds is None and settings.irregularity is None:
             raise _UsageError(f"bridge file {source.path}: [analysis] seeds: rail samples need an irregular rail "
                               "([analysis] irregularity, or --irregularity NAME)")
@@ -537,9 +537,16 @@ def _train_list(text):
 
 
 def _seed_list(text):
+    """The seeds of ``--seeds`` (0,1,2 or FIRST:LAST); the sweep checks their range and count."""
+    from vtsi.sweep import MAX_SEEDS
+
     try:
         if ":" in text:
             first, last = (int(p) for p in text.split(":"))
+            if first < 0 or last < first:
+                raise ValueError
+            if last - first >= MAX_SEEDS:
+                raise _UsageError(f"--seeds {text!r}: {last - first + 1} rail samples; at most {MAX_SEEDS}")
             seeds = list(range(first, last + 1))
         else:
             seeds = [int(p) for p in text.split(",") if p.strip()]

@@ -43,6 +43,9 @@ from vtsi.train import TrainSubdomain
 from vtsi.vehicle import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
+MAX_SEEDS = 10_000          # rail samples of a sweep at most
+CAR_STEP_COST = 8.0         # a coupled step of cars in steps of moving forces (measured: ICE3's 32 wheels 20-31 µs,
+                            # HSLM-A1's 50 axles 4 µs, on a 20 m span of 10 elements): tasks of cars last as long
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
 
 
@@ -163,6 +166,24 @@ def _count(value, name):
     return value
 
 
+def _seed_list(seeds):
+    """``seeds`` sorted, or a SweepError naming the first bad one: integers in [0, 2⁶³) (the
+    results file stores them as int64), each once, at least one and at most MAX_SEEDS."""
+    if not np.iterable(seeds) or isinstance(seeds, (str, bytes)):
+        raise SweepError(f"sweep: seeds must be a list of integers >= 0, got {seeds!r}")
+    if not 1 <= len(seeds) <= MAX_SEEDS:
+        raise SweepError(f"sweep: an irregular rail needs 1 to {MAX_SEEDS} seeds, got {len(seeds)}")
+    bad = next((s for s in seeds if not (is_int(s) and 0 <= s < 2 ** 63)), None)
+    if bad is not None:
+        raise SweepError(f"sweep: a seed is an integer in [0, 2^63), got {bad!r}")
+    seen = set()
+    for seed in seeds:
+        if int(seed) in seen:
+            raise SweepError(f"sweep: seed {seed} is given twice")
+        seen.add(int(seed))
+    return sorted(seen)
+
+
 # -- the bridge --------------------------------------------------------------------------------
 @dataclass
 class SweepBridge:
@@ -229,8 +250,9 @@ class Sweep:
     outputs : the responses kept per passage (:class:`~vtsi.passage.Output`); default: deck
         deflection and acceleration at every deck node, and with cars the contact forces and
         car-body accelerations.
-    seeds : rail samples (ints >= 0) for an irregular rail; ignored (one smooth case, seed -1)
-        without irregularity.
+    seeds : rail samples (ints in [0, 2⁶³), at most MAX_SEEDS, each once) of an irregular rail;
+        None: seed 0 on an irregular rail, the one smooth case (seed -1) without irregularity,
+        where seeds are refused (they would select nothing).
 
     Train names are read by :func:`train_list` ('hslm-a1' and 'A1' are 'HSLM-A1'); a train
     named twice in any spelling is refused.
@@ -238,7 +260,7 @@ class Sweep:
     Every input is checked here, before anything runs or any file is written.
     """
 
-    def __init__(self, bridge, trains, speeds_kmh, settings=None, outputs=DEFAULT_OUTPUTS, seeds=(0,)):
+    def __init__(self, bridge, trains, speeds_kmh, settings=None, outputs=DEFAULT_OUTPUTS, seeds=None):
         settings = PassageSettings() if settings is None else settings
         if not isinstance(settings, PassageSettings):
             raise SweepError(f"sweep: settings must be PassageSettings, got {type(settings).__name__}")
@@ -258,14 +280,13 @@ class Sweep:
             raise SweepError(f"sweep: train {twice} is listed twice (names ignore case; 'A1' is 'HSLM-A1'): "
                              f"{trains!r}")
         self.speeds_kmh = speeds(speeds_kmh)
-        if not np.iterable(seeds) or isinstance(seeds, str) or not all(is_int(s) and s >= 0 for s in seeds):
-            raise SweepError(f"sweep: seeds must be integers >= 0, got {seeds!r}")
         if settings.irregularity is None:
+            if seeds is not None:
+                raise SweepError(f"sweep: seeds {seeds!r} select samples of an irregular rail, and the rail is smooth "
+                                 "(settings.irregularity None): give an irregularity, or no seeds")
             self.seeds = [-1]
         else:
-            self.seeds = sorted({int(s) for s in seeds})
-            if not self.seeds:
-                raise SweepError(f"sweep: an irregular rail needs seeds >= 0, got {seeds!r}")
+            self.seeds = _seed_list([0] if seeds is None else seeds)
         self.settings, self.bridge = settings, bridge
         for o in outputs:
             if not isinstance(o, Output):
@@ -311,12 +332,15 @@ class Sweep:
                         bridge_self_weight=s.bridge_self_weight, bridge_cache=self.runner.cache).prepare()
 
     def case_cost(self, cases):
-        """The mean work of a case of ``cases`` in FE time steps (an exact modal passage's output
-        samples count EXACT_SAMPLE_COST each), from every twentieth case."""
+        """The mean work of a case of ``cases`` in FE time steps of moving forces (an exact modal
+        passage's output samples count EXACT_SAMPLE_COST each, a step of cars CAR_STEP_COST),
+        from every twentieth case."""
         steps = np.mean([self.runner.n_steps(self.runner.train(t, v / 3.6)) for t, v, _ in cases[:: max(1, len(cases) // 20)]])
         s = self.settings
         if s.bridge == "modal" and s.cars == "force" and not s.bridge_self_weight:
             steps *= EXACT_SAMPLE_COST          # exact modal passages: their samples cost little
+        elif s.cars == "full":
+            steps *= CAR_STEP_COST              # a coupled step of cars costs several of moving forces
         return float(steps)
 
     @staticmethod
