@@ -199,6 +199,8 @@ def catalogue_train(name, speed, *, fidelity='force', span=None) -> Train:
                          f"valid: {list(FIDELITIES)}")
     entry = _lookup(name)
     if fidelity not in entry.builders:
+        hint = ("; a sweep takes one fidelity for all its trains: sweep and check this train as moving forces "
+                "(cars='force', --cars force) apart from the trains of cars" if fidelity == "full" else "")
         raise ModelError(f"catalogue_train: train {entry.name!r} has no fidelity {fidelity!r}; "
-                         f"it supports {list(entry.fidelities)}")
+                         f"it supports {list(entry.fidelities)}{hint}")
     return entry.builders[fidelity](speed, span)

@@ -309,7 +309,8 @@ BAD = {
     "a rough rail under moving forces": (["--trains", "A1", "--speeds", "200", "--irregularity", "german-low"], None,
                                          "an irregular rail (german-low) acts through the wheels of cars; moving forces "
                                          "(cars='force') do not feel it"),
-    "no cars": (["--trains", "A1", "--speeds", "200", "--cars", "full"], None, "has no fidelity 'full'"),
+    "no cars": (["--trains", "A1", "--speeds", "200", "--cars", "full"], None,
+                "has no fidelity 'full'; it supports ['force']; a sweep takes one fidelity for all its trains"),
     "another sweep with --resume": (["--trains", "A1", "--speeds", "200", "--resume"], _other_sweep,
                                     "holds a different sweep (it differs in speeds_kmh[0] (200.0 here, 300.0 in the "
                                     "file)); use another file, or --overwrite"),
