@@ -57,6 +57,26 @@ def cantilever():
 
 
 @pytest.fixture(scope="session")
+def deck_script():
+    """``deck_script(I, tail)``: the text of an OpenSeesPy bridge script (``import vtsi.opensees
+    as ops``) of a 20 m simply supported deck: nodes 1-11 every 2 m, ten elasticBeamColumn
+    elements (A = 5 m², E = 35 GPa, ``I`` [m⁴], 15 t/m consistent mass), track 1 on elements
+    1-10, then the lines ``tail``."""
+    head = """import vtsi.opensees as ops
+ops.wipe()
+ops.model('basic', '-ndm', 2, '-ndf', 3)
+for i in range(11):
+    ops.node(i + 1, 2.0 * i, 0.0)
+ops.fix(1, 1, 1, 0)
+ops.fix(11, 0, 1, 0)
+ops.geomTransf('Linear', 1)
+for i in range(1, 11):
+    ops.element('elasticBeamColumn', i, i, i + 1, 5.0, 3.5e10, I, 1, '-mass', 15000.0, '-cMass')
+ops.track(1, '-eleRange', 1, 10)
+"""
+    return lambda I, tail="": head.replace(", I, 1,", f", {I!r}, 1,") + tail
+
+@pytest.fixture(scope="session")
 def required_args():
     """``required_args(name)``: the arguments a registered integrator needs by name, those of its
     parameters without a default (OpenSees's ``integrator HHT`` needs α)."""

@@ -283,22 +283,7 @@ def test_a_modal_sweeps_settings_are_refused_before_anything_runs(tmp_path):
         PassageSettings(bridge="fe", modal_hz=30.0)
 
 
-DAMPED_SCRIPT = """import vtsi.opensees as ops
-ops.model('basic', '-ndm', 2, '-ndf', 3)
-for i in range(11):
-    ops.node(i + 1, 2.0 * i, 0.0)
-ops.fix(1, 1, 1, 0)
-ops.fix(11, 0, 1, 0)
-ops.geomTransf('Linear', 1)
-for i in range(1, 11):
-    ops.element('elasticBeamColumn', i, i, i + 1, 5.0, 3.5e10, 0.6948, 1, '-mass', 15000.0, '-cMass')
-ops.track(1, '-eleRange', 1, 10)
-omega2 = ops.eigen(4)
-ops.modalDamping(0.02, 0.01, 0.03, 0.04)
-"""
-
-
-def test_a_scripts_modal_damping_reaches_the_modal_bridge_of_a_sweep(tmp_path):
+def test_a_scripts_modal_damping_reaches_the_modal_bridge_of_a_sweep(tmp_path, deck_script):
     """A bridge script's ``modalDamping`` (ratios of its eigen modes) was dropped by sweeps: the
     passages ran undamped (43.9 m/s² where 2 % gives 16.6). The modal bridge now adds each ratio to
     the kept mode of its frequency (a 20 m beam's eigen(4) holds an axial mode, not kept: its ratio
@@ -309,7 +294,7 @@ def test_a_scripts_modal_damping_reaches_the_modal_bridge_of_a_sweep(tmp_path):
     from vtsi.passage import PassageSettings
     from vtsi.sweep import Sweep
     path = tmp_path / "deck.py"
-    path.write_text(DAMPED_SCRIPT)
+    path.write_text(deck_script(0.6948, "omega2 = ops.eigen(4)\nops.modalDamping(0.02, 0.01, 0.03, 0.04)\n"))
     bridge = script_bridge(path)
     assert [z for _, z in bridge.modal_damping] == [0.02, 0.01, 0.03, 0.04]
     ratio_of = dict(bridge.modal_damping)

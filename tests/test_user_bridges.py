@@ -18,22 +18,23 @@ pytest.importorskip("tkinter")
 FAST = PassageSettings(dt=2e-3, damping=0.01)
 
 BEAM = "elasticBeamColumn"
-TWO_DECKS = """
-# two simply supported 15 m decks on one pier: deck 1 ends on node 11, deck 2 starts on node 12, both at x = 15
-model basic -ndm 2 -ndf 3
-for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 1}] [expr {$i * 1.5}] 0.0 }
-for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 12}] [expr {15.0 + $i * 1.5}] 0.0 }
-fix 1 1 1 0
-fix 11 0 1 0
-fix 12 1 1 0
-fix 22 0 1 0
-geomTransf Linear 1
-for {set i 1} {$i <= 10} {incr i} {
-    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
-    element elasticBeamColumn [expr {$i + 10}] [expr {$i + 11}] [expr {$i + 12}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
-}
-track 1 -eleRange 1 20
-"""
+def decks_tcl(spans, gap=0.0):
+    """A Tcl script of simply supported decks of ``spans`` [m] (pin, then roller; 1.5 m elements
+    or the nearest count, 5 m², 35 GPa, 1 m⁴, 15 t/m consistent mass), each next to the one
+    before, ``gap`` [m] apart (0: ending on one pier); nodes and elements numbered deck by deck
+    from 1, track 1 on every element."""
+    lines, node, tag, x0 = ["model basic -ndm 2 -ndf 3", "geomTransf Linear 1"], 1, 1, 0.0
+    for span in spans:
+        n = max(1, round(span / 1.5))
+        lines += [f"for {{set i 0}} {{$i <= {n}}} {{incr i}} {{ node [expr {{$i + {node}}}] [expr {{{x0:g} + $i * {span / n:g}}}] 0.0 }}",
+                  f"fix {node} 1 1 0", f"fix {node + n} 0 1 0",
+                  f"for {{set i 0}} {{$i < {n}}} {{incr i}} {{ element elasticBeamColumn [expr {{$i + {tag}}}] "
+                  f"[expr {{$i + {node}}}] [expr {{$i + {node + 1}}}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass }}"]
+        node, tag, x0 = node + n + 1, tag + n, x0 + span + gap
+    return "\n".join(lines + [f"track 1 -eleRange 1 {tag - 1}", ""])
+
+
+TWO_DECKS = decks_tcl([15.0, 15.0])     # two 15 m decks on one pier: nodes 1-11 and 12-22, both ends at x = 15
 
 
 def _bridge(tmp_path, text, name="bridge.tcl", track=None):
@@ -256,8 +257,7 @@ def test_a_joint_between_two_decks_is_no_span(tmp_path):
     """A 0.6 m rail joint between two simply supported decks: no span (before: a span
     [14.7, 15.3] with its 'mid-span' on a support, where dynamic_vs_lm71_moment governed, 0.661
     against 0.515 at a real mid-span), and the decks are two (L_Φ = 14.7 m each)."""
-    text = TWO_DECKS.replace("$i * 1.5}] 0.0 }\nfor", "$i * 1.47}] 0.0 }\nfor").replace(
-        "[expr {15.0 + $i * 1.5}]", "[expr {15.3 + $i * 1.47}]").replace(
+    text = decks_tcl([14.7, 14.7], gap=0.6).replace(
         "track 1 -eleRange 1 20", "element elasticBeamColumn 50 11 12 0.0154 2.1e11 6.1e-5 1 -mass 120.0\n"
                                   "track 1 -ele 1 2 3 4 5 6 7 8 9 10 50 11 12 13 14 15 16 17 18 19 20")
     bridge = _bridge(tmp_path, text)
@@ -314,63 +314,20 @@ def test_a_bridge_with_too_few_vertical_modes_says_so(tmp_path):
         Sweep(bridge, ["HSLM-A1"], "300", FAST)
 
 
-HALF_TRACK = """
-import vtsi.opensees as ops
-ops.wipe()
-ops.model('basic', '-ndm', 2, '-ndf', 3)
-for i in range(11):
-    ops.node(i + 1, 2.0 * i, 0.0)
-ops.fix(1, 1, 1, 0)
-ops.fix(11, 0, 1, 0)
-ops.geomTransf('Linear', 1)
-for i in range(1, 11):
-    ops.element('elasticBeamColumn', i, i, i + 1, 5.0, 3.5e10, 1.9, 1, '-mass', 15000.0, '-cMass')
-ops.track(1, '-eleRange', 1, 10)
-ops.track(2, '-eleRange', 1, 5)
-"""
-
-
-def test_a_track_stopping_mid_deck_is_refused(tmp_path):
+def test_a_track_stopping_mid_deck_is_refused(tmp_path, deck_script):
     """A track over half of a 20 m span: its end (node 6, x = 10 m) is not a support (before: a
     10 m span, L/600 = 16.7 mm, L_Φ = 10 m, no note), and the deck goes on off the track there:
     refused, naming the node and the element. The whole track is one 20 m span."""
     path = tmp_path / "half.py"
-    path.write_text(HALF_TRACK)
+    path.write_text(deck_script(1.9, "ops.track(2, '-eleRange', 1, 5)\n"))
     with pytest.raises(ModelError, match=r"track: its last node 6 \(x = 10 m\) carries no support, and the deck "
                                          r"goes on beyond it off the track \(element 6 to node 7 at x = 12 m\)"):
         _runner(load_bridge(path, track=2))
     assert _runner(load_bridge(path, track=1)).span_lengths == [20.0]
 
 
-ONE_DECK = """
-# one simply supported 15 m deck: TWO_DECKS' first deck alone
-model basic -ndm 2 -ndf 3
-for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 1}] [expr {$i * 1.5}] 0.0 }
-fix 1 1 1 0
-fix 11 0 1 0
-geomTransf Linear 1
-for {set i 1} {$i <= 10} {incr i} {
-    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
-}
-track 1 -eleRange 1 10
-"""
-
-SHORT_AND_LONG = """
-# a simply supported 15 m deck (nodes 1-11) and a 30 m one (nodes 12-32) ending on one pier at x = 15
-model basic -ndm 2 -ndf 3
-for {set i 0} {$i <= 10} {incr i} { node [expr {$i + 1}] [expr {$i * 1.5}] 0.0 }
-for {set i 0} {$i <= 20} {incr i} { node [expr {$i + 12}] [expr {15.0 + $i * 1.5}] 0.0 }
-fix 1 1 1 0
-fix 11 0 1 0
-fix 12 1 1 0
-fix 32 0 1 0
-geomTransf Linear 1
-for {set i 1} {$i <= 10} {incr i} { element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass }
-for {set i 11} {$i <= 30} {incr i} {
-    element elasticBeamColumn $i [expr {$i + 1}] [expr {$i + 2}] 5.0 3.5e10 1.0 1 -mass 15000.0 -cMass
-}
-track 1 -eleRange 1 30
-"""
+ONE_DECK = decks_tcl([15.0])                 # TWO_DECKS' first deck alone
+SHORT_AND_LONG = decks_tcl([15.0, 30.0])     # a 15 m deck (nodes 1-11), a 30 m one (nodes 12-32)
 
 ONE_DECK_HZ = (10.664, 42.661, 96.029)   # a 15 m simply supported deck of ten elements [Hz]
 
@@ -492,7 +449,7 @@ def test_the_check_and_the_sweep_summary_say_what_bridge_they_read(tmp_path):
     assert bridge_text(old) == "bridge: 2 decks; spans 15 + 15 m; n0 10.66 Hz; EN cut-off 42.66 Hz; L_Phi 15 m"
 
 
-def test_the_command_line_names_the_bridge_file_of_an_error_in_its_analysis(tmp_path, capsys):
+def test_the_command_line_names_the_bridge_file_of_an_error_in_its_analysis(tmp_path, capsys, deck_script):
     """What the bridge's analysis refuses names the file the user gave (before: 'vtsi sweep:
     bridge (its track: 2 elements, x = 0 to 10 m): vertical frequencies: ...', naming no file);
     one line, exit 2, nothing written."""
@@ -509,7 +466,7 @@ def test_the_command_line_names_the_bridge_file_of_an_error_in_its_analysis(tmp_
         track 1 -eleRange 1 2
         """))
     half = tmp_path / "half.py"
-    half.write_text(HALF_TRACK)
+    half.write_text(deck_script(1.9, "ops.track(2, '-eleRange', 1, 5)\n"))
     for command, bridge, extra, words in (
             ("sweep", path, [], "bridge (its track: 2 elements, x = 0 to 10 m): vertical frequencies: 3 asked"),
             ("check", path, ["--damping", "0.01"], "bridge (its track: 2 elements, x = 0 to 10 m): vertical "
