@@ -30,6 +30,7 @@ _GERMAN_OMEGA_C, _GERMAN_OMEGA_R = 0.8246, 0.0206  # [rad/m]
 _FRA_AV = (1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339)  # A_v [cm²·rad/m], classes 1..6
 _FRA_OMEGA_C, _FRA_K = 0.8245, 0.25
 WAVES_PER_BLOCK, POINTS_PER_BLOCK = 512, 4096   # sample_profile's work array: 512 × 4096 floats
+WAVELENGTH_BAND = (3.0, 150.0)  # [m] the wavelengths a sample profile holds, shortest and longest (every spectrum)
 
 
 def _omega(omega, where, allow_zero):
@@ -96,7 +97,7 @@ def fra_psd(omega, fra_class=6):
     return 1e-4 * _FRA_K * _FRA_AV[fra_class - 1] * _FRA_OMEGA_C ** 2 / (w2 * (w2 + _FRA_OMEGA_C ** 2))
 
 
-def sample_profile(psd, x, wavelength_band=(3.0, 150.0), n_waves=None, rng=None):
+def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=None):
     """A random profile with one-sided spectrum ``psd`` over a wavelength band.
 
     r(x) = Σ_k √(2 S(Ω_k) ΔΩ) cos(Ω_k x + φ_k), with n_waves frequencies Ω_k at the midpoints of
@@ -112,7 +113,9 @@ def sample_profile(psd, x, wavelength_band=(3.0, 150.0), n_waves=None, rng=None)
     x : array_like
         Positions [m], any shape.
     wavelength_band : (float, float)
-        Shortest and longest wavelength λ_min < λ_max [m].
+        Shortest and longest wavelength λ_min < λ_max [m]; default WAVELENGTH_BAND, 3 to 150 m
+        (a sweep's rail samples: a wheel at speed V passes the shortest at V / 3 m, 27.8 Hz at
+        300 km/h, which its default time step resolves, :func:`vtsi.passage.default_dt`).
     n_waves : int, optional
         Number of cosines. Default: max(1000, ⌈(Ω_max − Ω_min)(x_max − x_min)/(2π)⌉).
     rng : numpy.random.Generator or int or None

@@ -252,7 +252,7 @@ def test_results_file_layout_units_and_envelopes(tmp_path):
         assert list(f["outputs/acceleration"].attrs["rows"])[:3] == ["min", "max", "absmax"]
         nodes = f["outputs/acceleration/columns"][()]
         np.testing.assert_array_equal(nodes, sweep.runner.deck_nodes)
-        assert f.attrs["format_version"] == 5
+        assert f.attrs["format_version"] == 6
         table = f["cases"]                         # one table of every case, a row each
         assert sorted(table["train"][()]) == [0, 0, 0, 1, 1, 1]
         mine = table["train"][()] == 1             # HSLM-A4, the second of /train
@@ -396,9 +396,9 @@ def test_a_file_of_an_older_format_is_refused_with_its_version(tmp_path):
     sweep.run(path, workers=1, progress=False)
     with h5py.File(path, "a") as f:          # as a vtsi of format 4 wrote it
         f.attrs["format_version"] = 4
-    with pytest.raises(SweepError, match="format 4, this vtsi reads format 5"):
+    with pytest.raises(SweepError, match="format 4, this vtsi reads format 6"):
         SweepResults(path)
-    with pytest.raises(SweepError, match="format 4, this vtsi writes format 5: it cannot be resumed"):
+    with pytest.raises(SweepError, match="format 4, this vtsi writes format 6: it cannot be resumed"):
         sweep.run(path, workers=1, progress=False, resume=True)
 
 

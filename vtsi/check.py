@@ -25,14 +25,21 @@ deflection_overhang    the same on a deck's overhang, against L_c/600 of its len
                        for reference only (info: EN 1990 gives no cantilever limit)  6.4.6.5(3)
 end_rotation           max |θ| at the decks' end supports under the trains (info)   —
 car_body_acceleration  max |a| of the car bodies, at each centre or over either      EN 1990
-                       bogie pivot, ≤ b_v (Table A2.9)                               A2.4.4.3.1
+                       bogie pivot, while a wheel of the car is on a deck and half   A2.4.4.3.1
+                       a period of its lowest mode after, ≤ b_v (Table A2.9)
 wheel_unloading        max ΔQ/Q = 1 − λ_min / Q (Q the static wheel load, λ the      project
-                       contact force's 10 ms mean) ≤ the project's limit (0.6 by     criterion
-                       default: not an EN 1990 clause)
-contact_loss           passages in which a wheel lifts (the mean λ ≤ 0) = 0          —
+                       contact force's 10 ms mean, while the wheel is on a deck) ≤   criterion
+                       the project's limit (0.6 by default: not an EN 1990 clause)
+contact_loss           passages in which a wheel lifts on a deck (the mean λ ≤ 0)    —
+                       = 0
 =====================  ===========================================================  ==========
 
-Each row names the governing train, speed, rail sample and place (node tag, wheel or car), with
+The car rows judge what the bridge does: a sweep's vehicle envelopes count a wheel while it is on
+a deck and a car body while a wheel of it is (:meth:`vtsi.passage.PassageRunner.counted`); where
+the whole run (rigid ground with an irregular rail before and after the bridge) holds a larger
+value, the row's note gives it with its case and place. Each row names the governing train,
+speed, rail sample and place (node tag; 'wheel 3 of 32 (car 1 of 8), x = 6.4 m'; 'car 2 of 8':
+people's counting from 1, where the results file's indices count from 0), with
 the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'fail' or 'info'
 (no limit, or a value the check cannot hold to its limit: wheel unloading and contact loss from
 Newmark's undamped rule with 'hermite' rows; 'info' rows carry their reading in ``note``, and
@@ -51,7 +58,8 @@ import numpy as np
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
-from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz
+from vtsi.models.irregularity import WAVELENGTH_BAND
+from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 deck_ranges, span_decks, x_tolerance)
 
@@ -182,7 +190,7 @@ class CheckResult:
             if r.train and r.seed >= 0:
                 case += f" seed {r.seed}"
             held = r.status != "info"          # an info row's limit is a reference: no utilisation
-            lines.append((r.criterion, "not evaluated" if np.isnan(r.value) else f"{r.value:.4g} {r.units}",
+            lines.append((r.criterion, "not evaluated" if np.isnan(r.value) else self.value_text(r, f"{r.value:.4g}"),
                           "" if np.isnan(r.limit) else f"{'' if held else 'ref. '}{r.limit:.4g}",
                           "" if np.isnan(r.utilisation) or not held else f"{r.utilisation:.2f}", r.status.upper(),
                           case, r.where, r.clause))
@@ -192,6 +200,13 @@ class CheckResult:
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
         return "\n".join(([self.bridge] if self.bridge else []) + out + ["", self.verdict()]
                          + (["notes:"] + notes if notes else []))
+
+    def value_text(self, row, number, units=str):
+        """``number`` (the row's value as text) with its units (as ``units`` writes them): a count
+        of passages as 'k of n passages', n the passages the check read."""
+        if row.units == "passages" and self.cases_done:
+            return f"{number} of {self.cases_done} passages"
+        return f"{number} {units(row.units)}".strip()
 
     def store(self, path):
         """Write the table into the sweep's results file (/checks: one row per criterion, the
@@ -644,6 +659,55 @@ def _end_rotation(results, outputs, bridge, settings):
     return []
 
 
+def car_label(car, n_cars):
+    """A car as people count them: 'car 1 of 8 (the leading car)' for index ``car`` (0-based, as
+    the results file keeps it)."""
+    where = " (the leading car)" if car == 0 and n_cars > 1 else " (the last car)" if car == n_cars - 1 > 0 else ""
+    return f"car {car + 1} of {n_cars}{where}"
+
+
+def wheel_label(wheel, data):
+    """A contact wheel as people count them: 'wheel 3 of 32 (car 1 of 8)' for its index ``wheel``
+    (0-based, as the results file keeps it) in a train of stored data ``data``
+    (:meth:`SweepResults.train_data`)."""
+    contact = np.asarray(data["contact_wheels"])
+    car = int(np.asarray(data["wheel_car"])[contact[wheel]])
+    return f"wheel {wheel + 1} of {len(contact)} (car {car + 1} of {int(data['n_cars'])})"
+
+
+def _decks_text(bridge):
+    return "; ".join(f"x = {a:g} to {b:g} m" for a, b in deck_ranges(bridge))
+
+
+def _x_at(results, idx, time, offsets):
+    """The x [m] of points ``offsets`` [m] behind the head of case ``idx`` (train, speed, seed)
+    at ``time`` [s]."""
+    x_head0 = results.start_positions()[tuple(idx[:3])]
+    return x_head0 + float(results.speeds_kmh[idx[1]]) / 3.6 * time - np.asarray(offsets, dtype=float)
+
+
+def _case_text(results, idx):
+    seed = results.seeds[idx[2]]
+    return f"{results.trains[idx[0]]} {float(results.speeds_kmh[idx[1]]):g} km/h" + (f" seed {seed}" if seed >= 0 else "")
+
+
+def _rail_step_note(results):
+    """'' unless the sweep ran cars on an irregular rail with a Δt giving the rail's shortest
+    wavelength at its top speed fewer than STEPS_PER_CUTOFF_PERIOD steps a period: then that the
+    car rows are not converged in Δt (:func:`vtsi.passage.rail_frequency_hz`)."""
+    sweep = results.identity["settings"]
+    top = float(np.max(results.speeds_kmh))
+    f = rail_frequency_hz(sweep.get("irregularity"), sweep.get("cars", "force"), top)
+    dt = float(sweep.get("dt") or 0.0)
+    if f is None or not dt > 0 or 1.0 / (f * dt) >= STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9):
+        return ""
+    return (f"; not converged in dt: dt = {1e3 * dt:g} ms steps the rail's shortest wavelength "
+            f"({WAVELENGTH_BAND[0]:g} m) at the top speed, {top:g} km/h ({f:.3g} Hz), {1.0 / (f * dt):.3g} times a "
+            f"period, fewer than {STEPS_PER_CUTOFF_PERIOD} (an ICE3 at 300 km/h over a 20 m span, 'german-high' rail: "
+            "Delta Q / Q 0.094 at 10 ms, 0.149 at 1.8 ms, 0.154 at 0.25 ms; on 'fra-1' a wheel lifted at 1.8 ms and "
+            f"finer, none at 2 ms); take dt <= {1e3 * dt_resolving(f):g} ms (the default)")
+
+
 def _car_body(results, outputs, bridge, settings):
     for name in _outputs_of(outputs, "car_body_accel"):
         env, columns = results.column_envelopes(name)
@@ -653,11 +717,55 @@ def _car_body(results, outputs, bridge, settings):
         train, speed, seed, idx = _governing(results, peak, np.nanargmax)
         limit = en1990_a2.comfort_limit(settings.comfort)
         value = float(peak[idx])
+        data = results.train_data(train)
+        car = int(columns[idx[-1]])
+        runouts = [results.train_data(t)["body_runout_s"] for t in results.trains]
+        runout = max((float(r) for r in runouts if np.isfinite(r)), default=0.0)
+        note = (f"level of comfort '{settings.comfort.replace('_', ' ')}'; the body's vertical acceleration at its "
+                f"centre or over either bogie, while a wheel of the car is on a deck ({_decks_text(bridge)}) and for "
+                f"{runout:.3g} s after its last wheel left it (half a period of the car's lowest mode: its largest "
+                "bridge-induced motion after the exit)")
+        note += _whole_run_note(results, name, ABSMAX, value, "m/s^2", bridge)
         return [CheckRow("car_body_acceleration", "EN 1990 A2.4.4.3.1, Table A2.9", value, "m/s^2", limit,
                          value / limit, "pass" if value <= limit else "fail", train, speed, seed,
-                         f"car {int(columns[idx[-1]])}", f"level of comfort '{settings.comfort.replace('_', ' ')}'; "
-                         "the body's vertical acceleration at its centre or over either bogie")]
+                         car_label(car, int(data["n_cars"])), note + _rail_step_note(results))]
     return []
+
+
+def _place(results, name, idx, row, columns, whole_run=True):
+    """Where the extreme of envelope row ``row`` (MIN, MAX, ABSMAX) of output ``name`` at ``idx``
+    (train, speed, seed, column) lies, in words: a wheel and its x, or a car and its wheels' x;
+    of the whole-run envelope or (``whole_run=False``) the bridge's."""
+    env, _ = results.column_envelopes(name, whole_run=whole_run)
+    time = float(env[tuple(idx[:3]) + (row + 3, idx[3])])
+    data = results.train_data(results.trains[idx[0]])
+    offsets = np.asarray(data["axle_offsets_m"], dtype=float)
+    k = int(columns[idx[3]])
+    if results.describe(name)["kind"] == "car":
+        x = _x_at(results, idx, time, offsets[np.asarray(data["wheel_car"]) == k])
+        return f"{car_label(k, int(data['n_cars']))}, its wheels at x = {x.min():.1f} to {x.max():.1f} m"
+    x = _x_at(results, idx, time, offsets[np.asarray(data["contact_wheels"])[k]])
+    return f"{wheel_label(k, data)}, x = {float(x):.1f} m"
+
+
+def _whole_run_note(results, name, row, value, units, bridge, transform=None):
+    """'' when the largest of output ``name``'s envelope row ``row`` over the whole run (ground
+    before and after the bridge included) is the bridge's ``value``; else the note that gives it,
+    with its case and place (``transform`` maps the row's values to the criterion's, e.g. ΔQ/Q)."""
+    env, columns = results.column_envelopes(name, whole_run=True)
+    values = env[..., row, :]
+    if transform is not None:
+        values = transform(values)
+    if values.size == 0 or np.all(np.isnan(values)):
+        return ""
+    idx = np.unravel_index(np.nanargmax(values), values.shape)
+    whole = float(values[idx])
+    if not whole > value * (1 + 1e-9) + 1e-12:
+        return ""
+    return (f"; the largest over the whole run, {whole:.4g}{' ' + units if units != '-' else ''} "
+            f"({_case_text(results, idx)}, {_place(results, name, idx, row, columns)}), is off the bridge "
+            "(on the ground before or after it), not counted; the sweep keeps it (column_envelopes(..., "
+            "whole_run=True))")
 
 
 RINGING = "with 'hermite' rows Newmark's undamped rule rings after the rail's kinks at the supports"
@@ -679,23 +787,35 @@ def _rings(sweep):
             and not integrator.dissipative)
 
 
+def _static_loads(results, width):
+    """Q (n_train, width) [N]: each train's contact wheels' static loads (NaN where it has fewer)."""
+    Q = np.full((len(results.trains), width), np.nan)
+    for i, train in enumerate(results.trains):
+        data = results.train_data(train)
+        static = data["static_wheel_loads_N"][data["contact_wheels"]]
+        Q[i, : len(static)] = static
+    return Q
+
+
 def _wheel_unloading(results, outputs, bridge, settings):
     for name in _outputs_of(outputs, "contact_force"):
         env, columns = results.column_envelopes(name)
         low = env[..., MIN, :]
         if low.size == 0 or np.all(np.isnan(low)):
             continue
-        Q = np.full((len(results.trains), low.shape[-1]), np.nan)
-        for i, train in enumerate(results.trains):
-            data = results.train_data(train)
-            static = data["static_wheel_loads_N"][data["contact_wheels"]]
-            Q[i, : len(static)] = static
+        Q = _static_loads(results, low.shape[-1])
         unloading = 1.0 - low / Q[:, None, None, :]
         train, speed, seed, idx = _governing(results, unloading, np.nanargmax)
         value, limit = float(unloading[idx]), settings.unloading_limit
-        lifts = int(np.sum(np.nanmin(low, axis=-1) <= 0.0))
+        done = results.n_done
+        lifting = -_nanmax(-low, axis=-1) <= 0.0          # NaN (a case not run): no lift, no warning
+        lifts = int(np.sum(lifting))
+        counted = (f"counted while the wheel is on a deck ({_decks_text(bridge)}; the 10 ms mean's reach beyond "
+                   "its ends included)")
         note = ("Delta Q / Q = 1 - min contact force (its 10 ms mean) / static wheel load; the limit is the "
-                "project's (not an EN 1990 A2 clause)")
+                f"project's (not an EN 1990 A2 clause); {counted}")
+        note += _whole_run_note(results, name, MIN, value, "-", bridge,
+                                transform=lambda v: 1.0 - v / Q[:, None, None, :])
         sweep = results.identity["settings"]
         rings = _rings(sweep)
         unchecked = (f"not checked: {RINGING}, and the contact force's minimum grows as dt shrinks (an ICE3 on a "
@@ -706,17 +826,30 @@ def _wheel_unloading(results, outputs, bridge, settings):
         if sweep.get("bridge", "fe") != "fe":
             note += ("; on a modal bridge the contact force misses the deck's local flexibility above the modes "
                      "(docs/modal.md: 20 % off the FE bridge on an irregular rail)")
+        coarse = _rail_step_note(results)
         rows = [CheckRow("wheel_unloading", "project criterion", value, "-", limit, value / limit,
                          "info" if rings else ("pass" if value <= limit else "fail"), train, speed, seed,
-                         f"wheel {int(columns[idx[-1]])}", note)]
+                         _place(results, name, idx, MIN, columns, whole_run=False), note + coarse)]
         held = ("; bilateral contact held the wheels on the rail: what follows a lift is not physical, take "
                 "contact='lcp'") if lifts and sweep.get("contact", "bilateral") == "bilateral" else ""
+        whole, _ = results.column_envelopes(name, whole_run=True)
+        ground = int(np.sum((-_nanmax(-whole[..., MIN, :], axis=-1) <= 0.0) & ~lifting))
+        off = ""
+        if ground:
+            w = np.where(lifting[..., None], np.nan, whole[..., MIN, :])
+            at = np.unravel_index(np.nanargmin(w), w.shape)
+            off = (f"; {ground} of {done} passages lift a wheel off the bridge only (on the ground before or after "
+                   f"it; the lowest: {_case_text(results, at)}, {_place(results, name, at, MIN, columns)}), not "
+                   "counted")
         loss = CheckRow("contact_loss", "-", float(lifts), "passages", 0.0, np.nan,
                         "info" if rings else ("pass" if lifts == 0 else "fail"),
-                        note=f"passages in which a wheel's contact force (its 10 ms mean) reaches zero (it lifts)"
-                             f"{held}{'; ' + unchecked if rings else ''}")
+                        note=f"passages (of the {done} in the file) in which a wheel's contact force (its 10 ms mean) "
+                             f"reaches zero (it lifts) on the bridge, {counted}{off}{held}"
+                             f"{'; ' + unchecked if rings else ''}{coarse}")
         if lifts:
-            t, v, s, i2 = _governing(results, -np.nanmin(low, axis=-1), np.nanargmax)
+            t, v, s, i2 = _governing(results, np.where(lifting[..., None], -low, np.nan), np.nanargmax)
             loss.train, loss.speed_kmh, loss.seed = t, v, s
+            loss.where = _place(results, name, i2, MIN, columns, whole_run=False)
         return rows + [loss]
     return []
+

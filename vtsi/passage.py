@@ -15,7 +15,11 @@ A passage (docs/sweeps.md):
   ``FREE_VIBRATION_PERIODS`` periods of the bridge's first vertical mode: the largest free
   vibration follows the exit within one period, as every mode then decays);
 * the irregular rail (optional) is a seeded sample of a spectrum, faded in over the
-  ``TAPER`` metres ahead of the first wheel, so that the train starts at rest on a level rail.
+  ``TAPER`` metres ahead of the first wheel, so that the train starts at rest on a level rail;
+* the envelopes of the cars' outputs (contact forces, car bodies) count what happens on the
+  bridge: a wheel on a deck, a car body while a wheel of its car is on one and a run-out after
+  (:meth:`PassageRunner.counted`); the rigid ground before and after it, with its own rail, is
+  kept apart (``CaseResult.whole_run``).
 
 Units: SI (m, s, N, kg); speeds in m/s here (the sweep takes km/h at its surface).
 """
@@ -26,6 +30,7 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import partial
 
 import numpy as np
+import scipy.linalg
 from scipy.ndimage import convolve1d
 
 from vtsi.analysis import domain_state, modes_up_to
@@ -40,7 +45,7 @@ from vtsi.influence import InfluenceLines
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
 from vtsi.models.catalogue import FIDELITIES, catalogue_train
-from vtsi.models.irregularity import Irregularity, fra_psd, german_psd, sample_profile
+from vtsi.models.irregularity import WAVELENGTH_BAND, Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.envelope import Envelope
 from vtsi.recorders.modal import ModalNodeRecorder
@@ -64,6 +69,9 @@ MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one pass
 TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
 CAR_APPROACH = 25.0     # [m] default approach of trains of cars (covers the taper)
 PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
+PROFILE_MARGIN = 5.0    # [m] the profile is sampled this far beyond the wheels' travel, ...
+SPLINE_REACH_STEPS = 4  # ... plus the B-spline rows' reach, 2 knots of 2 V Δt (MovingLoadConstraint.check_travel)
+BODY_RUNOUT_PERIODS = 0.5   # a car body counts this many periods of its lowest mode after its last wheel leaves a deck
 IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range(1, 7))
 
 # Output responses: node responses (NodeRecorder names) and the vehicle responses.
@@ -92,7 +100,9 @@ class Output:
         CONTACT_FORCE_WINDOW = 10 ms, :func:`contact_force_mean`), or 'car_body_accel' [m/s²]
         (each car body's vertical acceleration at its centre or over either bogie, whichever is
         the largest, :meth:`PassageRunner._body_points`). The vehicle responses need a train of
-        cars (fidelity 'full'); a train of moving forces skips them.
+        cars (fidelity 'full'); a train of moving forces skips them. Their envelopes count what
+        happens on the bridge (:meth:`PassageRunner.counted`); ``CaseResult.whole_run`` holds
+        their envelopes over the whole run.
     nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
         span's middle), 'supports' (the track's nodes that carry it: uy fixed, or on bearings or piers,
         :func:`vtsi.deck.deck_layout`) or a tuple of node tags.
@@ -144,7 +154,8 @@ class Output:
 
 HISTORY_OUTPUTS = (Output("deck_displacement", "disp", history=True),
                    Output("deck_acceleration", "accel", cutoff="en", history=True),
-                   Output("contact_force", "contact_force", history=True))
+                   Output("contact_force", "contact_force", history=True),
+                   Output("car_body_acceleration", "car_body_accel", history=True))
 
 DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel", cutoff="en"),
                    Output("end_rotation", "rotation", nodes="supports"),
@@ -161,8 +172,10 @@ class PassageSettings:
     dt : time step [s]; None: DEFAULT_DT (1 ms), or finer where the bridge's EN cut-off
         max(30 Hz, 1.5 n₀, n₃) (of several decks the largest of theirs) needs it to get
         STEPS_PER_CUTOFF_PERIOD (20) steps a period (:func:`default_dt`; a 5 m span's n₃ =
-        183 Hz: 0.25 ms, where 1 ms read its deck acceleration 45 % high); the runner sets it
-        from the bridge.
+        183 Hz: 0.25 ms, where 1 ms read its deck acceleration 45 % high), and, for cars on an
+        irregular rail, where the rail's shortest wavelength (3 m) passed at the sweep's top
+        speed needs it (:func:`rail_frequency_hz`; 1 ms resolves it up to 540 km/h); the runner
+        sets it from the bridge and the sweep's speeds.
     integrator : a registered name ('Newmark', 'Bathe', …), a name with its parameters
         ('HHT(0.9)') or an integrator instance such as ``vtsi.integrators.HHT(0.9)`` (implicit;
         stored in results by its repr); None:
@@ -326,10 +339,25 @@ def en_cutoff_hz(bridge):
     return max(acceleration_cutoff_hz(f) for f in rows)
 
 
-def default_dt(bridge):
+def default_dt(bridge, rail_hz=None):
     """The default time step [s] of a bridge of record ``bridge`` (:func:`en_cutoff_hz`):
-    :func:`dt_resolving` its EN cut-off."""
-    return dt_resolving(en_cutoff_hz(bridge))
+    :func:`dt_resolving` its EN cut-off, and also ``rail_hz`` [Hz] when given (cars on an
+    irregular rail: :func:`rail_frequency_hz` at the sweep's top speed)."""
+    return dt_resolving(max(en_cutoff_hz(bridge), rail_hz or 0.0))
+
+
+def rail_frequency_hz(irregularity, cars, speed_kmh):
+    """The frequency [Hz] at which a wheel at ``speed_kmh`` [km/h] passes the irregular rail's
+    shortest wavelength (WAVELENGTH_BAND: 3 m; 27.8 Hz at 300 km/h), what a passage of cars
+    (``cars`` 'full') on it must resolve in time; None on a smooth rail or for moving forces
+    (which do not feel it). Its STEPS_PER_CUTOFF_PERIOD steps a period bound the default Δt
+    (:func:`default_dt`), and the check notes the car rows of a coarser Δt: an ICE3 at 300 km/h
+    over a 20 m span on a 'german-high' rail read ΔQ/Q 0.094 at 10 ms, 0.149 at 1/(20 f) = 1.8
+    ms, 0.154 at 0.25 ms; on 'fra-1' a wheel lifted at 1.8 ms and finer, none at 2 ms or coarser
+    (docs/check.md). DEFAULT_DT (1 ms) resolves it up to 540 km/h."""
+    if irregularity is None or cars == "force" or speed_kmh is None:
+        return None
+    return float(speed_kmh) / 3.6 / WAVELENGTH_BAND[0]
 
 
 def dt_resolving(frequency_hz):
@@ -357,7 +385,9 @@ class CaseResult:
     ``envelopes[name]`` (6, n_columns): min, max, absmax and the times of each [units, s];
     ``columns[name]``: what the columns are (node tags, contact-wheel or car indices);
     ``histories[name]``: (time (n,), values (n, n_columns)) of the outputs kept as histories;
-    ``x_head0`` [m]: the train's head at t = 0 (wheel i is at x_head0 + V t − offset_i).
+    ``x_head0`` [m]: the train's head at t = 0 (wheel i is at x_head0 + V t − offset_i);
+    ``whole_run[name]`` (6, n_columns): a vehicle output's envelope over the whole run, where
+    ``envelopes[name]`` counts only the samples on the bridge (:meth:`PassageRunner.counted`).
     """
 
     train: str
@@ -369,6 +399,55 @@ class CaseResult:
     envelopes: dict = field(default_factory=dict)
     columns: dict = field(default_factory=dict)
     histories: dict = field(default_factory=dict)
+    whole_run: dict = field(default_factory=dict)
+
+
+def windowed_envelope(time, values, counted):
+    """The envelope rows (6, n) (min, max, absmax and the time [s] of each, as
+    :class:`~vtsi.recorders.envelope.Envelope`: the first on ties) of ``values`` (m, n) sampled
+    at ``time`` (m,), over the samples where ``counted`` (m, n) is True; NaN in a column with
+    none counted."""
+    values = np.asarray(values, dtype=float)
+    counted = np.asarray(counted, dtype=bool)
+    out = np.full((6, values.shape[1]), np.nan)
+    if values.shape[0] == 0:
+        return out
+    columns, some = np.arange(values.shape[1]), counted.any(axis=0)
+    for k, (source, fill, pick) in enumerate(((values, np.inf, np.argmin), (values, -np.inf, np.argmax),
+                                              (np.abs(values), -np.inf, np.argmax))):
+        at = pick(np.where(counted, source, fill), axis=0)
+        out[k] = np.where(some, source[at, columns], np.nan)
+        out[k + 3] = np.where(some, np.asarray(time, dtype=float)[at], np.nan)
+    return out
+
+
+def contact_force_reach(dt):
+    """Half the span [s] of :func:`contact_force_mean` at time step ``dt`` [s] (m Δt: 5 ms for Δt
+    = 1, 0.5, 0.25 ms): the mean at a sample holds the forces this long before and after it."""
+    return max(1, int(math.floor(0.5 * CONTACT_FORCE_WINDOW / dt + 0.5))) * dt
+
+
+def body_runout(car):
+    """How long [s] a car body's acceleration still counts after its last wheel left a deck:
+    BODY_RUNOUT_PERIODS (½) periods of the car's lowest mode with its wheels held (its body and
+    bogies on their suspensions; an ICE3 coach: 0.804 Hz, 0.62 s). The bridge-induced motion
+    the body carries off the deck is a decaying free vibration, whose largest |a| comes within
+    half a period; counting longer reads the ground's rail. 0 for a car without such dofs;
+    infinite (the rest of the run) for one whose lowest mode has no stiffness."""
+    held = set(np.asarray(car.wheel_dofs).tolist())
+    free = [i for i in range(car.n_dof) if i not in held]
+    if not free:
+        return 0.0
+    dense = [m.toarray() if hasattr(m, "toarray") else np.asarray(m, dtype=float) for m in (car.K, car.M)]
+    K, M = (m[np.ix_(free, free)] for m in dense)
+    try:
+        lowest = float(np.min(scipy.linalg.eigh(K, M, eigvals_only=True)))       # ω² [rad²/s²]
+    except (np.linalg.LinAlgError, ValueError):      # a mass matrix that is not positive definite
+        return math.inf
+    scale = float(np.max(np.abs(np.diag(K)))) / float(np.max(np.diag(M)))          # the stiffest dof's ω²
+    if not lowest > 1e-12 * scale:                   # a rigid-body mode: no stiffness to end its motion
+        return math.inf
+    return BODY_RUNOUT_PERIODS * 2.0 * math.pi / math.sqrt(lowest)
 
 
 def _psd(name):
@@ -391,6 +470,8 @@ class PassageRunner:
         bridge to each kept mode of that frequency (within 1e-6) over the model's own damping,
         as the command layer adds them; replaced, as the model's own damping is, by
         ``settings.damping``; the FE bridge, which steps Rayleigh damping, refuses them.
+    top_speed_kmh : the sweep's top speed [km/h]; with cars on an irregular rail the default Δt
+        also resolves the rail's shortest wavelength at it (:func:`rail_frequency_hz`).
 
     Attributes
     ----------
@@ -413,7 +494,7 @@ class PassageRunner:
         nodes (a rail on its pads over the deck): the deck outputs are the track's.
     """
 
-    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=()):
+    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=(), top_speed_kmh=None):
         self.model = copy.deepcopy(model)
         self.outputs = tuple(outputs)
         names = [o.name for o in self.outputs]
@@ -449,7 +530,8 @@ class PassageRunner:
                              "times low)")
         self.en_cutoff_hz = en_cutoff_hz(self.frequency_record)
         if settings.dt is None:
-            settings = replace(settings, dt=default_dt(self.frequency_record))
+            rail = rail_frequency_hz(settings.irregularity, settings.cars, top_speed_kmh)
+            settings = replace(settings, dt=default_dt(self.frequency_record, rail))
         self.settings = settings
         if modal_damping and settings.damping is None and settings.bridge == "fe":
             raise ModelError(f"the bridge's modalDamping ({', '.join(f'{z:g}' for _, z in modal_damping)}) damps its modes: "
@@ -477,6 +559,7 @@ class PassageRunner:
         self._modal_plans = {}
         self._residuals = {}
         self._fixed_ends = {}
+        self._runouts = {}
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
@@ -614,8 +697,11 @@ class PassageRunner:
         if s.irregularity is not None and train.n_dof:
             if seed < 0:
                 raise ModelError(f"sweep: an irregular rail ({s.irregularity}) needs seeds >= 0, got {seed}")
-            x_first = x_head0 - float(train.wheel_offsets[-1]) - 5.0
-            x_last = x_head0 + train.speed * (n_steps + 2) * s.dt + 5.0
+            # beyond the wheels' travel by a margin and the B-spline rows' reach, 4 V Δt (at 300 km/h
+            # and Δt = 19 ms 6.3 m, past a fixed 5 m margin: MovingLoadConstraint refused the case)
+            margin = PROFILE_MARGIN + SPLINE_REACH_STEPS * train.speed * s.dt
+            x_first = x_head0 - float(train.wheel_offsets[-1]) - margin
+            x_last = x_head0 + train.speed * (n_steps + 2) * s.dt + margin
             irregularity = self._irregularity(seed, x_first, x_last, self.track.x_begin - approach)
         sub = TrainSubdomain(train, x_head0)
         tie = MovingLoadConstraint(self.track, sub, irregularity, s.interpolation)
@@ -663,6 +749,10 @@ class PassageRunner:
                 env.update(*history)
             result.envelopes[output.name] = np.array([env.min, env.max, env.absmax, env.time_of_min,
                                                       env.time_of_max, env.time_of_absmax])
+            if output in averaged or output in bodies:     # what the bridge does: on its decks only
+                result.whole_run[output.name] = result.envelopes[output.name]
+                result.envelopes[output.name] = windowed_envelope(
+                    *history, self.counted(output, train, x_head0, history[0]))
             result.columns[output.name] = self.columns(output, train)
             if output.history:
                 result.histories[output.name] = history
@@ -822,6 +912,60 @@ class PassageRunner:
                     continue
                 rec = TrainRecorder(sub, dofs, "accel", **kwargs)
             out.append((o, rec))
+        return out
+
+    def on_deck(self, x, margin=0.0):
+        """Where positions ``x`` [m] (any shape) lie on a deck of the bridge, within ``margin`` [m]
+        of its ends (``deck_ends``: its spans and overhangs, :mod:`vtsi.deck`; a joint between two
+        decks and the approaches are no deck). A track without a deck counts everywhere."""
+        x = np.asarray(x, dtype=float)
+        ends = np.asarray(self.deck_ends, dtype=float).reshape(-1, 2)
+        if not len(ends):
+            return np.ones(x.shape, dtype=bool)
+        tol = 1e-9 * max(1.0, float(np.max(np.abs(ends))))
+        inside = np.zeros(x.shape, dtype=bool)
+        for a, b in ends:
+            inside |= (x >= min(a, b) - margin - tol) & (x <= max(a, b) + margin + tol)
+        return inside
+
+    def body_runouts(self, train):
+        """:func:`body_runout` [s] of each of ``train``'s cars, computed once per train."""
+        key = id(train.cars)               # the cars a train shares with its copies at every speed
+        if key not in self._runouts or self._runouts[key][0] is not train.cars:
+            self._runouts[key] = (train.cars, np.array([body_runout(car) for car in train.cars]))
+        return self._runouts[key][1]
+
+    def counted(self, output, train, x_head0, time):
+        """Where (n_samples, n_columns) a vehicle output's samples at ``time`` [s] count in its
+        envelope (EN 1990 A2.4.4.3 and the wheel-rail criteria judge what the bridge does; on
+        an irregular rail the run over the ground before and after it, most of the passage, has
+        its own peaks: an ICE3 at 300 km/h over a 20 m span (x = 0 to 20 m) on a 'german-high'
+        rail read ΔQ/Q 0.236 with the wheel at x = 110 m and a car-body acceleration of 1.013
+        m/s² with the head at x = 213 m, and 0.240 and 1.003 on an almost rigid bridge; on the
+        bridge they are 0.1525 and 0.802, docs/check.md):
+
+        * a contact wheel's force (its 10 ms mean) while the mean's window holds the wheel on
+          a deck: its x within :func:`contact_force_reach` × V of a deck's ends (the mean a
+          few decimetres before a deck holds the rail's kink at the deck's end: an ICE3 at 300
+          km/h on a 3 Hz span, smooth rail, read ΔQ/Q 0.447 there, 0.404 from the wheel on the deck);
+        * a car body's acceleration while any of its wheels is on a deck, and for
+          :func:`body_runout` (half a period of its lowest mode) after its last wheel left it.
+        """
+        t = np.asarray(time, dtype=float)
+        x = x_head0 + train.speed * t[:, None] - np.asarray(train.wheel_offsets)[None, :]
+        if output.response == "contact_force":
+            wheels = train.contact_wheels
+            return self.on_deck(x[:, wheels], margin=contact_force_reach(self.settings.dt) * train.speed)
+        on = self.on_deck(x)
+        runouts = self.body_runouts(train)
+        cars = self.columns(output, train)
+        out = np.zeros((len(t), len(cars)), dtype=bool)
+        index = np.arange(len(t))
+        for c, i in enumerate(cars):
+            car_on = on[:, np.asarray(train.wheel_car) == i].any(axis=1)
+            last = np.maximum.accumulate(np.where(car_on, index, -1))    # the last sample on a deck so far
+            since = t - t[np.maximum(last, 0)]
+            out[:, c] = (last >= 0) & (since <= runouts[i] * (1 + 1e-12) + 1e-12)
         return out
 
     def _body_points(self, train, values):

@@ -33,8 +33,9 @@ envelopes    charts against speed [km/h], one line per train: peak deck accelera
              the check's limit and the resonance speeds; largest deflection [mm]; DAF
 histories    per governing case recorded with :meth:`~vtsi.sweep.Sweep.record_histories`: the
              acceleration [m/s²] and deflection [mm] at each span's middle (a style per span),
-             and the contact forces [kN] (their 10 ms mean) if present, against time [s]; the
-             caption names only what is drawn
+             and the contact forces [kN] (their 10 ms mean) and car bodies' accelerations
+             [m/s²] if present (in black the wheel and the car the check's envelopes name on
+             the bridge, counted from 1), against time [s]; the caption names only what is drawn
 scene        (optional) a 3-D scene image rendered elsewhere (:mod:`vtsi.scene3d`)
 ===========  ======================================================================================
 
@@ -56,10 +57,10 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import ABSMAX, deck_nodes, mid_span_ratios, stored_check
+from vtsi.check import ABSMAX, car_label, deck_nodes, mid_span_ratios, stored_check, wheel_label
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.errors import SweepError
-from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, en_cutoff_hz, modal_basis_hz
+from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz, modal_basis_hz
 from vtsi.sweep import resonance_speeds
 from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges
 
@@ -82,7 +83,7 @@ LIMIT_COLOUR = "#c0392b"
 # each, colours outside PALETTE.
 SPAN_STYLES = (("#555555", "--"), ("#d4a017", "-."), ("#8e6bbf", (0, (1, 1.2))), ("#3a9b8f", (0, (6, 2, 1, 2))),
                ("#a0a0a0", (0, (3, 1))), ("#c46a8a", (0, (8, 2))))
-HISTORY_PANELS = ("accel", "disp", "contact_force")
+HISTORY_PANELS = ("accel", "disp", "contact_force", "car_body_accel")
 UNIT_TEXT = {"m/s^2": "m/s²", "-": "", "rad": "rad", "m": "m", "passages": "passages"}
 CHART_STYLE = {"font.size": 11, "axes.titlesize": 12, "axes.labelsize": 11, "legend.fontsize": 9,
                "xtick.labelsize": 10, "ytick.labelsize": 10, "axes.grid": True, "grid.alpha": 0.3,
@@ -288,7 +289,7 @@ class _Report:
                                     "the check covers the passages in the file only.", "warning"))
         lines = []
         for r in self.rows:
-            value = f"{_num(r.value)} {_units(r.units)}".strip()
+            value = self.value_text(r)
             bound = self.bound_text(r)
             if bound:
                 value += f" ({bound}" + (f", utilisation {_num(r.utilisation)})" if self.held(r) and
@@ -302,6 +303,11 @@ class _Report:
                          + (f" — {', '.join(where)}" if where else ""))
         blocks += [Heading("Governing cases"), Items(lines, "governing")]
         return Section("summary", "Summary", blocks)
+
+    def value_text(self, row):
+        """A row's value with its units (4 significant digits); a count of passages as 'k of n
+        passages' (:meth:`~vtsi.check.CheckResult.value_text`)."""
+        return self.checked.value_text(row, _num(row.value), _units)
 
     def held(self, row):
         """Whether ``row`` is held to its limit (pass or fail): only then has it a utilisation."""
@@ -326,11 +332,10 @@ class _Report:
                 "place", "clause"]
         rows, attrs = [], []
         for r in self.rows:
-            units = _units(r.units)
             rows.append([
                 Cell(_label(r.criterion), {"data-field": "criterion"}),
-                Cell(f"{_num(r.value)} {units}".strip(), {"data-field": "value", "data-value": repr(float(r.value)),
-                                                          "data-units": r.units}, "num"),
+                Cell(self.value_text(r), {"data-field": "value", "data-value": repr(float(r.value)),
+                                          "data-units": r.units}, "num"),
                 self.limit_cell(r),
                 Cell(_num(r.utilisation), {"data-field": "utilisation", "data-value": repr(float(r.utilisation))},
                      "num") if self.held(r) else Cell("—", {"data-field": "utilisation"}, "num"),
@@ -493,9 +498,10 @@ class _Report:
                 continue
             shown.add(key)
             panels = self.history_panels(train, speed, seed)
+            marked = self.history_marks(train, speed, seed, panels)
             blocks += [Heading(f"{text}: governs {', '.join(_label(c) for c in criteria)}"),
-                       Chart(f"history_{len(shown)}", self.history_png(train, speed, seed, panels),
-                             self.history_caption(text, panels), f"time histories of {text}")]
+                       Chart(f"history_{len(shown)}", self.history_png(train, speed, seed, panels, marked),
+                             self.history_caption(text, panels, marked), f"time histories of {text}")]
         if not self.governing_cases():
             blocks.append(Paragraph("The check names no governing passage."))
         elif not shown:
@@ -624,7 +630,7 @@ class _Report:
 
     def history_panels(self, train, speed, seed):
         """The panels of a case's history chart: ``{response: history name}`` in the order accel,
-        disp, contact_force, each response with a recorded history holding values."""
+        disp, contact_force, car_body_accel, each response with a recorded history holding values."""
         h = self.results.history(train, speed, seed)
         responses = {o.name: o.response for o in HISTORY_OUTPUTS}
         responses.update({n: o["response"] for n, o in self.outputs.items()})
@@ -634,8 +640,37 @@ class _Report:
                 kinds.setdefault(responses[name], name)
         return {k: kinds[k] for k in HISTORY_PANELS if k in kinds}
 
-    def history_caption(self, text, panels):
+    def history_marks(self, train, speed, seed, panels):
+        """The wheel and the car body drawn in black in a case's history chart: ``{response:
+        (column, label)}`` for 'contact_force' (the wheel with the lowest force on the bridge)
+        and 'car_body_accel' (the car with the largest acceleration on the bridge), as the
+        check reads them from the sweep's envelopes (:meth:`vtsi.passage.PassageRunner.counted`;
+        on an irregular rail the run's extremes may lie on the ground beside the bridge); from
+        the history itself where the sweep kept no such output. Labels count from 1."""
+        h = self.results.history(train, speed, seed)
+        case = None
+        data = self.trains[train]
+        out = {}
+        for kind, row, pick in (("contact_force", MIN, np.nanargmin), ("car_body_accel", ABSMAX, np.nanargmax)):
+            if kind not in panels:
+                continue
+            _, values, columns = h[panels[kind]]
+            name = self.output(kind)
+            envelope = None
+            if name is not None:
+                case = self.results.case(train, speed, seed) if case is None else case
+                if name in case and np.any(np.isfinite(case[name]["envelope"][row])):
+                    envelope = case[name]["envelope"][row]
+            if envelope is None:        # the history's own extreme
+                envelope = np.nanmin(values, axis=0) if kind == "contact_force" else np.nanmax(np.abs(values), axis=0)
+            column = int(pick(envelope)) if np.size(envelope) else 0
+            k = int(np.asarray(columns)[column]) if column < len(columns) else column
+            out[kind] = (column, wheel_label(k, data) if kind == "contact_force" else car_label(k, int(data["n_cars"])))
+        return out
+
+    def history_caption(self, text, panels, marked=None):
         """The caption of a history chart: what its panels draw, and nothing else."""
+        marked = marked or {}
         n_spans = len(self.bridge["midspan_nodes"])
         where = "at each span's middle" if n_spans > 1 else "at mid-span"
         shown = []
@@ -651,13 +686,45 @@ class _Report:
                                                              "node at which this case governs)" if n_spans > 1 else ""))
         if "contact_force" in panels:
             parts.append("the contact force [kN] of every wheel (its 10 ms mean, as the check reads it; black: "
-                         "the wheel with the lowest)")
+                         f"{marked['contact_force'][1] if 'contact_force' in marked else 'the wheel'}, the lowest "
+                         "on the bridge; dotted: while it counts, on a deck)")
+        if "car_body_accel" in panels:
+            row = self.row("car_body_acceleration")
+            limit = row is not None and not math.isnan(row.limit)
+            parts.append("the car bodies' vertical acceleration [m/s²] (each at its centre or over either bogie, as "
+                         "the check reads it; black: "
+                         f"{marked['car_body_accel'][1] if 'car_body_accel' in marked else 'the car'}, the largest on "
+                         "the bridge; dotted: while it counts, a wheel of it on a deck and the run-out after"
+                         + ("; dashed red: ± the comfort limit" if limit else "") + ")")
         if not parts:
-            return f"{text}: no acceleration, deflection or contact force history recorded."
+            return f"{text}: no acceleration, deflection, contact force or car body history recorded."
         return f"{text}: " + "; ".join(parts) + ", against time; shaded: axles on the deck."
 
-    def history_png(self, train, speed, seed, kinds):
+    def _counted(self, kind, train, speed, x_head0, column):
+        """``(t_first, t_last)`` [s] while the marked wheel's contact force (``kind``
+        'contact_force', contact wheel ``column``) or car body ('car_body_accel', car ``column``)
+        counts in the check (:meth:`vtsi.passage.PassageRunner.counted`): from its first wheel
+        reaching the decks' first end to its last wheel leaving their last, widened by the 10 ms
+        mean's reach (a wheel) or followed by the train's run-out (a car body, the stored
+        body_runout_s); over several decks the stretches between them are inside."""
+        data = self.trains[train]
+        offsets = np.asarray(data["axle_offsets_m"], dtype=float)
+        V = speed / 3.6
+        if kind == "contact_force":
+            offsets = offsets[[int(np.asarray(data["contact_wheels"])[column])]]
+            before = after = contact_force_reach(float(self.settings["dt"]))
+        else:
+            offsets = offsets[np.asarray(data["wheel_car"]) == column]
+            runout = float(data.get("body_runout_s", 0.0))
+            before, after = 0.0, runout if np.isfinite(runout) else 0.0
+        ends = np.asarray(deck_ranges(self.bridge), dtype=float)
+        if not len(offsets) or not len(ends):
+            return ()
+        return (ends.min() - x_head0 + offsets.min()) / V - before, (ends.max() - x_head0 + offsets.max()) / V + after
+
+    def history_png(self, train, speed, seed, kinds, marked=None):
         h = self.results.history(train, speed, seed)
+        marked = marked if marked is not None else self.history_marks(train, speed, seed, kinds)
         panels = list(kinds)
         colour = self.colours[train]
         data = self.trains[train]
@@ -688,23 +755,40 @@ class _Report:
                         ax.set_ylabel("acceleration [m/s²]")
                     else:
                         ax.set_ylabel("deflection [mm]\n(positive up)")
-                else:
+                elif kind == "contact_force":
                     forces = values / 1e3
-                    worst = int(np.argmin(np.nanmin(forces, axis=0))) if forces.size else 0
+                    worst, label = marked.get(kind, (0, "wheel 1"))
                     for j in range(forces.shape[1]):
                         if j != worst:
                             ax.plot(time, forces[:, j], color=colour, lw=0.5, alpha=0.35)
                     if forces.size:
-                        ax.plot(time, forces[:, worst], color="black", lw=1.2,
-                                label=f"wheel {int(columns[worst])} (lowest)")
+                        ax.plot(time, forces[:, worst], color="black", lw=1.2, label=f"{label}\n(lowest on the bridge)")
+                        for k, t in enumerate(self._counted(kind, train, speed, x0, int(np.asarray(columns)[worst]))):
+                            ax.axvline(t, color="black", ls=":", lw=1.0, label="while it counts" if k == 0 else None)
                     if forces.size and np.nanmin(forces) < 0.5 * np.nanmedian(forces):
                         ax.axhline(0.0, color=LIMIT_COLOUR, lw=1, ls="--", label="lift-off (0 kN)")
                     ax.set_ylabel("contact force [kN]\n(compression +)")
+                else:
+                    worst, label = marked.get(kind, (0, "car 1"))
+                    for j in range(values.shape[1]):
+                        if j != worst:
+                            ax.plot(time, values[:, j], color=colour, lw=0.5, alpha=0.35)
+                    if values.size:
+                        ax.plot(time, values[:, worst], color="black", lw=1.2,
+                                label=f"{label}\n(largest on the bridge)")
+                        for k, t in enumerate(self._counted(kind, train, speed, x0, int(np.asarray(columns)[worst]))):
+                            ax.axvline(t, color="black", ls=":", lw=1.0, label="while it counts" if k == 0 else None)
+                    row = self.row("car_body_acceleration")
+                    if row is not None and not math.isnan(row.limit):
+                        for sign in (1, -1):
+                            ax.axhline(sign * row.limit, color=LIMIT_COLOUR, ls="--", lw=1.5,
+                                       label=f"±limit {_num(row.limit)} m/s²" if sign > 0 else None)
+                    ax.set_ylabel("car body\nacceleration [m/s²]")
                 _legend(ax)
             axes[-1].set_xlabel("time [s]")
             axes[0].set_title(self.case_text(train, speed, seed))
             if not panels:
-                axes[0].text(0.5, 0.5, "no acceleration, deflection or contact force history",
+                axes[0].text(0.5, 0.5, "no acceleration, deflection, contact force or car body history",
                              transform=axes[0].transAxes, ha="center")
             return _png(fig)
 

@@ -292,7 +292,8 @@ class Sweep:
             if not isinstance(o, Output):
                 raise SweepError(f"sweep: outputs must be vtsi.passage.Output, got {o!r}")
         try:
-            self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs, bridge.modal_damping)
+            self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs, bridge.modal_damping,
+                                        top_speed_kmh=float(self.speeds_kmh[-1]))
             self.settings = self.runner.settings       # dt set from the bridge when it was None
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
@@ -409,9 +410,10 @@ class Sweep:
     def record_histories(self, path, cases, outputs=HISTORY_OUTPUTS):
         """Run ``cases`` ((train, speed_kmh, seed), e.g. the governing ones a check names) again
         in this process, keeping the time histories of ``outputs`` (default: the deck's
-        displacement [m] and acceleration up to the EN cut-off [m/s²] at every deck node, and the
-        contact forces [N]), and add them to the results file ``path`` of this sweep
-        (/histories; each ``<output>_values`` has attrs response, units, kind and cutoff_hz).
+        displacement [m] and acceleration up to the EN cut-off [m/s²] at every deck node, and,
+        for trains of cars, the contact forces [N, their 10 ms mean] and the car bodies'
+        accelerations [m/s², as the sweep reads them]), and add them to the results file
+        ``path`` of this sweep (/histories; each ``<output>_values`` has attrs response, units, kind and cutoff_hz).
         Returns the results.
 
         Every case must be one of the sweep's: a train of the sweep (named as :func:`train_list`

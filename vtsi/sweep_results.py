@@ -21,9 +21,10 @@ Layout (docs/sweeps.md)::
                            and lm71 (2, n_columns), static min and max under each train's static
                            axle loads and under Load Model 71 (α = 1) (vtsi.influence)
     /trains/               one row per train, in /train's order: name, n_cars, n_dof, length_m,
-                           characteristic_length_m (n_train,); axle_offsets_m and
-                           static_wheel_loads_N [N] of every train end to end, train i's axles
-                           the rows axle_ptr[i]:axle_ptr[i + 1]; contact_wheels by contact_ptr
+                           characteristic_length_m, body_runout_s (n_train,); axle_offsets_m,
+                           static_wheel_loads_N [N] and wheel_car (each wheel's car, 0: the
+                           first) of every train end to end, train i's axles the rows
+                           axle_ptr[i]:axle_ptr[i + 1]; contact_wheels by contact_ptr
     /outputs/<name>        attrs response, units, kind of column ('node', 'contact wheel', 'car'),
                            rows (of an envelope), history, cutoff_hz (a response in the modes up
                            to a cut-off [Hz]; absent: the full response); columns: the node tags (n_columns,)
@@ -31,10 +32,12 @@ Layout (docs/sweeps.md)::
                            n_columns) of a vehicle output (-1 pads a train with fewer; none: the
                            train does not produce it)
     /cases/                one table of every case, appended batch by batch: train (n,) (its
-                           index in /train), speed_kmh, seed, n_steps, seconds (n,) and per
-                           output <name> (n, 6, n_columns), each case's envelope (rows min, max,
-                           absmax, time_of_min, time_of_max, time_of_absmax; NaN in the columns
-                           its train does not have); with a history,
+                           index in /train), speed_kmh, seed, n_steps, seconds, x_head0 [m] (n,)
+                           and per output <name> (n, 6, n_columns), each case's envelope (rows
+                           min, max, absmax, time_of_min, time_of_max, time_of_absmax; NaN in the
+                           columns its train does not have; a vehicle output's counts the bridge
+                           only, vtsi.passage.PassageRunner.counted, and <name>_whole_run holds
+                           its envelope over the whole run); with a history,
                            histories/<train>/<speed>kmh/<seed>/<name>_time (m,) [s] and
                            <name>_values (m, n_columns) (attrs response, units, kind, cutoff_hz
                            as /outputs; group attrs train, speed_kmh, seed, x_head0, n_steps)
@@ -73,7 +76,7 @@ from vtsi.version import __version__
 from vtsi.codes.en1991_2 import determinant_length
 from vtsi.errors import SweepError, as_number
 from vtsi.models.catalogue import train_names
-from vtsi.passage import en_cutoff_hz
+from vtsi.passage import body_runout, en_cutoff_hz
 
 try:                                    # POSIX
     import fcntl
@@ -84,13 +87,14 @@ try:
 except ImportError:
     msvcrt = None
 
-FORMAT, FORMAT_VERSION = "vtsi-sweep", 5
+FORMAT, FORMAT_VERSION = "vtsi-sweep", 6
 PARTIAL, STAGING, LOCK = ".partial", ".new", ".lock"   # suffixes of the files beside a results file
 IDENTITY_ORDER = ("settings", "outputs", "trains", "speeds_kmh", "seeds", "bridge", "train_fingerprints",
                   "bridge_fingerprint")
 """The order in which a resumed sweep's identity is compared with its file's: what a user sets
 first, the hashes last (so that a changed damping is named as such, not as a matrices' hash)."""
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
+WHOLE_RUN = "_whole_run"   # /cases/<vehicle output>_whole_run: its envelope over the whole run, not only the bridge
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
               "moment": ("min", "max"),
               "contact_force": ("min", "max"), "car_body_accel": ("absmax",)}
@@ -242,9 +246,15 @@ def _train_table(group, trains):
     group["axle_ptr"] = np.cumsum([0] + [len(t.wheel_offsets) for t in trains]).astype(np.int64)
     group["axle_offsets_m"] = np.concatenate([np.asarray(t.wheel_offsets, dtype=float) for t in trains])
     group["static_wheel_loads_N"] = np.concatenate([np.asarray(t.static_wheel_loads, dtype=float) for t in trains])
+    group["wheel_car"] = np.concatenate([np.asarray(t.wheel_car, dtype=np.int64) for t in trains])
     contact = [t.contact_wheels for t in trains]
     group["contact_ptr"] = np.cumsum([0] + [len(c) for c in contact]).astype(np.int64)
     group["contact_wheels"] = np.concatenate(contact)
+    runouts = [[body_runout(car) for car in t.cars if "body_y" in car.dof_names] for t in trains]
+    group["body_runout_s"] = np.array([max(r) if r else np.nan for r in runouts], dtype=float)
+    group["body_runout_s"].attrs["note"] = ("how long a car body's acceleration counts after its last wheel left a "
+                                            "deck (half a period of its lowest mode, wheels held; the longest of "
+                                            "the train's cars)")
 
 
 def quantities(outputs):
@@ -660,7 +670,8 @@ class ResultsWriter:
                                     ("speed_kmh", float, [r.speed_kmh for r in results]),
                                     ("seed", np.int64, [r.seed for r in results]),
                                     ("n_steps", np.int64, [r.n_steps for r in results]),
-                                    ("seconds", float, [r.seconds for r in results])):
+                                    ("seconds", float, [r.seconds for r in results]),
+                                    ("x_head0", float, [r.x_head0 for r in results])):
             _append(cases, name, values, dtype)
         stacked = {}
         for o in ident["outputs"]:                  # a row per case; NaN where its train has no column
@@ -673,6 +684,12 @@ class ResultsWriter:
                     rows[k, :, : r.envelopes[name].shape[1]] = r.envelopes[name]
             _append(cases, name, rows)
             stacked[name] = rows
+            if o["response"] in COLUMN_KIND:        # a vehicle output: its envelope over the whole run too
+                whole = np.full((n, len(ENVELOPE_ROWS), width), np.nan)
+                for k, r in enumerate(results):
+                    if name in r.whole_run:
+                        whole[k, :, : r.whole_run[name].shape[1]] = r.whole_run[name]
+                _append(cases, name + WHOLE_RUN, whole)
         described = {o["name"]: output_description(o["response"], o.get("cutoff_hz")) for o in ident["outputs"]}
         for r in results:
             for name, (time, values) in r.histories.items():
@@ -896,7 +913,8 @@ class SweepResults:
         with self._open() as f:
             g = f["cases"]
             out = {"attrs": {"train": train, "speed_kmh": float(g["speed_kmh"][row]), "seed": int(g["seed"][row]),
-                             "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row])}}
+                             "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row]),
+                             "x_head0": float(g["x_head0"][row])}}
             h = g.get(f"histories/{train_key(train)}/{_speed_seed(speed_kmh, seed)}")
             if h is not None and "x_head0" in h.attrs:
                 out["attrs"]["x_head0"] = float(h.attrs["x_head0"])
@@ -928,24 +946,44 @@ class SweepResults:
                                   & (g["seed"][()] == int(seed)))
         return int(hits[0]) if len(hits) else None
 
-    def column_envelopes(self, output):
+    def column_envelopes(self, output, whole_run=False):
         """Every case's envelope of ``output``: (n_train, n_speed, n_seed, 6, n_columns) (NaN
         where a case is missing or did not produce it; rows as in :data:`ENVELOPE_ROWS`) and the
-        columns (node tags; wheel or car indices: the columns of the train with most)."""
-        self._output(output)
+        columns (node tags; wheel or car indices: the columns of the train with most). A
+        vehicle output's envelope counts what happens on the bridge (a wheel on a deck, a car
+        body with a wheel on one and a run-out after: :meth:`vtsi.passage.PassageRunner.counted`);
+        ``whole_run=True`` gives its envelope over the whole run (ground before and after
+        included)."""
+        o = self._output(output)
+        if whole_run and o["response"] not in COLUMN_KIND:
+            raise SweepError(f"sweep results: output {output!r} ({o['response']}) has one envelope; a whole-run "
+                             "envelope is kept for contact forces and car bodies")
         with self._open() as f:
             columns = f["outputs"][output]["columns"][()]
             g = f["cases"]
             width = columns.shape[-1]
             out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds), len(ENVELOPE_ROWS), width), np.nan)
-            if output in g:
+            name = output + WHOLE_RUN if whole_run else output
+            if name in g:
                 speed = np.argmin(np.abs(self.speeds_kmh[None, :] - g["speed_kmh"][()][:, None]), axis=1)
                 seed = np.array([self.seeds.index(int(k)) for k in g["seed"][()]], dtype=np.int64)
-                out[g["train"][()], speed, seed] = g[output][()]
+                out[g["train"][()], speed, seed] = g[name][()]
         if columns.ndim == 2:          # a vehicle output: the columns of the train with most
             columns = columns[int(np.argmax(np.sum(columns >= 0, axis=1)))] if len(columns) else columns[:0]
             columns = columns[columns >= 0]
         return out, columns
+
+    def start_positions(self):
+        """(n_train, n_speed, n_seed) x_head0 [m] of every case, the train's head at t = 0 (wheel
+        i is at x_head0 + V t − axle_offsets_m[i]; NaN where a case is not in the file)."""
+        out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds)), np.nan)
+        with self._open() as f:
+            g = f["cases"]
+            if "train" in g:
+                speed = np.argmin(np.abs(self.speeds_kmh[None, :] - g["speed_kmh"][()][:, None]), axis=1)
+                seed = np.array([self.seeds.index(int(k)) for k in g["seed"][()]], dtype=np.int64)
+                out[g["train"][()], speed, seed] = g["x_head0"][()]
+        return out
 
     def static(self, output):
         """Static envelopes of the sweep's ``output`` (rows min, max): ``(trains (n_train, 2,
@@ -960,7 +998,8 @@ class SweepResults:
 
     def train_data(self, train):
         """The stored axle data of ``train``: dict with axle_offsets_m, static_wheel_loads_N,
-        contact_wheels, name, n_cars, n_dof, length_m, characteristic_length_m."""
+        wheel_car (each wheel's car, 0: the first), contact_wheels, name, n_cars, n_dof,
+        length_m, characteristic_length_m, body_runout_s (NaN: no car body)."""
         i = self.trains.index(self.train_name(train))
         with self._open() as f:
             g = f["trains"]
@@ -968,9 +1007,10 @@ class SweepResults:
             contact = slice(int(g["contact_ptr"][i]), int(g["contact_ptr"][i + 1]))
             name = g["name"][i]
             return {"axle_offsets_m": g["axle_offsets_m"][axles], "static_wheel_loads_N": g["static_wheel_loads_N"][axles],
-                    "contact_wheels": g["contact_wheels"][contact],
+                    "wheel_car": g["wheel_car"][axles], "contact_wheels": g["contact_wheels"][contact],
                     "name": name.decode() if isinstance(name, bytes) else str(name),
-                    **{k: g[k][i] for k in ("n_cars", "n_dof", "length_m", "characteristic_length_m")}}
+                    **{k: g[k][i] for k in ("n_cars", "n_dof", "length_m", "characteristic_length_m",
+                                            "body_runout_s")}}
 
     def bridge(self):
         """The stored bridge data: frequencies_hz, deck_frequencies_hz (n_decks, 3) and en_cutoff_hz
@@ -1009,7 +1049,8 @@ class SweepResults:
             if row is not None:
                 g = f["cases"]
                 attrs.update({"train": train, "speed_kmh": float(g["speed_kmh"][row]), "seed": int(g["seed"][row]),
-                              "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row])})
+                              "n_steps": int(g["n_steps"][row]), "seconds": float(g["seconds"][row]),
+                              "x_head0": float(g["x_head0"][row])})
             h = f.get(f"cases/histories/{key}")
             if isinstance(h, h5py.Group):
                 attrs.update({k: _plain(v) for k, v in h.attrs.items()})
@@ -1047,13 +1088,22 @@ class SweepResults:
             if c is None:
                 continue
             rows.append((q, f"{c['value']:.5g}", c["units"], c["train"], f"{c['speed_kmh']:g}",
-                         "smooth" if c["seed"] < 0 else str(c["seed"]), f"{c['where_kind']} {c['where']}",
-                         f"{c['time']:.3f}"))
+                         "smooth" if c["seed"] < 0 else str(c["seed"]), self._where_text(c), f"{c['time']:.3f}"))
         widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
         lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
         lines.insert(1, "  ".join("-" * w for w in widths))
         head = f"{self.n_done} of {self.n_cases} cases\n{bridge_text(self.bridge())}"
         return head + "\n" + "\n".join(lines)
+
+    def _where_text(self, critical):
+        """A critical case's place as people count it: 'node 6', 'wheel 3 of 32', 'car 2 of 8'
+        (the file's indices count from 0)."""
+        kind, where = critical["where_kind"], critical["where"]
+        if kind == "node":
+            return f"node {where}"
+        data = self.train_data(critical["train"])
+        count = len(data["contact_wheels"]) if kind == "contact wheel" else int(data["n_cars"])
+        return f"{'wheel' if kind == 'contact wheel' else kind} {where + 1} of {count}"
 
     def to_xarray(self):
         """The envelope tables as an ``xarray.Dataset`` (dims train, speed_kmh, seed; units in
