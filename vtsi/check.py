@@ -852,4 +852,3 @@ def _wheel_unloading(results, outputs, bridge, settings):
             loss.where = _place(results, name, i2, MIN, columns, whole_run=False)
         return rows + [loss]
     return []
-

@@ -439,21 +439,6 @@ def _describe(diff):
     return f"it differs in {where} ({show(here)} here, {show(there)} in the file){hint}"
 
 
-def _stored_train_difference(f, runner, names):
-    """The first train of ``names`` whose axles (offsets, static loads, dofs) differ from those
-    stored in /trains of ``f``, or None: the check of a file written before identities held the
-    trains' fingerprints (it cannot see a change of a car's matrices)."""
-    g = f["trains"]
-    ptr = g["axle_ptr"][()]
-    for i, name in enumerate(names):
-        train, rows = runner.train(name, 1.0), slice(int(ptr[i]), int(ptr[i + 1]))
-        if not (np.array_equal(g["axle_offsets_m"][rows], np.asarray(train.wheel_offsets, dtype=float))
-                and np.array_equal(g["static_wheel_loads_N"][rows], np.asarray(train.static_wheel_loads, dtype=float))
-                and int(g["n_dof"][i]) == train.n_dof):
-            return name
-    return None
-
-
 class ResultsWriter:
     """Creates (or reopens, to resume) a sweep's results file and writes batches of cases.
 
@@ -606,13 +591,6 @@ class ResultsWriter:
         """A SweepError unless the file ``path`` holds this sweep (the first difference named)."""
         with open_results(path) as f:
             version, stored = _header(f, path)
-            if stored is not None and "train_fingerprints" in self.identity \
-                    and "train_fingerprints" not in stored:     # written before identities kept them
-                stored = dict(stored, train_fingerprints=dict(self.identity["train_fingerprints"]))
-                if not _first_difference(self.identity, stored):   # else that difference is named
-                    changed = _stored_train_difference(f, self.runner, self.identity["trains"])
-                    if changed is not None:
-                        stored["train_fingerprints"][changed] = None
         if version != FORMAT_VERSION:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
                              "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
