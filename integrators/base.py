@@ -16,20 +16,44 @@ which weights the inertia of the step start) holds the mass's coefficients on kn
 load weights then sum to ``1 + Σ km`` (a constant load balances a constant acceleration), and so
 do the weights of the constraint forces of a coupled analysis (:attr:`Stage.mass_weight`).
 
-Contract of an integrator (checked by ``tests/test_integrator_contract.py``)
------------------------------------------------------------------------------
-1. ``name`` (str) and ``n_stages`` (int) class attributes; register with :func:`register`.
-2. ``stages(dt)`` returns ``n_stages`` :class:`Stage` objects; coefficient arrays have length
-   ``n_slots + 1`` with ``n_slots = 3 + 3 n_stages`` (``km[A] = 0``), and a stage only reads
-   slots already written.
+Contract of an integrator
+-------------------------
+Items 1 and 7 are checked by :func:`register`; items 2, 4, 6 and 8 by
+:meth:`Integrator.checked_stages` (:func:`check_stages`), which every analysis calls once when it
+prepares a Δt (not per step), so that a broken scheme is refused with an
+:class:`~vtsi.errors.AnalysisError` naming it instead of crashing the compiled loop or running to
+a wrong answer; ``tests/test_integrator_contract.py`` runs every registered integrator through
+all of them.
+
+1. ``name`` (non-empty str) and ``n_stages`` (int >= 1) class attributes; register with
+   :func:`register`.
+2. ``stages(dt)`` returns a list of ``n_stages`` fresh :class:`Stage` objects; their coefficient
+   arrays ``du, dv, ku, kv, km`` have shape ``(n_slots + 1,)`` with ``n_slots = 3 + 3 n_stages``,
+   finite, ``km[A] = 0``, and ``ku[A], kv[A] >= 0`` (``K̂`` positive definite). Stage ``s`` (from 0)
+   reads only slots already written: ``0 .. 2 + 3 s`` (the step start and the stages before it).
+   Each stage's ``load`` is a non-empty list of finite ``(θ, w)`` (θ may exceed 1: Wilson-θ) with
+   ``Σ w = 1 + Σ km`` (its :attr:`Stage.mass_weight`: a constant load ``P`` then balances the
+   constant acceleration ``M⁻¹P`` of a free body); the last stage's ``theta`` is 1.
 3. ``stability_limit(dt)``: ``None`` if unconditionally stable, else the largest stable
    ``ω Δt`` (undamped); the analysis compares it with ``ω_max Δt`` and refuses to run beyond it.
-4. ``explicit``: True when ``ku[A] = 0`` in every stage, so that ``K̂ = M + kv[A] C`` holds no
-   stiffness (``K̂ = M`` for an undamped model; central difference has ``kv[A] = Δt/2``).
+4. ``explicit``: True exactly when ``ku[A] = 0`` in every stage, so that ``K̂ = M + kv[A] C`` holds
+   no stiffness (``K̂ = M`` for an undamped model; central difference has ``kv[A] = Δt/2``).
 5. Parameters are validated in ``__init__`` with an :class:`~vtsi.errors.AnalysisError`
    naming the integrator, the parameter and its stable range.
-6. Each stage's ``force_weight`` ω lies in ``(0, 1 + Σ km]``: a coupled analysis weights the
-   stage's own constraint forces by ω and the step start's by ``1 + Σ km − ω`` (>= 0).
+6. Each stage's ``force_weight`` ω is finite and > 0: a coupled analysis weights the stage's own
+   constraint forces by ω (and divides by it to record them) and the step start's by
+   ``1 + Σ km − ω``. The built-in schemes interpolate (``0 < ω <= 1 + Σ km``); a scheme that
+   extrapolates has ``1 + Σ km − ω < 0`` (Wilson-θ: ω = 1, ``1 + Σ km = 1/θ``).
+   ``force_record_weights()`` has ``n_stages + 1`` finite entries summing to 1.
+7. A name is registered once: a second class under a registered name (a copy of a built-in not
+   renamed) is refused with a TypeError naming both classes; the same class defined again (a
+   script or notebook cell run twice) replaces the old definition.
+8. Consistency: one step, every stage included, keeps a structure at rest in static equilibrium
+   under a constant load (``u = K⁻¹P, v = a = 0``) and moves a body without stiffness at constant
+   velocity ``V`` under the constant damping force ``C V`` (``u_s = u_n + V θ_s Δt``, ``v_s = V``,
+   ``a_s = 0`` at each stage's end time ``θ_s Δt``), to roundoff. (Every scheme of the Newmark
+   family, generalized-α, Bathe, backward Euler pass; a wrong update coefficient, a mass or stiffness
+   weight that does not match the load weights, or a wrong stage end time does not.)
 
 From the stages alone the base class gives :meth:`Integrator.amplification` (the step's 3×3
 amplification matrix on an oscillator), :meth:`Integrator.spectral_radius` and
@@ -50,9 +74,24 @@ HIGH_OMEGA_DT = 1e4   # Ω = ωΔt where :attr:`Integrator.dissipative` reads th
 
 
 def register(cls):
+    """Class decorator: check contract items 1 and 7 and make the integrator known by name (to
+    :func:`make_integrator`, sweeps, coupled analyses and the ``integrator`` command).
+
+    Raises TypeError for a missing or invalid ``name`` / ``n_stages``, or a name that another
+    class has registered (both classes named)."""
     for attribute in ("name", "n_stages"):
         if getattr(cls, attribute, None) is None:
             raise TypeError(f"integrator {cls.__name__}: missing class attribute {attribute!r}")
+    if not isinstance(cls.name, str) or not cls.name:
+        raise TypeError(f"integrator {cls.__name__}: name must be a non-empty str, got {cls.name!r}")
+    if isinstance(cls.n_stages, bool) or not isinstance(cls.n_stages, (int, np.integer)) or cls.n_stages < 1:
+        raise TypeError(f"integrator {cls.__name__}: n_stages must be an int >= 1 (the stages of a step), "
+                        f"got {cls.n_stages!r}")
+    known = INTEGRATORS.get(cls.name)
+    redefined = known is not None and (known.__module__, known.__qualname__) == (cls.__module__, cls.__qualname__)
+    if known is not None and known is not cls and not redefined:   # re-running a script redefines its class
+        raise TypeError(f"integrator name {cls.name!r} of {cls.__module__}.{cls.__qualname__} is already registered "
+                        f"by {known.__module__}.{known.__qualname__}; give the new class a name of its own")
     INTEGRATORS[cls.name] = cls
     return cls
 
@@ -161,6 +200,16 @@ class Integrator:
     def stages(self, dt):
         raise NotImplementedError
 
+    def checked_stages(self, dt):
+        """:meth:`stages` of ``dt`` [s] checked against the contract (items 2, 4, 6, 8 of the module
+        docstring, :func:`check_stages`): what an analysis prepares its stepping from, once per
+        Δt (the check costs about as much as :meth:`amplification`, nothing per step).
+
+        Raises AnalysisError naming the integrator (its repr), the stage and what is wrong."""
+        stages = self.stages(dt)
+        check_stages(self, stages, dt)
+        return stages
+
     def force_record_weights(self):
         """Weights (n_stages + 1) of λ_n and of each stage's λ in the contact force an analysis
         records for a step. Default: the last stage's. A scheme whose velocity update mixes the
@@ -179,16 +228,10 @@ class Integrator:
         the stages run on one column per initial value, stage s solving
         ``(1 + c kv[A] + k ku[A]) a_s = −Σ km[j] X_j − c Σ kv[j] X_j − k Σ ku[j] X_j`` (k = ω², c = 2ξω)."""
         omega = omega_dt / dt
-        k, c = omega ** 2, 2.0 * xi * omega
-        n = self.n_slots
-        bank = np.zeros((n, 3))
+        bank = np.zeros((self.n_slots, 3))
         bank[:3] = np.eye(3)
-        for s, st in enumerate(self.stages(dt)):
-            a = -(st.km[:n] @ bank + c * st.kv[:n] @ bank + k * st.ku[:n] @ bank) / (1.0 + c * st.kv[n] + k * st.ku[n])
-            bank[3 + 3 * s] = st.du[:n] @ bank + st.du[n] * a
-            bank[4 + 3 * s] = st.dv[:n] @ bank + st.dv[n] * a
-            bank[5 + 3 * s] = a
-        return bank[n - 3:]
+        bank = oscillator_step(self.checked_stages(dt), bank, omega ** 2, 2.0 * xi * omega, np.zeros(3))
+        return bank[self.n_slots - 3:]
 
     def spectral_radius(self, omega_dt, xi=0.0):
         """The largest |eigenvalue| of :meth:`amplification` at Ω = ``omega_dt``."""
@@ -206,6 +249,135 @@ class Integrator:
     def __repr__(self):
         params = ", ".join(f"{k}={v:.15g}" for k, v in vars(self).items() if isinstance(v, float) and k[0] != "_")
         return f"{type(self).__name__}({params})"
+
+
+COEFFICIENTS = ("du", "dv", "ku", "kv", "km")
+CONSISTENCY_TOL = 1e-8    # relative error allowed in the consistency check (roundoff: ~1e-15)
+
+
+def oscillator_step(stages, bank, k, c, load):
+    """One step of ``ü + c u̇ + k u = p`` (mass 1) through ``stages``, on the columns of ``bank``
+    (n_slots, n_col) whose slots 0..2 hold ``u_n, v_n, a_n``; ``load`` (n_col,) the constant load
+    ``p`` of each column. Fills each stage's slots ``3 + 3 s ..`` (the last stage's are the state
+    at ``t_n + Δt``) and returns ``bank``."""
+    n = bank.shape[0]
+    for s, st in enumerate(stages):
+        weight = sum(w for _, w in st.load)
+        a = (weight * load - st.km[:n] @ bank - c * (st.kv[:n] @ bank) - k * (st.ku[:n] @ bank)) \
+            / (1.0 + c * st.kv[n] + k * st.ku[n])
+        bank[3 + 3 * s] = st.du[:n] @ bank + st.du[n] * a
+        bank[4 + 3 * s] = st.dv[:n] @ bank + st.dv[n] * a
+        bank[5 + 3 * s] = a
+    return bank
+
+
+def check_stages(integrator, stages, dt):
+    """Raise an AnalysisError unless ``stages`` (``integrator.stages(dt)``) keep the contract of
+    the module docstring (items 2, 4, 6, 8), in that order: count and types, coefficient shapes
+    and finite values (array-likes are kept as float64 arrays), slots read only once written,
+    ``km[A] = 0``, ``ku[A], kv[A] >= 0``, the ``explicit`` flag, load points and their weights
+    (``Σ w = 1 + Σ km``), the last stage's ``theta`` = 1, ``force_weight`` > 0, the record weights,
+    then consistency (rest under a constant load, constant velocity). The message names the
+    integrator by its repr, the stage and what is wrong."""
+    who = f"integrator {integrator!r}" + ("" if type(integrator).__name__ == integrator.name
+                                          else f" (name {integrator.name!r})")
+    n_stages, A = integrator.n_stages, integrator.n_slots
+    if not isinstance(stages, (list, tuple)):
+        raise AnalysisError(f"{who}: stages(dt={dt:g}) returned {type(stages).__name__}, not a list of Stage")
+    if len(stages) != n_stages:
+        raise AnalysisError(f"{who}: declares n_stages = {n_stages} but stages(dt={dt:g}) returned "
+                            f"{len(stages)} stage(s); n_stages must count them (it sizes the state bank)")
+    for s, st in enumerate(stages):
+        where = f"{who}: stage {s + 1} of {n_stages}"
+        if not isinstance(st, Stage):
+            raise AnalysisError(f"{where} is a {type(st).__name__}, not a vtsi.integrators.Stage")
+        known = 3 + 3 * s          # slots 0 .. known - 1 are written when the stage runs
+        for name in COEFFICIENTS:
+            try:
+                c = np.asarray(getattr(st, name), dtype=np.float64)
+            except (TypeError, ValueError):
+                raise AnalysisError(f"{where}: {name} is not an array of numbers: {getattr(st, name)!r}") from None
+            if c.shape != (A + 1,):
+                raise AnalysisError(f"{where}: {name} has shape {c.shape}; it needs ({A + 1},): n_slots + 1 with "
+                                    f"n_slots = 3 + 3 n_stages = {A} (slots 0..{A - 1}, then the unknown a_s's "
+                                    "coefficient; Integrator.coefficients() builds one)")
+            if not np.all(np.isfinite(c)):
+                raise AnalysisError(f"{where}: {name} holds NaN or inf: {c}")
+            late = np.flatnonzero(c[known:A])
+            if len(late):
+                slot = known + int(late[0])
+                raise AnalysisError(f"{where}: {name} reads slot {slot} ({_slot_name(slot)}), not written yet; "
+                                    f"stage {s + 1} reads only slots 0..{known - 1} (the step start"
+                                    + (" and the stages before it)" if s else ")"))
+            setattr(st, name, c)
+        if st.km[A] != 0.0:
+            raise AnalysisError(f"{where}: km[{A}] = {st.km[A]:g}; the unknown's mass coefficient is 1, "
+                                "km[A] must be 0")
+        if st.ku[A] < 0.0 or st.kv[A] < 0.0:
+            raise AnalysisError(f"{where}: ku[A] = {st.ku[A]:g}, kv[A] = {st.kv[A]:g}; both must be >= 0 (the "
+                                "effective matrix M + kv[A] C + ku[A] K is then positive definite)")
+        try:
+            load = [(float(theta), float(w)) for theta, w in st.load]
+        except (TypeError, ValueError):
+            raise AnalysisError(f"{where}: load must be a list of (theta, weight) number pairs, "
+                                f"got {st.load!r}") from None
+        if not load or not np.all(np.isfinite(load)):
+            raise AnalysisError(f"{where}: load must be a non-empty list of finite (theta, weight) pairs, "
+                                f"got {st.load!r}")
+        total, mass = sum(w for _, w in load), st.mass_weight
+        if abs(total - mass) > 1e-9 * max(1.0, abs(mass)):
+            raise AnalysisError(f"{where}: its load weights sum to {total:.10g}, its mass weight 1 + sum(km) is "
+                                f"{mass:.10g}; they must be equal (a constant load P then balances the constant "
+                                "acceleration M^-1 P; otherwise every load is scaled by their ratio)")
+        if not np.isfinite(float(st.theta)) or (s == n_stages - 1 and abs(st.theta - 1.0) > 1e-12):
+            raise AnalysisError(f"{where}: theta = {st.theta!r}; the end time of a stage as a fraction of the step "
+                                "must be finite, and 1 for the last stage (it ends the step)")
+        if not (np.isfinite(float(st.force_weight)) and st.force_weight > 0.0):
+            raise AnalysisError(f"{where}: force_weight = {st.force_weight!r}; it must be finite and > 0 (the "
+                                "weight of the stage's own constraint forces in its equation: 1 for Newmark, "
+                                "alpha for HHT; a coupled analysis divides by it)")
+    explicit = all(st.ku[A] == 0.0 for st in stages)
+    if bool(integrator.explicit) != explicit:
+        raise AnalysisError(f"{who}: explicit = {integrator.explicit!r}, but ku[A] is "
+                            + ("0 in every stage (K̂ holds no stiffness: set explicit = True)" if explicit else
+                               "nonzero in a stage (K̂ holds stiffness: set explicit = False)"))
+    record = np.asarray(integrator.force_record_weights(), dtype=np.float64)
+    if record.shape != (n_stages + 1,) or not np.all(np.isfinite(record)) or abs(record.sum() - 1.0) > 1e-9:
+        raise AnalysisError(f"{who}: force_record_weights() = {record}; it needs n_stages + 1 = {n_stages + 1} "
+                            "finite weights (lambda_n, then each stage's) summing to 1")
+    _check_consistency(who, stages, A, dt)
+
+
+def _slot_name(slot):
+    """``'u of stage 2'`` for slot 6 (``'u_n'`` .. for 0..2)."""
+    what = "uva"[slot % 3]
+    return f"{what}_n" if slot < 3 else f"{what} of stage {slot // 3}"
+
+
+def _check_consistency(who, stages, n_slots, dt):
+    """Contract item 8 on the oscillator ``ü + c u̇ + k u = p`` with ``c = 1/Δt``: each stage must
+    keep ``u = 1`` at rest under ``p = k = 1/Δt²`` and move ``u = V t`` (``V = 1/Δt``) under
+    ``p = c V`` with ``k = 0`` (values of order 1 in units of Δt)."""
+    c = 1.0 / dt
+    cases = (("the static equilibrium u = P/K, v = a = 0 under a constant load P", 1.0 / dt ** 2, (1.0, 0.0)),
+             ("the constant-velocity motion u = V t of a body without stiffness under the damping force P = C V",
+              0.0, (0.0, 1.0 / dt)))
+    for motion, k, (u0, v0) in cases:
+        bank = np.zeros((n_slots, 1))
+        bank[:2, 0] = u0, v0
+        load = np.array([k * u0 + c * v0])
+        oscillator_step(stages, bank, k, c, load)
+        for s, st in enumerate(stages):
+            expected = (u0 + v0 * st.theta * dt, v0, 0.0)
+            scale = (1.0, dt, dt * dt)
+            for q, name in enumerate(("u", "v", "a")):
+                got = bank[3 + 3 * s + q, 0]
+                if not abs(got - expected[q]) * scale[q] <= CONSISTENCY_TOL:
+                    raise AnalysisError(
+                        f"{who}: stage {s + 1} of {len(stages)} does not keep {motion} (dt = {dt:g} s): its {name} is "
+                        f"{got:.10g} where the motion has {expected[q]:.10g} at the stage's end time theta = "
+                        f"{st.theta:g}; check its update coefficients du, dv, its equation's ku, kv, km against "
+                        "its load weights, and its theta")
 
 
 def number(integrator, name, value):

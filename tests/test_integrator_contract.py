@@ -59,12 +59,26 @@ def test_stages_have_the_declared_shape(integrator, dt):
 def test_force_weights(integrator, dt):
     """Item 6: ``mass_weight = 1 + Σ km`` (exactly 1.0 when km = 0, so that the schemes without
     km weight the train's constant load and the previous constraint forces as before) and
-    ``0 < force_weight <= mass_weight``."""
+    ``force_weight > 0``; the built-in schemes interpolate the constraint forces, so also
+    ``force_weight <= mass_weight`` (a user's Wilson-θ extrapolates: tests/test_user_integrators.py)."""
     for st in integrator.stages(dt):
         assert st.mass_weight == 1.0 + st.km.sum()
         if not np.any(st.km):
             assert st.mass_weight == 1.0
         assert 0.0 < st.force_weight <= st.mass_weight * (1.0 + 1e-14)
+
+
+@pytest.mark.parametrize("dt", STEPS + (1e-6, 30.0))
+def test_stages_pass_the_check_every_analysis_makes(integrator, dt):
+    """Items 2, 4, 6, 8 as :meth:`Integrator.checked_stages` checks them when an analysis prepares
+    a Δt (counts, shapes, slots, load and force weights, consistency): every registered scheme
+    passes, at small and large steps, and the check leaves the stages as :meth:`stages` gives
+    them."""
+    checked = integrator.checked_stages(dt)
+    for st, plain in zip(checked, integrator.stages(dt)):
+        for name in ("du", "dv", "ku", "kv", "km"):
+            assert np.array_equal(getattr(st, name), getattr(plain, name))
+        assert (st.load, st.theta, st.force_weight) == (plain.load, plain.theta, plain.force_weight)
 
 
 @pytest.mark.parametrize("dt", STEPS)
@@ -144,6 +158,16 @@ def test_selection_by_name_class_and_instance(required_args):
                 make_integrator(name)
     with pytest.raises(AnalysisError, match="known: " + ", ".join(sorted(INTEGRATORS))):
         make_integrator("NoSuchScheme")
+
+
+def test_register_refuses_a_name_registered_by_another_class():
+    """Item 7 (as the element registry): a second class under a registered name is refused."""
+    for name, cls in INTEGRATORS.items():
+        clash = type("Clash", (cls,), {"name": name})
+        with pytest.raises(TypeError, match=f"integrator name '{name}' of .*Clash is already registered by "
+                                            f"{cls.__module__}.{cls.__qualname__}"):
+            register(clash)
+        assert INTEGRATORS[name] is cls
 
 
 def test_register_requires_name_and_stages():

@@ -471,6 +471,15 @@ class TransientAnalysis:
     the dofs that can move are integrated (:func:`moving_dofs`, listed in ``active`` after a
     run): a component of the model with no load and no state stays exactly at rest, e.g. the
     axial dofs of a straight beam under vertical loads; its recorders read 0.
+
+    The first step starts from the model's committed state: at rest, a₀ = 0, not the equilibrium
+    acceleration M⁻¹(P(t₀) − C v₀ − K u₀) (OpenSees's convention too, pinned by the OpenSees
+    cross-checks). A load already present at t₀ (a ``Constant`` series) then makes the response
+    lag by about half a step. To start in static equilibrium, run ``StaticAnalysis(model).run(1)``
+    first (then u₀ = K⁻¹P and a₀ = 0 is exact; it advances the time by 1: set
+    ``domain_state(model).time`` back if the series depend on time); for a sudden load, start its
+    series at 0, or set ``domain_state(model).a`` (full dofs) before :meth:`run`
+    (docs/commands.md, "The initial acceleration").
     """
 
     def __init__(self, model, integrator="Newmark", dt=None, recorders=(), divergence_limit=1e8,

@@ -211,7 +211,7 @@ class CoupledAnalysis:
             bridge = self.bridge_cache.get(asm, stage_key(integ, dt, track, active, self_weight),
                                            lambda: FEStages(asm, active, integ, dt, track, self_weight))
         self.stages = bridge
-        stages = integ.stages(dt)
+        stages = integ.checked_stages(dt)       # contract: force_weight > 0 (the loop divides by it), ...
         A = integ.n_slots
         fac_t, tflex, response = [], [], []
         kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0

@@ -134,7 +134,7 @@ class BridgeStages:
     def _stepping(self, integrator, dt, K, C, M, factors):
         """Set fac, ops, weights, band from the stage factors and K, C, M (sparse) on the coordinates."""
         kd = factors[0].shape[1] - 1
-        self._stepping_rows(integrator.stages(dt), factors, *(band_rows(a, kd) for a in (K, C, M)))
+        self._stepping_rows(integrator.checked_stages(dt), factors, *(band_rows(a, kd) for a in (K, C, M)))
 
     def _stepping_rows(self, stages, factors, k_rows, c_rows, m_rows):
         """:meth:`_stepping` from the integrator's ``stages`` and the band rows ``(n, 2 kd + 1)`` of
@@ -187,7 +187,7 @@ class FEStages(BridgeStages):
         cause = (f"{integrator.name} is explicit, so every free dof needs mass and that one has none "
                  "(give it mass, fix it, or use an implicit integrator: Newmark, HHT, Bathe)") if integrator.explicit else None
         factors = []
-        stages = integrator.stages(dt)
+        stages = integrator.checked_stages(dt)       # the contract, once: a broken scheme is named here
         for s, st in enumerate(stages):
             what = f"effective matrix of {integrator.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
             factors.append(factor_stage(assembly, active, st.kv[A], st.ku[A], what, cause))

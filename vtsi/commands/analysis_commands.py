@@ -8,7 +8,8 @@ import numpy as np
 from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors
 from vtsi.analysis import eigen as _eigen
 from vtsi.errors import AnalysisError, CommandError, ModelError
-from vtsi.integrators import HHT, TRBDF2, Bathe, CentralDifference, GeneralizedAlpha, Newmark
+from vtsi.integrators import HHT, TRBDF2, Bathe, CentralDifference, GeneralizedAlpha, Newmark, make_integrator
+from vtsi.integrators import INTEGRATORS as REGISTERED
 from vtsi.modal_bridge import ModalBridge
 from vtsi.recorders.node import REACTIONS
 
@@ -34,6 +35,8 @@ ALGORITHMS = {   # name -> accepted flags (a linear model is solved exactly in o
     "Broyden": (),
 }
 INTEGRATORS = ("LoadControl", "Newmark", "HHT", "GeneralizedAlpha", "CentralDifference", "TRBDF2", "Bathe")
+# ^ the names with OpenSees's (and Bathe's) argument conventions; any other registered integrator
+#   (vtsi.integrators.register) is built by name from its positional numbers
 ANALYSES = ("Static", "Transient")
 EIGEN_SOLVERS = ("-genBandArpack", "-fullGenLapack")
 
@@ -210,11 +213,21 @@ class AnalysisCommands(SessionBase):
 
     def integrator(self, *args):
         """``integrator('LoadControl', dλ, [numIter, minλ, maxλ])`` (:class:`LoadControl`), ``('Newmark', gamma, beta)``, ``('HHT', alpha, [gamma,
-        beta])``, ``('GeneralizedAlpha', alphaM, alphaF, [beta, gamma])`` (OpenSees's order), ``('CentralDifference')``, ``('TRBDF2')`` or vtsi's ``('Bathe', [gamma])``."""
+        beta])``, ``('GeneralizedAlpha', alphaM, alphaF, [beta, gamma])`` (OpenSees's order), ``('CentralDifference')``, ``('TRBDF2')`` or vtsi's ``('Bathe', [gamma])``;
+        any other integrator registered with :func:`vtsi.integrators.register` by its name and
+        positional numbers, ``('WilsonTheta', 1.4)`` = ``WilsonTheta(1.4)``."""
         a = Args("integrator", args)
-        kind = a.word("integrator", INTEGRATORS)
+        user = sorted(set(REGISTERED) - set(INTEGRATORS))
+        kind = a.word("integrator", INTEGRATORS + tuple(user))
         name = f"integrator {kind}"
         a.command = name
+        if kind in user:
+            params = a.floats("parameter")
+            a.done()
+            self._transient_integrator = (kind, make_integrator(kind, *params))   # its own checks: AnalysisError
+            self._transient = None
+            self._trbdf2 = None
+            return
         if kind == "LoadControl":
             d_lambda = a.float("load increment")
             if not a.more():

@@ -34,9 +34,19 @@ Contract of a response subclass (what :class:`Recorder` needs to do the rest)
 -----------------------------------------------------------------------------
 a. ``requests(assembly)`` as above.
 b. ``prepare(assembly, model)``: resolve names to indices (once per run); return the column
-   description: a dict with ``'units'`` (list of str, one per column) and ``'columns'`` (dict of
-   name -> array ``(n_columns,)``: e.g. ``node``, ``dof``, ``dof_name``), plus ``'quantity'``.
-c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of the kept steps.
+   description, a dict with
+
+   - ``'units'``: list of str, one per column (their number is ``n_columns``);
+   - ``'columns'``: dict of name -> array ``(n_columns,)`` labelling the columns (e.g. ``node``,
+     ``dof``, ``dof_name``; may be empty);
+   - ``'quantity'``: str, what the values are (``'displacement'``);
+   - ``'response'`` (optional): str, the response's short name (``'disp'``); default the
+     recorder's ``response`` attribute if it has one, else ``'quantity'``.
+
+   :meth:`Recorder.start` checks it (ModelError naming the recorder and the key) before any
+   sink sees it, and completes ``n_columns``, ``response`` and ``attrs``.
+c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of the kept steps
+   (checked once per chunk: another shape is a ModelError naming the recorder).
 """
 import numpy as np
 
@@ -93,16 +103,15 @@ class Recorder:
         self.last_time = None       # [s] the last recorded step's time
 
     def __repr__(self):
-        what = ", ".join(f"{k}={getattr(self, k)!r}" for k in ("nodes", "elements", "dofs", "response")
-                         if hasattr(self, k))
-        return f"{type(self).__name__}({what}, sink={type(self.sink).__name__})"
+        what = [f"{k}={getattr(self, k)!r}" for k in ("nodes", "elements", "dofs", "response") if hasattr(self, k)]
+        return f"{type(self).__name__}({', '.join(what + [f'sink={type(self.sink).__name__}'])})"
 
     # -- analysis-facing contract ----------------------------------------------------------
     def requests(self, assembly):
         raise NotImplementedError
 
     def start(self, assembly, model, info=None):
-        layout = self.prepare(assembly, model)
+        layout = self._checked_layout(self.prepare(assembly, model))
         n_columns = len(layout["units"])
         if self._layout is not None and self._layout["n_columns"] != n_columns:
             raise ModelError(f"{self.name}: the model now gives {n_columns} columns, the record "
@@ -126,12 +135,40 @@ class Recorder:
         times = np.ascontiguousarray(times, dtype=np.float64)
         self.last_time = float(times[-1]) if len(times) else self.last_time
         values = np.ascontiguousarray(self.compute(times, columns, assembly), dtype=np.float64)
+        if values.shape != (len(times), self._layout["n_columns"]):
+            raise ModelError(f"{self!r}: compute() returned values of shape {values.shape} for {len(times)} steps; "
+                             f"prepare() declared {self._layout['n_columns']} columns (one unit each), so "
+                             f"({len(times)}, {self._layout['n_columns']}) was expected")
         if self.envelope is not None:
             self.envelope.update(times, values)
         self.sink.write(times, values if self.history else None, self.envelope)
 
     def close(self):
         self.sink.close(self.envelope)
+
+    def _checked_layout(self, layout):
+        """``prepare()``'s column description checked against contract item (b), ``response``
+        defaulted; a ModelError naming the recorder and the key otherwise."""
+        who = f"{self!r}: prepare()"
+        if not isinstance(layout, dict):
+            raise ModelError(f"{who} returned {type(layout).__name__}; it must return a dict with 'units', "
+                             "'columns', 'quantity' (and optionally 'response')")
+        missing = [key for key in ("units", "columns", "quantity") if key not in layout]
+        if missing:
+            raise ModelError(f"{who} returned no {', '.join(repr(k) for k in missing)}; the column description "
+                             "needs 'units' (one str per column), 'columns' (name -> array per column) and "
+                             "'quantity' (str), 'response' (str) optional")
+        units, columns = layout["units"], layout["columns"]
+        if isinstance(units, str) or not all(isinstance(u, str) for u in units):
+            raise ModelError(f"{who}: 'units' must be a list of str, one per column, got {units!r}")
+        if not isinstance(columns, dict):
+            raise ModelError(f"{who}: 'columns' must be a dict of name -> array (n_columns,), got {columns!r}")
+        for name, labels in columns.items():
+            if np.shape(labels) != (len(units),):
+                raise ModelError(f"{who}: 'columns'[{name!r}] has shape {np.shape(labels)}; 'units' gives "
+                                 f"{len(units)} columns")
+        layout.setdefault("response", str(getattr(self, "response", layout["quantity"])))
+        return layout
 
     # -- response-facing contract (override) -----------------------------------------------
     def prepare(self, assembly, model):

@@ -7,7 +7,9 @@ Contract of a sink
 2. ``open(layout, recorder)``: called at every analysis start. The first call creates the
    storage; later calls continue the same record. ``layout`` holds ``n_columns``, ``units``
    (one str per column), ``quantity``, ``response``, ``columns`` (name -> array per column)
-   and ``attrs`` (model and analysis metadata).
+   and ``attrs`` (model and analysis metadata), all present: :meth:`Recorder.start
+   <vtsi.recorders.base.Recorder.start>` checks the response's description and fills in
+   ``n_columns``, ``attrs`` and a missing ``response``.
 3. ``write(times, values, envelope)``: after every chunk with at least one recorded step;
    ``values (n, n_columns)`` or None (envelope-only recorder), ``envelope`` or None.
 4. ``close(envelope)``: at the end of every run, also a failed one; the storage stays valid.
