@@ -58,7 +58,6 @@ import numpy as np
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
-from vtsi.models.irregularity import WAVELENGTH_BAND
 from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 deck_ranges, span_decks, x_tolerance)
@@ -702,7 +701,7 @@ def _rail_step_note(results):
     if f is None or not dt > 0 or 1.0 / (f * dt) >= STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9):
         return ""
     return (f"; not converged in dt: dt = {1e3 * dt:g} ms steps the rail's shortest wavelength "
-            f"({WAVELENGTH_BAND[0]:g} m) at the top speed, {top:g} km/h ({f:.3g} Hz), {1.0 / (f * dt):.3g} times a "
+            f"({top / 3.6 / f:g} m) at the top speed, {top:g} km/h ({f:.3g} Hz), {1.0 / (f * dt):.3g} times a "
             f"period, fewer than {STEPS_PER_CUTOFF_PERIOD} (an ICE3 at 300 km/h over a 20 m span, 'german-high' rail: "
             "Delta Q / Q 0.094 at 10 ms, 0.149 at 1.8 ms, 0.154 at 0.25 ms; on 'fra-1' a wheel lifted at 1.8 ms and "
             f"finer, none at 2 ms); take dt <= {1e3 * dt_resolving(f):g} ms (the default)")
