@@ -5,7 +5,12 @@ slender members and not for deep ones (short spans, transfer girders, pier heads
 adds a shear-flexible beam as a new element type: subclass :class:`vtsi.elements.ElementType`,
 declare the parameters, write the local stiffness as a numba kernel and register the class.
 ``Model.element('timoshenkoBeam', ...)`` then works everywhere, batched and assembled like the
-shipped elements, and the contract tests (``tests/test_element_contract.py``) check it too.
+shipped elements, and the contract tests (``tests/test_element_contract.py``) check it too (it
+has a sample there; a type without one is skipped, not failed). Every build checks what the
+kernels return, once per type (``elements/base.py``, "What is checked where"): numpy arrays
+``(n_el, 6, 6)`` of real numbers, finite, symmetric, no negative diagonal entry, mass and damping
+positive semi-definite; anything else is a ModelError naming the type and the element. The
+kernels run once per build: element recorders reuse the matrices.
 Declaring ``command_args``/``command_options`` gives it an ``element`` command in
 :mod:`vtsi.opensees` and in Tcl files (``element timoshenkoBeam 1 1 2 $A $E $I $G $kappa -mass
 $rho``); the script builds a cantilever that way. (vtsi also ships OpenSees's own
@@ -30,6 +35,11 @@ elements against the closed forms (no rotary inertia, mode n, ``k = nπ/L``, mas
 
 Slender beam: both agree (shear adds ~0.05 %). Deep beam: the Timoshenko beam is softer and
 its frequency lower; the Euler-Bernoulli beam overestimates it.
+
+On a track (``vtsi.track.Track``, the wheels of a train) this beam is taken like any 2-node
+(ux, uy, rz) element, but the wheel rows are the Euler-Bernoulli cubic Hermite interpolation of
+its end dofs, whatever the element: between the nodes a wheel sees that interpolation, not the
+Timoshenko field (refine the mesh under the track).
 
 Run: ``python examples/custom_element.py``.
 
