@@ -722,6 +722,26 @@ class _Report:
             return ()
         return (ends.min() - x_head0 + offsets.min()) / V - before, (ends.max() - x_head0 + offsets.max()) / V + after
 
+    @staticmethod
+    def _one_among_many(ax, time, values, one, colour, label, counted):
+        """Columns of ``values`` faint, column ``one`` in black with ``label``, and the dotted
+        times ``counted`` between which it counts in the check."""
+        for j in range(values.shape[1]):
+            if j != one:
+                ax.plot(time, values[:, j], color=colour, lw=0.5, alpha=0.35)
+        if values.size:
+            ax.plot(time, values[:, one], color="black", lw=1.2, label=label)
+            for k, t in enumerate(counted):
+                ax.axvline(t, color="black", ls=":", lw=1.0, label="while it counts" if k == 0 else None)
+
+    def _limit_lines(self, ax, criterion):
+        """± the limit [m/s²] of the check's row ``criterion``, dashed, when it has one."""
+        row = self.row(criterion)
+        if row is not None and not math.isnan(row.limit):
+            for sign in (1, -1):
+                ax.axhline(sign * row.limit, color=LIMIT_COLOUR, ls="--", lw=1.5,
+                           label=f"±limit {_num(row.limit)} m/s²" if sign > 0 else None)
+
     def history_png(self, train, speed, seed, kinds, marked=None):
         h = self.results.history(train, speed, seed)
         marked = marked if marked is not None else self.history_marks(train, speed, seed, kinds)
@@ -747,42 +767,23 @@ class _Report:
                                     lw=1.3 if governing else 1.0, ls="-" if governing else ls, label=label,
                                     zorder=3 if governing else 2)
                     if kind == "accel":
-                        row = self.row("deck_acceleration")
-                        if row is not None and not math.isnan(row.limit):
-                            for sign in (1, -1):
-                                ax.axhline(sign * row.limit, color=LIMIT_COLOUR, ls="--", lw=1.5,
-                                           label=f"±limit {_num(row.limit)} m/s²" if sign > 0 else None)
+                        self._limit_lines(ax, "deck_acceleration")
                         ax.set_ylabel("acceleration [m/s²]")
                     else:
                         ax.set_ylabel("deflection [mm]\n(positive up)")
                 elif kind == "contact_force":
                     forces = values / 1e3
                     worst, label = marked.get(kind, (0, "wheel 1"))
-                    for j in range(forces.shape[1]):
-                        if j != worst:
-                            ax.plot(time, forces[:, j], color=colour, lw=0.5, alpha=0.35)
-                    if forces.size:
-                        ax.plot(time, forces[:, worst], color="black", lw=1.2, label=f"{label}\n(lowest on the bridge)")
-                        for k, t in enumerate(self._counted(kind, train, speed, x0, int(np.asarray(columns)[worst]))):
-                            ax.axvline(t, color="black", ls=":", lw=1.0, label="while it counts" if k == 0 else None)
+                    self._one_among_many(ax, time, forces, worst, colour, f"{label}\n(lowest on the bridge)",
+                                         self._counted(kind, train, speed, x0, int(np.asarray(columns)[worst])))
                     if forces.size and np.nanmin(forces) < 0.5 * np.nanmedian(forces):
                         ax.axhline(0.0, color=LIMIT_COLOUR, lw=1, ls="--", label="lift-off (0 kN)")
                     ax.set_ylabel("contact force [kN]\n(compression +)")
                 else:
                     worst, label = marked.get(kind, (0, "car 1"))
-                    for j in range(values.shape[1]):
-                        if j != worst:
-                            ax.plot(time, values[:, j], color=colour, lw=0.5, alpha=0.35)
-                    if values.size:
-                        ax.plot(time, values[:, worst], color="black", lw=1.2,
-                                label=f"{label}\n(largest on the bridge)")
-                        for k, t in enumerate(self._counted(kind, train, speed, x0, int(np.asarray(columns)[worst]))):
-                            ax.axvline(t, color="black", ls=":", lw=1.0, label="while it counts" if k == 0 else None)
-                    row = self.row("car_body_acceleration")
-                    if row is not None and not math.isnan(row.limit):
-                        for sign in (1, -1):
-                            ax.axhline(sign * row.limit, color=LIMIT_COLOUR, ls="--", lw=1.5,
-                                       label=f"±limit {_num(row.limit)} m/s²" if sign > 0 else None)
+                    self._one_among_many(ax, time, values, worst, colour, f"{label}\n(largest on the bridge)",
+                                         self._counted(kind, train, speed, x0, int(np.asarray(columns)[worst])))
+                    self._limit_lines(ax, "car_body_acceleration")
                     ax.set_ylabel("car body\nacceleration [m/s²]")
                 _legend(ax)
             axes[-1].set_xlabel("time [s]")
