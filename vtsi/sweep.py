@@ -38,7 +38,7 @@ from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
 from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
-from vtsi.sweep_results import ResultsWriter, canonical_train_name, case_key
+from vtsi.sweep_results import ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index
 from vtsi.train import TrainSubdomain
 from vtsi.vehicle import MAX_TRAIN_SPEED
 
@@ -453,16 +453,15 @@ class Sweep:
                 value = math.nan if isinstance(speed, (bool, np.bool_)) else float(speed)
             except (TypeError, ValueError):
                 value = math.nan
-            hit = np.flatnonzero(np.isclose(self.speeds_kmh, value, rtol=0.0, atol=1e-9))
-            if not len(hit):
+            k = speed_index(self.speeds_kmh, value)
+            if k < 0:
                 v = self.speeds_kmh
                 listing = ", ".join(f"{x:g}" for x in v) if len(v) <= 12 else f"{len(v)} speeds, {v[0]:g} to {v[-1]:g}"
                 raise SweepError(f"{who}: {shown}: speed {_shown(speed)} km/h is not one of the sweep's "
                                  f"({listing} km/h)")
             if not is_int(seed) or int(seed) not in self.seeds:
-                valid = "-1 (a smooth rail)" if self.seeds == [-1] else ", ".join(map(str, self.seeds))
-                raise SweepError(f"{who}: {shown}: seed {_shown(seed)} is not one of the sweep's: {valid}")
-            out.append((name, float(self.speeds_kmh[hit[0]]), int(seed)))
+                raise SweepError(f"{who}: {shown}: seed {_shown(seed)} is not one of the sweep's: {seeds_text(self.seeds)}")
+            out.append((name, float(self.speeds_kmh[k]), int(seed)))
         return out
 
     def _dispatch(self, executor, tasks, writer, bar):

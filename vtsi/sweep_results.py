@@ -822,18 +822,17 @@ class SweepResults:
         """The sweep's speed [km/h] equal to ``speed_kmh`` (to 1e-9), or a SweepError naming it and
         listing the sweep's speeds."""
         value = as_number(speed_kmh, "sweep results", "speed [km/h]", SweepError)
-        hit = np.flatnonzero(np.isclose(self.speeds_kmh, value, rtol=0.0, atol=1e-9))
-        if not len(hit):
+        k = speed_index(self.speeds_kmh, value)
+        if k < 0:
             raise SweepError(f"sweep results: {value:g} km/h is not one of the sweep's {_speed_list(self.speeds_kmh, value)}")
-        return float(self.speeds_kmh[hit[0]])
+        return float(self.speeds_kmh[k])
 
     def seed(self, seed):
         """``seed`` as an int if it is one of the sweep's, else a SweepError listing them."""
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
             raise SweepError(f"sweep results: a case's seed must be an integer (-1: smooth rail), got {seed!r}")
         if int(seed) not in self.seeds:
-            valid = "-1 (a smooth rail)" if self.seeds == [-1] else ", ".join(map(str, self.seeds))
-            raise SweepError(f"sweep results: seed {int(seed)} is not one of the sweep's: {valid}")
+            raise SweepError(f"sweep results: seed {int(seed)} is not one of the sweep's: {seeds_text(self.seeds)}")
         return int(seed)
 
     def _case(self, train, speed_kmh, seed):
@@ -1121,6 +1120,18 @@ def _history_keys(f, place):
     group.visititems(lambda name, node: keys.append(name) if isinstance(node, h5py.Group) and any(
         isinstance(v, h5py.Dataset) for v in node.values()) else None)
     return keys
+
+
+def speed_index(speeds_kmh, value):
+    """The index of the sweep's speed equal to ``value`` [km/h] (to 1e-9 km/h), or -1: the one
+    reading of a case's speed (:class:`SweepResults`, :meth:`vtsi.sweep.Sweep.sweep_cases`)."""
+    hit = np.flatnonzero(np.isclose(speeds_kmh, value, rtol=0.0, atol=1e-9))
+    return int(hit[0]) if len(hit) else -1
+
+
+def seeds_text(seeds):
+    """The sweep's seeds for a message ('-1 (a smooth rail)' on a smooth rail)."""
+    return "-1 (a smooth rail)" if list(seeds) == [-1] else ", ".join(map(str, seeds))
 
 
 def _speed_list(speeds_kmh, value):
