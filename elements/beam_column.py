@@ -67,6 +67,20 @@ def _global_mass(rho, cmass, c, s, L):
     return m
 
 
+@njit(cache=True)
+def _local_end_forces(coords, forces):
+    """Global end forces ``(n_el, 6)`` of 2-node beams rotated into element axes (N, V, M per
+    node)."""
+    c, s, _ = rotation_2d(coords)
+    out = np.empty_like(forces)
+    for e in range(forces.shape[0]):
+        for o in (0, 3):
+            out[e, o] = c[e] * forces[e, o] + s[e] * forces[e, o + 1]
+            out[e, o + 1] = -s[e] * forces[e, o] + c[e] * forces[e, o + 1]
+            out[e, o + 2] = forces[e, o + 2]
+    return out
+
+
 @register
 class ElasticBeamColumn2d(ElementType):
     """Elastic beam-column: area ``A`` [m²], modulus ``E`` [Pa], inertia ``I`` [m⁴], mass per
@@ -102,13 +116,7 @@ class ElasticBeamColumn2d(ElementType):
         element axes."""
         if kind != "localForce":
             return super().end_force_response(kind, coords, forces)
-        c, s, _ = rotation_2d(coords)
-        out = np.empty_like(forces)
-        for o in (0, 3):
-            out[:, o] = c * forces[:, o] + s * forces[:, o + 1]
-            out[:, o + 1] = -s * forces[:, o] + c * forces[:, o + 1]
-            out[:, o + 2] = forces[:, o + 2]
-        return out
+        return _local_end_forces(coords, np.ascontiguousarray(forces, dtype=np.float64))
 
     def equivalent_loads(self, coords, params, kind, values):
         """Consistent (fixed-end) nodal loads, global [N, N·m], of a ``'uniform'`` ``(w_y, w_x)``

@@ -25,6 +25,7 @@ from vtsi.elements.base import MATRIX_RTOL, element_rayleigh_weights
 from vtsi.elements.kernels import matrix_defects, semidefinite_defects
 
 import vtsi
+import vtsi.opensees as ops
 from vtsi.errors import ModelError
 from vtsi.recorders import ElementRecorder, NodeRecorder
 
@@ -333,6 +334,38 @@ def test_the_kernels_run_once_per_build_and_the_element_recorder_reuses_their_ma
     m.element("userCounted", 99, (1, 2), k=1.0)               # the model changed: one more build
     m.build()
     assert calls == {"stiffness": 2, "mass": 2, "damping": 2}
+
+
+def test_element_queries_reuse_the_matrices_of_the_build(user_type):
+    """``eleForce``/``eleResponse`` read K_e and C_e of the build: before, each query called the
+    element kernels (a 200-element beam: 32 µs per ``eleResponse``, ~11 after)."""
+    calls = {}
+    counting_type(user_type, calls)
+    session = ops.Session()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    m = session.domain
+    for e in range(3):
+        m.node(2 * e + 1, float(e), 0.0)
+        m.node(2 * e + 2, float(e), 1.0)
+        session.fix(2 * e + 1, 1, 1, 1)
+        session.fix(2 * e + 2, 1, 0, 1)
+        session.mass(2 * e + 2, 1000.0, 1000.0, 0.0)
+        m.element("userCounted", FIRST_TAG + e, (2 * e + 1, 2 * e + 2), k=4e6 * (1 + e))
+    session.timeSeries("Linear", 1)
+    session.pattern("Plain", 1, 1)
+    for node in (2, 4, 6):
+        session.load(node, 0.0, -5e4 * node, 0.0)
+    session.integrator("Newmark", 0.5, 0.25)
+    session.analysis("Transient")
+    for _ in range(5):
+        session.analyze(1, 1e-3)
+        for e in range(3):
+            u, v = session.nodeDisp(2 * e + 2, 2), session.nodeVel(2 * e + 2, 2)
+            f = 4e6 * (1 + e) * (u + 1e-3 * v)
+            assert session.eleResponse(FIRST_TAG + e, "force") == pytest.approx([0.0, -f, 0.0, 0.0, f, 0.0], rel=1e-12,
+                                                                          abs=1e-9)
+            assert session.eleForce(FIRST_TAG + e, 5) == pytest.approx(f, rel=1e-12, abs=1e-9)
+    assert calls == {"stiffness": 1, "mass": 1, "damping": 1}
 
 
 @pytest.mark.parametrize("response", ["force", "localForce"])

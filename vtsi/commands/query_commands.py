@@ -8,6 +8,7 @@ import numpy as np
 
 from vtsi.analysis import domain_state
 from vtsi.errors import CommandError, ModelError, is_int
+from vtsi.recorders.element import element_response
 
 from .args import Args, dof_value, is_number
 from .base import SessionBase
@@ -234,7 +235,7 @@ class QueryCommands(SessionBase):
         if tag not in asm.element_location:
             raise CommandError(f"{command}: element {tag} does not exist")
         b, i = asm.element_location[tag]
-        etype, _, coords, params, dofs = asm.blocks[b]
+        etype, _, coords, _params, dofs = asm.blocks[b]
         layout = opensees_layout(etype, kind, asm.ndf, self._zero_length.get(tag))
         source = layout[0] if layout is not None else kind
         if source not in etype.response_kinds:
@@ -242,17 +243,18 @@ class QueryCommands(SessionBase):
             raise CommandError(f"{command}: element {tag} ({etype.name}) has no response {kind!r}; valid: "
                                f"{', '.join(valid)}")
         d = dofs[i]
-        c, p, u_e, v_e = coords[i: i + 1], params[i: i + 1], u[d][None, :], v[d][None, :]
-        values = np.asarray(etype.response(source, c, p, u_e, v_e), dtype=float)
+        rows, u_e, v_e = slice(i, i + 1), u[d][None, :], v[d][None, :]
+        values = element_response(asm, b, rows, source, u_e, v_e)
         loaded = self._element_loads_now(asm).get(tag)
         if loaded is not None:
             try:
-                values = values - np.asarray(etype.end_force_response(source, c, loaded[None, :]), dtype=float)
+                values = values - np.asarray(etype.end_force_response(source, coords[rows], loaded[None, :]),
+                                             dtype=float)
             except ModelError as exc:
                 raise CommandError(f"{command}: element {tag}: {exc}") from None
         if layout is None:
             return values[0]
-        rates = np.asarray(etype.response(source, c, p, v_e, v_e), dtype=float) if layout[2] else None
+        rates = element_response(asm, b, rows, source, v_e, v_e) if layout[2] else None
         return apply_layout(layout, values, rates)[0]
 
     def eleForce(self, tag, dof=-1):

@@ -69,7 +69,7 @@ def element_products(matrices, columns, cols, out, accumulate):
                 out[s, e, i] = acc
 
 
-def _end_force_width(etype, kind, coords):
+def end_force_width(etype, kind, coords):
     """Columns of ``kind`` when ``etype`` derives it from the global end forces (its
     ``end_force_response`` takes ``kind``, contract item 4), else None (it refuses the kind with
     a ModelError)."""
@@ -77,6 +77,24 @@ def _end_force_width(etype, kind, coords):
         return np.asarray(etype.end_force_response(kind, coords, np.zeros((len(coords), etype.ndof)))).shape[1]
     except ModelError:
         return None
+
+
+def element_response(assembly, block, rows, kind, u_e, v_e):
+    """Response ``kind`` ``(n, width)`` of elements ``rows`` of ``assembly.blocks[block]`` at
+    their dof values ``u_e, v_e`` ``(n, ndof)``: the force kinds (``K_e u_e + C_e v_e``) and
+    those the type derives from the global end forces from the matrices of the build
+    (``Assembly.element_matrices``, no element kernel called), other kinds by the type's
+    ``response`` kernel. One element at a time for the command layer (``eleForce``,
+    ``eleResponse``); :class:`ElementRecorder` does the same per chunk of steps."""
+    etype, _tags, coords, params, _dofs = assembly.blocks[block]
+    matrices = assembly.element_matrices[block]
+    f = (matrices.stiffness[rows] @ u_e[:, :, None] + matrices.damping[rows] @ v_e[:, :, None])[:, :, 0]
+    if kind in FORCE_KINDS:
+        return f
+    try:
+        return np.asarray(etype.end_force_response(kind, coords[rows], f), dtype=float)
+    except ModelError:                    # not derived from the end forces: the type's own kernel
+        return np.asarray(etype.response(kind, coords[rows], params[rows], u_e, v_e), dtype=float)
 
 
 class ElementRecorder(Recorder):
@@ -147,7 +165,7 @@ class ElementRecorder(Recorder):
             if self.response in FORCE_KINDS:             # K u + C v (contract item 4)
                 width = d.shape[1]
             else:
-                width = _end_force_width(etype, self.response, g_coords[:1])
+                width = end_force_width(etype, self.response, g_coords[:1])
                 end_forces = width is not None
             stiffness = damping = None
             if width is not None:                        # from the matrices of the build
