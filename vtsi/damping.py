@@ -7,13 +7,25 @@ is 2ζ√(f_a f_b)/(f_a + f_b)), and growing without bound above f_b (β's share
 Fitted through the first frequency n₀ and the EN 1990 A2 cut-off, every mode that counts gets
 at most ζ (the lower bound of EN 1991-2 Table 6.6 is therefore not exceeded there) and the modes
 above the cut-off are damped more. An exact ratio on every mode needs a modal model.
+
+A bridge of several decks (simply supported spans on shared piers, decks between joints:
+:mod:`vtsi.deck`, found along its track) has each deck's own n₀, n₂, n₃
+(:func:`deck_frequencies`) and the largest of their cut-offs (:func:`decks_cutoff_hz`); the
+model's first three frequencies would mix the decks' (two 15 m decks on one pier: 10.66, 10.66,
+42.66 Hz, cut-off 42.66 Hz instead of each deck's 96.03 Hz). :func:`bridge_frequencies` reads
+both as a sweep's passage does, and gives the defaults of :func:`rayleigh_damping` and of the
+modal bridge's basis (:class:`~vtsi.modal_bridge.ModalBridge`).
 """
+from dataclasses import dataclass
+
 import numpy as np
 
 from vtsi.analysis import eigen
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
+from vtsi.deck import deck_layout
 from vtsi.errors import ModelError, as_number
 from vtsi.model import Model
+from vtsi.track import Track
 
 
 def vertical_frequencies(model, n=3, ground=()):
@@ -156,16 +168,85 @@ def rayleigh_ratio(f, alpha, beta):
     return alpha / (4 * np.pi * f) + np.pi * beta * f
 
 
-def rayleigh_damping(model, zeta, frequencies_hz=None):
+def decks_cutoff_hz(deck_frequencies_hz):
+    """The EN 1990 A2.4.4.2.1(4)P cut-off [Hz] of a bridge of one or more decks: the largest of
+    its decks' max(30 Hz, 1.5 n₀, n₃) (:func:`~vtsi.codes.en1990_a2.acceleration_cutoff_hz`),
+    ``deck_frequencies_hz`` (n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (:func:`deck_frequencies`;
+    a (3,) row: one deck). Counting every frequency up to the largest is on the safe side for
+    each deck (the EN asks at least its own)."""
+    try:
+        rows = np.asarray(deck_frequencies_hz, dtype=float)
+    except (TypeError, ValueError):
+        rows = None
+    if rows is None or rows.ndim not in (1, 2) or rows.shape[-1] != 3 or rows.size == 0:
+        raise ModelError(f"EN 1990 A2.4.4.2.1: the cut-off of decks needs each deck's n0, n2, n3 [Hz], "
+                         f"(n_decks, 3), got {deck_frequencies_hz!r}")
+    return max(acceleration_cutoff_hz(f) for f in rows.reshape(-1, 3))
+
+
+@dataclass(frozen=True)
+class BridgeFrequencies:
+    """A bridge's vertical frequencies as a sweep's passage reads them (:func:`bridge_frequencies`).
+
+    first_hz : the bridge's first vertical frequency n₀ [Hz] (the modes of approaches on the
+        ground left out): the lower anchor of the default Rayleigh damping.
+    deck_hz : (n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (:func:`deck_frequencies`).
+    cutoff_hz : the EN cut-off [Hz], the largest of the decks' (:func:`decks_cutoff_hz`).
+    """
+
+    first_hz: float
+    deck_hz: np.ndarray
+    cutoff_hz: float
+
+
+def bridge_frequencies(model, track=None):
+    """The :class:`BridgeFrequencies` of ``model`` along ``track`` (a
+    :class:`~vtsi.track.Track`, or the tags of its elements): its decks, their track nodes and
+    the track's stretches on the ground by the rules of :func:`vtsi.deck.deck_layout`, each
+    deck's n₀, n₂, n₃ by :func:`deck_frequencies`, as :class:`vtsi.passage.PassageRunner` reads
+    them (the same numbers: its cut-off, Rayleigh anchors and modal basis).
+
+    Without a track the decks cannot be found (they are read along it): the model is read as one
+    deck, its first three vertical frequencies (approaches' modes included), right for a single
+    deck; a bridge of several decks needs its track (else its cut-off reads the model's third
+    frequency: 42.66 Hz for two 15 m decks on one pier, where each deck's is 96.03 Hz)."""
+    if not isinstance(model, Model):
+        raise ModelError(f"bridge frequencies: model must be a vtsi.Model, got {model!r}")
+    if track is None:
+        rows = vertical_frequencies(model, 3)[0][None, :]
+        return BridgeFrequencies(float(rows[0, 0]), rows, decks_cutoff_hz(rows))
+    layout = deck_layout(model, _track(model, track))
+    rows = deck_frequencies(model, layout.nodes_by_deck, 3, ground=layout.ground_nodes)
+    first = rows[0, 0] if len(rows) == 1 else vertical_frequencies(model, 1, ground=layout.ground_nodes)[0][0]
+    return BridgeFrequencies(float(first), rows, decks_cutoff_hz(rows))
+
+
+def _track(model, track):
+    """``track`` as a :class:`~vtsi.track.Track` of ``model`` (given one, or its element tags)."""
+    if isinstance(track, Track):
+        return track
+    if isinstance(track, (str, bytes)) or not np.iterable(track):
+        raise ModelError(f"bridge frequencies: track must be a vtsi.track.Track or the tags of its elements, "
+                         f"got {track!r}")
+    return Track(model, list(track))
+
+
+def rayleigh_damping(model, zeta, frequencies_hz=None, track=None):
     """Give ``model`` the damping ratio ``zeta`` [-] by Rayleigh damping through
-    ``frequencies_hz`` = (f_a, f_b) [Hz], by default the first vertical frequency n₀ and the
-    EN 1990 A2 cut-off max(30 Hz, 1.5 n₀, n₃). Returns (α, β)."""
+    ``frequencies_hz`` = (f_a, f_b) [Hz], by default the bridge's first vertical frequency n₀ and
+    the EN 1990 A2 cut-off max(30 Hz, 1.5 n₀, n₃), of several decks the largest of theirs, read
+    along ``track`` (a :class:`~vtsi.track.Track` or its element tags) by
+    :func:`bridge_frequencies`, as a sweep's passage reads them; without a track the model is
+    read as one deck (:func:`bridge_frequencies`: give a bridge of several decks its track).
+    ``track`` serves the default only: with ``frequencies_hz`` it is refused. Returns (α, β)."""
     if not isinstance(model, Model):
         raise ModelError(f"damping: model must be a vtsi.Model, got {model!r}")
     zeta = _ratio(zeta)
+    if frequencies_hz is not None and track is not None:
+        raise ModelError("damping: give frequencies_hz or track (whose bridge frequencies give the default), not both")
     if frequencies_hz is None:
-        f = vertical_frequencies(model, 3)[0]
-        frequencies_hz = (f[0], acceleration_cutoff_hz(f))
+        f = bridge_frequencies(model, track)
+        frequencies_hz = (f.first_hz, f.cutoff_hz)
     alpha, beta = rayleigh_coefficients(zeta, *_frequencies(frequencies_hz))
     model.rayleigh(alpha, beta)
     return alpha, beta

@@ -30,11 +30,11 @@ import scipy.sparse as sp
 
 from vtsi.analysis import eigen, modes_up_to
 from vtsi.banded import inverse_columns, ldl_band
-from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
-from vtsi.damping import vertical_frequencies
+from vtsi.damping import bridge_frequencies
 from vtsi.errors import AnalysisError, ModelError, as_positive
 from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
+from vtsi.track import Track
 
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
 
@@ -78,8 +78,12 @@ class ModalBridge:
     track : vtsi.track.Track or None. With a track, modes that do not move it (a straight beam's
         axial modes) are left out: no wheel loads them.
     f_max : highest frequency kept [Hz]; default (and ``n_modes`` None): the EN 1990 A2
-        acceleration cut-off max(30 Hz, 1.5 n₀, n₃) of the first vertical frequencies, × 1.1 so
-        that a mode sitting on the cut-off stays in.
+        acceleration cut-off max(30 Hz, 1.5 n₀, n₃) × 1.1 (CUTOFF_MARGIN, so that a mode sitting
+        on the cut-off stays in), n₀, n₃ each deck's own along the track and the cut-off the
+        largest of the decks' (:func:`~vtsi.damping.bridge_frequencies`, as a sweep's default
+        ``modal_hz``: two 15 m decks on one pier keep their modes up to 105.6 Hz, not the 46.9
+        Hz of the model's first three frequencies); without a track the model is read as one
+        deck (its first three vertical frequencies).
     zeta : damping ratio [-] (>= 0; < 1 for exact passages) of every mode, a sequence (one per kept mode) or a function of the
         frequency [Hz] -> ratio. None: the model's own damping, ζ_j = φ_jᵀ C φ_j / (2 ω_j), which
         must be classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
@@ -96,6 +100,8 @@ class ModalBridge:
     """
 
     def __init__(self, model, track=None, f_max=None, zeta=None, n_modes=None):
+        if track is not None and not isinstance(track, Track):
+            raise ModelError(f"modal bridge: track must be a vtsi.track.Track or None, got {track!r}")
         asm = model.build()
         if asm.transformation is not None:
             raise ModelError("modal bridge: the model has equalDOF/rigidLink constraints, which the modal bridge does "
@@ -106,7 +112,7 @@ class ModalBridge:
             f, shapes, keep = _lowest_modes(model, asm, track, n_modes)
         else:
             if f_max is None:
-                f_max = CUTOFF_MARGIN * acceleration_cutoff_hz(vertical_frequencies(model, 3)[0])
+                f_max = CUTOFF_MARGIN * bridge_frequencies(model, track).cutoff_hz
             f_max = _positive_hz(f_max)
             f, shapes = modes_up_to(model, f_max)
             if f[0] > f_max:

@@ -40,7 +40,7 @@ from scipy.interpolate import CubicSpline
 
 from vtsi.check import stored_check
 from vtsi.errors import ModelError, SweepError, as_number
-from vtsi.sweep_results import SweepResults
+from vtsi.sweep_results import SweepResults, deck_first_frequencies
 
 logger = logging.getLogger(__name__)
 
@@ -854,15 +854,20 @@ def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_fr
     """A GIF (or MP4) of a recorded case's passage (the case chosen as :func:`render_case`
     chooses it), ``max_frames`` frames over the whole record. Returns the path written. Frames
     further apart than a quarter period of the first mode alias the deck's vibration (it appears
-    slower, its peaks are missed): a warning then names the ``max_frames`` that resolves it."""
+    slower, its peaks are missed): a warning then names the ``max_frames`` that resolves it. Of
+    several decks the first mode is the highest of the decks' own n₀
+    (:func:`~vtsi.sweep_results.deck_first_frequencies`: a 15 m deck beside a 30 m one, 10.66 Hz,
+    where the model's first, the 30 m deck's 2.666 Hz, let frames 4 times too far apart pass)."""
     results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
     times, uy, _ = history["deck_displacement"]
-    n0 = float(results.bridge()["frequencies_hz"][0])
+    n0s = deck_first_frequencies(results.bridge())
+    n0 = float(np.max(n0s))
     spacing = (times[-1] - times[0]) / max(min(len(times), int(max_frames)) - 1, 1)
     if spacing > 0.25 / n0:
         logger.warning("animation of %s at %g km/h: frames %.3g s apart, more than a quarter period of the first "
-                       "mode (%.3g Hz): the deck's vibration is aliased; max_frames >= %d resolves it", train,
-                       speed_kmh, spacing, n0, int(np.ceil(4 * n0 * (times[-1] - times[0]))) + 1)
+                       "mode (%.3g Hz%s): the deck's vibration is aliased; max_frames >= %d resolves it", train,
+                       speed_kmh, spacing, n0, ", the highest of the decks' n0" if len(n0s) > 1 else "",
+                       int(np.ceil(4 * n0 * (times[-1] - times[0]))) + 1)
     offsets = results.train_data(train)["axle_offsets_m"]
     wheels = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[:, None] - offsets[None, :]
     title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
