@@ -380,7 +380,7 @@ def _speeds_reach(spec, line_kmh):
 
 def _prepare_sweep(ns, out):
     from vtsi.bridge_file import read_bridge_file
-    from vtsi.errors import VtsiError
+    from vtsi.errors import BridgeError
     from vtsi.passage import PassageRunner, PassageSettings
     from vtsi.sweep import Sweep, en_speed_grid, speeds
     from vtsi.sweep_results import ResultsWriter
@@ -421,13 +421,14 @@ def _prepare_sweep(ns, out):
             lengths = [runner.train(t, 40.0).characteristic_length for t in trains]
             spec = en_speed_grid(en_line, runner.deck_frequencies.ravel(), lengths)    # every deck's resonances
         sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
-    except VtsiError as exc:
-        # what the analysis found wrong with the bridge names the file it came from (a script's
-        # model has no other name): 'bridge file b.tcl: bridge (its track: ...): vertical frequencies ...'
+    except BridgeError as exc:
+        # what the analysis found wrong with the bridge (a BridgeError, whatever its words) names the
+        # file it came from (a script's model has no other name): 'bridge file b.tcl: bridge (its
+        # track: ...): vertical frequencies ...'; any other error is the trains', speeds' or settings'
         text = _message(exc)
-        if str(source.path) not in text and re.match(r"(bridge\b|track\b|modal bridge\b|the bridge's\b)", text):
-            raise _UsageError(f"bridge file {source.path}: {text}") from None
-        raise
+        if str(source.path) in text:
+            raise
+        raise _UsageError(f"bridge file {source.path}: {text}") from None
     sweep.prepare()                                    # integrator, contact ...: refused before any file is written
     if os.path.exists(out) and not ns.overwrite:      # refuses, or checks the file to resume (and its lock)
         ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume).close()

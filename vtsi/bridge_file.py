@@ -29,7 +29,9 @@ Two kinds of file:
   1000 times too small for the trains' loads in N. A model lighter than
   :data:`MIN_MASS_PER_METRE` along its track is refused as such (no railway deck is that light).
 
-Every problem raises :class:`~vtsi.errors.ModelError` naming the file and the key, tag or line.
+Every problem of the file raises :class:`~vtsi.errors.BridgeModelError` (a ModelError: the bridge
+is at fault) naming the file and the key, tag or line; a path of an unknown type or no file, a
+missing reader (tomli, PyYAML, tkinter) and the arguments raise :class:`~vtsi.errors.ModelError`.
 """
 import hashlib
 import math
@@ -42,7 +44,7 @@ from typing import Callable
 
 from vtsi import opensees
 from vtsi.commands.tcl import Interpreter, script_line
-from vtsi.errors import ModelError, VtsiError, is_int
+from vtsi.errors import BridgeModelError, ModelError, VtsiError, is_int
 from vtsi.models.bridges import MAX_ELEMENTS_PER_SPAN
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge
@@ -147,7 +149,7 @@ def _read_table(path, suffix):
             with open(path, "rb") as f:
                 return tomllib.load(f)
         except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise ModelError(f"bridge file {path}: not valid TOML ({exc})") from None
+            raise BridgeModelError(f"bridge file {path}: not valid TOML ({exc})") from None
     try:
         import yaml
     except ImportError:
@@ -157,9 +159,10 @@ def _read_table(path, suffix):
         with open(path, encoding="utf-8") as f:
             data = yaml.safe_load(f)
     except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        raise ModelError(f"bridge file {path}: not valid YAML ({' '.join(str(exc).split())})") from None
+        raise BridgeModelError(f"bridge file {path}: not valid YAML ({' '.join(str(exc).split())})") from None
     if not isinstance(data, dict):
-        raise ModelError(f"bridge file {path}: expected a mapping with a 'bridge' table, got {type(data).__name__}")
+        raise BridgeModelError(f"bridge file {path}: expected a mapping with a 'bridge' table, got "
+                               f"{type(data).__name__}")
     return data
 
 
@@ -167,55 +170,55 @@ def _description(path, suffix, track):
     data = _read_table(path, suffix)
     unknown = [k for k in data if k not in ("bridge", "analysis")]
     if unknown:
-        raise ModelError(f"bridge file {path}: unknown table {unknown[0]!r}; valid: bridge, analysis")
+        raise BridgeModelError(f"bridge file {path}: unknown table {unknown[0]!r}; valid: bridge, analysis")
     table = data.get("bridge")
     if not isinstance(table, dict):
-        raise ModelError(f"bridge file {path}: no [bridge] table")
+        raise BridgeModelError(f"bridge file {path}: no [bridge] table")
     table = dict(table)
     kind = table.pop("kind", None)
     if not isinstance(kind, str) or kind not in BRIDGE_KINDS:
-        raise ModelError(f"bridge file {path}: [bridge] kind must be one of {', '.join(map(repr, BRIDGE_KINDS))}, "
-                         f"got {kind!r}")
+        raise BridgeModelError(f"bridge file {path}: [bridge] kind must be one of "
+                               f"{', '.join(map(repr, BRIDGE_KINDS))}, got {kind!r}")
     spec = BRIDGE_KINDS[kind]
     for key in table:
         if key not in spec.required + spec.optional:
-            raise ModelError(f"bridge file {path}: unknown key {key!r} in [bridge] (kind {kind!r}); valid: "
-                             f"{', '.join(spec.required + spec.optional)}")
+            raise BridgeModelError(f"bridge file {path}: unknown key {key!r} in [bridge] (kind {kind!r}); valid: "
+                                   f"{', '.join(spec.required + spec.optional)}")
     missing = [k for k in spec.required if k not in table]
     if missing:
-        raise ModelError(f"bridge file {path}: [bridge] (kind {kind!r}) needs {missing[0]!r}")
+        raise BridgeModelError(f"bridge file {path}: [bridge] (kind {kind!r}) needs {missing[0]!r}")
     if track is not None:
         table["track"] = track
     try:
         bridge = spec.build(table, os.path.dirname(path))
     except ModelError as exc:
-        raise ModelError(f"bridge file {path}: [bridge] {exc}") from None
+        raise BridgeModelError(f"bridge file {path}: [bridge] {exc}") from None
     settings, seeds = _analysis(path, data.get("analysis", {}))
     return BridgeFile(path, bridge, settings, seeds)
 
 
 def _analysis(path, table):
     if not isinstance(table, dict):
-        raise ModelError(f"bridge file {path}: [analysis] must be a table")
+        raise BridgeModelError(f"bridge file {path}: [analysis] must be a table")
     settings, seeds = {}, None
     for key, value in table.items():
         if key == "seeds":
             if not (isinstance(value, list) and value and all(is_int(s) and s >= 0 for s in value)
                     and len(set(value)) == len(value)):
-                raise ModelError(f"bridge file {path}: [analysis] seeds must be a list of different integers >= 0, "
-                                 f"got {value!r}")
+                raise BridgeModelError(f"bridge file {path}: [analysis] seeds must be a list of different integers "
+                                       f">= 0, got {value!r}")
             seeds = tuple(value)
         elif key in ("exact_events", "bridge_self_weight") and not isinstance(value, bool):
-            raise ModelError(f"bridge file {path}: [analysis] {key} must be true or false, got {value!r}")
+            raise BridgeModelError(f"bridge file {path}: [analysis] {key} must be true or false, got {value!r}")
         elif key in ANALYSIS_KEYS:
             settings[ANALYSIS_KEYS[key]] = value
         else:
-            raise ModelError(f"bridge file {path}: unknown key {key!r} in [analysis]; valid: "
-                             f"{', '.join(list(ANALYSIS_KEYS) + ['seeds'])}")
+            raise BridgeModelError(f"bridge file {path}: unknown key {key!r} in [analysis]; valid: "
+                                   f"{', '.join(list(ANALYSIS_KEYS) + ['seeds'])}")
     try:
         PassageSettings(**settings)
     except VtsiError as exc:
-        raise ModelError(f"bridge file {path}: [analysis] {exc}") from None
+        raise BridgeModelError(f"bridge file {path}: [analysis] {exc}") from None
     return settings, seeds
 
 
@@ -297,28 +300,28 @@ def script_bridge(path, track=None):
     if model is None or not model.nodes:
         hint = (" (an OpenSeesPy script must use vtsi's commands: import vtsi.opensees as ops)"
                 if path.lower().endswith(".py") else "")
-        raise ModelError(f"bridge script {path}: defines no model (or ends with wipe){hint}")
+        raise BridgeModelError(f"bridge script {path}: defines no model (or ends with wipe){hint}")
     if session._units != Units():
-        raise ModelError(f"bridge script {path}: declares units {session._units}; a sweep's bridge must be SI "
-                         "(N, kg, m, s): the sweep's trains and results are SI")
+        raise BridgeModelError(f"bridge script {path}: declares units {session._units}; a sweep's bridge must be SI "
+                               "(N, kg, m, s): the sweep's trains and results are SI")
     tracks = dict(getattr(session, "_tracks", {}))
     if not tracks:
-        raise ModelError(f"bridge script {path}: defines no track; add one, e.g. 'track 1 -eleRange FIRST LAST' "
-                         "(Tcl) or ops.track(1, '-eleRange', FIRST, LAST) (docs/commands.md)")
+        raise BridgeModelError(f"bridge script {path}: defines no track; add one, e.g. 'track 1 -eleRange FIRST LAST' "
+                               "(Tcl) or ops.track(1, '-eleRange', FIRST, LAST) (docs/commands.md)")
     if track is None:
         if len(tracks) > 1:
-            raise ModelError(f"bridge script {path}: defines tracks {', '.join(map(str, sorted(tracks)))}; "
-                             "choose one (--track TAG)")
+            raise BridgeModelError(f"bridge script {path}: defines tracks {', '.join(map(str, sorted(tracks)))}; "
+                                   "choose one (--track TAG)")
         track = next(iter(tracks))
     if not is_int(track) or track not in tracks:
-        raise ModelError(f"bridge script {path}: no track {track!r}; it defines "
-                         f"{', '.join(map(str, sorted(tracks)))}")
+        raise BridgeModelError(f"bridge script {path}: no track {track!r}; it defines "
+                               f"{', '.join(map(str, sorted(tracks)))}")
     for tag in list(model.patterns):
         model.remove_pattern(tag)
     try:
         Track(model, tracks[track])
     except ModelError as exc:
-        raise ModelError(f"bridge script {path}: track {track}: {exc}") from None
+        raise BridgeModelError(f"bridge script {path}: track {track}: {exc}") from None
     description = {"kind": "script", "path": path, "sha256": sha256, "track": int(track)}
     modal_damping = ()
     if session._modal_damping is not None:      # modalDamping's ratios, on the modes of the last eigen
@@ -338,9 +341,9 @@ def _run_tcl(path, session):
     except Exception as exc:      # the user's script: any error, re-raised naming the script and line
         line = script_line(exc, path)
         line = f", line {line}" if line else ""
-        raise ModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
+        raise BridgeModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
     if code:
-        raise ModelError(f"bridge script {path}: exited with status {code}")
+        raise BridgeModelError(f"bridge script {path}: exited with status {code}")
 
 
 def _run_python(path, session):
@@ -352,11 +355,11 @@ def _run_python(path, session):
         runpy.run_path(path, run_name="__main__")
     except SystemExit as exc:
         if exc.code not in (None, 0):
-            raise ModelError(f"bridge script {path}: exited with status {exc.code}") from None
+            raise BridgeModelError(f"bridge script {path}: exited with status {exc.code}") from None
     except Exception as exc:      # the user's script: any error, re-raised naming the script and line
         frames = [f for f in traceback.extract_tb(exc.__traceback__) if os.path.abspath(f.filename) == path]
         line = f", line {frames[-1].lineno}" if frames else ""
-        raise ModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
+        raise BridgeModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
     finally:
         opensees.set_session(old_session)
         sys.argv, sys.path[:] = old_argv, old_path
@@ -378,6 +381,6 @@ def _check_mass(bridge, path, minimum):
         return
     mu = mass_per_metre(bridge)
     if not mu >= minimum:
-        raise ModelError(f"bridge file {path}: the model's mass is {mu:.4g} kg/m along its track, below "
-                         f"{minimum:g} kg/m (no railway deck is that light); vtsi is SI (N, kg, m, Pa): "
-                         "a model in kN, t, m gives masses 1000 times too small")
+        raise BridgeModelError(f"bridge file {path}: the model's mass is {mu:.4g} kg/m along its track, below "
+                               f"{minimum:g} kg/m (no railway deck is that light); vtsi is SI (N, kg, m, Pa): "
+                               "a model in kN, t, m gives masses 1000 times too small")

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vtsi.errors import ModelError
+from vtsi.errors import BridgeModelError
 
 SUPPORT_X_TOLERANCE = 0.01    # [m] how far off a node's x a vertical line under it may reach; supports as close: one
 MIN_SPAN_LENGTH = 1.0         # [m] the shortest span: EN 1991-2's HSLM-B loads spans from 1 m (6.4.6.1.1, Fig. 6.13)
@@ -82,7 +82,7 @@ class DeckLayout:
 
 def deck_layout(model, track):
     """The :class:`DeckLayout` of ``model`` along ``track`` (a :class:`~vtsi.track.Track`); a
-    ModelError when the track stops mid-deck (rule 7)."""
+    BridgeModelError when the track stops mid-deck (rule 7)."""
     asm = model.build()
     x = {}
     ends = []                           # each track element's (left, right) node, in x order
@@ -255,7 +255,7 @@ def _bending_stiffness(asm, track):
 
 
 def _refuse_mid_deck_end(model, asm, track, node, x_end, outward):
-    """A ModelError when the deck goes on off the track beyond its unsupported end ``node``
+    """A BridgeModelError when the deck goes on off the track beyond its unsupported end ``node``
     (a horizontal 2-node beam off the track reaching further out, ``outward`` +1 right, -1 left)."""
     on_track = set(track.elements)
     y_end = model.nodes[node][1]
@@ -269,7 +269,7 @@ def _refuse_mid_deck_end(model, asm, track, node, x_end, outward):
             ox, oy = model.nodes[other][0], model.nodes[other][1]
             if abs(oy - y_end) <= SUPPORT_X_TOLERANCE and outward * (ox - x_end) > SUPPORT_X_TOLERANCE:
                 side = "last" if outward > 0 else "first"
-                raise ModelError(f"track: its {side} node {node} (x = {x_end:g} m) carries no support, and the deck "
-                                 f"goes on beyond it off the track (element {int(tag)} to node {other} at x = {ox:g} m): a "
-                                 "track stopping mid-deck would read that end as a support; run the track over the "
-                                 "whole deck, or end it on a support")
+                raise BridgeModelError(f"track: its {side} node {node} (x = {x_end:g} m) carries no support, and the "
+                                       f"deck goes on beyond it off the track (element {int(tag)} to node {other} at "
+                                       f"x = {ox:g} m): a track stopping mid-deck would read that end as a support; run "
+                                       "the track over the whole deck, or end it on a support")

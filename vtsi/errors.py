@@ -1,4 +1,27 @@
-"""Exceptions raised by vtsi. Every message names the object and the value at fault."""
+"""Exceptions raised by vtsi. Every message names the object and the value at fault.
+
+The classes, by what is at fault::
+
+    VtsiError
+    ├── ModelError (ValueError)          a definition: tag, parameter, node, series, track ...
+    │   └── BridgeModelError             ... of the bridge itself (also a BridgeError)
+    ├── AnalysisError (RuntimeError)     an analysis that cannot run as set up
+    │   └── DivergenceError              a run that diverged (.step, .time)
+    ├── CommandError (ValueError)        a command of the OpenSees-style layer
+    ├── SweepError (ValueError)          a sweep that cannot run as asked
+    │   ├── PassageError                 a passage that failed while the sweep ran
+    │   └── BridgeSweepError             a bridge the sweep refuses (also a BridgeError)
+    └── BridgeError                      the bridge is at fault (never raised alone)
+
+:class:`BridgeError` marks what is wrong with the bridge itself (its model, the track on it, or
+the file that describes them) as opposed to the trains, speeds or settings of an analysis: the
+command line names the bridge file of such an error (``vtsi sweep: bridge file b.tcl: track:
+...``), whatever its message says. It is a mixin, raised as :class:`BridgeModelError` where the
+bridge is built or read (a :class:`ModelError`, like every other definition) and as
+:class:`BridgeSweepError` where a :class:`~vtsi.sweep.Sweep` refuses it (a :class:`SweepError`,
+like every other refusal of a sweep): ``except ModelError`` and ``except SweepError`` catch what
+they caught before the class existed, and ``except BridgeError`` catches both.
+"""
 import numpy as np
 
 
@@ -38,6 +61,23 @@ class CommandError(VtsiError, ValueError):
 class SweepError(VtsiError, ValueError):
     """A sweep cannot run as asked: a bad input, a results file of another sweep or one that
     cannot be written, or a case that failed (the message names the case)."""
+
+
+class BridgeError(VtsiError):
+    """The bridge itself is at fault: its model, the track on it, or the file that describes them
+    (a mixin, see the module docstring: raised as :class:`BridgeModelError` or
+    :class:`BridgeSweepError`). Its message names the bridge or its track, and not always the file
+    they came from (a script's model has no other name): ``vtsi sweep`` and ``vtsi check`` add it."""
+
+
+class BridgeModelError(BridgeError, ModelError):
+    """A :class:`BridgeError` found where the bridge is built or read: its track (:class:`~vtsi.track.Track`,
+    the deck layout), its modes and frequencies, its bridge file."""
+
+
+class BridgeSweepError(BridgeError, SweepError):
+    """A :class:`BridgeError` found when a :class:`~vtsi.sweep.Sweep` is built (a
+    :class:`BridgeModelError` of its passages' bridge, re-raised as the sweep's: ``sweep: ...``)."""
 
 
 class PassageError(SweepError):

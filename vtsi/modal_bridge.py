@@ -31,7 +31,7 @@ import scipy.sparse as sp
 from vtsi.analysis import eigen, modes_up_to
 from vtsi.banded import inverse_columns, ldl_band
 from vtsi.damping import bridge_frequencies
-from vtsi.errors import AnalysisError, ModelError, as_positive
+from vtsi.errors import AnalysisError, BridgeModelError, ModelError, as_positive
 from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
 from vtsi.track import Track
@@ -104,7 +104,7 @@ class ModalBridge:
             raise ModelError(f"modal bridge: track must be a vtsi.track.Track or None, got {track!r}")
         asm = model.build()
         if asm.transformation is not None:
-            raise ModelError("modal bridge: the model has equalDOF/rigidLink constraints, which the modal bridge does "
+            raise BridgeModelError("modal bridge: the model has equalDOF/rigidLink constraints, which the modal bridge does "
                              "not take; model the connections with elements (zeroLength, stiff beams)")
         if n_modes is not None:
             if f_max is not None:
@@ -120,12 +120,12 @@ class ModalBridge:
                                  "no mode to keep")
             keep = _moving(asm, track, shapes)
         if len(keep) == 0:
-            raise ModelError(f"modal bridge: no mode up to {f[-1]:g} Hz moves the track")
+            raise BridgeModelError(f"modal bridge: no mode up to {f[-1]:g} Hz moves the track")
         self.assembly, self.track = asm, track
         self.frequencies, self.shapes = f[keep], np.ascontiguousarray(shapes[:, keep])
         self.omega = 2 * np.pi * self.frequencies
         if not np.all(self.omega > 0):
-            raise ModelError("modal bridge: a kept mode has zero frequency (a mechanism)")
+            raise BridgeModelError("modal bridge: a kept mode has zero frequency (a mechanism)")
         self._set_ratios(self._ratios(zeta))
         if track is not None:
             self.track_modes = np.ascontiguousarray(self.shapes[asm.full_of_free[track.free_index]])
@@ -139,7 +139,7 @@ class ModalBridge:
             diagonal = np.diag(modal_c).copy()
             off = np.abs(modal_c - np.diag(diagonal)).max(initial=0.0)
             if off > 1e-8 * max(np.abs(diagonal).max(initial=0.0), 1e-300) and off > 0.0:
-                raise ModelError("modal bridge: the model's damping is not classical (ΦᵀCΦ has off-diagonal terms "
+                raise BridgeModelError("modal bridge: the model's damping is not classical (ΦᵀCΦ has off-diagonal terms "
                                  f"up to {off:.3g}); give the damping ratios: zeta=... (a sweep: its damping ratio, "
                                  "PassageSettings(damping=...), --damping)")
             ratios = diagonal / (2.0 * self.omega)
@@ -186,7 +186,7 @@ class ModalBridge:
         """Raise unless every mode has ζ < 1, as an exact passage needs (naming the first that has not)."""
         if self._overdamped >= 0:
             j = self._overdamped
-            raise ModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
+            raise BridgeModelError(f"modal bridge: mode {j + 1} ({self.frequencies[j]:.4g} Hz) has ζ = {self.zeta[j]:.4g} >= 1; "
                              "an exact passage needs underdamped modes (lower f_max or give the ratios)")
 
     def stages(self, integrator, dt, track=None, self_weight_load=None):

@@ -40,7 +40,7 @@ from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
-from vtsi.errors import ModelError, VtsiError, as_flag, as_positive
+from vtsi.errors import BridgeModelError, ModelError, VtsiError, as_flag, as_positive
 from vtsi.influence import InfluenceLines
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
@@ -160,6 +160,7 @@ HISTORY_OUTPUTS = (Output("deck_displacement", "disp", history=True),
 DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel", cutoff="en"),
                    Output("end_rotation", "rotation", nodes="supports"),
                    Output("bending_moment", "moment", nodes="midspan"),
+                   Output("support_moment", "moment", nodes="supports"),
                    Output("contact_force", "contact_force"), Output("car_body_acceleration", "car_body_accel"))
 
 
@@ -512,8 +513,8 @@ class PassageRunner:
             self.deck_frequencies = self.frequencies[None, :] if len(self.nodes_by_deck) == 1 else \
                 deck_frequencies(self.model, self.nodes_by_deck, 3, ground=self.ground_nodes)
         except ModelError as exc:
-            raise ModelError(f"bridge (its track: {len(self.track.elements)} elements, x = {self.track.x_begin:g} "
-                             f"to {self.track.x_end:g} m): {exc}") from None
+            raise BridgeModelError(f"bridge (its track: {len(self.track.elements)} elements, x = "
+                                   f"{self.track.x_begin:g} to {self.track.x_end:g} m): {exc}") from None
         # a first frequency far below what a span of its length has: E, I or the mass in other units
         # (E in kPa reads f₁ 31.6 times low: it passes an absolute floor on most spans)
         span = max(self.span_lengths, default=None)
@@ -525,18 +526,19 @@ class PassageRunner:
             floor = (f"{PLAUSIBLE_FREQUENCY_SHARE:g} x EN 1991-2 Figure 6.10's lower limit for its {span:g} m span "
                      f"({limit:.3g} Hz)")
         if not self.frequencies[0] >= lowest:
-            raise ModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below {floor}: are E, I "
-                             "or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; E in kPa reads f1 31.6 "
-                             "times low)")
+            raise BridgeModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below {floor}: "
+                                   "are E, I or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; E in kPa "
+                                   "reads f1 31.6 times low)")
         self.en_cutoff_hz = en_cutoff_hz(self.frequency_record)
         if settings.dt is None:
             rail = rail_frequency_hz(settings.irregularity, settings.cars, top_speed_kmh)
             settings = replace(settings, dt=default_dt(self.frequency_record, rail))
         self.settings = settings
         if modal_damping and settings.damping is None and settings.bridge == "fe":
-            raise ModelError(f"the bridge's modalDamping ({', '.join(f'{z:g}' for _, z in modal_damping)}) damps its modes: "
-                             "the FE bridge steps Rayleigh damping only; take the modal bridge (bridge='modal', "
-                             "--bridge-model modal) or the sweep's own damping ratio (damping=..., --damping)")
+            raise BridgeModelError(f"the bridge's modalDamping ({', '.join(f'{z:g}' for _, z in modal_damping)}) "
+                                   "damps its modes: the FE bridge steps Rayleigh damping only; take the modal bridge "
+                                   "(bridge='modal', --bridge-model modal) or the sweep's own damping ratio "
+                                   "(damping=..., --damping)")
         if settings.damping is not None and settings.bridge == "fe":
             rayleigh_damping(self.model, settings.damping,
                              settings.damping_hz or (self.frequencies[0], self.en_cutoff_hz))

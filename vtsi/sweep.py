@@ -33,7 +33,7 @@ from tqdm.auto import tqdm
 from vtsi.codes.en1991_2 import SPEED_SERIES_START_KMH
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
-from vtsi.errors import PassageError, SweepError, VtsiError, is_int
+from vtsi.errors import BridgeError, BridgeSweepError, PassageError, SweepError, VtsiError, is_int
 from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
@@ -257,7 +257,9 @@ class Sweep:
     Train names are read by :func:`train_list` ('hslm-a1' and 'A1' are 'HSLM-A1'); a train
     named twice in any spelling is refused.
 
-    Every input is checked here, before anything runs or any file is written.
+    Every input is checked here, before anything runs or any file is written: a
+    :class:`~vtsi.errors.SweepError` naming it, a :class:`~vtsi.errors.BridgeSweepError` (also a
+    SweepError) when the bridge or its track is at fault.
     """
 
     def __init__(self, bridge, trains, speeds_kmh, settings=None, outputs=DEFAULT_OUTPUTS, seeds=None):
@@ -268,7 +270,7 @@ class Sweep:
             raise SweepError(f"sweep: bridge must be a SweepBridge (vtsi.sweep.beam_bridge, or a model with its "
                              f"track elements), got {type(bridge).__name__}")
         if not bridge.track_elements:
-            raise SweepError("sweep: the bridge has no track (no track elements)")
+            raise BridgeSweepError("sweep: the bridge has no track (no track elements)")
         if not isinstance(trains, str) and (not np.iterable(trains)
                                             or not all(isinstance(t, (str, os.PathLike)) for t in trains)):
             raise SweepError(f"sweep: trains must be catalogue names or axle-table paths, got {trains!r}")
@@ -298,8 +300,8 @@ class Sweep:
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
                     self.runner.check_resolution(name, float(speed))
-        except VtsiError as exc:
-            raise SweepError(f"sweep: {exc}") from None
+        except VtsiError as exc:                 # what is the bridge's stays the bridge's (BridgeError)
+            raise (BridgeSweepError if isinstance(exc, BridgeError) else SweepError)(f"sweep: {exc}") from None
         self.outputs = self.runner.outputs
 
     @property

@@ -14,12 +14,13 @@ bridge's free dofs. Fixed dofs (supports) are dropped from the rows.
 import numpy as np
 from numba import njit
 
-from vtsi.errors import ModelError
+from vtsi.errors import BridgeModelError
 
 
 class Track:
     """Wheels run along ``elements`` (tags of 2-node beam elements with uy and rz dofs), which
-    must form a straight horizontal chain, ordered along +x and without gaps.
+    must form a straight horizontal chain, ordered along +x and without gaps: otherwise a
+    :class:`~vtsi.errors.BridgeModelError` (a ModelError) naming the element.
 
     Attributes
     ----------
@@ -32,31 +33,33 @@ class Track:
     def __init__(self, model, elements):
         asm = model.build()
         if asm.transformation is not None:
-            raise ModelError("track: the model has equalDOF/rigidLink constraints, which the train analyses do not "
-                             "take; model the connections with elements (zeroLength, stiff beams)")
+            raise BridgeModelError("track: the model has equalDOF/rigidLink constraints, which the train analyses do "
+                                   "not take; model the connections with elements (zeroLength, stiff beams)")
         bad = [e for e in elements if isinstance(e, (bool, np.bool_)) or not isinstance(e, (int, np.integer))]
         if bad:
-            raise ModelError(f"track: element tags must be integers, got {bad[0]!r}")
+            raise BridgeModelError(f"track: element tags must be integers, got {bad[0]!r}")
         elements = [int(e) for e in elements]
         if not elements:
-            raise ModelError("track: no elements given")
+            raise BridgeModelError("track: no elements given")
         if len(set(elements)) != len(elements):
             twice = next(e for e in elements if elements.count(e) > 1)
-            raise ModelError(f"track: element {twice} is listed twice")
+            raise BridgeModelError(f"track: element {twice} is listed twice")
         ends, full = [], []
         for tag in elements:
             if tag not in asm.element_location:
-                raise ModelError(f"track: element {tag} does not exist")
+                raise BridgeModelError(f"track: element {tag} does not exist")
             b, i = asm.element_location[tag]
             etype = asm.blocks[b][0]
             if etype.n_nodes != 2 or tuple(etype.node_dofs) != (0, 1, 2):
-                raise ModelError(f"track: element {tag} ({etype.name}) is not a 2-node beam with ux, uy, rz dofs")
+                raise BridgeModelError(f"track: element {tag} ({etype.name}) is not a 2-node beam with ux, uy, rz "
+                                       "dofs")
             coords = asm.blocks[b][2][i]
             dofs = asm.blocks[b][4][i]
             if coords[1, 0] < coords[0, 0]:
                 coords, dofs = coords[::-1], dofs[[3, 4, 5, 0, 1, 2]]
             if abs(coords[0, 1] - coords[1, 1]) > 1e-9 * max(1.0, abs(coords[1, 0] - coords[0, 0])):
-                raise ModelError(f"track: element {tag} is not horizontal (y from {coords[0, 1]:g} to {coords[1, 1]:g})")
+                raise BridgeModelError(f"track: element {tag} is not horizontal (y from {coords[0, 1]:g} to "
+                                       f"{coords[1, 1]:g})")
             ends.append((coords[0, 0], coords[1, 0], tag))
             full.append(dofs[[1, 2, 4, 5]])
         order = np.argsort([e[0] for e in ends], kind="stable")
@@ -64,7 +67,8 @@ class Track:
         full = np.array([full[i] for i in order], dtype=np.int64)
         for (a0, a1, ta), (b0, b1, tb) in zip(ends[:-1], ends[1:]):
             if abs(a1 - b0) > 1e-9 * max(1.0, abs(a1)):
-                raise ModelError(f"track: elements {ta} and {tb} leave a gap or overlap between x = {a1:g} and {b0:g}")
+                raise BridgeModelError(f"track: elements {ta} and {tb} leave a gap or overlap between x = {a1:g} "
+                                       f"and {b0:g}")
         self.elements = [e[2] for e in ends]
         self.x_start = np.array([e[0] for e in ends])
         self.length = np.array([e[1] - e[0] for e in ends])
