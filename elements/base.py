@@ -33,7 +33,11 @@ Contract of an element type
    force ``K u + C_el v`` at the element's dofs [N, N·m]). The element recorder computes
    ``'force'``/``'globalForce'`` from the matrices of the build without calling ``response``,
    and so any kind that ``end_force_response`` takes, as ``end_force_response(kind, coords,
-   K u + C_el v)``: ``response`` must agree with both (the contract tests check it).
+   K u + C_el v)``: ``response`` must agree with both (the contract tests check it). On an
+   element with element loads (``eleLoad``) the force kinds are corrected by the loads'
+   fixed-end forces through ``end_force_response``, which refuses the kinds it cannot correct;
+   the kinds in ``unloaded_responses`` (deformations, axes, stiffness: what element loads do not
+   change) are read as ``response`` gives them.
 5. Register with the :func:`register` decorator; ``Model.element(name, ...)`` then knows it.
    Kernels are pure functions of arrays (numba ``@njit(cache=True)``), float64 values and
    int64 indices. The kernels are called once per element type and per build (``Model.build``),
@@ -160,6 +164,7 @@ class ElementType:
     flags = ()
     defaults = {}
     response_kinds = ("force", "globalForce")
+    unloaded_responses = ()
     command_args = None
     command_options = {}
     command_layouts = {}

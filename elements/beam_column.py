@@ -81,6 +81,23 @@ def _local_end_forces(coords, forces):
     return out
 
 
+@njit(cache=True)
+def _basic_deformations(coords, u):
+    """Basic deformations ``(n_el, 3)`` of 2-node beams from their global dof values ``u
+    (n_el, 6)``: the elongation ``δ = ū2 − ū1`` [m] and the end rotations from the chord
+    ``θ1 − ψ``, ``θ2 − ψ`` [rad], ``ψ = (v̄2 − v̄1)/L`` (ū, v̄ in element axes; OpenSees's
+    ``LinearCrdTransf2d::getBasicTrialDisp``)."""
+    local = _local_end_forces(coords, u)          # the same rotation into element axes
+    _, _, L = rotation_2d(coords)
+    out = np.empty((u.shape[0], 3))
+    for e in range(u.shape[0]):
+        chord = (local[e, 4] - local[e, 1]) / L[e]
+        out[e, 0] = local[e, 3] - local[e, 0]
+        out[e, 1] = local[e, 2] - chord
+        out[e, 2] = local[e, 5] - chord
+    return out
+
+
 @register
 class ElasticBeamColumn2d(ElementType):
     """Elastic beam-column: area ``A`` [m²], modulus ``E`` [Pa], inertia ``I`` [m⁴], mass per
@@ -94,7 +111,10 @@ class ElasticBeamColumn2d(ElementType):
     non_negative = ("rho",)
     flags = ("cmass",)
     defaults = {"rho": 0.0, "cmass": 0.0}
-    response_kinds = ("force", "globalForce", "localForce")
+    response_kinds = ("force", "globalForce", "localForce", "basicDeformation", "chordRotation", "chordDeformation",
+                      "basicStiffness", "xaxis", "yaxis", "zaxis")
+    unloaded_responses = ("basicDeformation", "chordRotation", "chordDeformation", "basicStiffness", "xaxis", "yaxis",
+                          "zaxis")
 
     def stiffness(self, coords, params):
         c, s, L = rotation_2d(coords)
@@ -106,9 +126,29 @@ class ElasticBeamColumn2d(ElementType):
 
     def response(self, kind, coords, params, u_e, v_e):
         """``localForce``: ``[N1, V1, M1, N2, V2, M2]`` in element axes (forces the nodes exert
-        on the element); other kinds as in the base class."""
+        on the element); ``basicDeformation`` (= ``chordRotation`` = ``chordDeformation``, as
+        OpenSees's ``ElasticBeam2d``): ``[δ, θ1 − ψ, θ2 − ψ]`` [m, rad, rad], the elongation and the
+        end rotations from the chord (ψ = (v2 − v1)/L, v transverse in element axes);
+        ``basicStiffness``: the 3×3 ``[[EA/L, 0, 0], [0, 4EI/L, 2EI/L], [0, 2EI/L, 4EI/L]]`` row
+        by row (9 values); ``xaxis``, ``yaxis``, ``zaxis``: the element axes' unit vectors in
+        global axes (3 values each); other kinds as in the base class."""
         if kind == "localForce":
             return self.end_force_response(kind, coords, super().response("force", coords, params, u_e, v_e))
+        if kind not in self.response_kinds:       # a subclass answers fewer kinds
+            return ElementType.response(self, kind, coords, params, u_e, v_e)
+        if kind in ("basicDeformation", "chordRotation", "chordDeformation"):
+            return _basic_deformations(coords, np.ascontiguousarray(u_e, dtype=np.float64))
+        c, s, L = rotation_2d(coords)
+        zero, one = np.zeros_like(L), np.ones_like(L)
+        if kind == "xaxis":
+            return np.stack([c, s, zero], axis=1)
+        if kind == "yaxis":
+            return np.stack([-s, c, zero], axis=1)
+        if kind == "zaxis":
+            return np.stack([zero, zero, one], axis=1)
+        if kind == "basicStiffness":
+            ea, ei = params[:, 0] * params[:, 1] / L, params[:, 1] * params[:, 2] / L
+            return np.stack([ea, zero, zero, zero, 4.0 * ei, 2.0 * ei, zero, 2.0 * ei, 4.0 * ei], axis=1)
         return super().response(kind, coords, params, u_e, v_e)
 
     def end_force_response(self, kind, coords, forces):

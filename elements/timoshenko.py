@@ -77,7 +77,8 @@ class ElasticTimoshenkoBeam2d(ElasticBeamColumn2d):
     """Elastic Timoshenko beam: area ``A`` [m²], Young's modulus ``E`` [Pa], shear modulus ``G``
     [Pa], inertia ``I`` [m⁴], shear area ``Avy`` [m²] (κA), mass per length ``rho`` [kg/m];
     ``cmass`` 1 for the consistent mass, 0 for the lumped one. Responses as ``elasticBeamColumn``
-    (``force``/``globalForce``, ``localForce``)."""
+    (``force``/``globalForce``, ``localForce``, ``xaxis``/``yaxis``/``zaxis``); OpenSees's
+    ``ElasticTimoshenkoBeam2d`` has no basic deformations or basic stiffness, nor has this type."""
 
     name = "ElasticTimoshenkoBeam"
     param_names = ("A", "E", "G", "I", "Avy", "rho", "cmass")
@@ -85,6 +86,8 @@ class ElasticTimoshenkoBeam2d(ElasticBeamColumn2d):
     non_negative = ("rho",)
     flags = ("cmass",)
     defaults = {"rho": 0.0, "cmass": 0.0}
+    response_kinds = ("force", "globalForce", "localForce", "xaxis", "yaxis", "zaxis")
+    unloaded_responses = ("xaxis", "yaxis", "zaxis")
 
     def stiffness(self, coords, params):
         c, s, L = rotation_2d(coords)

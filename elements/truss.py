@@ -65,7 +65,7 @@ class Truss2d(ElementType):
     Responses: ``'force'``/``'globalForce'`` ``[Fx1, Fy1, Fx2, Fy2]`` [N] (global resisting force);
     ``'axialForce'``/``'basicForce'`` ``[N]`` [N], tension positive; ``'localForce'``
     ``[−N, 0, N, 0]`` [N] in element axes; ``'basicDeformation'``/``'deformation'`` ``[δ]`` [m],
-    elongation positive.
+    elongation positive; ``'basicStiffness'`` ``[EA/L]`` [N/m].
     """
 
     name = "truss"
@@ -76,7 +76,7 @@ class Truss2d(ElementType):
     flags = ("cmass", "do_rayleigh")
     defaults = {"rho": 0.0, "cmass": 0.0, "do_rayleigh": 0.0}
     response_kinds = ("force", "globalForce", "axialForce", "basicForce", "localForce",
-                      "basicDeformation", "deformation")
+                      "basicDeformation", "deformation", "basicStiffness")
 
     def stiffness(self, coords, params):
         c, s, L = rotation_2d(coords)
@@ -91,6 +91,9 @@ class Truss2d(ElementType):
         return np.ascontiguousarray(params[:, 4])
 
     def response(self, kind, coords, params, u_e, v_e):
+        if kind == "basicStiffness":
+            _, _, L = rotation_2d(coords)
+            return (params[:, 0] * params[:, 1] / L)[:, None]
         if kind in ("axialForce", "basicForce", "localForce", "basicDeformation", "deformation"):
             c, s, L = rotation_2d(coords)
             elongation = c * (u_e[:, 2] - u_e[:, 0]) + s * (u_e[:, 3] - u_e[:, 1])

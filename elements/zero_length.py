@@ -61,7 +61,9 @@ class ZeroLength2d(ElementType):
     Responses: ``'force'``/``'globalForce'`` ``K u + C v`` at the 6 dofs [N, N·m];
     ``'basicForce'``/``'localForce'`` ``[Px, Py, Mz]`` = ``k δ + c δ̇`` in local axes (force of
     node 2 on the element, positive in tension along local x); ``'deformation'``/
-    ``'basicDeformation'`` ``δ = [δx, δy, θz]`` [m, m, rad].
+    ``'basicDeformation'`` ``δ = [δx, δy, θz]`` [m, m, rad]; ``'basicStiffness'`` the 3×3
+    ``diag(kx, ky, krz)`` row by row (9 values); ``'xaxis'``, ``'yaxis'``, ``'zaxis'`` the local
+    axes' unit vectors in global axes (3 values each).
     """
 
     name = "zeroLength"
@@ -72,7 +74,8 @@ class ZeroLength2d(ElementType):
     flags = ("do_rayleigh",)
     defaults = {"kx": 0.0, "ky": 0.0, "krz": 0.0, "cx": 0.0, "cy": 0.0, "crz": 0.0,
                 "angle": 0.0, "do_rayleigh": 0.0}
-    response_kinds = ("force", "globalForce", "basicForce", "localForce", "deformation", "basicDeformation")
+    response_kinds = ("force", "globalForce", "basicForce", "localForce", "deformation", "basicDeformation",
+                      "basicStiffness", "xaxis", "yaxis", "zaxis")
 
     def add(self, tag, nodes, **params):
         super().add(tag, nodes, **params)
@@ -115,6 +118,16 @@ class ZeroLength2d(ElementType):
             if kind in ("deformation", "basicDeformation"):
                 return deformation
             return params[:, 0:3] * deformation + params[:, 3:6] * rate
+        c, s = np.cos(params[:, 6]), np.sin(params[:, 6])
+        zero, one = np.zeros_like(c), np.ones_like(c)
+        if kind == "basicStiffness":
+            return np.stack([params[:, 0], zero, zero, zero, params[:, 1], zero, zero, zero, params[:, 2]], axis=1)
+        if kind == "xaxis":
+            return np.stack([c, s, zero], axis=1)
+        if kind == "yaxis":
+            return np.stack([-s, c, zero], axis=1)
+        if kind == "zaxis":
+            return np.stack([zero, zero, one], axis=1)
         return super().response(kind, coords, params, u_e, v_e)
 
 

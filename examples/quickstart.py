@@ -94,7 +94,13 @@ def main(out=None, n_cars=8, speed=SPEED, integrator="Newmark", dt=DT):
             ax[1].plot(deck_acc.time, deck_acc.values)
             ax[1].axhline(3.5, color="r", ls="--"); ax[1].axhline(-3.5, color="r", ls="--")
             ax[1].set_ylabel("deck acceleration [m/s²]")
-            ax[2].plot(wheels.time, wheels.values[:, :4] / 1e3, lw=0.8)
+            car1 = np.flatnonzero(train.wheel_car[train.contact_wheels] == 0)   # car 1's contact wheels
+            ax[2].plot(wheels.time, wheels.values[:, car1] / 1e3, lw=0.8)
+            ax[2].legend([f"axle {k + 1}: {train.wheel_offsets[w]:.1f} m" for k, w in enumerate(train.contact_wheels[car1])],
+                         title="axle (distance behind the head of the train)", loc="lower left", ncol=4, fontsize=8,
+                         title_fontsize=8, framealpha=0.9)
+            low, high = ax[2].get_ylim()
+            ax[2].set_ylim(low - 0.35 * (high - low), high)                       # room for the legend
             ax[2].set_ylabel("contact force, car 1 [kN]")
             ax[2].set_xlabel("time [s]")
             fig.tight_layout()

@@ -145,7 +145,9 @@ MODEL_CASES = [
     ("bool node tag", lambda m: m.node(True, 0.0, 1.0), r"^node tag must be an integer, got True$"),
     ("text element tag", lambda m: m.element("truss", "7", (1, 3), A=1.0, E=1.0), r"^element tag must be an integer, got '7'$"),
     ("text pattern tag", lambda m: m.pattern("dead", 1), r"^pattern tag must be an integer, got 'dead'$"),
-    ("series without tag", lambda m: m.add_time_series(vtsi.Constant()), r"^timeSeries tag must be an integer, got None$"),
+    ("series without tag", lambda m: m.add_time_series(vtsi.Constant()),
+     r"^timeSeries Constant\(factor=1\.0\) has no tag: give it as tag=\.\.\., e\.g\. Constant\(factor=1\.0, tag=1\); "
+     r"Constant's first argument is factor, not the tag as in OpenSees's 'timeSeries Constant <tag> \.\.\.'$"),
     ("not a time series", lambda m: m.add_time_series(math.sin), r"^timeSeries: expected a TimeSeries, got <built-in"),
     ("fix flag 2", lambda m: m.fix(3, 2, 0, 0), r"^fix node 3: needs 3 flags of 0 or 1, got \[2, 0, 0\]$"),
     ("fix flag 0.5", lambda m: m.fix(3, 0.5, 0, 0), r"^fix node 3: needs 3 flags of 0 or 1, got \[0.5, 0, 0\]$"),
@@ -448,7 +450,9 @@ SERIES_CASES = [
     ("Trig ending before it starts", lambda: Trig(2.0, 1.0, 0.5, tag=3),
      r"^timeSeries Trig 3: tEnd = 1 is before tStart = 2 \(the series would be 0 always\)$"),
     ("Rectangular ending before it starts", lambda: Rectangular(5.0, 1.0),
-     r"^timeSeries Rectangular: tEnd = 1 is before tStart = 5 \(the series would be 0 always\)$"),
+     r"^timeSeries Rectangular: tEnd = 1 is before tStart = 5 \(the series would be 0 always\); if 5 was meant as the "
+     r"tag, give it as tag=5: Rectangular's first argument is tStart \(OpenSees's 'timeSeries Rectangular <tag> "
+     r"<tStart> \.\.\.'\)$"),
     ("Path with 2-D values", lambda: vtsi.Path([[1.0, 2.0], [3.0, 4.0]], dt=0.1),
      r"^timeSeries Path: values must be a 1-D sequence, got shape \(2, 2\)$"),
     ("Path with 2-D times", lambda: vtsi.Path([1.0, 2.0], time=[[0.0, 1.0]]),
@@ -690,7 +694,8 @@ RECORDER_START_CASES = [
     ("element recorder on unknown element", lambda: ElementRecorder([42]), ModelError,
      r"^element recorder: element 42 does not exist$"),
     ("element recorder with unknown response", lambda: ElementRecorder([1], "stress"), ModelError,
-     r"^element recorder: element 1 \(elasticBeamColumn\) has no response 'stress'; valid: force, globalForce, localForce$"),
+     r"^element recorder: element 1 \(elasticBeamColumn\) has no response 'stress'; valid: force, globalForce, localForce, "
+     r"basicDeformation, chordRotation, chordDeformation, basicStiffness, xaxis, yaxis, zaxis$"),
 ]
 
 

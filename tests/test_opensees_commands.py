@@ -840,7 +840,8 @@ BAD_COMMANDS = [   # (setup, command, args, exception, message)
      r"^eleLoad: -type missing before -beamUniform"),
     (beam, "eleResponse", (1, "stresses"), CommandError,
      r"^eleResponse: element 1 \(elasticBeamColumn\) has no response 'stresses'; valid: force, globalForce, "
-     r"localForce, basicForce, forces, globalForces, localForces, basicForces$"),
+     r"localForce, basicDeformation, chordRotation, chordDeformation, basicStiffness, xaxis, yaxis, zaxis, basicForce, "
+     r"forces, globalForces, localForces, basicForces, basicDeformations$"),
     (beam, "recorder", ("Element", "-ele", 1, "stresses"), CommandError,
      r"^recorder Element: element 1 \(elasticBeamColumn\) has no response 'stresses'; valid: force, "),
 ]

@@ -550,15 +550,31 @@ class Assembly:
         return self.load_vectors([pattern])[0]
 
     def load_vectors(self, patterns):
-        """Free-dof load vectors ``(len(patterns), n_free)`` of the patterns' nodal and element
-        loads (factor 1); of a ground acceleration (``pattern.ground_direction``), −M r with r the
-        unit translation along it."""
+        """Free-dof load vectors ``(len(patterns), n_free)`` of the patterns' loads
+        (:meth:`full_load_vectors`) and, of prescribed displacements g (``sp``), −K g."""
+        full = self.full_load_vectors(patterns)
+        for p, pattern in zip(full, patterns):
+            if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
+                g = np.zeros(self.n_full)
+                for (node, d), value in pattern.prescribed.items():
+                    if node not in self.node_index:
+                        raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
+                    g[self.node_index[node] * self.ndf + d] = value
+                self.complete(g)
+                p -= self.K_full @ g
+        return self.reduce(full.T).T
+
+    def full_load_vectors(self, patterns):
+        """Full-dof loads ``(len(patterns), n_full)`` [N, N·m] the patterns apply at factor 1, fixed
+        dofs included (a reaction needs the supports' rows): nodal loads plus the equivalent nodal
+        loads of element loads (the fixed-end forces negated); of a ground acceleration
+        (``pattern.ground_direction``) −M r over every dof, r the unit translation along it, as
+        OpenSees's ``EarthquakePattern`` loads every node's mass (a fixed node's too) and every
+        element's. A prescribed displacement (``sp``) is not a load: it moves its dof."""
         full = np.zeros((len(patterns), self.n_full))
         for p, pattern in zip(full, patterns):
             if pattern.ground_direction is not None:
-                r = np.zeros(self.n_full)
-                r[pattern.ground_direction - 1::self.ndf] = 1.0
-                p -= self.M_full @ r
+                p -= self.M_full @ self.ground_vector(pattern.ground_direction)
                 continue
             for tag, values in pattern.nodal.items():
                 if tag not in self.node_index:
@@ -572,15 +588,13 @@ class Assembly:
                 for tag, f in self.element_equivalent_loads(pattern).items():
                     b, i = self.element_location[tag]
                     p[self.blocks[b][4][i]] += f
-            if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
-                g = np.zeros(self.n_full)
-                for (node, d), value in pattern.prescribed.items():
-                    if node not in self.node_index:
-                        raise ModelError(f"pattern {pattern.tag}: sp on node {node}, which does not exist")
-                    g[self.node_index[node] * self.ndf + d] = value
-                self.complete(g)
-                p -= self.K_full @ g
-        return self.reduce(full.T).T
+        return full
+
+    def ground_vector(self, direction):
+        """``r (n_full,)``: 1 at the translations along ``direction`` (1 x, 2 y), 0 elsewhere."""
+        r = np.zeros(self.n_full)
+        r[direction - 1::self.ndf] = 1.0
+        return r
 
     def prescribed_dofs(self, patterns):
         """``[(pattern, full dofs, values)]`` of the patterns' prescribed displacements (sp)."""

@@ -125,8 +125,10 @@ class CoupledAnalysis:
         if not isinstance(constraint, MovingLoadConstraint):
             raise ModelError(f"CoupledAnalysis: constraint must be a MovingLoadConstraint, got {type(constraint).__name__}")
         if contact not in CONTACT_STRATEGIES:
+            spelt = [c for c in CONTACT_STRATEGIES if isinstance(contact, str) and c == contact.strip().lower()]
+            hint = f" (names are case-sensitive: contact={spelt[0]!r})" if spelt else ""
             raise AnalysisError(f"CoupledAnalysis: unknown contact strategy {contact!r}; "
-                                f"valid: {', '.join(CONTACT_STRATEGIES)}")
+                                f"valid: {', '.join(CONTACT_STRATEGIES)}{hint}")
         self.model, self.constraint, self.contact = model, constraint, contact
         self.train = constraint.train
         self.integrator = coupled_integrator(integrator, contact)

@@ -4,6 +4,11 @@ import numpy as np
 from vtsi.errors import ModelError, as_number
 from vtsi.timeseries import TimeSeries
 
+ELEMENT_LOADS = {"uniform": ("w_y", "w_x"), "point": ("P_y", "x/L", "P_x")}
+"""The values of each kind of element load, in order (OpenSees ``eleLoad -beamUniform Wy [Wx]``,
+``-beamPoint Py xL [Px]``); the last, axial, is optional: 0 when not given
+(:func:`element_load_values`)."""
+
 
 class LoadPattern:
     """Nodal loads ``[Fx, Fy, Mz]`` [N, N·m] times ``factor * series(t)``.
@@ -66,8 +71,9 @@ class LoadPattern:
 
     def beam_load(self, element, kind, *values):
         """A load on beam ``element`` (OpenSees ``eleLoad``), in element axes: ``'uniform'``
-        ``(w_y, w_x)`` [N/m] (transverse, axial from node i to j) or ``'point'`` ``(P_y, x/L, P_x)``
-        [N] at the fraction ``x/L`` of the length from node i. Loads on the same element add up."""
+        ``(w_y[, w_x])`` [N/m] (transverse, axial from node i to j) or ``'point'`` ``(P_y, x/L[,
+        P_x])`` [N] at the fraction ``x/L`` of the length from node i; the axial part is 0 when
+        not given, as OpenSees's. Loads on the same element add up."""
         if isinstance(element, (bool, np.bool_)) or not isinstance(element, (int, np.integer)):
             raise ModelError(f"pattern {self.tag}: element tag must be an integer, got {element!r}")
         if kind not in ("uniform", "point"):
@@ -77,9 +83,12 @@ class LoadPattern:
             values = tuple(float(v) for v in values)
         except (TypeError, ValueError):
             raise ModelError(f"pattern {self.tag}: load on element {element} must be numbers, got {values!r}") from None
-        if len(values) != (2 if kind == "uniform" else 3) or not np.all(np.isfinite(values)):
+        names = ELEMENT_LOADS[kind]
+        if not len(names) - 1 <= len(values) <= len(names) or not np.all(np.isfinite(values)):
             raise ModelError(f"pattern {self.tag}: {kind} load on element {element} needs "
-                             f"{'(w_y, w_x)' if kind == 'uniform' else '(P_y, x/L, P_x)'} finite, got {list(values)}")
+                             f"({', '.join(names[:-1])}[, {names[-1]}]) finite ({names[-1]} 0 if not given), "
+                             f"got {list(values)}")
+        values = element_load_values(kind, values)
         if kind == "point" and not 0.0 <= values[1] <= 1.0:
             raise ModelError(f"pattern {self.tag}: point load on element {element} at x/L = {values[1]:g}, "
                              "outside [0, 1]")
@@ -118,6 +127,15 @@ class UniformExcitation(LoadPattern):
 
     def beam_load(self, element, kind, *values):
         raise ModelError(f"pattern UniformExcitation {self.tag}: takes no element loads (its load is −M r a_g)")
+
+
+def element_load_values(kind, values):
+    """The values of an element load of ``kind`` ('uniform' or 'point', :data:`ELEMENT_LOADS`)
+    with the optional axial part 0 when not given: ``(w_y,)`` -> ``(w_y, 0.0)``, ``(P_y, x/L)``
+    -> ``(P_y, x/L, 0.0)``; a full tuple as given. The one place these defaults are set (the
+    ``eleLoad`` command and :meth:`LoadPattern.beam_load` both read it)."""
+    values = tuple(values)
+    return values + (0.0,) if len(values) == len(ELEMENT_LOADS[kind]) - 1 else values
 
 
 def _finite(tag, name, value):

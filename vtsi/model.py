@@ -86,17 +86,27 @@ class Model:
 
     def fix(self, tag, *flags):
         """Fix dofs of node ``tag`` (OpenSees ``fix``): one flag per dof (ux, uy[, rz]), 1 fixed,
-        0 free. Fixities add up over calls (a later 0 does not free a dof fixed before).
+        0 free. Fixities add up over calls (a later 0 does not free a dof fixed before), each dof
+        fixed once: ``fix(1, 1, 0, 0); fix(1, 0, 1, 0)`` fixes ux and uy.
 
         Raises ModelError if the node does not exist, the flags are not ``ndf`` values of 0 or
-        1, or a dof to fix is already constrained by equalDOF/rigidLink."""
+        1, or a dof to fix is already fixed (as OpenSees, whose ``Domain::addSP_Constraint``
+        refuses a second constraint on a dof), constrained by equalDOF/rigidLink or prescribed
+        (``sp``); the node's fixity is then left as it was."""
         self._node(tag, "fix")
         if len(flags) != self.ndf or any(f not in (0, 1) for f in flags):
             raise ModelError(f"fix node {tag}: needs {self.ndf} flags of 0 or 1, got {list(flags)}")
         old = self.fixities.get(tag, (0,) * self.ndf)
         for d, f in enumerate(flags):
+            if f and old[d]:
+                raise ModelError(f"fix node {tag}: dof {d + 1} is already fixed (a second fix of a dof is refused, "
+                                 "as OpenSees); fix each dof once, with 0 for the dofs fixed before")
             if f and (tag, d) in self.mp_constraints:
                 raise ModelError(f"fix node {tag}: dof {d + 1} is constrained (equalDOF/rigidLink); it cannot also be fixed")
+            prescribed = [p.tag for p in self.patterns.values() if (tag, d) in p.prescribed]
+            if f and prescribed:
+                raise ModelError(f"fix node {tag}: dof {d + 1} has a prescribed displacement (sp in pattern "
+                                 f"{prescribed[0]}); it cannot also be fixed")
         self.fixities[tag] = tuple(int(a or b) for a, b in zip(old, flags))
         self._changed()
 
@@ -189,7 +199,7 @@ class Model:
         None) or a series with that tag already exists."""
         if not isinstance(series, TimeSeries):
             raise ModelError(f"timeSeries: expected a TimeSeries, got {series!r}")
-        _tag("timeSeries", series.tag)
+        _tag("timeSeries", series.required_tag())   # None: a message saying how to give the tag
         if series.tag in self.time_series:
             raise ModelError(f"timeSeries {series.tag} already exists")
         self.time_series[series.tag] = series
@@ -232,9 +242,9 @@ class Model:
         self.patterns[pattern_tag].load(node, *values)
 
     def beam_load(self, pattern_tag, element, kind, *values):
-        """An element load on beam ``element`` in pattern ``pattern_tag``: ``'uniform'`` ``(w_y,
-        w_x)`` [N/m] or ``'point'`` ``(P_y, x/L, P_x)`` [N], in element axes
-        (:meth:`vtsi.loads.LoadPattern.beam_load`; OpenSees ``eleLoad``)."""
+        """An element load on beam ``element`` in pattern ``pattern_tag``: ``'uniform'`` ``(w_y[,
+        w_x])`` [N/m] or ``'point'`` ``(P_y, x/L[, P_x])`` [N], in element axes, the axial part 0
+        when not given (:meth:`vtsi.loads.LoadPattern.beam_load`; OpenSees ``eleLoad``)."""
         if pattern_tag not in self.patterns:
             raise ModelError(f"beam_load: pattern {pattern_tag} does not exist")
         if element not in self._element_owner:

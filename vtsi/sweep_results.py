@@ -155,17 +155,25 @@ def bridge_text(bridge):
     else:
         span_list = f"{len(spans)} spans of {spans.min():g} to {spans.max():g} m"
     return (f"bridge: {n_decks} deck{'s' * (n_decks > 1)}; {span_list}; n0 "
-            f"{_listed(deck_first_frequencies(bridge), '#.4g')} Hz; EN cut-off {en_cutoff_hz(bridge):#.4g} Hz; "
-            f"L_Phi {_listed(L_phi, '.4g')} m")
+            f"{_listed(deck_first_frequencies(bridge))} Hz; EN cut-off {significant_text(en_cutoff_hz(bridge))} Hz; "
+            f"L_Phi {_listed(L_phi)} m")
 
 
-def _listed(values, fmt, most=4):
-    """``values`` in format ``fmt``, comma-separated: once if they all read the same, as a range
-    if more than ``most`` differ."""
-    text = [format(v, fmt) for v in values]
+def significant_text(value, digits=4):
+    """``value`` to ``digits`` significant digits, without a trailing dot or zeros, never in
+    exponent form from 10^digits up: 1424.3 -> '1424', 96.034 -> '96.03', 30.0 -> '30',
+    12345.6 -> '12346'."""
+    text = f"{float(value):.{digits}g}"
+    return f"{float(value):.0f}" if "e+" in text else text
+
+
+def _listed(values, most=4):
+    """``values`` as :func:`significant_text`, comma-separated: once if they all read the same,
+    as a range if more than ``most`` differ."""
+    text = [significant_text(v) for v in values]
     if len(set(text)) == 1:
         return text[0]
-    return ", ".join(text) if len(text) <= most else f"{min(values):{fmt}} to {max(values):{fmt}}"
+    return ", ".join(text) if len(text) <= most else f"{significant_text(min(values))} to {significant_text(max(values))}"
 
 
 def canonical_train_name(name):

@@ -4,6 +4,8 @@ Conventions follow OpenSees (``timeSeries Constant / Linear / Path / Trig / Tria
 Rectangular / Pulse``) to the last bit: a :class:`Path` is OpenSees's PathSeries (``dt``) or
 PathTimeSeries (``time``).
 """
+import inspect
+
 import numpy as np
 from numba import njit
 
@@ -27,6 +29,36 @@ class TimeSeries:
 
     def stack_key(self):
         return None
+
+    def __repr__(self):
+        """``Linear(factor=2.0, tag=1)``: the constructor's parameters held under their own names,
+        the required ones, ``factor`` and those not at their default (arrays by their size)."""
+        words, hidden = [], self._hidden_in_repr()
+        for name, p in _parameters(self).items():
+            if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD) or not hasattr(self, name) or name in hidden:
+                continue
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray):
+                words.append(f"{name}=<{value.size} values>")
+            elif p.default is p.empty or name == "factor" or (value is not None and value != p.default):
+                words.append(f"{name}={value!r}")
+        return f"{type(self).__name__}({', '.join(words)})"
+
+    def _hidden_in_repr(self):
+        return ()
+
+    def required_tag(self):
+        """The series' tag, for a model that names it (:meth:`vtsi.Model.add_time_series`); a
+        ModelError saying how to give it if the series has none (``Linear(1)`` is a factor of 1:
+        vtsi's positional arguments are the series' parameters, OpenSees's first word is the tag)."""
+        if self.tag is not None:
+            return self.tag
+        kind = type(self).__name__
+        given, first = repr(self)[:-1], next(iter(_parameters(self)), None)
+        raise ModelError(f"timeSeries {self!r} has no tag: give it as tag=..., e.g. "
+                         f"{given}{', ' * (not given.endswith('('))}tag=1)"
+                         + (f"; {kind}'s first argument is {first}, not the tag as in OpenSees's "
+                            f"'timeSeries {kind} <tag> ...'" if first not in (None, "tag") else ""))
 
 
 class Constant(TimeSeries):
@@ -199,6 +231,9 @@ class Path(TimeSeries):
         self.start_time = start_time
         self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), use_last, tag
 
+    def _hidden_in_repr(self):
+        return ("time",) if self.dt is not None else ("dt",)
+
     def stack_key(self):
         """Series on the same grid stack (a Path per loaded node is evaluated in one gather)."""
         key = getattr(self, "_stack_key", None)
@@ -230,6 +265,13 @@ class Path(TimeSeries):
         return out.reshape(t.shape)
 
 
+def _parameters(series):
+    """The parameters of ``series``'s constructor by name, ``self`` left out."""
+    params = dict(inspect.signature(type(series).__init__).parameters)
+    params.pop("self", None)
+    return params
+
+
 def _numbers(name, what, values):
     """``values`` (a sequence of numbers) as a 1-D float64 array, or a ModelError naming the series."""
     try:
@@ -256,7 +298,10 @@ def _interval(kind, tag, t_start, t_end):
     """A ModelError naming the series if ``t_end`` < ``t_start`` (it would always give 0)."""
     if t_end < t_start:
         where = f"timeSeries {kind} {tag}" if tag is not None else f"timeSeries {kind}"
-        raise ModelError(f"{where}: tEnd = {t_end:g} is before tStart = {t_start:g} (the series would be 0 always)")
+        hint = (f"; if {t_start:g} was meant as the tag, give it as tag={t_start:g}: {kind}'s first argument is "
+                f"tStart (OpenSees's 'timeSeries {kind} <tag> <tStart> ...')"
+                if tag is None and float(t_start).is_integer() else "")
+        raise ModelError(f"{where}: tEnd = {t_end:g} is before tStart = {t_start:g} (the series would be 0 always){hint}")
 
 
 @njit(cache=True)

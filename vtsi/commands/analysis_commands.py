@@ -51,6 +51,23 @@ def equilibrium_point(integrator):
     return None
 
 
+def same_modes(old, new):
+    """Whether two builds of a model (:class:`~vtsi.assembly.Assembly`) have the same modes: the
+    same nodes, free dofs, constraints, K and M, to the bit (they may differ in their damping C,
+    which ``rayleigh`` changes, and in their loads)."""
+    if old is new:
+        return True
+    if (old.n_full != new.n_full or old.node_index != new.node_index
+            or not np.array_equal(old.full_of_free, new.full_of_free)):
+        return False
+    pairs = [(old.K, new.K), (old.M, new.M)]
+    if old.transformation is not None or new.transformation is not None:
+        if old.transformation is None or new.transformation is None:
+            return False
+        pairs.append((old.transformation, new.transformation))
+    return all(a.shape == b.shape and (a != b).nnz == 0 for a, b in pairs)
+
+
 class CommandTransient(TransientAnalysis):
     """A :class:`~vtsi.TransientAnalysis` whose step times are accumulated as OpenSees does
     (``t += Δt`` each step; HHT and GeneralizedAlpha: ``t += αΔt`` then ``t += (1-α)Δt``, α
@@ -422,8 +439,9 @@ class AnalysisCommands(SessionBase):
         if self._eigen is None:
             raise CommandError("modalDamping: no modes; call eigen(n) first (the ratios apply to its modes)")
         asm, omega2, _ = self._eigen
-        if asm is not model.build():
-            raise CommandError("modalDamping: the model changed after the last eigen; call eigen(n) again")
+        if not same_modes(asm, model.build()):
+            raise CommandError("modalDamping: the model changed after the last eigen (its dofs, stiffness or mass); "
+                               "call eigen(n) again")
         n = len(omega2)
         if len(ratios) not in (1, n):
             raise CommandError(f"modalDamping: give one ratio or one per mode of the last eigen ({n}), got {len(ratios)}")
@@ -435,17 +453,23 @@ class AnalysisCommands(SessionBase):
             raise CommandError(f"modalDamping: damping ratio {over[0]:g} is {100 * over[0]:g} % of critical (an "
                                f"overdamped mode); a ratio is a fraction: {over[0] / 100:g} for {over[0]:g} %. "
                                "vtsi takes ratios in [0, 1), as its other damping inputs (OpenSees takes any)")
-        self._modal_damping = (asm, np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None)
+        self._modal_damping = (model.build(), np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None)
         self._transient = None
 
     def _modal_bridge(self, command):
-        """The modal bridge that ``modalDamping`` asks for (None without it), built once."""
+        """The modal bridge that ``modalDamping`` asks for (None without it), built once per build
+        of the model: a change that keeps the modes (``rayleigh``: only C) builds it again with the
+        same ratios, as OpenSees applies both; one that changes them is refused."""
         if self._modal_damping is None:
             return None
         asm, ratios, bridge = self._modal_damping
         model = self._model(command)
-        if asm is not model.build():
-            raise CommandError(f"{command}: the model changed after eigen and modalDamping; call them again")
+        current = model.build()
+        if asm is not current:
+            if not same_modes(asm, current):
+                raise CommandError(f"{command}: the model changed after eigen and modalDamping (its dofs, stiffness "
+                                   "or mass); call them again")
+            asm, bridge = current, None
         if bridge is None:
             massless = np.flatnonzero(asm.M.diagonal() <= 0.0)
             damped = massless[np.abs(asm.C[massless]).sum(axis=1).A1 > 0.0] if len(massless) else massless

@@ -4,15 +4,35 @@ from vtsi.analysis import domain_state
 from vtsi.errors import CommandError, is_int
 
 
+class Placeholder(str):
+    """A word of :meth:`SessionBase._command_text` that stands for a value the user chooses
+    (``tag``): written bare in either syntax, where a plain ``str`` word is a literal."""
+
+
 class SessionBase:
     """The helpers the command mixins share (:class:`vtsi.commands.session.Session` combines
-    them); ``domain`` is the :class:`vtsi.Model` being built, None before ``model(...)``."""
+    them); ``domain`` is the :class:`vtsi.Model` being built, None before ``model(...)``.
+
+    ``syntax`` is how the session's messages write a command the user should give: 'python'
+    (OpenSeesPy's ``model('basic', '-ndm', 2, '-ndf', 3)``) or 'tcl' (``model basic -ndm 2 -ndf
+    3``); :class:`vtsi.commands.tcl.Interpreter` sets 'tcl' while it runs a command."""
 
     domain = None
+    syntax = "python"
+
+    def _command_text(self, name, *words):
+        """Command ``name`` with ``words`` as the user writes it in this session's ``syntax``:
+        ``model('basic', '-ndm', 2)`` or ``model basic -ndm 2`` (a :class:`Placeholder` word is
+        bare in both, a list is ``[0, 1]`` or ``{0 1}``)."""
+        if self.syntax == "tcl":
+            return " ".join([name] + [_tcl_word(w) for w in words])
+        return f"{name}({', '.join(_python_word(w) for w in words)})"
 
     def _model(self, command):
         if self.domain is None:
-            raise CommandError(f"{command}: no model; call model('basic', '-ndm', 2, '-ndf', 3) first")
+            model = self._command_text("model", "basic", "-ndm", 2, "-ndf", 3)
+            hint = f'give the command "{model}" first' if self.syntax == "tcl" else f"call {model} first"
+            raise CommandError(f"{command}: no model; {hint}")
         return self.domain
 
     def _assembly(self, command):
@@ -44,3 +64,18 @@ class SessionBase:
             vector = getattr(domain_state(self.domain), vector)
         i *= asm.ndf
         return vector[i: i + asm.ndf]
+
+
+def _python_word(word):
+    if isinstance(word, Placeholder):
+        return str(word)
+    if isinstance(word, (list, tuple)):
+        return f"[{', '.join(_python_word(w) for w in word)}]"
+    return repr(float(word)) if isinstance(word, float) else repr(word)
+
+
+def _tcl_word(word):
+    if isinstance(word, (list, tuple)):
+        return "{" + " ".join(_tcl_word(w) for w in word) + "}"
+    text = repr(float(word)) if isinstance(word, float) else str(word)
+    return text if text and not any(c.isspace() or c in '{}[]$"\\;' for c in text) else "{" + text + "}"

@@ -8,6 +8,7 @@ import numpy as np
 
 from vtsi.elements import command_element_types
 from vtsi.errors import CommandError, ModelError, is_int
+from vtsi.loads import element_load_values
 from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, Path, Pulse, Rectangular, Triangle, Trig
 
@@ -536,9 +537,9 @@ class ModelCommands(SessionBase):
         a.option(("-type",))
         kind = a.word("load type", ("-beamUniform", "-beamPoint"))
         if kind == "-beamUniform":
-            values = (a.float("Wy"), a.float("Wx") if a.more() else 0.0)
+            values = (a.float("Wy"), *([a.float("Wx")] if a.more() else []))
         else:
-            values = (a.float("Py"), a.float("xL"), a.float("Px") if a.more() else 0.0)
+            values = (a.float("Py"), a.float("xL"), *([a.float("Px")] if a.more() else []))
         a.done()
         pattern = self._current_pattern
         if pattern is None or pattern not in model.patterns:
@@ -547,6 +548,7 @@ class ModelCommands(SessionBase):
             if tag not in model._element_owner:
                 raise CommandError(f"eleLoad: element {tag} does not exist")
         build, shape = model.build(), "uniform" if kind == "-beamUniform" else "point"
+        values = element_load_values(shape, values)     # Wx, Px: 0 when not given
         for tag in tags:            # each element type says whether it takes the load, before any is added
             b, i = build.element_location[tag]
             etype, _, coords, params, _ = build.blocks[b]

@@ -8,7 +8,8 @@ import numpy as np
 
 from vtsi.analysis import domain_state
 from vtsi.errors import CommandError, ModelError, is_int
-from vtsi.recorders.element import element_response
+from vtsi.recorders.element import FORCE_KINDS, element_response
+from vtsi.recorders.node import AppliedLoads, element_ground_loads
 
 from .args import Args, dof_value, is_number
 from .base import SessionBase
@@ -199,7 +200,9 @@ class QueryCommands(SessionBase):
 
     # -- forces ------------------------------------------------------------------------------------
     def _applied_loads(self, asm):
-        """Full-dof nodal load vector applied at the last load time (OpenSees's unbalanced load)."""
+        """Full-dof nodal load vector applied at the last load time (OpenSees's unbalanced load of
+        the nodes: their nodal loads and, under a ground acceleration, −m r a_g of their nodal mass,
+        ``Node::addInertiaLoadToUnbalance``; element loads and element mass load the elements)."""
         p = np.zeros(asm.n_full)
         if self._load_time is None:
             return p
@@ -208,6 +211,11 @@ class QueryCommands(SessionBase):
             f = float(pattern.factors(np.array([self._load_time]))[0])
             if f == 0.0:
                 continue
+            if pattern.ground_direction is not None:
+                d = pattern.ground_direction - 1
+                for tag, mass in self.domain.nodal_mass.items():
+                    if tag in asm.node_index:
+                        p[asm.node_index[tag] * ndf + d] -= f * float(mass[d])
             for tag, values in pattern.nodal.items():
                 if tag in asm.node_index:
                     i = asm.node_index[tag] * ndf
@@ -227,9 +235,19 @@ class QueryCommands(SessionBase):
                     out[tag] = out.get(tag, 0.0) + f * eq
         return out
 
+    def _ground_accelerations_now(self):
+        """``[(direction, a_g)]`` of the ground accelerations (UniformExcitation) at the last load
+        time [m/s²]."""
+        if self._load_time is None:
+            return []
+        return [(p.ground_direction, float(p.factors(np.array([self._load_time]))[0]))
+                for p in self.domain.patterns.values() if p.ground_direction is not None]
+
     def _element_response(self, command, tag, kind, u, v):
         """One element's response as OpenSees returns it (:func:`~.responses.opensees_layout`), its
-        element loads' fixed-end forces included."""
+        element loads' fixed-end forces included, and in the global end forces (``force``,
+        ``globalForce``) the ground's load on its own mass, ``+M_e r a_g``, as OpenSees's
+        ``getResistingForce`` subtracts the element's load vector."""
         asm = self.domain.build()
         kind = ELEMENT_RESPONSE_ALIASES.get(kind, kind)
         if tag not in asm.element_location:
@@ -246,12 +264,15 @@ class QueryCommands(SessionBase):
         rows, u_e, v_e = slice(i, i + 1), u[d][None, :], v[d][None, :]
         values = element_response(asm, b, rows, source, u_e, v_e)
         loaded = self._element_loads_now(asm).get(tag)
-        if loaded is not None:
+        if loaded is not None and source not in etype.unloaded_responses:
             try:
                 values = values - np.asarray(etype.end_force_response(source, coords[rows], loaded[None, :]),
                                              dtype=float)
             except ModelError as exc:
                 raise CommandError(f"{command}: element {tag}: {exc}") from None
+        if source in FORCE_KINDS:
+            for direction, a_g in self._ground_accelerations_now():
+                values = values - a_g * element_ground_loads(asm, b, rows, direction)
         if layout is None:
             return values[0]
         rates = element_response(asm, b, rows, source, v_e, v_e) if layout[2] else None
@@ -259,7 +280,9 @@ class QueryCommands(SessionBase):
 
     def eleForce(self, tag, dof=-1):
         """Resisting force of element ``tag`` in global axes (``K u`` plus the element's own
-        dashpots; no Rayleigh damping, no inertia), the force the nodes exert on the element."""
+        dashpots; no Rayleigh damping, no inertia), the force the nodes exert on the element, less
+        the loads applied on the element as OpenSees's ``getResistingForce``: the fixed-end forces
+        of its element loads and, under a ground acceleration, ``−M_e r a_g`` on its own mass."""
         _, state = self._state("eleForce")
         if not is_int(tag):
             raise CommandError(f"eleForce: element tag must be an integer, got {tag!r}")
@@ -284,17 +307,17 @@ class QueryCommands(SessionBase):
         analysis, as OpenSees's ``Element::getRayleighDampingForces``) and nodal mass.
         As OpenSees (``Domain::calculateNodalReactions``), the loads are first applied again at the
         committed time, which then is the load time of the queries after (``getLoadFactor``, the
-        element loads in ``eleForce``; HHT and GeneralizedAlpha applied them at ``t_n + αΔt``)."""
+        element loads in ``eleForce``; HHT and GeneralizedAlpha applied them at ``t_n + αΔt``).
+        ``P`` (:class:`~vtsi.recorders.node.AppliedLoads`, as the reaction recorders): nodal loads,
+        the element loads' equivalent nodal loads, and under a ground acceleration −M r a_g at every
+        dof, the supports' included (a support's reaction accelerates its own mass)."""
         asm, state = self._state("reactions")
         a = Args("reactions", args)
         flag = "-static"
         while a.more():
             flag = a.option(("-dynamic", "-rayleigh"))
         self._load_time = state.time     # OpenSees applies the loads again at the committed time first
-        loads = self._applied_loads(asm)
-        for tag, eq in self._element_loads_now(asm).items():   # element loads: their equivalent nodal loads
-            b, i = asm.element_location[tag]
-            loads[asm.blocks[b][4][i]] += eq
+        loads = AppliedLoads(asm, self.domain.patterns.values()).at([state.time])[0]
         if flag == "-rayleigh":
             # OpenSees (flag 2): Element::getRayleighDampingForces of *every* element, whether it
             # takes Rayleigh damping in the analysis or not (zeroLength, truss without -doRayleigh),

@@ -14,9 +14,11 @@ def opensees_layout(etype, kind, ndf, materials=None):
     agree: ``(source kind, [(index or -1, coefficient on the value, coefficient on its rate)],
     uses rates)``. A truss's ``force``/``localForce`` spans every dof of its nodes (rotations
     read 0); a zeroLength's basic forces and deformations come one per material, in ``-dir``
-    order (a material's force: ``E δ + eta δ̇``); a beam's ``basicForce`` (N, M1, M2) comes from its
-    ``localForce``. A registered type's own ``command_layouts`` come first. ``materials``: a
-    zeroLength's ``[(dir, E, eta)]`` as its command gave them."""
+    order (a material's force: ``E δ + eta δ̇``), its ``basicStiffness`` the n×n ``diag(E)`` of
+    its n materials row by row (each material's E, its share of its direction's spring); a
+    beam's ``basicForce`` (N, M1, M2) comes from its ``localForce``. A registered type's own
+    ``command_layouts`` come first. ``materials``: a zeroLength's ``[(dir, E, eta)]`` as its
+    command gave them."""
     per_node = len(etype.node_dofs)
     if kind in etype.command_layouts:
         return etype.command_layouts[kind]
@@ -27,6 +29,12 @@ def opensees_layout(etype, kind, ndf, materials=None):
             return ("deformation", [(d - 1, E, eta) for d, E, eta in materials], True)
         if kind in ("deformation", "basicDeformation"):
             return ("deformation", [(d - 1, 1.0, 0.0) for d, _E, _eta in materials], False)
+        if kind == "basicStiffness":    # diagonal entries of the spring diag(kx, ky, krz) (9 values)
+            spring = {d: sum(E for dd, E, _ in materials if dd == d) for d, _E, _eta in materials}
+            return ("basicStiffness", [(4 * (d - 1), E / spring[d], 0.0) if i == j and spring[d] != 0.0
+                                       else (-1, 0.0, 0.0)
+                                       for i, (d, E, _eta) in enumerate(materials) for j in range(len(materials))],
+                    False)
     if kind in ("force", "globalForce", "localForce") and per_node < ndf:
         columns = [(-1, 0.0, 0.0)] * (etype.n_nodes * ndf)
         for n in range(etype.n_nodes):

@@ -90,6 +90,7 @@ class Interpreter:
 
     # -- the bridge -----------------------------------------------------------------------------
     def _call(self, name, *words):
+        syntax, self.session.syntax = self.session.syntax, "tcl"   # its messages write commands as Tcl
         try:
             if name == "exit":
                 code = convert_word(words[0]) if words else 0
@@ -104,6 +105,8 @@ class Interpreter:
         except Exception as exc:   # handed to Tcl as an error; re-raised by eval() if the script stops
             self._error = exc
             return (1, f"{exc}")
+        finally:
+            self.session.syntax = syntax
 
     def _pattern(self, words):
         words = list(words)

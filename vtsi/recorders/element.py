@@ -17,7 +17,7 @@ from numba import njit
 
 from vtsi.errors import ModelError
 from vtsi.recorders.base import Recorder
-from vtsi.recorders.node import _int_list
+from vtsi.recorders.node import _int_list, element_ground_loads
 
 BATCH_ROWS = 20000
 FORCE_NAMES = {"force": ("Px", "Py", "Mz"), "globalForce": ("Px", "Py", "Mz"), "localForce": ("N", "V", "M")}
@@ -34,7 +34,8 @@ class _Group(NamedTuple):
     list; width: values per element; columns (n_g, width): their output columns; stiffness,
     damping (n_g, ndof, ndof): their matrices of the build (damping None when zero), None when
     the response is not computed from them; end_forces: the response is ``end_force_response``
-    of ``K u + C v`` (else ``K u + C v`` itself, or ``etype.response`` when stiffness is None)."""
+    of ``K u + C v`` (else ``K u + C v`` itself, or ``etype.response`` when stiffness is None);
+    block, index (n_g,): their block of the assembly and places in it."""
     etype: object
     coords: np.ndarray
     params: np.ndarray
@@ -46,6 +47,8 @@ class _Group(NamedTuple):
     stiffness: np.ndarray
     damping: np.ndarray
     end_forces: bool
+    block: int
+    index: np.ndarray
 
 
 @njit(cache=True)
@@ -177,7 +180,8 @@ class ElementRecorder(Recorder):
                 width = np.asarray(etype.response(self.response, g_coords[:1], g_params[:1], zeros, zeros)).shape[1]
             widths[order] = width
             groups.append(dict(etype=etype, coords=g_coords, params=g_params, ucols=ucols, vcols=vcols, order=order,
-                               width=int(width), stiffness=stiffness, damping=damping, end_forces=end_forces))
+                               width=int(width), stiffness=stiffness, damping=damping, end_forces=end_forces,
+                               block=b, index=idx))
         offsets = np.concatenate([[0], np.cumsum(widths)])
         self._groups = [_Group(columns=offsets[g["order"]][:, None] + np.arange(g["width"])[None, :], **g)
                         for g in groups]                     # output columns (n_g, width)
@@ -185,12 +189,24 @@ class ElementRecorder(Recorder):
         return requests
 
     def prepare(self, assembly, model):
-        # element loads on the recorded elements: their fixed-end forces are part of the element forces
+        # element loads on the recorded elements: their fixed-end forces are part of the element forces;
+        # a ground acceleration's load on their own mass (−M_e r) is part of the global end forces
         self._element_loads = []
         for pattern in model.patterns.values():
+            if pattern.ground_direction is not None:
+                if self.response in FORCE_KINDS:
+                    per_group = [element_ground_loads(assembly, g.block, g.index, pattern.ground_direction)
+                                 for g in self._groups]
+                    per_group = [eq if eq.any() else None for eq in per_group]
+                    if any(eq is not None for eq in per_group):
+                        self._element_loads.append((pattern, per_group))
+                continue
             loads = assembly.element_equivalent_loads(pattern) if pattern.element_loads else {}
             per_group = []
             for g in self._groups:
+                if self.response in g.etype.unloaded_responses:     # a deformation: element loads leave it be
+                    per_group.append(None)
+                    continue
                 eq = np.zeros(g.ucols.shape)
                 for row, k in enumerate(g.order):
                     if self.elements[k] in loads:

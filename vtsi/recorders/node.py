@@ -78,8 +78,12 @@ class ReactionRecorder(NodeRecorder):
     ``R = K u + C_el v - P``, with ``C_el`` the elements' own dashpots (no Rayleigh damping,
     no inertia). ``include_inertia=True`` (OpenSees ``'reactionIncInertia'`` /
     ``reactions('-dynamic')``): ``R = K u + C v + M a - P`` with the full C (Rayleigh
-    included) and M. ``P`` is the nodal load the patterns apply at that dof at the recorded
-    time (usually zero on a support).
+    included) and M. ``P`` is what the patterns apply at that dof at the recorded time
+    (:class:`AppliedLoads`: nodal loads, the equivalent nodal loads of element loads and, under
+    a ground acceleration, −M r a_g, also at the supports, so that their reaction accelerates
+    their own mass), as OpenSees's ``Domain::calculateNodalReactions`` applies the loads again at
+    the committed time before it sums. ``u`` (``v``, ``a``) is every dof's that moves: free,
+    prescribed (``sp``) and constrained (``equalDOF``, ``rigidLink``) dofs.
     """
 
     name = "reaction recorder"
@@ -92,7 +96,8 @@ class ReactionRecorder(NodeRecorder):
 
 
 class _ReactionRows:
-    """Rows of ``K, C, M`` at the reaction dofs, restricted to the free dofs they couple to."""
+    """Rows of ``K, C, M`` at the reaction dofs, restricted to the dofs that move (free,
+    prescribed and constrained ones: fixed dofs read 0), and the loads applied at those rows."""
 
     def __init__(self, assembly, rows, include_inertia):
         self.rows = rows
@@ -104,41 +109,82 @@ class _ReactionRows:
             if c_el is not None:
                 parts.append(("v", c_el))
         self.requests, self.blocks = [], []
-        free = assembly.free_of_full
+        moving = moving_dofs(assembly)
         for quantity, matrix in parts:
             matrix = sp.csr_matrix(matrix)
             matrix.eliminate_zeros()
             cols = np.unique(matrix.indices)
-            cols = cols[free[cols] >= 0]     # fixed dofs do not move
+            cols = cols[moving[cols]]
             if cols.size == 0:
                 continue
             start = len(self.requests)
             self.requests += [(quantity, int(c)) for c in cols]
             self.blocks.append((slice(start, start + cols.size), matrix[:, cols].tocsr()))
-        self.loads = []
+        self.loads = None
 
     def set_loads(self, assembly, model):
-        """Nodal loads of the model's patterns at the reaction rows (``Assembly.load_vector``
-        keeps only free dofs, so they are gathered here)."""
-        self.loads = []
-        ndf = assembly.ndf
-        for pattern in model.patterns.values():
-            full = np.zeros(assembly.n_full)
-            for tag, values in pattern.nodal.items():
-                if tag in assembly.node_index:
-                    i = assembly.node_index[tag] * ndf
-                    full[i: i + min(len(values), ndf)] += np.asarray(values)[:ndf]
-            vec = full[self.rows]
-            if np.any(vec != 0.0):
-                self.loads.append((pattern, vec))
+        """The patterns' loads at the reaction rows (:class:`AppliedLoads`)."""
+        self.loads = AppliedLoads(assembly, model.patterns.values(), self.rows)
 
     def compute(self, times, columns):
         out = np.zeros((len(times), len(self.rows)))
         for cols, matrix in self.blocks:
             out += (matrix @ columns[:, cols].T).T
-        for pattern, vec in self.loads:
-            out -= np.outer(pattern.factors(np.asarray(times)), vec)
+        if self.loads is not None:
+            out -= self.loads.at(times)
         return out
+
+
+def moving_dofs(assembly):
+    """Mask ``(n_full,)`` of the dofs that move: free, prescribed (``sp``) and constrained
+    (``equalDOF``, ``rigidLink``) ones; False at fixed dofs."""
+    moving = assembly.free_of_full >= 0
+    moving[assembly.prescribed_full] = True
+    if assembly.constrained_dofs is not None:
+        moving[assembly.constrained_dofs] = True
+    return moving
+
+
+class AppliedLoads:
+    """What the patterns apply at the full dofs ``rows`` (default: all) at any times [N, N·m]:
+    ``P(t) = Σ_p factor_p(t) · P_p[rows]``, with ``P_p`` of ``Assembly.full_load_vectors`` (nodal
+    and element loads; −M r of a ground acceleration at every dof, the supports' included). The
+    one reading of "the loads at a time" shared by the reaction recorders and the ``reactions``
+    command (``R = F_resisting − P``), as OpenSees's ``Domain::calculateNodalReactions`` applies
+    the loads again at the committed time before it sums.
+
+    ``patterns``: the model's patterns (their factors, frozen or not, at call time).
+    """
+
+    def __init__(self, assembly, patterns, rows=None):
+        patterns = list(patterns)
+        rows = np.arange(assembly.n_full) if rows is None else np.asarray(rows, dtype=np.int64)
+        self.n_rows = len(rows)
+        self.terms = []               # [(pattern, P_p[rows])], the patterns that load the rows
+        for pattern, vec in zip(patterns, assembly.full_load_vectors(patterns)):
+            vec = vec[rows]
+            if np.any(vec != 0.0):
+                self.terms.append((pattern, vec))
+
+    def at(self, times):
+        """``(len(times), len(rows))``: the loads at each of ``times`` [s] (a sequence)."""
+        times = np.asarray(times, dtype=np.float64)
+        out = np.zeros((len(times), self.n_rows))
+        for pattern, vec in self.terms:
+            out += pattern.factors(times)[:, None] * vec[None, :]
+        return out
+
+
+def element_ground_loads(assembly, block, rows, direction):
+    """``−M_e r_e (len(rows), ndof)``: the share of a unit ground acceleration along
+    ``direction`` that loads the own mass of elements ``rows`` of ``assembly.blocks[block]``
+    (global axes, per unit a_g [kg]). OpenSees's elements keep it in their load vector and
+    subtract it in ``getResistingForce`` (``Truss``, ``ElasticBeam2d``,
+    ``ElasticTimoshenkoBeam2d``), so their ``force``/``globalForce`` and ``eleForce`` include
+    ``+M_e r a_g``."""
+    dofs = assembly.blocks[block][4][rows]
+    r_e = assembly.ground_vector(direction)[dofs]
+    return -np.einsum("eij,ej->ei", assembly.element_matrices[block].mass[rows], r_e)
 
 
 def _element_damping_rows(assembly, rows):
