@@ -537,6 +537,7 @@ def test_spans_end_at_piers_and_bearings_not_at_rail_springs():
         assert runner.span_lengths == pytest.approx([20.0, 20.0, 20.0]), rail
         base = 0 if rail is None else 1000
         assert runner.support_nodes == [base + 1, base + 11, base + 21, base + 31]
+        assert runner.pier_nodes == [base + 11, base + 21]                   # one continuous deck over two piers
         assert runner.midspan_nodes == [base + 6, base + 16, base + 26]
         assert runner.track_on_a_structure == (rail is not None)
 

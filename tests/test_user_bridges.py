@@ -117,6 +117,7 @@ def test_a_pier_cap_with_bearings_beside_the_deck_node_is_a_support(tmp_path):
     runner = _runner(bridge)
     assert runner.support_nodes == [1, 11, 21] and runner.span_lengths == pytest.approx([15.0, 15.0])
     assert runner.midspan_nodes == [6, 16] and runner.deck_ends == [(0.0, 30.0)]     # one continuous deck
+    assert runner.pier_nodes == [11]                                                  # its pier: hogging moments
     _, rows = _checked(bridge, tmp_path)
     assert rows["deflection"].limit == pytest.approx(0.025)
     assert {"dynamic_increment_moment", "dynamic_vs_lm71_moment"} <= set(rows)
@@ -153,7 +154,7 @@ def test_bearings_of_two_decks_on_a_shared_pier_cap(tmp_path):
     track 1 -ele 1 2 3 4 5 6 7 8 9 10 50 11 12 13 14 15 16 17 18 19 20
     """
     runner = _runner(_bridge(tmp_path, text))
-    assert runner.support_nodes == [1, 11, 12, 22]
+    assert runner.support_nodes == [1, 11, 12, 22] and runner.pier_nodes == []       # two decks: no pier moment
     assert runner.span_lengths == pytest.approx([14.7, 14.7]) and runner.midspan_nodes == [6, 17]
     np.testing.assert_allclose(runner.deck_ends, [(0.0, 14.7), (15.3, 30.0)], rtol=0, atol=1e-9)
 

@@ -13,10 +13,14 @@ deck_acceleration      max |a| of the deck, frequencies up to max(30 Hz, 1.5 n�
                        direct fastening
 dynamic_increment      φ'_dyn = max |y_dyn / y_stat| − 1 of the deflection of each   EN 1991-2
                        span's middle, y_stat the static deflection under the same    6.4.6.5(3)
-                       train (info); ``_moment``: the same for the bending moment
+                       train (info); ``_moment``: the same for the mid-span
+                       bending moment (sagging); ``_support_moment``: for the
+                       hogging moment over a continuous deck's intermediate
+                       supports (none on simply supported decks)
 dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71), the    EN 1991-2
-                       largest over trains and spans: > 1 means the dynamic          6.4.6.5(3),
-                       analysis, not Φ × LM71, governs the design (info)             Annex C
+                       largest over trains and spans (or supports): > 1 means the    6.4.6.5(3),
+                       dynamic analysis, not Φ × LM71, governs the design (info);    Annex C
+                       ``_moment``, ``_support_moment`` as above
 deflection             the more unfavourable of Φ α × LM71's static deflection and   EN 1990
                        (1 + φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| +       A2.4.4.2.3(1),
                        φ''/2 × |y_stat,train| (φ'' whole for standard maintenance),  EN 1991-2
@@ -434,15 +438,57 @@ def _span_columns(columns, bridge):
     return [int(np.flatnonzero(columns == m)[0]) if np.any(columns == m) else -1 for m in bridge["midspan_nodes"]]
 
 
+def intermediate_supports(bridge):
+    """The intermediate supports of the continuous decks: ``[(span, x [m], node tags)]``, one per
+    support line between two spans of one deck (span: the one before it, whose deck gives L_Φ, Φ
+    and φ''); a pier with two bearings closer than a span (their stretch no span, the deck
+    continuous over it) is two, one at each bearing. Two decks ending on one pier (or separated
+    by a joint) have none there: their spans are of different decks. The node tags are the deck's
+    track nodes at that x (/bridge/deck_nodes, deck_x_m)."""
+    ends, decks = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2), span_decks(bridge)
+    nodes, xs, tol = np.asarray(bridge["deck_nodes"]), np.asarray(bridge["deck_x_m"], dtype=float), x_tolerance(bridge)
+    out = []
+    for k in range(len(ends) - 1):
+        if decks[k] != decks[k + 1]:
+            continue
+        for x in (ends[k, 1], ends[k + 1, 0]) if ends[k + 1, 0] - ends[k, 1] > tol else (ends[k, 1],):
+            out.append((k, float(x), [int(n) for n in nodes[np.abs(xs - x) <= tol]]))
+    return out
+
+
+def _support_columns(columns, bridge):
+    """The output columns (node tags ``columns``) over the intermediate supports of continuous
+    decks: ``[(column, span, x [m])]`` (:func:`intermediate_supports`)."""
+    columns, out = np.asarray(columns), []
+    for k, x, nodes in intermediate_supports(bridge):
+        held = [int(np.flatnonzero(columns == n)[0]) for n in nodes if np.any(columns == n)]
+        if held:
+            out.append((held[0], k, x))
+    return out
+
+
 def _dynamic_increment(results, outputs, bridge, settings):
     """φ'_dyn and the comparison with Φ × LM71, on the mid-span deflections (downward: the
     envelope's minimum) and, when the sweep kept them, the mid-span bending moments (sagging:
-    the maximum)."""
+    the maximum) and the bending moments over the intermediate supports of continuous decks
+    (hogging: the minimum; ``_support_moment`` rows, from the first moment output holding them)."""
     rows = []
     for response, row, suffix, what in (("disp", MIN, "", "mid-span deflection"),
                                         ("moment", MAX, "_moment", "mid-span bending moment")):
         for name in _outputs_of(outputs, response, cutoff=False):
             rows.extend(_increment_rows(results, name, row, suffix, what, bridge, settings))
+    moments = _outputs_of(outputs, "moment", cutoff=False)
+    held = [n for n in moments if _support_columns(results.column_envelopes(n)[1], bridge)]
+    if held:                                           # the first moment output holding them (the default's)
+        rows.extend(_increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
+                                    "intermediate supports", bridge, settings, supports=True))
+    piers = [n for _, _, nodes in intermediate_supports(bridge) for n in nodes[:1]]
+    if moments and piers and not held:                 # a continuous deck whose sweep kept no moment over its piers
+        for r in rows:
+            if r.criterion.endswith("_moment"):
+                r.note += (f"; the hogging moment over the intermediate support{'s' * (len(piers) > 1)} (node"
+                           f"{'s' * (len(piers) > 1)} {', '.join(map(str, piers))}) is not read: no bending-moment "
+                           "output of the sweep holds it (keep one at nodes='supports', as the default outputs do)")
     return rows
 
 
@@ -455,18 +501,31 @@ def mid_span_ratios(results, name, row, bridge):
     static value has not the row's sign (no downward deflection, no sagging moment: a
     'mid-span' over a support) is NaN. ``bridge``: the results file's bridge record
     (:meth:`SweepResults.bridge`)."""
+    columns = results.column_envelopes(name)[1]
+    return _ratios(results, name, row, [c for c in _span_columns(columns, bridge) if c >= 0])
+
+
+def support_ratios(results, name, bridge):
+    """:func:`mid_span_ratios` of the hogging moment (the envelope's minimum, negative) of the
+    moment output ``name`` over the intermediate supports of continuous decks (its columns there,
+    :func:`intermediate_supports`): ``(ratio (n_train, n_speed, n_seed, n_supports) = M_dyn /
+    M_stat, both hogging, the columns, the static moments under the trains (n_train, n_supports)
+    and under LM71 (n_supports), negative)``, or None (no static values, no such column)."""
+    return _ratios(results, name, MIN, [c for c, _, _ in _support_columns(results.column_envelopes(name)[1], bridge)])
+
+
+def _ratios(results, name, row, columns):
+    """``(ratio, columns, static under the trains, static under LM71)`` of output ``name``'s
+    envelope row ``row`` at its ``columns`` (see :func:`mid_span_ratios`), or None."""
     static = results.static(name)
-    if static is None:
+    if static is None or not columns:
         return None
-    env, columns = results.column_envelopes(name)
-    spans = [c for c in _span_columns(columns, bridge) if c >= 0]
-    if not spans:
-        return None
-    stat = static[0][:, row, :][:, spans]                     # the same sign as the envelope row
+    env = results.column_envelopes(name)[0]
+    stat = static[0][:, row, :][:, columns]                   # the same sign as the envelope row
     usable = _of_the_sign(stat, row)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = env[..., row, :][..., spans] / np.where(usable, stat, np.nan)[:, None, None, :]
-    return ratio, spans, stat, static[1][row, spans]
+        ratio = env[..., row, :][..., columns] / np.where(usable, stat, np.nan)[:, None, None, :]
+    return ratio, columns, stat, static[1][row, columns]
 
 
 def _nanmax(values, axis):
@@ -485,19 +544,35 @@ def _of_the_sign(values, row):
     return np.isfinite(values) & (sign * values > 1e-9 * scale) if scale > 0 else np.zeros(values.shape, dtype=bool)
 
 
-def _increment_rows(results, name, row, suffix, what, bridge, settings):
-    ratios = mid_span_ratios(results, name, row, bridge)
+def _increment_rows(results, name, row, suffix, what, bridge, settings, supports=False):
+    """The ``dynamic_increment<suffix>`` and ``dynamic_vs_lm71<suffix>`` rows of output ``name``'s
+    envelope row ``row`` at the spans' middles, or with ``supports`` (a moment output, row MIN)
+    over the intermediate supports of continuous decks (Φ and φ'' of the support's deck)."""
+    columns = results.column_envelopes(name)[1]
+    if supports:
+        places = _support_columns(columns, bridge)
+        ratios = support_ratios(results, name, bridge)
+        kept = [k for _, k, _ in places]                                    # the span (deck) of each column
+        labels = [f"the support at x = {x:g} m" for _, _, x in places]
+        sense, at = "hogging", "the intermediate supports"
+    else:
+        ratios = mid_span_ratios(results, name, row, bridge)
+        kept = [k for k, c in enumerate(_span_columns(columns, bridge)) if c >= 0]    # the span of each column
+        labels = [f"span {k + 1}" for k in kept]
+        sense, at = "downward" if row == MIN else "sagging", "the spans' middles"
     if ratios is None:
         return []
     ratio, spans, stat, stat_lm71 = ratios
-    columns = results.column_envelopes(name)[1]
-    kept = [k for k, c in enumerate(_span_columns(columns, bridge)) if c >= 0]    # the span of each column
-    sense = "downward" if row == MIN else "sagging"
-    lacking = [k for j, k in enumerate(kept) if not np.all(_of_the_sign(stat, row)[:, j])]
-    gap = (f"; span{'s' if len(lacking) > 1 else ''} {', '.join(str(k + 1) for k in lacking)} not read: "
-           f"{'their middles have' if len(lacking) > 1 else 'its middle has'} no {sense} static value under "
-           f"{'a train' if len(results.trains) > 1 else 'the train'} (the node is on a support, or the span is "
-           "not loaded there)") if lacking else ""
+    lacking = [labels[j] for j in range(len(kept)) if not np.all(_of_the_sign(stat, row)[:, j])]
+    by = "a train" if len(results.trains) > 1 else "the train"
+    if not lacking:
+        gap = ""
+    elif supports:
+        gap = f"; {', '.join(lacking)} not read: no {sense} static value there under {by}"
+    else:
+        gap = (f"; span{'s' if len(lacking) > 1 else ''} {', '.join(s.removeprefix('span ') for s in lacking)} "
+               f"not read: {'their middles have' if len(lacking) > 1 else 'its middle has'} no {sense} static value "
+               f"under {by} (the node is on a support, or the span is not loaded there)")
     if np.all(np.isnan(ratio)):
         if not lacking or np.all(np.isnan(results.column_envelopes(name)[0][..., row, :])):
             return []          # no finished case
@@ -507,30 +582,40 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings):
     phi_dyn = float(ratio[idx]) - 1.0
     rows = [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
                      speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
-                     note=f"phi'_dyn of the {what} ({name}) against its static value under the same train"
+                     note=f"phi'_dyn of the {what} ({name}{_places_text(columns, spans, places) if supports else ''})"
+                          f" against its static value under the same train"
                           f"{_truncation_note(results, bridge)}{gap}")]
     L_phi, Phi, phi2, share = (f[kept] if np.ndim(f) else f for f in _design_factors(results, bridge, settings))
     ran = ~np.all(np.isnan(ratio), axis=(1, 2))                  # a train with no finished case (incomplete sweep): NaN
     per_train = np.full(ran.shape, np.nan)
-    per_train[ran] = _nanmax(ratio.transpose(0, 3, 1, 2)[ran], axis=(1, 2)) - 1.0   # φ'_dyn per train and span
-    design = (1.0 + per_train + share * phi2[None, :]) * np.abs(stat)     # (n_train, n_spans)
+    per_train[ran] = _nanmax(ratio.transpose(0, 3, 1, 2)[ran], axis=(1, 2)) - 1.0   # φ'_dyn per train and place
+    design = (1.0 + per_train + share * phi2[None, :]) * np.abs(stat)     # (n_train, n_places)
     lm71 = Phi * settings.alpha * np.abs(stat_lm71)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(_of_the_sign(stat_lm71, row)[None, :], design / lm71[None, :], np.nan)
     if np.all(np.isnan(r)):
         rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", np.nan, "-", 1.0,
                              np.nan, "info", note=f"not evaluated: {what}: LM71 gives no {sense} static value at "
-                                                  f"the spans' middles read{gap}"))
+                                                  f"{at} read{gap}"))
         return rows
     i, j = np.unravel_index(np.nanargmax(r), r.shape)
     value = float(r[i, j])
     governs = "the dynamic analysis governs" if value > 1.0 else "Phi x LM71 covers the dynamic effects"
+    y = "M" if suffix.endswith("moment") else "y"
     rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
                          results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
-                         f"{what}: (1 + phi'dyn + {share:g} phi'') y_train / (Phi alpha y_LM71) = {value:.3f}: "
+                         f"{what}: (1 + phi'dyn + {share:g} phi'') {y}_train / (Phi alpha {y}_LM71) = {value:.3f}: "
                          f"{governs} (L_Phi = {L_phi[j]:.3g} m, Phi = {Phi[j]:.3f}, phi'' = {phi2[j]:.3f}, "
-                         f"alpha = {settings.alpha:g}){_irregular_note(results)}{gap}"))
+                         f"alpha = {settings.alpha:g}"
+                         + (f"; {y}_train = {stat[i, j] / 1e3:.5g} kN m static under {results.trains[i]}, "
+                            f"{y}_LM71 = {stat_lm71[j] / 1e3:.5g} kN m" if supports else "")
+                         + f"){_irregular_note(results)}{gap}"))
     return rows
+
+
+def _places_text(columns, spans, places):
+    """': node 11 at x = 20 m, ...': the columns read over the intermediate supports."""
+    return ": " + ", ".join(f"node {int(columns[c])} at x = {x:g} m" for c, (_, _, x) in zip(spans, places))
 
 
 def _design_factors(results, bridge, settings):

@@ -61,6 +61,9 @@ class DeckLayout:
     nodes_by_deck : ((node tags), ...) each deck's track nodes, in x order (a deck's end nodes
         at a joint are its own; two decks ending on one pier each keep their end node).
     ground_nodes : the track's nodes on no deck (approaches on the ground).
+    pier_nodes : the track nodes over the intermediate supports of continuous decks, in x order:
+        where two spans of one deck meet (both bearings of a pier whose deck runs on over a short
+        stretch); none where two decks end on one pier or at a joint.
     track_on_a_structure : the track stands on elements over another structure at most of its
         nodes (a rail on its pads over the deck): the deck outputs are the track's.
     """
@@ -73,6 +76,7 @@ class DeckLayout:
     deck_ends: tuple
     nodes_by_deck: tuple
     ground_nodes: frozenset
+    pier_nodes: tuple
     track_on_a_structure: bool
 
     @property
@@ -112,7 +116,7 @@ def deck_layout(model, track):
     n_el = len(ends)
     whole = DeckLayout(tuple(deck), tuple(supports), ((x[deck[0]], x[deck[-1]]),),   # the track's ends are the span's
                        (_middle(deck, x, x[deck[0]], x[deck[-1]]),), (0,), ((x[deck[0]], x[deck[-1]]),),
-                       (tuple(deck),), frozenset(), on_structure)
+                       (tuple(deck),), frozenset(), (), on_structure)
     if len(lines) < 2:
         return whole
 
@@ -169,11 +173,12 @@ def deck_layout(model, track):
     deck_ends = tuple((x[ends[runs[d][0]][0]], x[ends[runs[d][-1]][1]]) for d in used)
     members = [{n for e in runs[d] for n in ends[e]} for d in used]
     on_deck = set().union(*members)
+    piers = [n for (_, b, d), (a, _, e) in zip(spans, spans[1:]) if d == e for n in dict.fromkeys((b, a))]
     return DeckLayout(tuple(deck), tuple(supports), tuple((x[a], x[b]) for a, b, _ in spans),
                       tuple(_middle(deck, x, x[a], x[b]) for a, b, _ in spans),
                       tuple(renumber[d] for *_, d in spans), deck_ends,
                       tuple(tuple(n for n in deck if n in mine) for mine in members),
-                      frozenset(n for n in deck if n not in on_deck), on_structure)
+                      frozenset(n for n in deck if n not in on_deck), tuple(piers), on_structure)
 
 
 def _middle(deck, x, a, b):

@@ -77,7 +77,7 @@ IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range
 # Output responses: node responses (NodeRecorder names) and the vehicle responses.
 NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
-PLACES = ("deck", "midspan", "supports")
+PLACES = ("deck", "midspan", "supports", "piers")
 CONTACT_FORCE_WINDOW = 0.01   # [s] a sweep's contact forces are their centred moving mean over this window
 BODY_ON_TWO_SUPPORTS = ("four_dof", "ten_dof")   # car kinds whose body rests at the mean of each wheel half
 BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
@@ -105,7 +105,8 @@ class Output:
         their envelopes over the whole run.
     nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
         span's middle), 'supports' (the track's nodes that carry it: uy fixed, or on bearings or piers,
-        :func:`vtsi.deck.deck_layout`) or a tuple of node tags.
+        :func:`vtsi.deck.deck_layout`), 'piers' (those over the intermediate supports of
+        continuous decks; a bridge without any produces no such output) or a tuple of node tags.
     history : keep the time history too.
     cutoff : None (the FE model's full response), 'en' (the EN 1990 A2.4.4.2.1 cut-off
         max(30 Hz, 1.5 n₀, n₃); of several decks the largest of theirs, :func:`en_cutoff_hz`)
@@ -127,7 +128,8 @@ class Output:
                              f"{', '.join(list(NODE_RESPONSES) + list(VEHICLE_RESPONSES))}")
         if isinstance(self.nodes, str):
             if self.nodes not in PLACES:
-                raise ModelError(f"output {self.name!r}: nodes must be 'deck', 'midspan' or node tags, got {self.nodes!r}")
+                raise ModelError(f"output {self.name!r}: nodes must be {', '.join(repr(p) for p in PLACES)} or node "
+                                 f"tags, got {self.nodes!r}")
         else:
             object.__setattr__(self, "nodes", tuple(int(n) for n in self.nodes))
         if self.cutoff is not None:
@@ -160,7 +162,7 @@ HISTORY_OUTPUTS = (Output("deck_displacement", "disp", history=True),
 DEFAULT_OUTPUTS = (Output("deflection", "disp"), Output("acceleration", "accel", cutoff="en"),
                    Output("end_rotation", "rotation", nodes="supports"),
                    Output("bending_moment", "moment", nodes="midspan"),
-                   Output("support_moment", "moment", nodes="supports"),
+                   Output("support_moment", "moment", nodes="piers"),
                    Output("contact_force", "contact_force"), Output("car_body_acceleration", "car_body_accel"))
 
 
@@ -489,7 +491,8 @@ class PassageRunner:
     span_ends : (n_spans, 2) x of each span's first and last support [m]; span_lengths [m]
         their distances; span_decks the deck of each span; deck_ends (n_decks, 2) the x of each
         deck's ends (its spans and overhangs); ground_nodes the track's nodes on no deck
-        (approaches); support_nodes the track's nodes that carry it. The rules:
+        (approaches); support_nodes the track's nodes that carry it, pier_nodes those over the
+        intermediate supports of continuous decks. The rules:
         :mod:`vtsi.deck` (docs/sweeps.md).
     track_on_a_structure : the track stands on elements over another structure at most of its
         nodes (a rail on its pads over the deck): the deck outputs are the track's.
@@ -497,12 +500,13 @@ class PassageRunner:
 
     def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=(), top_speed_kmh=None):
         self.model = copy.deepcopy(model)
-        self.outputs = tuple(outputs)
-        names = [o.name for o in self.outputs]
+        outputs = tuple(outputs)
+        names = [o.name for o in outputs]
         if len(set(names)) != len(names):
             raise ModelError(f"sweep outputs: names must differ, got {names}")
         self.track = Track(self.model, list(track_elements))
         self.deck_nodes, self.midspan_nodes, self.span_ends = self._deck()
+        self.outputs = tuple(o for o in outputs if o.nodes != "piers" or self.pier_nodes)   # none: not produced
         self.span_lengths = [b - a for a, b in self.span_ends]
         for o in self.outputs:
             missing = [n for n in self.output_nodes(o.nodes) if n not in self.model.nodes]
@@ -570,6 +574,7 @@ class PassageRunner:
         ``track_on_a_structure``; returns the deck nodes, mid-span nodes and span ends."""
         layout = deck_layout(self.model, self.track)
         self.support_nodes = list(layout.support_nodes)
+        self.pier_nodes = list(layout.pier_nodes)
         self.span_decks = list(layout.span_decks)
         self.deck_ends = list(layout.deck_ends)
         self.nodes_by_deck = layout.nodes_by_deck
@@ -839,6 +844,8 @@ class PassageRunner:
             return list(self.midspan_nodes)
         if nodes == "supports":
             return list(self.support_nodes)
+        if nodes == "piers":
+            return list(self.pier_nodes)
         return list(nodes)
 
     def columns(self, output, train):
