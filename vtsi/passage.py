@@ -34,11 +34,10 @@ import scipy.linalg
 from scipy.ndimage import convolve1d
 
 from vtsi.analysis import domain_state, modes_up_to
-from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.codes.en1991_2 import frequency_limits
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
-from vtsi.damping import deck_frequencies, rayleigh_damping, vertical_frequencies
+from vtsi.damping import decks_cutoff_hz, deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
 from vtsi.errors import BridgeModelError, ModelError, VtsiError, as_flag, as_positive
 from vtsi.influence import InfluenceLines
@@ -339,7 +338,7 @@ def en_cutoff_hz(bridge):
         rows = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
     else:
         rows = np.asarray(bridge["frequencies_hz"], dtype=float).ravel()[None, :3]
-    return max(acceleration_cutoff_hz(f) for f in rows)
+    return decks_cutoff_hz(rows)
 
 
 def default_dt(bridge, rail_hz=None):
