@@ -270,6 +270,17 @@ class ElementType:
                          "available; record 'force' or 'globalForce'")
 
 
+AXIS_RESPONSES = ("xaxis", "yaxis", "zaxis")
+
+
+def axis_vectors(kind, c, s):
+    """Response ``kind`` in :data:`AXIS_RESPONSES` of elements whose local x axis has the
+    direction cosines ``c, s`` ``(n_el,)``: that local axis's unit vector ``(n_el, 3)`` in global
+    axes (OpenSees's ``xaxis``, ``yaxis``, ``zaxis``; y is x turned 90° anticlockwise)."""
+    zero, one = np.zeros_like(c), np.ones_like(c)
+    return np.stack({"xaxis": (c, s, zero), "yaxis": (-s, c, zero), "zaxis": (zero, zero, one)}[kind], axis=1)
+
+
 @njit(cache=True)
 def lengths_2d(coords):
     """Lengths ``(n_el,)`` [m] of 2-node line elements (``coords (n_el, 2, 2)``)."""

@@ -10,7 +10,7 @@ OpenSees ``SRC/element/elasticBeamColumn/ElasticBeam2d.cpp`` (mass conventions).
 import numpy as np
 from numba import njit
 
-from .base import ElementType, register, rotation_2d
+from .base import AXIS_RESPONSES, ElementType, axis_vectors, register, rotation_2d
 from .kernels import rotate_to_global
 
 
@@ -139,14 +139,10 @@ class ElasticBeamColumn2d(ElementType):
         if kind in ("basicDeformation", "chordRotation", "chordDeformation"):
             return _basic_deformations(coords, np.ascontiguousarray(u_e, dtype=np.float64))
         c, s, L = rotation_2d(coords)
-        zero, one = np.zeros_like(L), np.ones_like(L)
-        if kind == "xaxis":
-            return np.stack([c, s, zero], axis=1)
-        if kind == "yaxis":
-            return np.stack([-s, c, zero], axis=1)
-        if kind == "zaxis":
-            return np.stack([zero, zero, one], axis=1)
+        if kind in AXIS_RESPONSES:
+            return axis_vectors(kind, c, s)
         if kind == "basicStiffness":
+            zero = np.zeros_like(L)
             ea, ei = params[:, 0] * params[:, 1] / L, params[:, 1] * params[:, 2] / L
             return np.stack([ea, zero, zero, zero, 4.0 * ei, 2.0 * ei, zero, 2.0 * ei, 4.0 * ei], axis=1)
         return super().response(kind, coords, params, u_e, v_e)

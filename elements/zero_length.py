@@ -25,7 +25,7 @@ from numba import njit
 
 from vtsi.errors import ModelError
 
-from .base import ElementType, register
+from .base import AXIS_RESPONSES, ElementType, axis_vectors, register
 
 log = logging.getLogger(__name__)
 
@@ -118,16 +118,11 @@ class ZeroLength2d(ElementType):
             if kind in ("deformation", "basicDeformation"):
                 return deformation
             return params[:, 0:3] * deformation + params[:, 3:6] * rate
-        c, s = np.cos(params[:, 6]), np.sin(params[:, 6])
-        zero, one = np.zeros_like(c), np.ones_like(c)
         if kind == "basicStiffness":
+            zero = np.zeros(len(params))
             return np.stack([params[:, 0], zero, zero, zero, params[:, 1], zero, zero, zero, params[:, 2]], axis=1)
-        if kind == "xaxis":
-            return np.stack([c, s, zero], axis=1)
-        if kind == "yaxis":
-            return np.stack([-s, c, zero], axis=1)
-        if kind == "zaxis":
-            return np.stack([zero, zero, one], axis=1)
+        if kind in AXIS_RESPONSES:
+            return axis_vectors(kind, np.cos(params[:, 6]), np.sin(params[:, 6]))
         return super().response(kind, coords, params, u_e, v_e)
 
 
