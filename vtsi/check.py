@@ -68,6 +68,7 @@ from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, br
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
 RENAMED = {"deflection_lm71": "deflection"}   # rows of checks stored by an older vtsi, by today's name
+DIMENSIONLESS = "-"          # the units of a ratio (a row's, an output's): written as none
 WITH_A_VERDICT = ("deck_acceleration", "deflection", "car_body_acceleration", "wheel_unloading", "contact_loss")
 
 
@@ -205,11 +206,12 @@ class CheckResult:
                          + (["notes:"] + notes if notes else []))
 
     def value_text(self, row, number, units=str):
-        """``number`` (the row's value as text) with its units (as ``units`` writes them): a count
+        """``number`` (the row's value as text) with its units (as ``units`` writes them), none
+        after a ratio (units '-': '6.934', not '6.934 -', which reads as a minus sign); a count
         of passages as 'k of n passages', n the passages the check read."""
         if row.units == "passages" and self.cases_done:
             return f"{number} of {self.cases_done} passages"
-        return f"{number} {units(row.units)}".strip()
+        return number if row.units == DIMENSIONLESS else f"{number} {units(row.units)}".strip()
 
     def store(self, path):
         """Write the table into the sweep's results file (/checks: one row per criterion, the
@@ -655,47 +657,81 @@ def _truncation_note(results, bridge):
     return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"
 
 
+@dataclass
+class NodeDeflection:
+    """What the deflection rows read at one node of a span or an overhang (:func:`node_deflections`)."""
+
+    node: int                   # its tag
+    criterion: str              # 'deflection' (a span's node) or 'deflection_overhang'
+    place: str                  # 'span 2', 'overhang x = 0 to 1.5 m'
+    length: float               # [m] of its span or overhang (the limit: length / 600)
+    lm71: float                 # [m] Φ α |y_stat,LM71|, downward
+    dynamic: np.ndarray         # (n_train, n_speed, n_seed) [m] max |y_dyn|, downward
+    checked: np.ndarray         # (n_train, n_speed, n_seed) [m] max |y_dyn| + φ''/2 |y_stat,train|
+    Phi: float                  # Φ of its deck's L_Φ
+    phi2: float                 # φ'' of its deck's L_Φ and n₀
+
+
+def node_deflections(results, name, bridge, settings):
+    """The deflection the check reads at each node of output ``name`` on a span or an overhang
+    (:class:`NodeDeflection`, in the output's column order; nodes off the decks left out), or None
+    when the sweep kept no static values of ``name``: Φ α × LM71's static deflection and (1 +
+    φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| + φ''/2 |y_stat,train| (φ'' whole for
+    standard maintenance; EN 1991-2 6.4.6.5(3)), Φ and φ'' of the node's deck. The deflection
+    rows are the largest of these against L/600; the report draws them against speed."""
+    static = results.static(name)
+    if static is None:
+        return None
+    env, columns = results.column_envelopes(name)
+    deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
+    spans, ends = np.asarray(bridge["span_lengths_m"]), np.asarray(bridge["span_ends_m"]).reshape(-1, 2)
+    _, Phi, phi2, share = _design_factors(results, bridge, settings)
+    decks, hangs, tol = span_decks(bridge), overhangs(bridge), x_tolerance(bridge)
+    lm71_static, train_static = np.abs(static[1][MIN]), np.abs(static[0][:, MIN])
+    out = []
+    for c, node in enumerate(columns):
+        x = deck_x.get(int(node), np.nan)
+        inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
+        if len(inside):
+            k = f = int(inside[0])
+            key, length, place = "deflection", spans[k], f"span {k + 1}"
+        else:
+            on = [h for h, (d, a, b) in enumerate(hangs) if min(a, b) - tol <= x <= max(a, b) + tol]
+            if not on:            # off the deck: on the ground beyond its spans, or a joint
+                continue
+            d, a, b = hangs[on[0]]
+            f = int(np.flatnonzero(decks == d)[0])
+            key, length, place = "deflection_overhang", abs(b - a), f"overhang x = {min(a, b):g} to {max(a, b):g} m"
+        dynamic = np.abs(env[..., MIN, c])
+        out.append(NodeDeflection(int(node), key, place, float(length), Phi[f] * settings.alpha * lm71_static[c],
+                                  dynamic, dynamic + share * phi2[f] * train_static[:, c][:, None, None],
+                                  float(Phi[f]), float(phi2[f])))
+    return out
+
+
 def _deflection(results, outputs, bridge, settings):
     """The deflection of every deck node under the more unfavourable of Φ α × LM71 (static) and
     (1 + φ'_dyn + φ''/2) × each train of the sweep (EN 1991-2 6.4.6.5(3): the dynamic analysis
     governs where that is larger), against L/600 of its span (EN 1990 A2.4.4.2.3(1)), Φ and φ''
-    of its deck's L_Φ. At a node (1 + φ'_dyn + φ''/2) y_stat,train = max |y_dyn| + φ''/2
-    |y_stat,train| (downward). An overhang's nodes (a cantilever carrying the track) are read the
-    same way in a row of their own, ``deflection_overhang``, against L_c/600 of the overhang's
-    length L_c for reference only (info): A2.4.4.2.3(1) gives L/600 for spans, no limit for a
-    cantilever."""
+    of its deck's L_Φ (:func:`node_deflections`). An overhang's nodes (a cantilever carrying the
+    track) are read the same way in a row of their own, ``deflection_overhang``, against L_c/600
+    of the overhang's length L_c for reference only (info): A2.4.4.2.3(1) gives L/600 for spans,
+    no limit for a cantilever."""
     for name in _outputs_of(outputs, "disp", cutoff=False):
-        static = results.static(name)
-        if static is None:
+        nodes = node_deflections(results, name, bridge, settings)
+        if nodes is None:
             continue
-        env, columns = results.column_envelopes(name)
-        deck_x = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist()))
-        spans, ends = np.asarray(bridge["span_lengths_m"]), np.asarray(bridge["span_ends_m"]).reshape(-1, 2)
-        _, Phi, phi2, share = _design_factors(results, bridge, settings)
-        decks, hangs, tol = span_decks(bridge), overhangs(bridge), x_tolerance(bridge)
-        lm71_static, train_static = np.abs(static[1][MIN]), np.abs(static[0][:, MIN])
+        share = _design_factors(results, bridge, settings)[3]
         worst = {"deflection": None, "deflection_overhang": None}
-        for c, node in enumerate(columns):
-            x = deck_x.get(int(node), np.nan)
-            inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
-            if len(inside):
-                k = f = int(inside[0])
-                key, length, place = "deflection", spans[k], f"span {k + 1}"
-            else:
-                on = [h for h, (d, a, b) in enumerate(hangs) if min(a, b) - tol <= x <= max(a, b) + tol]
-                if not on:            # off the deck: on the ground beyond its spans, or a joint
-                    continue
-                d, a, b = hangs[on[0]]
-                f = int(np.flatnonzero(decks == d)[0])
-                key, length, place = "deflection_overhang", abs(b - a), f"overhang x = {min(a, b):g} to {max(a, b):g} m"
-            limit = length / en1990_a2.DEFLECTION_SPAN_RATIO
-            lm71 = Phi[f] * settings.alpha * lm71_static[c]
-            at = np.abs(env[..., MIN, c]) + share * phi2[f] * train_static[:, c][:, None, None]
+        for n in nodes:
+            limit = n.length / en1990_a2.DEFLECTION_SPAN_RATIO
+            at = n.checked
             case = np.unravel_index(np.nanargmax(at), at.shape) if np.any(np.isfinite(at)) else None
-            value = max(lm71, at[case] if case is not None else -np.inf)
+            value = max(n.lm71, at[case] if case is not None else -np.inf)
+            key = n.criterion
             if worst[key] is None or value / limit > worst[key][0] / worst[key][1]:
-                worst[key] = (value, limit, int(node), place, lm71, Phi[f], phi2[f], length,
-                              None if value == lm71 else case)
+                worst[key] = (value, limit, n.node, n.place, n.lm71, n.Phi, n.phi2, n.length,
+                              None if value == n.lm71 else case)
         rows = []
         for key, found in worst.items():
             if found is None:
@@ -846,7 +882,7 @@ def _whole_run_note(results, name, row, value, units, bridge, transform=None):
     whole = float(values[idx])
     if not whole > value * (1 + 1e-9) + 1e-12:
         return ""
-    return (f"; the largest over the whole run, {whole:.4g}{' ' + units if units != '-' else ''} "
+    return (f"; the largest over the whole run, {whole:.4g}{' ' + units if units != DIMENSIONLESS else ''} "
             f"({_case_text(results, idx)}, {_place(results, name, idx, row, columns)}), is off the bridge "
             "(on the ground before or after it), not counted; the sweep keeps it (column_envelopes(..., "
             "whole_run=True))")

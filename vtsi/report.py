@@ -9,8 +9,10 @@ A report lays out what the check found (DESIGN §9): it reads everything from th
 :func:`~vtsi.check.stored_check`), runs no passage and evaluates no criterion. The only numbers it
 derives are plotting quantities from stored values: the peak over rail samples of each train's
 envelope, DAF = y_dyn / y_stat (the stored dynamic mid-span deflection over the stored static one
-under the same train), the resonance speeds v = n₀ D / i (EN 1991-2 §6.4.6.2) marked on the
-acceleration chart (n₀ each deck's), and the times at which a train is on the deck in a history chart.
+under the same train), the deflection as the check reads it at each speed (max |y_dyn| +
+φ''/2 |y_stat|, :func:`~vtsi.check.node_deflections`), the resonance speeds v = n₀ D / i (EN
+1991-2 §6.4.6.2) marked on the acceleration chart (n₀ each deck's), and the times at which a train
+is on the deck in a history chart.
 
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
 
@@ -30,7 +32,8 @@ trains       name, axles, total static load [kN], length [m], characteristic len
 settings     the passages' settings, the acceleration cut-off, the vtsi version, the results
              file (contact and car outputs only if cars ran)
 envelopes    charts against speed [km/h], one line per train: peak deck acceleration [m/s²] with
-             the check's limit and the resonance speeds; largest deflection [mm]; DAF
+             the check's limit and the resonance speeds; the largest span deflection as the
+             check reads it, max |y_dyn| + φ''/2 |y_stat| [mm], with L/600; DAF
 histories    per governing case recorded with :meth:`~vtsi.sweep.Sweep.record_histories`: the
              acceleration [m/s²] and deflection [mm] at each span's middle (a style per span),
              and the contact forces [kN] (their 10 ms mean) and car bodies' accelerations
@@ -57,12 +60,13 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import ABSMAX, car_label, deck_nodes, mid_span_ratios, stored_check, wheel_label
+from vtsi.check import ABSMAX, car_label, deck_nodes, mid_span_ratios, node_deflections, stored_check, wheel_label
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz, modal_basis_hz
 from vtsi.sweep import resonance_speeds
-from vtsi.sweep_results import ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges
+from vtsi.sweep_results import (ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges,
+                                significant_text)
 
 SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
 RESONANCE_ORDERS = (1, 2, 3)          # v = n0 D / i marked on the acceleration chart
@@ -396,14 +400,14 @@ class _Report:
                           f"(x = {x.min():g} … {x.max():g} m)"],
                  ["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
                  ["first vertical frequencies" + (" of the model" if several else ""),
-                  ", ".join(f"{f:#.4g}" for f in freqs) + " Hz"]]
+                  ", ".join(significant_text(f) for f in freqs) + " Hz"]]
         if several and "deck_frequencies_hz" in b:      # each deck's n₀, n₂, n₃
             deck_freqs = np.reshape(b["deck_frequencies_hz"], (-1, 3))
             rows += [[f"deck {d + 1} (x = {a:g} … {e:g} m): n₀, n₂, n₃",
-                      ", ".join(f"{f:#.4g}" for f in row) + " Hz"]
+                      ", ".join(significant_text(f) for f in row) + " Hz"]
                      for d, ((a, e), row) in enumerate(zip(deck_ranges(b), deck_freqs))]
         rows += [["EN cut-off max(30 Hz, 1.5 n₀, n₃)",
-                  f"{en_cutoff_hz(b):#.4g} Hz" + (" (the largest of the decks')" if several else "")],
+                  f"{significant_text(en_cutoff_hz(b))} Hz" + (" (the largest of the decks')" if several else "")],
                  ["damping", _damping_text(self.settings)]]
         blocks = [Table(["property", "value"], rows, cls="properties")]
         if "mode_shapes_uy" in b and np.size(b["mode_shapes_uy"]):
@@ -435,7 +439,8 @@ class _Report:
 
     def settings_section(self):
         s, res = self.settings, self.results
-        cutoffs = [f"{n}: {o['cutoff_hz']:.4g} Hz" for n, o in self.outputs.items() if o.get("cutoff_hz") is not None]
+        cutoffs = [f"{n}: {significant_text(o['cutoff_hz'])} Hz" for n, o in self.outputs.items()
+                   if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
         cars = s.get("cars") != "force"
         rows = [["bridge model", _bridge_model_text(s, res.bridge())],
@@ -474,8 +479,9 @@ class _Report:
                                 "Star: the governing case.", "peak deck acceleration against speed"))
         disp = self.output("disp", cutoff=False)
         if disp is not None:
-            blocks.append(Chart("deflection", self.deflection_png(disp),
-                                f"Largest downward deflection of the deck ({disp}) against speed.",
+            checked, dynamic = self.deflection_curves(disp)
+            blocks.append(Chart("deflection", self.deflection_png(checked, dynamic),
+                                self.deflection_caption(disp, checked is not None),
                                 "largest deflection against speed"))
             daf = self.daf_png(disp)
             if daf is not None:
@@ -535,10 +541,13 @@ class _Report:
         ax.set_xlim(lo - pad, hi + pad)
         ax.set_xlabel("speed [km/h]")
 
-    def _governing_star(self, ax, row, y):
+    def _governing_star(self, ax, row, y, what=""):
+        """The governing case of ``row`` at ``y``, labelled with its train, speed and ``what`` (its
+        value as text, '' for none)."""
         if row is not None and row.train in self.results.trains and not math.isnan(row.speed_kmh):
             ax.plot([row.speed_kmh], [y], "*", color=self.colours[row.train], mec="black", ms=15, zorder=5,
-                    label=f"governing: {row.train}\nat {_fmt_speed(row.speed_kmh)} km/h")
+                    label=f"governing: {what + ', ' if what else ''}{row.train}\n"
+                          f"at {_fmt_speed(row.speed_kmh)} km/h")
 
     def acceleration_png(self, name):
         res = self.results
@@ -563,17 +572,59 @@ class _Report:
                 ax.axvline(v, color=self.colours[t], ls=":", lw=1.2, alpha=0.9)
             self._speed_axis(ax)
             ax.set_ylabel("peak deck acceleration [m/s²]")
-            ax.set_title(f"Peak deck acceleration (n₀ = {', '.join(f'{f:#.4g}' for f in n0)} Hz)")
+            ax.set_title(f"Peak deck acceleration (n₀ = {', '.join(significant_text(f) for f in n0)} Hz)")
             _resonance_labels(ax, marks, self.colours)
             _legend(ax)
             return _png(fig)
 
-    def deflection_png(self, name):
-        curves = self._per_train(self.results.envelope(f"{name}_min"), np.nanmin)
-        curves = {t: (v, -1e3 * y) for t, (v, y) in curves.items()}
+    def deflection_curves(self, name):
+        """``(checked, dynamic)`` of output ``name`` against speed, ``{train: (speeds, [mm])}`` each,
+        the largest over the spans' nodes and rail samples: ``checked`` what the deflection row
+        holds to L/600, max |y_dyn| + φ''/2 |y_stat,train| (:func:`~vtsi.check.node_deflections`,
+        the check's stored settings), ``dynamic`` max |y_dyn| alone; ``checked`` None (and
+        ``dynamic`` the output's whole envelope) when the sweep kept no static values or no
+        node of a span."""
+        nodes = node_deflections(self.results, name, self.bridge, self.checked.settings)
+        spans = [n for n in nodes or () if n.criterion == "deflection"]
+        if not spans:
+            curves = self._per_train(self.results.envelope(f"{name}_min"), np.nanmin)
+            return None, {t: (v, -1e3 * y) for t, (v, y) in curves.items()}
+        largest = [np.fmax.reduce(np.stack([getattr(n, kind) for n in spans], axis=-1), axis=-1)
+                   for kind in ("checked", "dynamic")]                    # NaN only where every node is
+        return tuple({t: (v, 1e3 * y) for t, (v, y) in self._per_train(values, np.nanmax).items()}
+                     for values in largest)
+
+    def share_text(self):
+        """φ''/2 (careful maintenance) or φ'' (standard): the share of φ'' the check counts."""
+        return "φ''/2" if self.checked.settings.maintenance == "careful" else "φ''"
+
+    def deflection_caption(self, name, checked):
+        """The deflection chart's caption: what its curves are (``checked``: the check's quantity,
+        else the raw deflection) and what else it draws (:meth:`deflection_png`)."""
+        if not checked:
+            return (f"Largest downward deflection of the deck ({name}) against speed (the sweep kept no static "
+                    f"deflections: the check's max |y_dyn| + {self.share_text()} |y_stat| cannot be drawn).")
+        row = self.row("deflection")
+        text = (f"Largest downward deflection of the spans ({name}) against speed, as the deflection row reads it: "
+                f"max |y_dyn| + {self.share_text()} |y_stat,train| (EN 1991-2 6.4.6.5(3), y_stat the static "
+                "deflection under the same train), the largest over the spans' nodes. Red: L/600.")
+        if row is not None and row.train in self.results.trains:
+            text += " Dotted, in the governing train's colour: its max |y_dyn| alone. Star: the governing case."
+        elif row is not None and row.train == "LM71":
+            text += " Dotted grey: Φ α × LM71's static deflection, which governs."
+        return text
+
+    def deflection_png(self, checked, dynamic):
+        """The deflection chart: ``checked`` (None: ``dynamic`` instead) and, dotted, the governing
+        train's ``dynamic`` (:meth:`deflection_curves`)."""
         row = self.row("deflection")
         with _figure((11, 4.6)) as (fig, ax):
-            self._lines(ax, curves)
+            self._lines(ax, dynamic if checked is None else checked)
+            governing = row is not None and row.train in (checked or {})
+            if governing:
+                v, y = dynamic[row.train]
+                ax.plot(v, y, ":", color=self.colours[row.train], lw=1.4,
+                        label=f"{row.train}: max |y_dyn| alone")
             if row is not None and not math.isnan(row.limit):      # the check's L/600, one line per span length
                 spans = sorted({round(float(L), 6) for L in self.bridge["span_lengths_m"]})
                 for k, L in enumerate(spans):
@@ -583,10 +634,14 @@ class _Report:
                 if row.train == "LM71":                  # the row's value is LM71's, which no curve shows
                     ax.axhline(1e3 * row.value, color="0.35", ls=":", lw=1.5,
                                label=f"Φ α × LM71: {_num(1e3 * row.value)} mm (governs)")
+            if governing:
+                self._governing_star(ax, row, 1e3 * row.value, f"{_num(1e3 * row.value)} mm")
             ax.set_ylim(bottom=0)
             self._speed_axis(ax)
-            ax.set_ylabel("largest downward deflection [mm]")
-            ax.set_title("Largest deck deflection")
+            ax.set_ylabel("largest downward deflection [mm]" if checked is None else
+                          f"max |y_dyn| + {self.share_text()} |y_stat| [mm]")
+            ax.set_title("Largest deck deflection" if checked is None else
+                         "Largest span deflection, as the check reads it")
             _legend(ax)
             return _png(fig)
 
@@ -818,7 +873,7 @@ def _mode_shapes_png(bridge):
             phi, smooth = _drawn_mode_shape(x, shapes[:, k], fine)
             colour = ("#1f3b73", "#c0392b", "#27ae60")[k % 3]
             ax.plot(fine, smooth, color=colour, lw=1.8,
-                    label=f"mode {k + 1}: {freqs[k]:#.4g} Hz" if k < len(freqs) else f"mode {k + 1}")
+                    label=f"mode {k + 1}: {significant_text(freqs[k])} Hz" if k < len(freqs) else f"mode {k + 1}")
             ax.plot(x, phi, "o", color=colour, ms=3)
         ax.axhline(0, color="black", lw=0.8)
         ax.plot(supports, np.zeros_like(supports), "^", color="black", ms=11, clip_on=False, label="supports")
@@ -974,7 +1029,7 @@ def _bridge_model_text(settings, bridge):
         return "FE model, time-stepped"
     f_max = modal_basis_hz(kind, settings.get("modal_hz"), bridge)
     how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
-    return f"modal: its modes up to {f_max:.4g} Hz, {how}"
+    return f"modal: its modes up to {significant_text(f_max)} Hz, {how}"
 
 
 def _damping_text(settings):
@@ -985,7 +1040,7 @@ def _damping_text(settings):
     if modal:
         return f"ζ = {100 * zeta:.3g} % on every mode (modal damping)"
     pair = settings.get("damping_hz")
-    where = (f"{pair[0]:.4g} and {pair[1]:.4g} Hz" if pair else "n₀ and the EN cut-off")
+    where = (f"{significant_text(pair[0])} and {significant_text(pair[1])} Hz" if pair else "n₀ and the EN cut-off")
     return f"ζ = {100 * zeta:.3g} % (Rayleigh, through {where})"
 
 

@@ -14,7 +14,7 @@ from vtsi.modal_bridge import ModalBridge
 from vtsi.recorders.node import REACTIONS
 
 from .args import Args
-from .base import SessionBase
+from .base import Placeholder, SessionBase
 
 log = logging.getLogger(__name__)
 
@@ -331,14 +331,17 @@ class AnalysisCommands(SessionBase):
         if n < 0:
             raise CommandError(f"analyze: number of steps must be >= 0, got {n}")
         if self._analysis is None:
-            raise CommandError("analyze: no analysis defined; call analysis('Static') or analysis('Transient') first")
+            raise CommandError(f"analyze: no analysis defined; "
+                               f"{self._command_hint(('analysis', 'Static'), ('analysis', 'Transient'))} first")
         if not model.nodes:
             raise CommandError("analyze: the model has no nodes")
         if self._analysis == "Static":
             if self._constraint is not None:
+                passage = (self._command_hint(("analysis", "Transient"), verb="") + " + "
+                           + self._command_hint(("analyze", Placeholder("n"), Placeholder("dt")), verb=""))
                 raise CommandError("analyze: a Static analysis would ignore the train of the movingLoadConstraint; "
-                                   "the train's dead load is deadLoad() (docs/commands.md, Trains), its passage "
-                                   "analysis('Transient') + analyze(n, dt)")
+                                   f"the train's dead load is {self._command_hint(('deadLoad',), verb='')} "
+                                   f"(docs/commands.md, Trains), its passage {passage}")
             if a.more():
                 a.float("dt")   # OpenSees accepts and ignores a dt in a static analysis
             a.done()
@@ -348,17 +351,19 @@ class AnalysisCommands(SessionBase):
                 StaticAnalysis(model, control.low, recorders).run(n)
             else:
                 if self._settings["algorithm"][0] != "Linear":
+                    linear = self._command_hint(("algorithm", "Linear"), verb="")
                     raise CommandError(f"analyze: {control.name}: OpenSees scales dLambda by numIter / (the iterations "
                                        f"of the last step), and algorithm {self._settings['algorithm'][0]} takes a "
                                        "number that depends on its test and on round-off (vtsi solves each step "
-                                       "exactly in one pass); use algorithm('Linear') (one iteration a step, as "
+                                       f"exactly in one pass); use {linear} (one iteration a step, as "
                                        "OpenSees's Linear), or minLambda = maxLambda (a constant increment)")
                 for _ in range(n):
                     StaticAnalysis(model, control.next_increment(1), recorders).run(1)
             self._load_time = domain_state(model).time
             return 0
         if not a.more():
-            raise CommandError("analyze: a transient analysis needs the time step: analyze(numSteps, dt)")
+            usage = self._command_hint(("analyze", Placeholder("numSteps"), Placeholder("dt")), verb="")
+            raise CommandError(f"analyze: a transient analysis needs the time step: {usage}")
         dt = a.float("dt")
         a.done()
         if not dt > 0.0:
@@ -437,11 +442,12 @@ class AnalysisCommands(SessionBase):
             ratios.append(a.float("damping ratio"))
         a.done()
         if self._eigen is None:
-            raise CommandError("modalDamping: no modes; call eigen(n) first (the ratios apply to its modes)")
+            raise CommandError(f"modalDamping: no modes; {self._command_hint(('eigen', Placeholder('n')))} first "
+                               "(the ratios apply to its modes)")
         asm, omega2, _ = self._eigen
         if not same_modes(asm, model.build()):
             raise CommandError("modalDamping: the model changed after the last eigen (its dofs, stiffness or mass); "
-                               "call eigen(n) again")
+                               f"{self._command_hint(('eigen', Placeholder('n')))} again")
         n = len(omega2)
         if len(ratios) not in (1, n):
             raise CommandError(f"modalDamping: give one ratio or one per mode of the last eigen ({n}), got {len(ratios)}")

@@ -28,11 +28,19 @@ class SessionBase:
             return " ".join([name] + [_tcl_word(w) for w in words])
         return f"{name}({', '.join(_python_word(w) for w in words)})"
 
+    def _command_hint(self, *commands, verb="call"):
+        """What a message asks the user to give: ``commands`` (each ``(name, *words)``,
+        :meth:`_command_text`) in the session's syntax, joined by ' or ': "call
+        analysis('Static') or analysis('Transient')" (python) or 'give the command "analysis
+        Static" or "analysis Transient"' (tcl: each command quoted); ``verb`` '' leaves out the verb."""
+        texts = [self._command_text(*command) for command in commands]
+        if self.syntax == "tcl":
+            return ("give the command " if verb else "") + " or ".join(f'"{t}"' for t in texts)
+        return (f"{verb} " if verb else "") + " or ".join(texts)
+
     def _model(self, command):
         if self.domain is None:
-            model = self._command_text("model", "basic", "-ndm", 2, "-ndf", 3)
-            hint = f'give the command "{model}" first' if self.syntax == "tcl" else f"call {model} first"
-            raise CommandError(f"{command}: no model; {hint}")
+            raise CommandError(f"{command}: no model; {self._command_hint(('model', 'basic', '-ndm', 2, '-ndf', 3))} first")
         return self.domain
 
     def _assembly(self, command):

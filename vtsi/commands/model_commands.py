@@ -13,7 +13,7 @@ from vtsi.model import Model
 from vtsi.timeseries import Constant, Linear, Path, Pulse, Rectangular, Triangle, Trig
 
 from .args import Args, read_numbers, tcl_words
-from .base import SessionBase
+from .base import Placeholder, SessionBase
 
 MODEL_COMMANDS = ("model", "node", "fix", "equalDOF", "rigidLink", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
                   "pattern", "load", "sp", "eleLoad", "rayleigh")
@@ -24,6 +24,14 @@ SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular",
 
 class ModelCommands(SessionBase):
     """The model: nodes, elements and their materials and transformations, loads and damping."""
+
+    def _pattern_hint(self):
+        """The command that defines a load pattern, as a message asks for it in the session's syntax."""
+        return self._command_hint(("pattern", "Plain", Placeholder("tag"), Placeholder("tsTag")), verb="")
+
+    def _tags_word(self):
+        """The element tags of an ``eleLoad -ele`` hint: ``*tags`` (Python) or ``tags...`` (Tcl)."""
+        return Placeholder("tags..." if self.syntax == "tcl" else "*tags")
 
     def _clear_model(self):
         self.domain = None
@@ -56,7 +64,7 @@ class ModelCommands(SessionBase):
         if self.domain is not None and self.domain.nodes:
             if self.domain.ndf != ndf:
                 raise CommandError(f"model: the model already has nodes with {self.domain.ndf} dofs; "
-                                   f"call wipe() before changing -ndf to {ndf}")
+                                   f"{self._command_hint(('wipe',))} before changing -ndf to {ndf}")
             return None
         if self.domain is None or self.domain.ndf != ndf:
             self.domain = Model(ndm, ndf)
@@ -230,8 +238,9 @@ class ModelCommands(SessionBase):
             raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
         A, E, Iz = a.float("A"), a.float("E"), a.float("Iz")
         if not a.next_is_number():
-            raise CommandError(f"{name}: missing transfTag (element('elasticBeamColumn', tag, i, j, A, E, Iz, "
-                               "transfTag, ...))")
+            words = [Placeholder(w) for w in ("tag", "i", "j", "A", "E", "Iz", "transfTag", "...")]
+            usage = self._command_text("element", "elasticBeamColumn", *words)
+            raise CommandError(f"{name}: missing transfTag ({usage})")
         transf = a.int("transfTag")
         if a.next_is_number():
             raise CommandError(f"{name}: the section form (secTag, transfTag) is not supported; give A, E, Iz")
@@ -496,7 +505,7 @@ class ModelCommands(SessionBase):
             pattern = a.int("-pattern tag")
         self._node("load", tag)
         if pattern is None:
-            raise CommandError(f"load on node {tag}: no load pattern; define one with pattern('Plain', tag, tsTag)")
+            raise CommandError(f"load on node {tag}: no load pattern; define one with {self._pattern_hint()}")
         if pattern not in model.patterns:
             raise CommandError(f"load on node {tag}: pattern {pattern} does not exist")
         model.load(pattern, tag, *values)
@@ -512,7 +521,7 @@ class ModelCommands(SessionBase):
         self._node("sp", node)
         pattern = self._current_pattern
         if pattern is None or pattern not in model.patterns:
-            raise CommandError(f"sp node {node}: no load pattern; define one with pattern('Plain', tag, tsTag)")
+            raise CommandError(f"sp node {node}: no load pattern; define one with {self._pattern_hint()}")
         model.sp(pattern, node, dof, value)
 
     def eleLoad(self, *args):
@@ -530,10 +539,13 @@ class ModelCommands(SessionBase):
                 lo, hi = a.int("-range first"), a.int("-range last")
                 tags += [t for t in model.element_tags() if lo <= t <= hi]
         if not tags:
-            raise CommandError("eleLoad: no elements (give '-ele', tags... or '-range', first, last)")
+            more = ("-type", Placeholder("..."))
+            by_tag = self._command_text("eleLoad", "-ele", self._tags_word(), *more)
+            by_range = self._command_text("eleLoad", "-range", Placeholder("first"), Placeholder("last"), *more)
+            raise CommandError(f"eleLoad: no elements (give {by_tag} or {by_range})")
         if a.peek() in ("-beamUniform", "-beamPoint"):
-            raise CommandError(f"eleLoad: -type missing before {a.peek()} (eleLoad('-ele', *tags, '-type', "
-                               f"'{a.peek()}', ...))")
+            usage = self._command_text("eleLoad", "-ele", self._tags_word(), "-type", a.peek(), Placeholder("..."))
+            raise CommandError(f"eleLoad: -type missing before {a.peek()} ({usage})")
         a.option(("-type",))
         kind = a.word("load type", ("-beamUniform", "-beamPoint"))
         if kind == "-beamUniform":
@@ -543,7 +555,7 @@ class ModelCommands(SessionBase):
         a.done()
         pattern = self._current_pattern
         if pattern is None or pattern not in model.patterns:
-            raise CommandError("eleLoad: no load pattern; define one with pattern('Plain', tag, tsTag)")
+            raise CommandError(f"eleLoad: no load pattern; define one with {self._pattern_hint()}")
         for tag in tags:
             if tag not in model._element_owner:
                 raise CommandError(f"eleLoad: element {tag} does not exist")
