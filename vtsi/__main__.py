@@ -44,7 +44,7 @@ BRIDGE is a description file (.toml; .yaml/.yml with PyYAML) naming a built-in b
   elements_per_span = 10
   [analysis]          # optional defaults of the options below
   damping = 0.0125
-  dt_s = 0.002
+  dt_s = 0.0005       # optional: the default takes 20 steps a period of the EN cut-off
 or an OpenSees model script (.tcl, or .py using 'import vtsi.opensees as ops') that builds
 the bridge and defines its track ('track 1 -eleRange 1 40'). Scripts must be in SI units
 (N, kg, m, s, Pa): a model lighter than 500 kg/m along its track is refused.
@@ -55,8 +55,9 @@ SPEEDS [km/h]: START:STOP:STEP (STOP included when on the grid), v1,v2,..., or e
 for the EN 1991-2 6.4.6.2 series (144 km/h to 1.2 x LINE_SPEED in 10 km/h steps, 2 km/h
 steps within +-10 % of every resonance speed n D / i of the bridge and trains).
 
-Prints the table of envelope maxima with the governing train and speed per quantity.
-Exit status: 0 done; 2 bad command line or input (nothing written), or a results file another
+Prints the table of envelope maxima with the governing train and speed per quantity, and a
+note when dt takes fewer than 20 steps a period of the EN cut-off (what 'vtsi check' calls not
+converged). Exit status: 0 done; 2 bad command line or input (nothing written), or a results file another
 run is writing; 1 a passage failed during the run (finished cases stay in the file); 130
 interrupted (Ctrl-C), 143 terminated (SIGTERM): finished cases stay in the file, --resume
 continues. --overwrite keeps the old file until the new sweep is complete (it is written to
@@ -478,7 +479,8 @@ def _check_numbers(ns):
 def _check(ns):
     """Sweep, check, histories of the governing cases, scene and report; see ``vtsi check -h``."""
     from vtsi.check import SELF_WEIGHT_REFUSED
-    from vtsi.errors import VtsiError
+    from vtsi.errors import SweepError, VtsiError
+    from vtsi.workflow import refuse_before_sweep
 
     out = os.path.abspath(ns.out)
     report_dir = os.path.abspath(ns.report or os.path.splitext(out)[0] + "_report")
@@ -501,6 +503,10 @@ def _check(ns):
         sweep = _prepare_sweep(ns, out)
         if sweep.settings.bridge_self_weight:
             raise _UsageError(SELF_WEIGHT_REFUSED.removeprefix("check: "))
+        try:                                           # what the check would refuse after the sweep: refused now
+            refuse_before_sweep(sweep, settings)
+        except SweepError as exc:
+            raise _UsageError(_message(exc).removeprefix("check: ")) from None
     except (VtsiError, OSError, _UsageError) as exc:
         return _fail(exc, EXIT_USAGE, "check")
     except KeyboardInterrupt as exc:
@@ -607,7 +613,8 @@ def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
             return _stopped(exc, command, kept + ")" if kept else "")
         return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED, command)
     if summary:
-        _print_out(results.summary())
+        note = sweep.resolution_note()              # a dt the check would call unconverged
+        _print_out(results.summary() + (f"\n{note}" if note else ""))
         if not ns.quiet:
             _print_err(f"vtsi sweep: results in {out}")
     return 0

@@ -47,7 +47,7 @@ from vtsi.commands.tcl import Interpreter, script_line
 from vtsi.errors import BridgeModelError, ModelError, VtsiError, is_int
 from vtsi.models.bridges import MAX_ELEMENTS_PER_SPAN
 from vtsi.passage import PassageSettings
-from vtsi.sweep import SweepBridge, beam_bridge
+from vtsi.sweep import SweepBridge, beam_bridge, check_deck_mass
 from vtsi.track import Track
 from vtsi.units import MIN_MASS_PER_METRE, Units, deck_mass_per_length
 
@@ -377,10 +377,7 @@ def mass_per_metre(bridge):
 
 
 def _check_mass(bridge, path, minimum):
-    if not minimum:
-        return
-    mu = mass_per_metre(bridge)
-    if not mu >= minimum:
-        raise BridgeModelError(f"bridge file {path}: the model's mass is {mu:.4g} kg/m along its track, below "
-                               f"{minimum:g} kg/m (no railway deck is that light); vtsi is SI (N, kg, m, Pa): "
-                               "a model in kN, t, m gives masses 1000 times too small")
+    """The sweep's own check (:func:`vtsi.sweep.check_deck_mass`), here as the file is read;
+    ``minimum`` travels with the bridge, so that its sweep accepts what the file did."""
+    check_deck_mass(bridge.model, bridge.track_elements, f"bridge file {path}", minimum)
+    bridge.min_mass_per_metre = minimum

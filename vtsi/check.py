@@ -310,6 +310,14 @@ def check(results, settings=None):
     return out
 
 
+def refuse_inputs(results, settings=None):
+    """Raise what :func:`check` refuses on a sweep's inputs alone, read from ``results`` before
+    any case ran (its bridge record and outputs): a deck acceleration output that counts fewer
+    frequencies than the EN cut-off or holds no deck node (:func:`vtsi.workflow.refuse_before_sweep`)."""
+    settings = CheckSettings() if settings is None else settings
+    _deck_acceleration(results, {o["name"]: o for o in results.identity["outputs"]}, results.bridge(), settings)
+
+
 # -- the criteria ----------------------------------------------------------------------------------
 def _governing(results, values, pick):
     """(train, speed, seed, index) of the extreme of ``values`` (n_train, n_speed, n_seed, ...)."""

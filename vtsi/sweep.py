@@ -33,13 +33,16 @@ from tqdm.auto import tqdm
 from vtsi.codes.en1991_2 import SPEED_SERIES_START_KMH
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
-from vtsi.errors import BridgeError, BridgeSweepError, PassageError, SweepError, VtsiError, is_int
+from vtsi.errors import (BridgeError, BridgeModelError, BridgeSweepError, ModelError, PassageError, SweepError,
+                         VtsiError, is_int)
 from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
-from vtsi.passage import DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings
+from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PERIOD, Output, PassageRunner,
+                          PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz)
 from vtsi.sweep_results import ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index
 from vtsi.train import TrainSubdomain
+from vtsi.units import MAX_MASS_PER_METRE, MIN_MASS_PER_METRE, deck_mass_per_length
 from vtsi.vehicle import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
@@ -190,25 +193,59 @@ class SweepBridge:
     """A bridge model for a sweep: the model, the tags of its track elements, a description
     (JSON-able dict, stored in the results; e.g. the beam's data or the script's path) and the
     ``modal_damping`` of a script: ``((frequency [Hz], ratio [-]), ...)`` that its
-    ``modalDamping`` gave the modes of its ``eigen`` (:class:`~vtsi.passage.PassageRunner`)."""
+    ``modalDamping`` gave the modes of its ``eigen`` (:class:`~vtsi.passage.PassageRunner`).
+
+    ``min_mass_per_metre`` [kg/m]: the lightest deck the sweep accepts
+    (:func:`check_deck_mass`; 0 accepts any mass, e.g. a laboratory scale model)."""
 
     model: object
     track_elements: list
     description: dict
     modal_damping: tuple = ()
+    min_mass_per_metre: float = MIN_MASS_PER_METRE
 
 
-def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0, damping=None):
+def check_deck_mass(model, track_elements, what, minimum=MIN_MASS_PER_METRE):
+    """The deck's mass per metre of track [kg/m] (:func:`~vtsi.units.deck_mass_per_length`), or a
+    :class:`~vtsi.errors.BridgeModelError` naming ``what``, the value and the likely unit slip
+    when it is below ``minimum`` (:data:`~vtsi.units.MIN_MASS_PER_METRE`; 0: no lower bound) or
+    above :data:`~vtsi.units.MAX_MASS_PER_METRE`: a deck of 15 t/m typed as ``mu=15``, or a
+    model in kN, t, m, reads 1000 times too light, and the trains' loads in N would then move
+    it 1000 times too far. The one check of a sweep's bridge, whichever way it came (a
+    :func:`beam_bridge`, a user's model, a bridge file)."""
+    if isinstance(minimum, bool) or not isinstance(minimum, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(minimum) and minimum >= 0):
+        raise SweepError(f"{what}: min_mass_per_metre must be a number >= 0 [kg/m], got {minimum!r}")
+    try:
+        mu = deck_mass_per_length(model, track_elements)
+    except ModelError as exc:
+        raise BridgeModelError(f"{what}: {exc}") from None
+    if minimum and not mu >= minimum:
+        raise BridgeModelError(
+            f"{what}: the deck weighs {mu:.4g} kg/m along its track, below {minimum:g} kg/m (no railway deck is that "
+            f"light); vtsi is SI (N, kg, m, Pa): a mass per metre typed in t/m ({mu:.4g} t/m is {1e3 * mu:.6g} kg/m), "
+            "or a model in kN, t, m, gives masses 1000 times too small")
+    if mu > MAX_MASS_PER_METRE:
+        raise BridgeModelError(
+            f"{what}: the deck weighs {mu:.4g} kg/m along its track, above {MAX_MASS_PER_METRE:g} kg/m (no railway "
+            f"deck is that heavy); vtsi is SI (N, kg, m, Pa): a mass per metre typed in g/m ({mu:.4g} g/m is "
+            f"{1e-3 * mu:.6g} kg/m) gives masses 1000 times too large")
+    return mu
+
+
+def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0, damping=None, min_mass_per_metre=MIN_MASS_PER_METRE):
     """A continuous Euler-Bernoulli beam over ``spans`` [m] (pin, then rollers) as a sweep
     bridge; its track is the beam. E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only); ``damping``:
-    a ratio ζ [-] as Rayleigh damping through n₀ and the EN cut-off (or the sweep's settings)."""
+    a ratio ζ [-] as Rayleigh damping through n₀ and the EN cut-off (or the sweep's settings).
+    A sweep refuses ``mu`` below ``min_mass_per_metre`` [kg/m] (:func:`check_deck_mass`; 15 t/m
+    is ``mu=15000.0``; 0 accepts any mass)."""
     model = Model()
     beam = continuous_beam(model, spans, elements_per_span, E, I, mu, A=A, damping=damping)
     description = {"kind": "beam", "spans_m": [float(s) for s in spans], "E_Pa": float(E), "I_m4": float(I),
                    "mu_kg_m": float(mu), "elements_per_span": int(elements_per_span), "A_m2": float(A)}
     if damping is not None:
         description["damping"] = float(damping)
-    return SweepBridge(model, list(beam.elements), description)
+    return SweepBridge(model, list(beam.elements), description, min_mass_per_metre=min_mass_per_metre)
 
 
 def _fingerprint(runner):
@@ -294,6 +331,7 @@ class Sweep:
             if not isinstance(o, Output):
                 raise SweepError(f"sweep: outputs must be vtsi.passage.Output, got {o!r}")
         try:
+            check_deck_mass(bridge.model, bridge.track_elements, "bridge", bridge.min_mass_per_metre)
             self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs, bridge.modal_damping,
                                         top_speed_kmh=float(self.speeds_kmh[-1]))
             self.settings = self.runner.settings       # dt set from the bridge when it was None
@@ -321,6 +359,30 @@ class Sweep:
                              "cutoff_hz": None if o.cutoff is None else self.runner.cutoff_hz(o.cutoff)}
                             for o in self.outputs],
                 "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
+
+    def resolution_note(self):
+        """'' when Δt takes at least STEPS_PER_CUTOFF_PERIOD steps a period of the highest
+        frequency the sweep's results count: the EN cut-off (or a modal bridge's modes, when they
+        stop below it) and, for cars on an irregular rail, the rail's shortest wavelength at the
+        top speed (:func:`~vtsi.passage.rail_frequency_hz`); else one line saying which is
+        under-resolved and the Δt that resolves it (:func:`~vtsi.passage.dt_resolving`), the rule of
+        the notes of :func:`vtsi.check.check` (its deck acceleration and car rows)."""
+        s, runner = self.settings, self.runner
+        basis = modal_basis_hz(s.bridge, s.modal_hz, runner.frequency_record)
+        top = float(self.speeds_kmh[-1])
+        deck = (runner.en_cutoff_hz, "the EN cut-off") if not basis or basis >= runner.en_cutoff_hz else \
+            (basis, "the modal bridge's highest frequency")
+        coarse = [(f, where, what) for (f, where), what in (
+            (deck, "the deck accelerations"),
+            ((rail_frequency_hz(s.irregularity, s.cars, top), f"the rail's shortest wavelength at {top:g} km/h"),
+             "the contact forces and car-body accelerations"))
+            if f is not None and 1.0 / (f * s.dt) < STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9)]
+        if not coarse:
+            return ""
+        steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period" for f, where, _ in coarse)
+        return (f"note: dt = {1e3 * s.dt:g} ms steps {steps}, fewer than {STEPS_PER_CUTOFF_PERIOD}: "
+                f"{' and '.join(what for _, _, what in coarse)} are not converged in dt; take dt <= "
+                f"{1e3 * dt_resolving(max(f for f, _, _ in coarse)):g} ms (a dt left unset resolves them)")
 
     def prepare(self):
         """Factor the bridge once (into the runner's cache) before passages are dispatched (a

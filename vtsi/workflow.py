@@ -7,11 +7,12 @@ import os
 
 import numpy as np
 
-from vtsi.check import SELF_WEIGHT_REFUSED, CheckSettings, check
+from vtsi.check import SELF_WEIGHT_REFUSED, CheckSettings, check, refuse_inputs
 from vtsi.errors import SweepError
 from vtsi.report import report_folder, write_report
 from vtsi.scene3d import animate_case, render_case, rendering_available
 from vtsi.sweep import Sweep
+from vtsi.sweep_results import ResultsWriter
 
 log = logging.getLogger(__name__)
 
@@ -24,6 +25,9 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
     ``report_dir`` (default: ``<path without .h5>_report``); with ``animation`` also a GIF of
     that passage (``scene.gif``, about 10-20 s).
 
+    What the check would refuse on the sweep's inputs alone is refused before the sweep runs or
+    anything is written (:func:`refuse_before_sweep`).
+
     Returns ``(CheckResult, report paths: dict html, markdown, images, scene and animation (or
     None))``."""
     if not isinstance(sweep, Sweep):
@@ -32,8 +36,7 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
         raise SweepError(f"design check: the results file must be a path, got {path!r}")
     if not (settings is None or isinstance(settings, CheckSettings)):
         raise SweepError(f"design check: settings must be CheckSettings, got {type(settings).__name__}")
-    if sweep.settings.bridge_self_weight:
-        raise SweepError(f"design {SELF_WEIGHT_REFUSED}")
+    refuse_before_sweep(sweep, settings)
     path = os.path.abspath(os.fspath(path))
     report_dir = os.path.abspath(report_folder(report_dir or os.path.splitext(path)[0] + "_report"))
     sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
@@ -50,3 +53,20 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
         log.info("no 3-D scene: %s", reason)
     paths = write_report(path, report_dir, scene_png=scene)
     return result, {**paths, "scene": scene, "animation": movie}
+
+
+def refuse_before_sweep(sweep, settings=None):
+    """Raise, before ``sweep`` runs or writes anything, the refusals of :func:`vtsi.check.check`
+    that the sweep's inputs alone decide (its settings, bridge and outputs), with the check's own
+    words: a sweep holding the bridge's self weight, and a deck acceleration output that counts
+    fewer frequencies than the EN cut-off (a modal bridge's ``modal_hz``, an output's cut-off)
+    or holds no deck node. The check's rule reads them from the sweep's results record before
+    any case (an in-memory file: the bridge's record and the outputs as the sweep will write
+    them), where it finds nothing else to judge. Used by :func:`design_check` and ``vtsi check``.
+
+    Not decided here: 'the sweep kept none of the outputs the criteria read', which the check
+    finds from the finished cases."""
+    if sweep.settings.bridge_self_weight:
+        raise SweepError(f"design {SELF_WEIGHT_REFUSED}")
+    with ResultsWriter(None, sweep.identity(), sweep.runner) as writer:
+        refuse_inputs(writer.results(), settings)
