@@ -83,6 +83,19 @@ BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
 
 
 @dataclass(frozen=True)
+class BodyPoints:
+    """The car bodies' accelerations of a passage (:meth:`PassageRunner._body_points`):
+    ``largest`` (n_steps, n_cars) [m/s²] the signed value of the point with the largest |a| at
+    each step (the envelopes' signal), ``governing`` (n_steps, n_cars) [m/s²] the history of
+    each car's governing point (the stored history), ``point`` (n_cars,) which point that is
+    (0 centre, 1 front bogie pivot, 2 rear bogie pivot)."""
+
+    largest: np.ndarray
+    governing: np.ndarray
+    point: np.ndarray
+
+
+@dataclass(frozen=True)
 class Output:
     """A response a sweep keeps for every passage: its envelope (min, max, absmax and their
     times, per column) and, with ``history=True``, its time history.
@@ -97,8 +110,9 @@ class Output:
         sagging positive, :mod:`vtsi.recorders.moment`), or 'contact_force' [N, compression
         positive] (one column per contact wheel; its centred moving mean over
         CONTACT_FORCE_WINDOW = 10 ms, :func:`contact_force_mean`), or 'car_body_accel' [m/s²]
-        (each car body's vertical acceleration at its centre or over either bogie, whichever is
-        the largest, :meth:`PassageRunner._body_points`). The vehicle responses need a train of
+        (each car body's vertical acceleration at its centre or over either bogie: the envelope
+        of whichever is the largest at each step, the history of the point that governs the
+        car's largest, :meth:`PassageRunner._body_points`). The vehicle responses need a train of
         cars (fidelity 'full'); a train of moving forces skips them. Their envelopes count what
         happens on the bridge (:meth:`PassageRunner.counted`); ``CaseResult.whole_run`` holds
         their envelopes over the whole run.
@@ -748,8 +762,10 @@ class PassageRunner:
                                                               n_steps, s.dt)
             if output in averaged:
                 history = (history[0], contact_force_mean(history[1], s.dt))
-            if output in bodies:
-                history = (history[0], self._body_points(train, history[1]))
+            kept = history
+            if output in bodies:       # envelopes of the largest point, the history of the governing one
+                points = self._body_points(train, history[1], self.counted(output, train, x_head0, history[0]))
+                history, kept = (history[0], points.largest), (history[0], points.governing)
             if output in processed:
                 env = Envelope(history[1].shape[1])
                 env.update(*history)
@@ -761,7 +777,7 @@ class PassageRunner:
                     *history, self.counted(output, train, x_head0, history[0]))
             result.columns[output.name] = self.columns(output, train)
             if output.history:
-                result.histories[output.name] = history
+                result.histories[output.name] = kept
         result.seconds = time.perf_counter() - clock
         return result
 
@@ -976,24 +992,42 @@ class PassageRunner:
             out[:, c] = (last >= 0) & (since <= runouts[i] * (1 + 1e-12) + 1e-12)
         return out
 
-    def _body_points(self, train, values):
-        """Each car body's vertical acceleration (n_steps, n_cars) [m/s²] from its recorded bounce
-        and pitch (``values`` (n_steps, the recorder's dofs)): at its centre or over either bogie
-        pivot (a four-dof car: over either wheel), whichever is the largest at each step; a body
-        of another kind keeps its bounce. EN 1990 A2.4.4.3.1 reads the acceleration inside the
-        coach: the bounce at the centre alone read an ICE3 coach on a German 'high' rail
-        0.50 m/s², 1.03 over the bogies. (The envelope's min and max are those of this signal;
-        its absmax is each point's.)"""
-        out, k = [], 0
-        for i in self.columns(Output("body", "car_body_accel"), train):
+    def _body_points(self, train, values, counted):
+        """Each car body's vertical acceleration [m/s²] from its recorded bounce and pitch
+        (``values`` (n_steps, the recorder's dofs)) at its centre and over either bogie pivot (a
+        four-dof car: over either wheel); a body of another kind has its bounce only. EN 1990
+        A2.4.4.3.1 reads the acceleration inside the coach: the bounce at the centre alone read
+        an ICE3 coach on a German 'high' rail 0.50 m/s², 1.03 over the bogies. Returns a
+        :class:`BodyPoints` of (n_steps, n_cars) arrays:
+
+        * ``largest``: at each step the signed value of whichever point has the largest |a|,
+          the signal the envelopes are taken of (its absmax is the largest of any point's; its
+          min and max are those of this spliced signal). Not a physical point's history: it
+          jumps when another point takes over (by 1.1 m/s² within 1 ms on an ICE3 at 360 km/h);
+        * ``governing``: the whole history of the one point (centre, front or rear pivot) whose
+          |a| is the largest where ``counted`` (n_steps, n_cars) is True (where the car's
+          envelope counts, :meth:`counted`; over every step for a car never counted): the
+          stored history, continuous, whose peak over the counted steps is the envelope's
+          absmax. ``point`` (n_cars,) names it: 0 centre, 1 front pivot, 2 rear pivot."""
+        largest, governing, point, k = [], [], [], 0
+        counted = np.asarray(counted, dtype=bool)
+        for c, i in enumerate(self.columns(Output("body", "car_body_accel"), train)):
             car = train.cars[i]
             bounce, pitch = values[:, k], "body_rz" in car.dof_names
             k += 2 if pitch else 1
             if not pitch or car.kind not in BODY_ON_TWO_SUPPORTS:    # where its bogies are is not known
-                out.append(bounce)
+                largest.append(bounce)
+                governing.append(bounce)
+                point.append(0)
                 continue
             half = 0.5 * (np.mean(car.wheel_offsets[len(car.wheel_offsets) // 2:])
                           - np.mean(car.wheel_offsets[: len(car.wheel_offsets) // 2]))
             points = np.stack([bounce, bounce + half * values[:, k - 1], bounce - half * values[:, k - 1]])
-            out.append(np.take_along_axis(points, np.argmax(np.abs(points), axis=0)[None], axis=0)[0])
-        return np.stack(out, axis=1) if out else np.zeros((len(values), 0))
+            largest.append(np.take_along_axis(points, np.argmax(np.abs(points), axis=0)[None], axis=0)[0])
+            mine = counted[:, c] if counted[:, c].any() else np.ones(len(values), dtype=bool)
+            j = int(np.argmax(np.max(np.abs(points[:, mine]), axis=1)))
+            governing.append(points[j])
+            point.append(j)
+        n = len(values)
+        stack = (lambda a: np.stack(a, axis=1) if a else np.zeros((n, 0)))
+        return BodyPoints(stack(largest), stack(governing), np.array(point, dtype=np.int64))

@@ -5,9 +5,12 @@ The scene takes arrays only (it does not know how they were computed):
 
 * the deck: node positions ``deck_x`` (n_nodes,) [m, increasing] and, per picture, their
   vertical displacements ``deck_uy`` (n_nodes,) [m, positive up], interpolated between the
-  nodes by a cubic spline and exaggerated by ``scale``;
-* the supports: their positions ``supports_x`` [m] (abutments at the deck's ends, piers
-  between);
+  nodes by a cubic spline and exaggerated by ``scale``; optionally the ends of each of several
+  decks ``deck_ends`` (n_decks, 2) [m]: one box and one spline per deck, the joints between
+  them open (the track bridges them in a straight line);
+* the supports: their positions ``supports_x`` [m] (abutments at the bridge's ends, piers
+  between; supports closer than a pier's width, the bearings of two decks on one pier, share
+  one pier, with a bearing under each deck);
 * the train: wheel positions ``wheel_x`` (n_wheels,) [m] and optionally the front and rear
   ends of every car body ``car_bounds`` (n_cars, 2) [m].
 
@@ -40,7 +43,7 @@ from scipy.interpolate import CubicSpline
 
 from vtsi.check import stored_check
 from vtsi.errors import ModelError, SweepError, as_number
-from vtsi.sweep_results import SweepResults, deck_first_frequencies
+from vtsi.sweep_results import SweepResults, deck_first_frequencies, deck_ranges
 
 logger = logging.getLogger(__name__)
 
@@ -64,6 +67,8 @@ BODY_FLOOR = 1.0            # body floor above the rail top
 BODY_HEIGHT = 3.0
 BEARING = 0.15              # bearing height under the deck
 TARGET_DEPTHS = 0.5         # default scale: the largest |uy| shows as this many deck depths
+BEARING_LENGTH = 0.6        # a bearing's length along x [m], under its deck
+MAX_ANIMATION_FRAMES = 400  # animate_case's cap on the frames it chooses (4 n0 T + 1) by default
 
 # Colours (sRGB hex).
 CONCRETE = "#b5b2aa"
@@ -291,21 +296,29 @@ class PassageScene:
     Parameters
     ----------
     deck_x : (n_nodes,) array [m]
-        x of the deck nodes, increasing (the deck runs from the first to the last); two nodes at
-        one x (two decks ending on one pier) are drawn as one, at the first's displacement.
+        x of the deck nodes, increasing (the bridge runs from the first to the last); two nodes
+        at one x (two decks ending on one pier) are drawn as one, at the first's displacement,
+        unless ``deck_ends`` puts them on two decks.
     supports_x : (n_supports,) array [m]
-        x of the supports, within the deck; those at the deck's ends (within 2 % of its length)
-        are drawn as abutments, the others as piers.
+        x of the supports, within the bridge; those at its ends (within 2 % of its length) are
+        drawn as abutments, the others as piers (supports closer than a pier's width share one
+        pier, a bearing under each deck).
     deck_depth, deck_width : float [m]
         The deck's depth (y) and width (z): a box under the track.
     approach : float [m], optional
         Length of the approach embankment framed by the camera at each end (default:
-        max(10 m, 0.35 × the deck's length)).
+        max(10 m, 0.35 × the bridge's length)).
+    deck_ends : (n_decks, 2) array [m], optional
+        The x of each deck's ends (its spans and overhangs; /bridge/deck_ends_m of a results
+        file), in x order, not overlapping, each holding at least two nodes of ``deck_x``
+        (default: one deck from the first node to the last). Each deck is drawn as its own box
+        whose displacement is a spline through its own nodes only; between two decks (a joint)
+        the deck is open and the track runs straight from one deck's end to the next's start.
 
     Methods :meth:`render_png` and :meth:`animate` draw a time of a passage and a passage.
     """
 
-    def __init__(self, deck_x, supports_x, deck_depth=1.5, deck_width=6.0, approach=None):
+    def __init__(self, deck_x, supports_x, deck_depth=1.5, deck_width=6.0, approach=None, deck_ends=None):
         x = _vector("deck_x", deck_x, min_size=2)
         steps = np.diff(x)
         if np.any(steps < 0):
@@ -313,21 +326,67 @@ class PassageScene:
             raise ModelError(f"deck_x: must increase, but deck_x[{i + 1}] = {x[i + 1]:g} < deck_x[{i}] = {x[i]:g}")
         if x[-1] <= x[0]:
             raise ModelError(f"deck_x: must increase, but every node is at x = {x[0]:g}")
-        self._line = np.concatenate([[True], steps > 0])       # the nodes the deck line runs through
+        self.deck_x = x
+        self.deck_ends = self._deck_ends(deck_ends)
+        self.x0, self.x1 = float(self.deck_ends[0, 0]), float(self.deck_ends[-1, 1])
+        length = self.x1 - self.x0
         s = _vector("supports_x", supports_x, min_size=2)
-        length = x[-1] - x[0]
-        outside = (s < x[0] - 1e-9 * length) | (s > x[-1] + 1e-9 * length)
+        outside = (s < self.x0 - 1e-9 * length) | (s > self.x1 + 1e-9 * length)
         if np.any(outside):
-            raise ModelError(f"supports_x: {s[outside][0]:g} is off the deck [{x[0]:g}, {x[-1]:g}] m")
-        self.deck_x, self.supports_x = x, np.sort(s)
+            raise ModelError(f"supports_x: {s[outside][0]:g} is off the bridge [{self.x0:g}, {self.x1:g}] m")
+        self.supports_x = np.sort(s)
         self.deck_depth = _positive("deck_depth", deck_depth)
         self.deck_width = _positive("deck_width", deck_width)
         self.length = float(length)
         self.approach = max(10.0, 0.35 * self.length) if approach is None else _positive("approach", approach)
         self.clearance = max(3.0, 0.12 * self.length)          # deck soffit above the ground [m]
         self.ground_y = -TRACK_BED - self.deck_depth - BEARING - self.clearance
-        n = int(np.clip(12 * (x.size - 1), 240, 1200))
-        self._xs = np.unique(np.concatenate([np.linspace(x[0], x[-1], n), x]))  # drawing abscissae
+        self._decks = self._deck_nodes()                        # per deck, the nodes its line runs through
+        n = int(np.clip(12 * (x.size - 1), 240, 1200))        # drawing abscissae over the bridge
+        self._deck_xs = [_distinct(np.concatenate([np.linspace(a, b, max(24, int(round(n * (b - a) / length)))),
+                                                   x[nodes]]), 1e-9 * length)
+                         for (a, b), nodes in zip(self.deck_ends, self._decks)]
+        self._xs = np.unique(np.concatenate(self._deck_xs))
+
+    def _deck_ends(self, deck_ends):
+        """``deck_ends`` checked, (n_decks, 2) sorted rows; one deck over every node without it."""
+        x = self.deck_x
+        if deck_ends is None:
+            return np.array([[x[0], x[-1]]])
+        ends = np.sort(_array("deck_ends", deck_ends, (None, 2)), axis=1)
+        if not len(ends):
+            raise ModelError("deck_ends: expected at least one deck, got shape (0, 2)")
+        tol = 1e-6 * max(1.0, x[-1] - x[0])
+        if np.any(ends[:, 1] - ends[:, 0] <= tol):
+            k = int(np.flatnonzero(ends[:, 1] - ends[:, 0] <= tol)[0])
+            raise ModelError(f"deck_ends: deck {k + 1} runs from {ends[k, 0]:g} to {ends[k, 1]:g} m: no length")
+        if np.any(ends[1:, 0] < ends[:-1, 1] - tol):
+            k = int(np.flatnonzero(ends[1:, 0] < ends[:-1, 1] - tol)[0])
+            raise ModelError(f"deck_ends: deck {k + 2} ({ends[k + 1, 0]:g} to {ends[k + 1, 1]:g} m) starts before "
+                             f"deck {k + 1} ({ends[k, 0]:g} to {ends[k, 1]:g} m) ends: decks in x order, not overlapping")
+        return ends
+
+    def _deck_nodes(self):
+        """Per deck, the indices of the nodes of ``deck_x`` on it that its line runs through (one
+        per x: the first; of two nodes at the x where two decks meet, the first is the ending
+        deck's, the last the starting deck's)."""
+        x, ends = self.deck_x, self.deck_ends
+        tol = 1e-6 * max(1.0, x[-1] - x[0])
+        decks = [np.flatnonzero((x >= a - tol) & (x <= b + tol)) for a, b in ends]
+        for k in range(len(ends) - 1):
+            if abs(ends[k + 1, 0] - ends[k, 1]) <= tol:               # two decks meet at one x
+                at = np.flatnonzero(np.abs(x - ends[k, 1]) <= tol)
+                if at.size >= 2:
+                    decks[k] = np.setdiff1d(decks[k], at[1:])
+                    decks[k + 1] = np.setdiff1d(decks[k + 1], at[:-1])
+        out = []
+        for k, nodes in enumerate(decks):
+            nodes = nodes[np.concatenate([[True], np.diff(x[nodes]) > tol])] if nodes.size else nodes
+            if nodes.size < 2:
+                raise ModelError(f"deck_ends: deck {k + 1} ({ends[k, 0]:g} to {ends[k, 1]:g} m) holds "
+                                 f"{nodes.size} node{'' if nodes.size == 1 else 's'} of deck_x; a deck needs two")
+            out.append(nodes)
+        return out
 
     # -----------------------------------------------------------------------------------------
     # public API
@@ -452,7 +511,7 @@ class PassageScene:
         else:
             scale = _positive("scale", scale)
         limit = _nice(1e3 * peak, down=False, steps=(1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10)) if peak > 0 else 1.0
-        xs = [self.deck_x[0] - self.approach, self.deck_x[-1] + self.approach]
+        xs = [self.x0 - self.approach, self.x1 + self.approach]
         for f in frames:
             if f.wheel_x.size:
                 xs += [f.wheel_x.min() - 3.0, f.wheel_x.max() + 3.0]
@@ -464,25 +523,38 @@ class PassageScene:
     # geometry
 
     def deck_line(self, uy, x):
-        """The deck's displacement [m] at ``x`` [m] from its node values ``uy``: a cubic spline
-        (not-a-knot; linear for two nodes)."""
-        x = np.asarray(x, dtype=float)
-        nodes, uy = self.deck_x[self._line], np.asarray(uy, dtype=float)[self._line]
-        if nodes.size >= 3:
-            return CubicSpline(nodes, uy)(x)
-        return np.interp(x, nodes, uy)
+        """The deck's displacement [m] at ``x`` [m] from its node values ``uy``: on each deck a
+        cubic spline (not-a-knot; linear for two nodes) through that deck's nodes only; in a
+        joint between two decks a straight line from one deck's end to the next's start; beyond
+        the bridge's ends the end decks' splines."""
+        x, uy = np.asarray(x, dtype=float), np.asarray(uy, dtype=float)
+        ends = self.deck_ends
+        lines = [CubicSpline(self.deck_x[n], uy[n]) if n.size >= 3
+                 else (lambda t, n=n: np.interp(t, self.deck_x[n], uy[n])) for n in self._decks]
+        deck = np.clip(np.searchsorted(ends[:, 0], x, side="right") - 1, 0, len(ends) - 1)
+        out = np.empty(x.shape)
+        for k, line in enumerate(lines):
+            on = deck == k
+            out[on] = line(x[on])
+        for k in range(len(ends) - 1):
+            a, b = ends[k, 1], ends[k + 1, 0]
+            joint = (x > a) & (x < b)
+            if np.any(joint):
+                ya, yb = float(lines[k](a)), float(lines[k + 1](b))
+                out[joint] = ya + (yb - ya) * (x[joint] - a) / (b - a)
+        return out
 
     def rail_top(self, uy, scale, x):
         """y [m] of the rail top at ``x`` [m]: the deck line exaggerated by ``scale`` on the
-        deck, 0 (rigid ground) off it."""
+        bridge (its joints included), 0 (rigid ground) off it."""
         x = np.asarray(x, dtype=float)
-        on = (x >= self.deck_x[0]) & (x <= self.deck_x[-1])
+        on = (x >= self.x0) & (x <= self.x1)
         return np.where(on, scale * self.deck_line(uy, x), 0.0)
 
     def _setup(self, pv, plotter, look, window):
         """Add the still parts (ground, embankments, supports, scale bar, texts, camera) and the
         moving ones; return the moving ones (a :class:`_Stage`), which :meth:`_draw` updates."""
-        x0, x1, w = self.deck_x[0], self.deck_x[-1], self.deck_width
+        x0, x1, w = self.x0, self.x1, self.deck_width
         g, bed = self.ground_y, -TRACK_BED
         gx0, gx1 = look.ground_x
         toe = self.deck_width / 2 + 0.5 + 1.5 * (bed - g)     # half-width of the embankments' base
@@ -506,24 +578,24 @@ class PassageScene:
             embankment = sorted((end + outward * 1.6, gx0 if outward < 0 else gx1))
             plotter.add_mesh(_prism(pv, embankment, g, bed - 0.02, half + 1.5 * (bed - g), half),
                              color=EMBANKMENT, ambient=0.2, diffuse=0.65)
-        lengthwise = 0.05 * self.length
-        bearings = []
-        for s in self.supports_x:
-            if min(s - x0, x1 - s) <= 0.02 * self.length:
-                end = x0 if s - x0 < x1 - s else x1
+        t = float(np.clip(0.05 * self.length, 0.8, 1.8)) / 2     # half a pier's thickness along x
+        for group in self._piers(2 * t):
+            if min(group[0] - x0, x1 - group[-1]) <= 0.02 * self.length:
+                end = x0 if group[0] - x0 < x1 - group[-1] else x1
                 inward = 1.0 if end == x0 else -1.0
+                s = group[0] if end == x0 else group[-1]
                 seat_x = sorted((end - inward * 1.6, max(s + inward * 0.8, end + inward * 0.8)))
                 blocks.append(pv.Box((seat_x[0], seat_x[1], g, seat, -half, half)))
                 plotter.add_mesh(pv.Box((seat_x[0], seat_x[1], g - 0.01, g + 0.6, -half - 0.4, half + 0.4)),
                                  color=CONCRETE_DARK, ambient=0.25)
             else:
-                t = float(np.clip(lengthwise, 0.8, 1.8)) / 2
-                blocks.append(pv.Box((s - t, s + t, g, seat, -0.38 * w, 0.38 * w)))
-                blocks.append(pv.Box((s - t - 0.25, s + t + 0.25, seat - 0.6, seat, -0.45 * w, 0.45 * w)))
-                plotter.add_mesh(pv.Box((s - t - 0.6, s + t + 0.6, g - 0.01, g + 0.5, -0.42 * w, 0.42 * w)),
+                a, b = group[0] - t, group[-1] + t
+                blocks.append(pv.Box((a, b, g, seat, -0.38 * w, 0.38 * w)))
+                blocks.append(pv.Box((a - 0.25, b + 0.25, seat - 0.6, seat, -0.45 * w, 0.45 * w)))
+                plotter.add_mesh(pv.Box((a - 0.6, b + 0.6, g - 0.01, g + 0.5, -0.42 * w, 0.42 * w)),
                                  color=CONCRETE_DARK, ambient=0.25)
-            for z in (-0.3 * w, 0.3 * w):
-                bearings.append(pv.Box((s - 0.3, s + 0.3, seat, seat + BEARING, z - 0.4, z + 0.4)))
+        bearings = [pv.Box((xa, xb, seat, seat + BEARING, z - 0.4, z + 0.4))
+                    for xa, xb in self._bearings() for z in (-0.3 * w, 0.3 * w)]
         plotter.add_mesh(pv.merge(blocks), color=CONCRETE, ambient=0.25, diffuse=0.75, specular=0.1)
         plotter.add_mesh(pv.merge(bearings), color="#3d3f43")
 
@@ -543,14 +615,16 @@ class PassageScene:
         plotter.add_mesh(meshes["deck"], scalars="uy [mm]", cmap=DECK_CMAP, clim=look.clim, smooth_shading=True,
                          ambient=0.25, diffuse=0.75, specular=0.15,
                          scalar_bar_args=dict(title="", vertical=False, n_labels=5, fmt="%.3g", position_x=0.66,
-                                              position_y=0.035, width=0.31, height=0.075, label_font_size=fs + 1,
+                                              position_y=0.035, width=0.31, height=0.075,
+                                              label_font_size=int(round(1.8 * fs)), unconstrained_font_size=True,
                                               color=TEXT, font_family="arial"))
         # (VTK's embedded sans font draws square brackets round: no brackets on screen.)
         label = plotter.add_text("deck vertical displacement in mm", position=(int(0.97 * window[0]),
-                                 int(0.115 * window[1])), font_size=fs, color=TEXT, font="arial")
+                                 int(0.14 * window[1])), font_size=fs + 2, color=TEXT, font="arial")
         label.GetTextProperty().SetJustificationToRight()
-        plotter.add_mesh(_outline(pv, x0, x1, -TRACK_BED, -TRACK_BED - self.deck_depth, w / 2,
-                                  dash=max(0.6, self.length / 60)), color=GHOST, line_width=2.0)
+        plotter.add_mesh(pv.merge([_outline(pv, a, b, -TRACK_BED, -TRACK_BED - self.deck_depth, w / 2,
+                                            dash=max(0.6, self.length / 60)) for a, b in self.deck_ends]),
+                         color=GHOST, line_width=2.0)
         plotter.add_mesh(meshes["ballast"], color=BALLAST, ambient=0.3)
         plotter.add_mesh(meshes["rails"], color=RAIL, specular=0.6, specular_power=30)
         plotter.add_mesh(meshes["wheels"], color=WHEEL, specular=0.4, smooth_shading=True)
@@ -565,52 +639,82 @@ class PassageScene:
         # Camera: from the front (+z), above and a little from the left, framing the deck, the
         # approaches, the scale bar and a train's height.
         xa, xb = x0 - self.approach, x1 + self.approach
+        _, bar_z, _, unit = self._scale_bar_place()
         box = np.array([[x, y, z] for x in (xa, xb) for y in (g, BODY_FLOOR + BODY_HEIGHT)
-                        for z in (-0.5 * w, 0.5 * w + 4.0)])
+                        for z in (-0.5 * w, max(0.5 * w + 4.0, bar_z + 1.6 * unit))])
         _aim(plotter.camera, box, direction=(-0.25, 0.32, 1.0), view_angle=30.0, aspect=window[0] / window[1])
         return _Stage(meshes, legend)
 
-    def _scale_bar(self, pv, plotter, window):
-        """A black-and-white length bar on the ground in front of the bridge, labelled."""
+    def _piers(self, width):
+        """The supports grouped by the pier (or abutment) that carries them: runs of supports
+        less than ``width`` [m] apart (the bearings of two decks on one pier cap)."""
+        groups = [[self.supports_x[0]]]
+        for s in self.supports_x[1:]:
+            if s - groups[-1][-1] < width:
+                groups[-1].append(s)
+            else:
+                groups.append([s])
+        return groups
+
+    def _bearings(self):
+        """(x from, x to) [m] of each bearing: one under each deck at each of its supports,
+        BEARING_LENGTH long, centred on the support but kept under its deck (at a deck's end
+        it ends there, so a joint stays open between the bearings of its two decks)."""
+        tol = 1e-6 * max(1.0, self.length)
+        out = []
+        for s in self.supports_x:
+            for a, b in self.deck_ends:
+                if a - tol <= s <= b + tol:
+                    lo = float(np.clip(s - BEARING_LENGTH / 2, a, max(a, b - BEARING_LENGTH)))
+                    out.append((lo, min(lo + BEARING_LENGTH, b)))
+        return out
+
+    def _scale_bar_place(self):
+        """(x from, z, length, thickness) [m] of the length bar: on the ground in front of the
+        bridge, clear of the piers' and abutments' footings (z up to half the deck's width + 0.9 m),
+        its label in front of it."""
         bar = _nice(0.3 * self.length)
-        n = 5 if bar / 5 >= 0.2 else 2
         unit = max(1.0, (self.length + 2 * self.approach) / 40.0)   # bar thickness grows with the scene
-        x_start = self.deck_x[0] + 0.5
-        z = self.deck_width / 2 + 3.0
+        return self.x0 + 0.5, self.deck_width / 2 + 4.0, bar, unit
+
+    def _scale_bar(self, pv, plotter, window):
+        """A black-and-white length bar on the ground in front of the bridge, labelled in front
+        of it (lower on the screen, where no structure stands)."""
+        x_start, z, bar, unit = self._scale_bar_place()
+        n = 5 if bar / 5 >= 0.2 else 2
         y = self.ground_y + 0.02
         pieces = [pv.Box((x_start + k * bar / n, x_start + (k + 1) * bar / n, y, y + 0.08 * unit, z,
                           z + 0.35 * unit)) for k in range(n)]
         plotter.add_mesh(pv.merge(pieces[0::2]), color="#111111")
         plotter.add_mesh(pv.merge(pieces[1::2]), color="#ffffff")
-        plotter.add_point_labels([(x_start + bar / 2, y + 0.9 * unit, z + 0.2 * unit)], [f"{_fmt(bar)} m"],
-                                 font_size=_font(window) + 2, text_color=TEXT, shape=None, show_points=False,
-                                 always_visible=True, bold=True, font_family="arial")
+        plotter.add_point_labels([(x_start + bar / 2, y, z + 0.9 * unit)], [f"{_fmt(bar)} m"],
+                                 font_size=int(round(1.6 * _font(window))), text_color=TEXT, shape=None, show_points=False,
+                                 always_visible=True, bold=True, font_family="arial",
+                                 justification_horizontal="center", justification_vertical="top")
 
     def _moving(self, pv, frame, look):
         """The moving meshes of a frame by name: the deformed deck (point data 'uy [mm]'), its
         ballast and rails, the wheels and axles, the car bodies with their bands, windows and
         bogie frames."""
         xs, scale, half = self._xs, look.scale, self.deck_width / 2
-        uy = self.deck_line(frame.uy, xs)
-        top = scale * uy
-        deck = _ribbon(pv, xs, top - TRACK_BED, top - TRACK_BED - self.deck_depth, -half, half)
-        deck.point_data["uy [mm]"] = np.tile(1e3 * uy, 4)
-        deck = deck.extract_surface(algorithm="dataset_surface").compute_normals(
-            split_vertices=True, feature_angle=40.0, auto_orient_normals=False)
+        decks = []
+        for deck_xs in self._deck_xs:                     # a box per deck, its joints open
+            uy = self.deck_line(frame.uy, deck_xs)
+            top = scale * uy
+            deck = _ribbon(pv, deck_xs, top - TRACK_BED, top - TRACK_BED - self.deck_depth, -half, half)
+            deck.point_data["uy [mm]"] = np.tile(1e3 * uy, 4)
+            decks.append(deck.extract_surface(algorithm="dataset_surface").compute_normals(
+                split_vertices=True, feature_angle=40.0, auto_orient_normals=False))
+        deck = decks[0] if len(decks) == 1 else pv.merge(decks)
+        top = self.rail_top(frame.uy, scale, xs)          # the track runs on over the joints
         ballast = _prism(pv, xs, top - TRACK_BED + 0.01, top - RAIL_HEIGHT - 0.1, BALLAST_WIDTH / 2 + 0.6,
-                             BALLAST_WIDTH / 2)
+                         BALLAST_WIDTH / 2)
         rails = pv.merge([_ribbon(pv, xs, top, top - RAIL_HEIGHT, z - 0.04, z + 0.04).extract_surface(
             algorithm="dataset_surface") for z in (-GAUGE / 2, GAUGE / 2)])
 
         wx = frame.wheel_x
         contact = self.rail_top(frame.uy, scale, wx)
-        wheels = [pv.PolyData()]
-        for x, y in zip(wx, contact):
-            for z in (-GAUGE / 2 - 0.03, GAUGE / 2 + 0.03):
-                wheels.append(pv.Cylinder(center=(x, y + WHEEL_RADIUS, z), direction=(0, 0, 1),
-                                          radius=WHEEL_RADIUS, height=WHEEL_WIDTH, resolution=28))
-            wheels.append(pv.Cylinder(center=(x, y + WHEEL_RADIUS, 0.0), direction=(0, 0, 1), radius=0.09,
-                                      height=GAUGE, resolution=12))
+        wheels = _copies(pv, _wheelset_parts(), np.stack([wx, contact + WHEEL_RADIUS, np.zeros_like(wx)], axis=1))
         bodies, bands, windows, bogies = [pv.PolyData()], [pv.PolyData()], [pv.PolyData()], [pv.PolyData()]
         if frame.car_bounds is not None:
             for front, rear in frame.car_bounds:
@@ -635,7 +739,7 @@ class PassageScene:
                                               -BODY_WIDTH / 2 - 0.02, BODY_WIDTH / 2 + 0.02)), lift))
                 windows.append(_sheared(pv.Box((a + 1.2, b - 1.2, BODY_FLOOR + 1.45, BODY_FLOOR + 2.2,
                                                 -BODY_WIDTH / 2 - 0.015, BODY_WIDTH / 2 + 0.015)), lift))
-        return {"deck": deck, "ballast": ballast, "rails": rails, "wheels": pv.merge(wheels),
+        return {"deck": deck, "ballast": ballast, "rails": rails, "wheels": wheels,
                 "bodies": pv.merge(bodies), "bands": pv.merge(bands), "windows": pv.merge(windows),
                 "bogies": pv.merge(bogies)}
 
@@ -738,6 +842,50 @@ def _aim(camera, points, direction, view_angle, aspect, margin=1.04):
     camera.clipping_range = (0.02 * distance, 20.0 * distance)
 
 
+@functools.cache
+def _wheelset_parts():
+    """A wheelset at the origin (two wheels on an axle along z): (points (n, 3), legacy faces,
+    point data by name), built once: a frame places copies of it (:func:`_copies`) instead of
+    building 3 cylinders per axle (150 a frame for 50 axles, half the time of a frame)."""
+    import pyvista as pv
+
+    parts = [pv.Cylinder(center=(0.0, 0.0, z), direction=(0, 0, 1), radius=WHEEL_RADIUS, height=WHEEL_WIDTH,
+                         resolution=28) for z in (-GAUGE / 2 - 0.03, GAUGE / 2 + 0.03)]
+    parts.append(pv.Cylinder(center=(0.0, 0.0, 0.0), direction=(0, 0, 1), radius=0.09, height=GAUGE,
+                             resolution=12))
+    mesh = pv.merge(parts).extract_surface(algorithm="dataset_surface")
+    data = {name: np.asarray(mesh.point_data[name]).copy() for name in mesh.point_data.keys()}
+    faces = np.asarray(mesh.faces).copy()
+    index = np.ones(faces.size, dtype=bool)          # the legacy faces' point indices (not their counts)
+    k = 0
+    while k < faces.size:
+        index[k] = False
+        k += int(faces[k]) + 1
+    return np.asarray(mesh.points, dtype=float).copy(), faces, index, data
+
+
+def _copies(pv, template, offsets):
+    """One PolyData of copies of ``template`` (points, legacy faces, which of their entries are
+    point indices, point data) moved by each row of ``offsets`` (n, 3) [m]."""
+    points, faces, index, data = template
+    n = len(offsets)
+    if n == 0:
+        return pv.PolyData()
+    all_points = (points[None, :, :] + np.asarray(offsets, dtype=float)[:, None, :]).reshape(-1, 3)
+    shift = (np.arange(n) * len(points))[:, None] * index[None, :]
+    mesh = pv.PolyData(all_points, faces=(faces[None, :] + shift).ravel())
+    for name, values in data.items():
+        mesh.point_data[name] = np.tile(values, (n,) + (1,) * (values.ndim - 1))
+    return mesh
+
+
+def _distinct(x, tol):
+    """``x`` sorted, without values within ``tol`` of the one before (a node a rounding error off
+    a drawing abscissa made a zero-length slice of the deck)."""
+    x = np.sort(x)
+    return x[np.concatenate([[True], np.diff(x) > tol])]
+
+
 def _bogies(x, gap=3.6):
     """Sorted axle positions grouped into bogies: runs of axles less than ``gap`` [m] apart."""
     groups, run = [], [x[0]] if x.size else []
@@ -825,8 +973,35 @@ def _recorded_case(results_path, train, speed_kmh, seed):
     if "deck_displacement" not in history:
         raise SweepError(f"scene: case {train} at {speed_kmh:g} km/h has no deck displacement history")
     bridge = results.bridge()
-    scene = PassageScene(bridge["deck_x_m"], np.unique(bridge["span_ends_m"]))
+    scene = PassageScene(bridge["deck_x_m"], np.unique(bridge["span_ends_m"]), deck_ends=deck_ranges(bridge))
     return results, train, float(speed_kmh), seed, history, scene
+
+
+def car_body_offsets(train_data):
+    """(n_cars, 2) [m] the front and rear of each car body behind the train's head (its x at
+    time t: x_head(t) − offsets), from a results file's train data
+    (:meth:`~vtsi.sweep_results.SweepResults.train_data`), or None for a train of moving forces
+    (n_dof = 0: axle loads, no vehicle) or of fewer than two axles a car. Car lengths are not
+    stored: two cars meet half-way between the last axle of one and the first of the next
+    (0.5 m apart); the first car's front is the head (offset 0) and the last car's rear lies as
+    far behind its last axle as the first axle lies behind the head."""
+    offsets = np.asarray(train_data["axle_offsets_m"], dtype=float)
+    cars = np.asarray(train_data["wheel_car"], dtype=np.int64)
+    ids, counts = np.unique(cars, return_counts=True)
+    if int(train_data["n_dof"]) == 0 or not offsets.size or np.any(counts < 2):
+        return None
+    first = np.array([offsets[cars == c].min() for c in ids])
+    last = np.array([offsets[cars == c].max() for c in ids])
+    joints = 0.5 * (last[:-1] + first[1:])
+    overhang = first[0] if first[0] > 0 else (float(np.median(first[1:] - joints)) if joints.size else 2.5)
+    fronts = np.concatenate([[first[0] - overhang], joints + 0.25])
+    rears = np.concatenate([joints - 0.25, [last[-1] + overhang]])
+    return np.stack([fronts, rears], axis=1)
+
+
+def _case_title(results, train, speed_kmh, seed):
+    """'ICE3 at 360 km/h', with ', rail sample 1' on an irregular rail (seed >= 0)."""
+    return f"{train} at {speed_kmh:g} km/h" + (f", rail sample {seed}" if seed is not None and seed >= 0 else "")
 
 
 def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=None, **kwargs):
@@ -844,31 +1019,43 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
         raise ModelError(f"render_case: time {time:g} s is outside the recorded passage "
                          f"({times[0]:g} to {times[-1]:g} s)")
     k = int(np.argmin(np.abs(times - time)))
-    offsets = results.train_data(train)["axle_offsets_m"]
-    wheel_x = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k] - offsets
-    title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
-    return scene.render_png(path, uy[k], wheel_x, time=float(times[k]), title=title, **kwargs)
+    data = results.train_data(train)
+    head = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k]
+    bodies = car_body_offsets(data)
+    title = kwargs.pop("title", _case_title(results, train, speed_kmh, history["attrs"].get("seed", seed)))
+    return scene.render_png(path, uy[k], head - data["axle_offsets_m"], None if bodies is None else head - bodies,
+                            time=float(times[k]), title=title, **kwargs)
 
 
-def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_frames=60, **kwargs):
+def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_frames=None, **kwargs):
     """A GIF (or MP4) of a recorded case's passage (the case chosen as :func:`render_case`
-    chooses it), ``max_frames`` frames over the whole record. Returns the path written. Frames
-    further apart than a quarter period of the first mode alias the deck's vibration (it appears
-    slower, its peaks are missed): a warning then names the ``max_frames`` that resolves it. Of
-    several decks the first mode is the highest of the decks' own n₀
+    chooses it) over the whole record. Returns the path written.
+
+    Frames further apart than a quarter period of the first mode alias the deck's vibration
+    (it appears slower, its peaks are missed). By default (``max_frames=None``) there are
+    ceil(4 n₀ T) + 1 frames over the record's duration T (every recorded sample if fewer), at
+    most MAX_ANIMATION_FRAMES; an explicit ``max_frames`` takes at most that many. Either way a
+    warning names the ``max_frames`` that resolves the vibration when the frames are further
+    apart. Of several decks n₀ is the highest of the decks' own
     (:func:`~vtsi.sweep_results.deck_first_frequencies`: a 15 m deck beside a 30 m one, 10.66 Hz,
-    where the model's first, the 30 m deck's 2.666 Hz, let frames 4 times too far apart pass)."""
+    where the model's first, the 30 m deck's 2.666 Hz, let frames 4 times too far apart pass).
+    A train of cars is drawn with its car bodies (:func:`car_body_offsets`)."""
     results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
     times, uy, _ = history["deck_displacement"]
     n0s = deck_first_frequencies(results.bridge())
     n0 = float(np.max(n0s))
+    needed = int(np.ceil(4 * n0 * (times[-1] - times[0]) * (1 - 1e-12))) + 1
+    if max_frames is None:
+        max_frames = min(needed, MAX_ANIMATION_FRAMES)
     spacing = (times[-1] - times[0]) / max(min(len(times), int(max_frames)) - 1, 1)
-    if spacing > 0.25 / n0:
+    if spacing > 0.25 / n0 * (1 + 1e-9):
         logger.warning("animation of %s at %g km/h: frames %.3g s apart, more than a quarter period of the first "
                        "mode (%.3g Hz%s): the deck's vibration is aliased; max_frames >= %d resolves it", train,
-                       speed_kmh, spacing, n0, ", the highest of the decks' n0" if len(n0s) > 1 else "",
-                       int(np.ceil(4 * n0 * (times[-1] - times[0]))) + 1)
-    offsets = results.train_data(train)["axle_offsets_m"]
-    wheels = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[:, None] - offsets[None, :]
-    title = kwargs.pop("title", f"{train} at {speed_kmh:g} km/h")
-    return scene.animate(path, times, uy, wheels, max_frames=max_frames, title=title, **kwargs)
+                       speed_kmh, spacing, n0, ", the highest of the decks' n0" if len(n0s) > 1 else "", needed)
+    data = results.train_data(train)
+    heads = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times
+    wheels = heads[:, None] - data["axle_offsets_m"][None, :]
+    bodies = car_body_offsets(data)
+    title = kwargs.pop("title", _case_title(results, train, speed_kmh, history["attrs"].get("seed", seed)))
+    return scene.animate(path, times, uy, wheels, None if bodies is None else heads[:, None, None] - bodies[None],
+                         max_frames=max_frames, title=title, **kwargs)
