@@ -3,7 +3,7 @@ import h5py
 import numpy as np
 import pytest
 
-from vtsi.check import CheckResult, CheckRow, CheckSettings, check, stored_check
+from vtsi.check import CheckResult, CheckRow, CheckSettings, check, node_text, stored_check
 from vtsi.codes.en1991_2 import track_irregularity_increment
 from vtsi.errors import ModelError, SweepError
 from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageRunner, PassageSettings
@@ -221,10 +221,12 @@ def test_the_end_rotation_is_read_at_the_deck_ends_only():
     assert len(columns) == 4 and peak[1:3].max() > peak[ends].max()
     row = check(results).row("end_rotation")
     assert row.value == pytest.approx(peak[ends].max(), rel=1e-12)
-    assert row.where == f"node {columns[ends[int(np.argmax(peak[ends]))]]}" and "at the deck's ends" in row.note
+    node = columns[ends[int(np.argmax(peak[ends]))]]
+    assert row.where == node_text(results.bridge(), node) and row.where.startswith(f"node {node} (x = ")
+    assert "at the decks' end supports (x = 0 and 50 m)" in row.note
     inner = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(dt=2e-3, damping=0.013),
                   outputs=[Output("r", "rotation", nodes="midspan")]).run(None, workers=1, progress=False)
-    assert "none at the deck's ends" in check(inner).row("end_rotation").note
+    assert "none at the decks' end supports" in check(inner).row("end_rotation").note
 
 
 def test_an_incomplete_sweep_gets_no_pass_and_a_pass_names_what_it_did_not_evaluate(tmp_path):
@@ -405,5 +407,5 @@ def test_speeds_below_the_en_series_are_noted():
     sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=4), ["HSLM-A1"], "70,83",
                   PassageSettings(damping=0.013))
     note = check(sweep.run(None, workers=1, progress=False)).row("deck_acceleration").note
-    assert note.endswith("; the sweep's speeds stop at 83 km/h, below 144 km/h (40 m/s), where EN 1991-2 6.4.6.2(1)'s "
-                         "series starts (speeds are km/h: 83 m/s would be 298.8 km/h)")
+    assert ("; the sweep's speeds stop at 83 km/h, below 144 km/h (40 m/s), where EN 1991-2 6.4.6.2(1)'s "
+                         "series starts (speeds are km/h: 83 m/s would be 298.8 km/h)") in note

@@ -145,7 +145,7 @@ def test_the_check_of_a_continuous_deck_has_the_pier_rows(continuous):
     ratio = env[..., MIN, c] / trains[:, MIN, c][:, None, None]
     increment = result.row("dynamic_increment_support_moment")
     assert increment.value == pytest.approx(np.nanmax(ratio) - 1.0, rel=1e-12)
-    assert increment.where == "node 11" and increment.status == "info"
+    assert increment.where == "node 11 (x = 20 m, support of spans 1 and 2)" and increment.status == "info"
     i, j, _ = np.unravel_index(np.nanargmax(ratio), ratio.shape)
     assert (increment.train, increment.speed_kmh) == (results.trains[i], results.speeds_kmh[j])
     L_phi, Phi, phi2, share = _design_factors(results, results.bridge(), CheckSettings())
@@ -154,7 +154,7 @@ def test_the_check_of_a_continuous_deck_has_the_pier_rows(continuous):
     by_hand = (1 + per_train + 0.5 * phi2[0]) * np.abs(trains[:, MIN, c]) / (Phi[0] * abs(lm71[MIN, c]))
     versus = result.row("dynamic_vs_lm71_support_moment")
     assert versus.value == pytest.approx(by_hand.max(), rel=1e-12) and versus.limit == 1.0
-    assert versus.train == results.trains[int(np.argmax(by_hand))] and versus.where == "node 11"
+    assert versus.train == results.trains[int(np.argmax(by_hand))] and versus.where.startswith("node 11 (x = 20 m, support of spans")
     assert "L_Phi = 24 m" in versus.note and "hogging" in versus.note
     ratios = support_ratios(results, "support_moment", results.bridge())
     assert ratios[1] == [c] and np.nanmax(ratios[0]) == pytest.approx(increment.value + 1.0, rel=1e-15)

@@ -42,12 +42,15 @@ The car rows judge what the bridge does: a sweep's vehicle envelopes count a whe
 a deck and a car body while a wheel of it is (:meth:`vtsi.passage.PassageRunner.counted`); where
 the whole run (rigid ground with an irregular rail before and after the bridge) holds a larger
 value, the row's note gives it with its case and place. Each row names the governing train,
-speed, rail sample and place (node tag; 'wheel 3 of 32 (car 1 of 8), x = 6.4 m'; 'car 2 of 8':
+speed, rail sample and place ('node 26 (x = 62.5 m, span 3)'; 'wheel 3 of 32 (car 1 of 8), x = 6.4 m'; 'car 2 of 8':
 people's counting from 1, where the results file's indices count from 0), with
 the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'fail' or 'info'
 (no limit, or a value the check cannot hold to its limit: wheel unloading and contact loss from
 Newmark's undamped rule with 'hermite' rows; 'info' rows carry their reading in ``note``, and
 the verdict names the unchecked ones). Rows whose outputs the sweep did not keep are left out.
+Speeds that step across a resonance v = n D / i more coarsely than the EN series
+(:func:`coarse_resonances`) are named in the rows read against speed and in the verdict, and a
+deck acceleration that passes on them is not checked (info).
 """
 import datetime
 import json
@@ -63,6 +66,7 @@ from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
 from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz
+from vtsi.sweep import en_speed_grid, resonance_speeds
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 deck_ranges, span_decks, x_tolerance)
 
@@ -130,6 +134,8 @@ class CheckResult:
     cases_done: int = 0         # the sweep's finished cases when it was checked, of ...
     cases_total: int = 0        # ... its cases (0 and 0: not known, a check stored by an older vtsi)
     bridge: str = ""            # the bridge as the check read it (vtsi.sweep_results.bridge_text): one line
+    speed_grid: str = ""        # the resonances the sweep's speeds step across more coarsely than the EN
+                                # series (:func:`coarse_resonances`), one line; '' when none
 
     @property
     def complete(self):
@@ -175,6 +181,8 @@ class CheckResult:
             text += f" (not checked: {', '.join(map(label, self.unchecked))}; see their notes)"
         if self.not_evaluated and not failed:
             text += f" (not evaluated, the sweep kept no output for them: {', '.join(map(label, self.not_evaluated))})"
+        if self.speed_grid:
+            text += f"; {self.speed_grid}"
         return text
 
     def row(self, criterion):
@@ -230,6 +238,7 @@ class CheckResult:
                 g.attrs["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
                 g.attrs["passed"] = self.passed
                 g.attrs["cases_done"], g.attrs["cases_total"] = self.cases_done, self.cases_total
+                g.attrs["speed_grid"] = self.speed_grid
                 for name in CheckRow.__dataclass_fields__:
                     values = [getattr(r, name) for r in self.rows]
                     if values and isinstance(values[0], str):
@@ -269,7 +278,8 @@ def stored_check(path):
         # sweep may have more now: its verdict is then that of a sweep incomplete when checked)
         cases = (int(g.attrs["cases_done"]), int(g.attrs["cases_total"])) if "cases_total" in g.attrs \
             else (results.n_done, results.n_cases)
-    return CheckResult(settings, rows, *cases, bridge=bridge_text(results.bridge()))
+        speed_grid = str(g.attrs.get("speed_grid", ""))      # '' in a check stored by an older vtsi
+    return CheckResult(settings, rows, *cases, bridge=bridge_text(results.bridge()), speed_grid=speed_grid)
 
 
 SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments include the bridge's self weight "
@@ -299,6 +309,7 @@ def check(results, settings=None):
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
+    _coarse_speeds(out, coarse_resonances(results, bridge))
     if bool(bridge.get("track_on_a_structure", False)):
         for row in out.rows:
             if not row.criterion.startswith(("car_body", "wheel_unloading", "contact_loss")):
@@ -316,6 +327,147 @@ def refuse_inputs(results, settings=None):
     frequencies than the EN cut-off or holds no deck node (:func:`vtsi.workflow.refuse_before_sweep`)."""
     settings = CheckSettings() if settings is None else settings
     _deck_acceleration(results, {o["name"]: o for o in results.identity["outputs"]}, results.bridge(), settings)
+
+
+# -- the speed grid --------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class CoarseResonance:
+    """A resonance speed v = n D / i inside a sweep's speeds that they step across more coarsely
+    than the EN series (:func:`coarse_resonances`)."""
+
+    train: str
+    speed_kmh: float            # v = n D / i [km/h]
+    frequency_hz: float         # n: a deck's n₀, n₂ or n₃ [Hz]
+    mode: int                   # which of the deck's frequencies: 0 (n₀), 1 (n₂), 2 (n₃)
+    order: int                  # i
+    step_kmh: float             # the sweep's step across v [km/h]
+    en_step_kmh: float          # the EN series' step there [km/h]
+
+    def text(self):
+        """'ICE3 D/3 at 232.4 km/h (n0 7.812 Hz): step 6 km/h'."""
+        return (f"{self.train} D/{self.order} at {self.speed_kmh:.4g} km/h (n{('0', '2', '3')[self.mode]} "
+                f"{self.frequency_hz:.4g} Hz): step {self.step_kmh:.3g} km/h")
+
+
+COARSE_LISTED = 4           # resonances a note or the verdict names (then: 'and k more')
+
+
+def _grid_frequencies(bridge):
+    """``[(f [Hz], mode)]``: each deck's n₀, n₂, n₃ (/bridge/deck_frequencies_hz, mode 0, 1, 2),
+    the frequencies whose resonances the EN series of ``vtsi sweep --speeds en:V`` resolves; in a
+    results file of an older vtsi each deck's n₀ only."""
+    if "deck_frequencies_hz" in bridge:
+        table = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
+    else:
+        table = deck_first_frequencies(bridge)[:, None]
+    found = {}
+    for row in table:
+        for mode, f in enumerate(row):
+            if np.isfinite(f) and f > 0:
+                found.setdefault(round(float(f), 9), mode)
+    return sorted((f, m) for f, m in found.items())
+
+
+def _step_across(grid, v, reach=0.0):
+    """The largest step [km/h] of the sorted speeds ``grid`` across ``v`` [km/h]: between the last
+    speed at or below v - ``reach`` and the first at or above v + ``reach`` (the ends of the grid
+    where it stops short); a speed on v (within 1e-6 km/h) counts its steps on both sides."""
+    tol = 1e-6
+    lo = max(int(np.searchsorted(grid, v - reach + tol, side="right")) - 1, 0)
+    hi = min(int(np.searchsorted(grid, v + reach - tol, side="left")), len(grid) - 1)
+    if hi <= lo:
+        lo, hi = max(lo - 1, 0), min(lo + 1, len(grid) - 1)
+    return float(np.max(np.diff(grid[lo: hi + 1]))) if hi > lo else 0.0
+
+
+def _train_lengths(results):
+    """``{train: D [m]}``: the characteristic lengths the results file holds (trains without one left out)."""
+    lengths = {t: float(results.train_data(t)["characteristic_length_m"]) for t in results.trains}
+    return {t: D for t, D in lengths.items() if np.isfinite(D) and D > 0}
+
+
+def en_series(results, bridge):
+    """The EN 1991-2 6.4.6.2 speed series [km/h] over the sweep's speed range, as ``vtsi sweep
+    --speeds en:V`` builds it (:func:`vtsi.sweep.en_speed_grid`, the sweep's top speed / 1.2, from its lowest; each deck's n₀, n₂, n₃; the trains' D); None for a sweep of one speed
+    or of trains without D."""
+    grid = np.unique(np.asarray(results.speeds_kmh, dtype=float))
+    lengths = _train_lengths(results)
+    if len(grid) < 2 or not lengths:
+        return None
+    return en_speed_grid(grid[-1] / 1.2, [f for f, _ in _grid_frequencies(bridge)], list(lengths.values()),
+                         start_kmh=float(grid[0]))
+
+
+def coarse_resonances(results, bridge):
+    """The resonance speeds v = n D / i (:func:`vtsi.sweep.resonance_speeds`; n each deck's n₀,
+    n₂, n₃, D each train's characteristic length) inside the sweep's speeds that they step across
+    more coarsely than the EN 1991-2 6.4.6.2 series does (:func:`vtsi.sweep.en_speed_grid` over the
+    same range: 10 km/h steps, finer ones near each resonance): ``[CoarseResonance]`` by n, then
+    i, then v. The sweep's step across v is its largest between the speeds either side of it;
+    the EN series' is its largest over that same stretch (so that a speed of the EN series on v
+    itself does not count as a finer step). A sweep of one speed, or of trains without D, has
+    none: nothing to compare."""
+    grid = np.unique(np.asarray(results.speeds_kmh, dtype=float))
+    lengths, en = _train_lengths(results), en_series(results, bridge)
+    if en is None:
+        return []
+    lo, hi = float(grid[0]), float(grid[-1])
+    freqs = _grid_frequencies(bridge)
+    out = []
+    for f, mode in freqs:
+        for t, D in lengths.items():
+            for v in resonance_speeds([f], [D]):
+                v = float(v)
+                if not lo - 1e-6 <= v <= hi + 1e-6:
+                    continue
+                step = _step_across(grid, v)
+                en_step = _step_across(en, v, reach=step)
+                if step > en_step * (1 + 1e-6) + 1e-9:
+                    out.append(CoarseResonance(t, v, f, mode, int(round(3.6 * f * D / v)), step, en_step))
+    return sorted(out, key=lambda c: (c.mode, c.order, c.speed_kmh, c.train))
+
+
+def coarse_text(coarse, listed=COARSE_LISTED):
+    """The resonances ``coarse`` (:func:`coarse_resonances`) in words, the first ``listed`` named."""
+    named = "; ".join(c.text() for c in coarse[:listed])
+    more = len(coarse) - listed
+    return named + (f"; and {more} more" if more > 0 else "")
+
+
+def _coarse_speeds(out, coarse):
+    """Say in ``out`` (a CheckResult) that the sweep's speeds step across the resonances ``coarse``
+    more coarsely than the EN series: in the notes of the rows read from envelopes against speed
+    on the deck (deck acceleration, deflection, the dynamic increments); the deck acceleration,
+    the criterion EN reads at resonance, is then not checked (info) unless it fails (a peak the
+    grid misses only adds to a FAIL); the verdict names them (``out.speed_grid``)."""
+    if not coarse:
+        return
+    governing = next((r for r in out.rows if r.criterion == "deck_acceleration" and r.train), None)
+    if governing is not None:           # the governing train's resonances first, the nearest its speed first
+        coarse = sorted(coarse, key=lambda c: (c.train != governing.train, abs(c.speed_kmh - governing.speed_kmh)))
+    en_step = max(c.en_step_kmh for c in coarse)
+    said = (f"the sweep's speeds step across {_plural_of(len(coarse), 'resonance speed')} v = n D / i more "
+            f"coarsely than the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: at most {en_step:.3g} km/h "
+            f"there): {coarse_text(coarse)}; the peak may lie between the speeds swept: sweep the EN series "
+            "(--speeds en:LINE_SPEED) or finer speeds across them")
+    affected = [r for r in out.rows if r.criterion.startswith(("deck_acceleration", "deflection", "dynamic_increment",
+                                                                "dynamic_vs_lm71"))]
+    first = next((r for r in affected if r.criterion == "deck_acceleration"), affected[0] if affected else None)
+    for row in affected:
+        if row is first and row.criterion == "deck_acceleration" and row.status == "pass":
+            row.status = "info"
+            row.note += f"; not checked: {said}"
+        elif row is first:
+            row.note += f"; {said}"
+        else:
+            row.note += (f"; the sweep's speeds step across {_plural_of(len(coarse), 'resonance speed')} more coarsely "
+                         f"than the EN series (see the {first.criterion} note): the peak may lie between them")
+    out.speed_grid = (f"the speeds step across {_plural_of(len(coarse), 'resonance')} more coarsely than the EN "
+                      f"series ({coarse_text(coarse, 2)})")
+
+
+def _plural_of(n, word):
+    return f"{n} {word}{'s' * (n != 1)}"
 
 
 # -- the criteria ----------------------------------------------------------------------------------
@@ -414,7 +566,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
                  f"2.3 to 13.8 m/s^2 for dt 2 to 0.25 ms); {RINGING_REMEDY}: 2.2 at every dt")
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
                      "info" if rings else ("pass" if value <= limit else "fail"), train, speed, seed,
-                     f"node {int(columns[idx[-1]])}", f"{settings.track.replace('_', ' ')} track; {note}")]
+                     node_text(bridge, columns[idx[-1]]), f"{settings.track.replace('_', ' ')} track; {note}")]
 
 
 def deck_nodes(bridge):
@@ -591,7 +743,7 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
     train, speed, seed, idx = _governing(results, ratio, np.nanargmax)
     phi_dyn = float(ratio[idx]) - 1.0
     rows = [CheckRow("dynamic_increment" + suffix, "EN 1991-2 6.4.6.5(3)", phi_dyn, "-", train=train,
-                     speed_kmh=speed, seed=seed, where=f"node {int(columns[spans[idx[-1]]])}",
+                     speed_kmh=speed, seed=seed, where=node_text(bridge, columns[spans[idx[-1]]]),
                      note=f"phi'_dyn of the {what} ({name}{_places_text(columns, spans, places) if supports else ''})"
                           f" against its static value under the same train"
                           f"{_truncation_note(results, bridge)}{gap}")]
@@ -613,7 +765,7 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
     governs = "the dynamic analysis governs" if value > 1.0 else "Phi x LM71 covers the dynamic effects"
     y = "M" if suffix.endswith("moment") else "y"
     rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
-                         results.trains[i], np.nan, -1, f"node {int(columns[spans[j]])}",
+                         results.trains[i], np.nan, -1, node_text(bridge, columns[spans[j]]),
                          f"{what}: (1 + phi'dyn + {share:g} phi'') {y}_train / (Phi alpha {y}_LM71) = {value:.3f}: "
                          f"{governs} (L_Phi = {L_phi[j]:.3g} m, Phi = {Phi[j]:.3f}, phi'' = {phi2[j]:.3f}, "
                          f"alpha = {settings.alpha:g}"
@@ -758,7 +910,7 @@ def _deflection(results, outputs, bridge, settings):
             governs = "LM71 governs" if case is None else "the dynamic analysis governs"
             who = ("LM71", np.nan, -1) if case is None else \
                 (results.trains[case[0]], float(results.speeds_kmh[case[1]]), results.seeds[case[2]])
-            rows.append(CheckRow(key, clause, value, "m", limit, value / limit, status, *who, f"node {node} ({place})",
+            rows.append(CheckRow(key, clause, value, "m", limit, value / limit, status, *who, node_text(bridge, node),
                                  f"{governs}: {rule}{'' if case is None else _irregular_note(results)}"))
         return rows
     return []
@@ -775,14 +927,20 @@ def _end_rotation(results, outputs, bridge, settings):
         peak = np.maximum(np.abs(env[..., MIN, :]), np.abs(env[..., MAX, :]))
         at_end = [c for c, n in enumerate(columns.tolist())
                   if n in deck_x and min(abs(deck_x[n] - e) for e in ends) <= tol]
-        where = "at the deck's ends" if at_end else "at the output's nodes, none at the deck's ends"
+        supports = " and ".join(f"{e:g}" for e in ends)
+        hangs = overhangs(bridge)
+        beyond = (f"; the overhang{'s' * (len(hangs) > 1)}' free end{'s' * (len(hangs) > 1)} (x = "
+                  f"{' and '.join(f'{b:g}' for _, _, b in hangs)} m) beyond {'them' if len(hangs) > 1 else 'it'} "
+                  "not read") if hangs else ""
+        where = (f"at the decks' end supports (x = {supports} m{beyond})" if at_end else
+                 f"at the output's nodes, none at the decks' end supports (x = {supports} m)")
         if at_end:
             peak, columns = peak[..., at_end], columns[at_end]
         if np.all(np.isnan(peak)):
             continue
         train, speed, seed, idx = _governing(results, peak, np.nanargmax)
         return [CheckRow("end_rotation", "-", float(peak[idx]), "rad", train=train, speed_kmh=speed, seed=seed,
-                         where=f"node {int(columns[idx[-1]])}",
+                         where=node_text(bridge, columns[idx[-1]]),
                          note=f"largest rotation of the deck under the trains {where} (no limit checked)")]
     return []
 
@@ -801,6 +959,27 @@ def wheel_label(wheel, data):
     contact = np.asarray(data["contact_wheels"])
     car = int(np.asarray(data["wheel_car"])[contact[wheel]])
     return f"wheel {wheel + 1} of {len(contact)} (car {car + 1} of {int(data['n_cars'])})"
+
+
+def node_text(bridge, node):
+    """A deck node in words: 'node 26 (x = 62.5 m, span 3)'; over a support two spans share 'node 11
+    (x = 25 m, support of spans 1 and 2)'; on an overhang 'node 2 (x = 1 m, overhang x = 0 to 4
+    m)'; 'node 7' alone when the bridge record (/bridge/deck_nodes, deck_x_m) does not hold it."""
+    deck_x = dict(zip(np.asarray(bridge["deck_nodes"]).tolist(), np.asarray(bridge["deck_x_m"]).tolist()))
+    node = int(node)
+    if node not in deck_x:
+        return f"node {node}"
+    x, tol = float(deck_x[node]), x_tolerance(bridge)
+    ends = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2)
+    inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
+    if len(inside) > 1:
+        place = f"support of spans {' and '.join(str(k + 1) for k in inside)}"
+    elif len(inside):
+        place = f"span {inside[0] + 1}"
+    else:
+        hang = [(a, b) for _, a, b in overhangs(bridge) if min(a, b) - tol <= x <= max(a, b) + tol]
+        place = f"overhang x = {min(hang[0]):g} to {max(hang[0]):g} m" if hang else ""
+    return f"node {node} (x = {x:g} m" + (f", {place})" if place else ")")
 
 
 def _decks_text(bridge):

@@ -11,7 +11,8 @@ derives are plotting quantities from stored values: the peak over rail samples o
 envelope, DAF = y_dyn / y_stat (the stored dynamic mid-span deflection over the stored static one
 under the same train), the deflection as the check reads it at each speed (max |y_dyn| +
 φ''/2 |y_stat|, :func:`~vtsi.check.node_deflections`), the resonance speeds v = n₀ D / i (EN
-1991-2 §6.4.6.2) marked on the acceleration chart (n₀ each deck's), and the times at which a train
+1991-2 §6.4.6.2) marked on the acceleration chart (n₀ each deck's, and n₂ of each continuous deck),
+the approach and free vibration the passages ran, and the times at which a train
 is on the deck in a history chart.
 
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
@@ -60,13 +61,14 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import ABSMAX, car_label, deck_nodes, mid_span_ratios, node_deflections, stored_check, wheel_label
+from vtsi.check import (ABSMAX, car_label, deck_nodes, en_series, mid_span_ratios, node_deflections, node_text,
+                         stored_check, wheel_label)
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz, modal_basis_hz
 from vtsi.sweep import resonance_speeds
 from vtsi.sweep_results import (ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges,
-                                significant_text)
+                                significant_text, span_decks, x_tolerance)
 
 SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
 RESONANCE_ORDERS = (1, 2, 3)          # v = n0 D / i marked on the acceleration chart
@@ -88,6 +90,9 @@ LIMIT_COLOUR = "#c0392b"
 SPAN_STYLES = (("#555555", "--"), ("#d4a017", "-."), ("#8e6bbf", (0, (1, 1.2))), ("#3a9b8f", (0, (6, 2, 1, 2))),
                ("#a0a0a0", (0, (3, 1))), ("#c46a8a", (0, (8, 2))))
 HISTORY_PANELS = ("accel", "disp", "contact_force", "car_body_accel")
+# The rows read at a node whose quantity a history panel draws: {panel: criteria}.
+HISTORY_CRITERIA = {"accel": ("deck_acceleration",),
+                    "disp": ("dynamic_increment", "deflection", "deflection_overhang")}
 UNIT_TEXT = {"m/s^2": "m/s²", "-": "", "rad": "rad", "m": "m", "passages": "passages"}
 CHART_STYLE = {"font.size": 11, "axes.titlesize": 12, "axes.labelsize": 11, "legend.fontsize": 9,
                "xtick.labelsize": 10, "ytick.labelsize": 10, "axes.grid": True, "grid.alpha": 0.3,
@@ -149,7 +154,7 @@ class Section:
 
 
 # -- the report ------------------------------------------------------------------------------------
-def write_report(results_path, out_dir, *, title=None, scene_png=None):
+def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_case=None):
     """Write the report of the sweep and check stored in ``results_path``.
 
     Parameters
@@ -160,6 +165,10 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None):
     title : the report's title (default: "Dynamic analysis: <file name>").
     scene_png : optional path of a 3-D scene image (PNG) rendered elsewhere; embedded in the
         "3-D scene" section.
+    scene_case : optional mapping of what ``scene_png`` draws, for its caption: ``train``,
+        ``speed_kmh``, ``seed`` (-1: smooth rail), ``time_s`` (the time drawn) and ``scale`` (the
+        displacements' exaggeration); any key may be left out. Without it the caption says the
+        image alone names them.
 
     Returns
     -------
@@ -175,6 +184,9 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None):
         raise SweepError(f"report: the title must be text, got {title!r}")
     if not (scene_png is None or isinstance(scene_png, (str, os.PathLike))):
         raise SweepError(f"report: the scene image must be a path, got {scene_png!r}")
+    if not (scene_case is None or isinstance(scene_case, dict)):
+        raise SweepError(f"report: the scene's case must be a dict (train, speed_kmh, seed, time_s, scale), got "
+                         f"{scene_case!r}")
     path = Path(results_path)
     if not path.is_file():
         raise SweepError(f"report: results file {path} not found")
@@ -193,6 +205,7 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None):
             raise SweepError(f"report: scene image {scene} is not a PNG file")
     title = title or f"Dynamic analysis: {path.name}"
     report = _Report(results, checked, path.resolve())
+    report.scene_case = dict(scene_case or {})
     sections = report.sections(scene)
 
     out = report_folder(out_dir)
@@ -247,9 +260,32 @@ class _Report:
                  "scene": lambda: self.scene_section(scene)}
         return [build[name]() for name in SECTIONS if name != "scene" or scene is not None]
 
+    scene_case = {}
+
     def scene_section(self, scene):
         return Section("scene", "3-D scene", [
-            Chart("scene", scene.read_bytes(), f"The passage as a 3-D scene ({scene.name}).", "3-D scene")])
+            Chart("scene", scene.read_bytes(), self.scene_caption(scene.name), "3-D scene")])
+
+    def scene_caption(self, name):
+        """What the scene image ``name`` draws: the case, the time and the exaggeration as far as
+        :attr:`scene_case` gives them, and how the deck is drawn (:mod:`vtsi.scene3d`)."""
+        c = self.scene_case
+        what = []
+        if "train" in c:
+            speed = float(c.get("speed_kmh", np.nan))
+            seed = int(c.get("seed", -1))
+            what.append(f"{c['train']}" + (f" at {_fmt_speed(speed)} km/h" if not math.isnan(speed) else "")
+                        + (f", rail sample {seed}" if seed >= 0 else
+                           ", smooth rail" if self.settings.get("irregularity") is None else ""))
+        if "time_s" in c:
+            what.append(f"at t = {float(c['time_s']):.4g} s")
+        text = f"The passage{' of ' + ' '.join(what) if what else ''} as a 3-D scene ({name})"
+        drawn = "the deck's vertical displacements, drawn through a cubic spline between its nodes"
+        if "scale" in c:
+            return f"{text}: {drawn}, exaggerated × {float(c['scale']):g}; the axles where they are at that time."
+        return (f"{text}: {drawn}, exaggerated (the factor is written in the image); the axles where they are at "
+                "that time" + ("" if what else "; the case and time are written in the image's title and legend")
+                + ".")
 
     # -- helpers ------------------------------------------------------------------------------
     def row(self, criterion):
@@ -395,10 +431,17 @@ class _Report:
         rows = [[DESCRIPTION_TEXT[k][0], f"{_value_text(desc[k])} {DESCRIPTION_TEXT[k][1]}"] if k in DESCRIPTION_TEXT
                 else [_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
         x = np.asarray(b["deck_x_m"], dtype=float)
-        rows += [["spans", " + ".join(f"{s:g}" for s in spans) + f" m ({len(spans)} span{'s' * (len(spans) > 1)})"],
-                 ["deck", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes "
-                          f"(x = {x.min():g} … {x.max():g} m)"],
-                 ["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
+        rows += [["spans", " + ".join(f"{s:g}" for s in spans) + f" m ({len(spans)} span{'s' * (len(spans) > 1)})"]]
+        if several:                                     # each deck: its extent and its nodes
+            tol = x_tolerance(b)
+            rows += [[f"deck {d + 1}", f"{e - a:.4g} m, {int(np.sum((x >= a - tol) & (x <= e + tol)))} nodes "
+                                       f"(x = {a:g} … {e:g} m)"] for d, (a, e) in enumerate(deck_ranges(b))]
+            rows += [["track nodes", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes (x = {x.min():g} … "
+                               f"{x.max():g} m)"]]
+        else:
+            rows += [["deck", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes "
+                              f"(x = {x.min():g} … {x.max():g} m)"]]
+        rows += [["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
                  ["first vertical frequencies" + (" of the model" if several else ""),
                   ", ".join(significant_text(f) for f in freqs) + " Hz"]]
         if several and "deck_frequencies_hz" in b:      # each deck's n₀, n₂, n₃
@@ -453,30 +496,67 @@ class _Report:
                 ["damping", _damping_text(s)],
                 ["rail", "smooth" if irregularity is None else
                  f"irregular, {irregularity}, samples {', '.join(str(k) for k in res.seeds)}"],
-                ["approach", "default" if s.get("approach") is None else f"{s['approach']:g} m"],
-                ["free vibration", f"default ({FREE_VIBRATION_PERIODS:g} periods of n₀)"
-                 if s.get("free_vibration") is None else f"{s['free_vibration']:g} s"],
+                ["approach", self.approach_text()],
+                ["free vibration", f"{FREE_VIBRATION_PERIODS / float(np.ravel(self.bridge['frequencies_hz'])[0]):.3g} s "
+                                   f"(the default, {FREE_VIBRATION_PERIODS:g} periods of the model's first vertical mode, "
+                                   f"{significant_text(float(np.ravel(self.bridge['frequencies_hz'])[0]))} Hz) after "
+                                   "the last axle leaves the track"
+                 if s.get("free_vibration") is None else f"{s['free_vibration']:g} s after the last axle leaves the track"],
                 ["bridge self weight", "included" if s.get("bridge_self_weight") else "not included"],
                 ["acceleration cut-off", "; ".join(cutoffs) if cutoffs else "none (the FE model's full response)"],
                 ["outputs", ", ".join(f"{n} ({o['response']})" for n, o in self.outputs.items()
                                       if cars or o["response"] not in CAR_RESPONSES)],
-                ["speeds", f"{len(res.speeds_kmh)} speeds, {_fmt_speed(res.speeds_kmh.min())}–"
-                           f"{_fmt_speed(res.speeds_kmh.max())} km/h"],
+                ["speeds", self.speeds_text()],
                 ["vtsi version", f"{res.vtsi_version} (sweep), {__version__} (report)"],
                 ["results file", str(self.path)]]
         return Section("settings", "Settings", [Table(["setting", "value"], rows, cls="properties")])
+
+    def approach_text(self):
+        """Where the trains start: the first axle's distance before the track at t = 0 [m], from the
+        stored start positions (x_head0) and the trains' first axle offsets, and whether it is the
+        default (0 for moving forces, 25 m for cars)."""
+        s = self.settings
+        x0 = np.asarray(self.results.start_positions(), dtype=float)      # (n_train, n_speed, n_seed)
+        begin = float(np.min(np.asarray(self.bridge["deck_x_m"], dtype=float)))
+        gaps = set()
+        for i, t in enumerate(self.results.trains):
+            first = float(np.asarray(self.trains[t]["axle_offsets_m"], dtype=float)[0])
+            for x in np.ravel(x0[i]):
+                if np.isfinite(x):
+                    gaps.add(round(begin - (x - first), 3))
+        how = "the default" if s.get("approach") is None else "set"
+        if not gaps:
+            return how if s.get("approach") is None else f"{s['approach']:g} m"
+        value = " to ".join(f"{g:g}" for g in sorted(gaps)[:: max(len(gaps) - 1, 1)])
+        return f"{value} m ({how}): the first axle's distance before the track's first node at t = 0"
+
+    def speeds_text(self):
+        """The sweep's speeds: how many, their range and steps, or that they are the EN 1991-2
+        6.4.6.2 series (:func:`~vtsi.check.en_series`), and where the check found them coarser
+        than it (:attr:`~vtsi.check.CheckResult.speed_grid`)."""
+        v = np.unique(self.results.speeds_kmh)
+        text = f"{_plural(len(v), 'speed')}, {_fmt_speed(v.min())}–{_fmt_speed(v.max())} km/h"
+        if len(v) < 2:
+            return text
+        en = en_series(self.results, self.bridge)
+        steps = np.unique(np.round(np.diff(v), 2))
+        if en is not None and len(en) == len(v) and np.allclose(en, v, atol=0.01):
+            text += (": the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: 10 km/h steps, finer, "
+                     f"{_fmt_speed(steps.min())} km/h, within ±10 % of each resonance v = n D / i)")
+        elif len(steps) == 1:
+            text += f" in steps of {_fmt_speed(steps[0])} km/h"
+        else:
+            text += f" in steps of {_fmt_speed(steps.min())} to {_fmt_speed(steps.max())} km/h"
+        if self.checked.speed_grid:
+            text += f"; {self.checked.speed_grid} (see the check's notes)"
+        return text
 
     def envelopes(self):
         blocks = []
         accel = self.output("accel", cutoff=True)
         if accel is not None:
-            blocks.append(Chart("acceleration", self.acceleration_png(accel),
-                                f"Peak deck acceleration ({accel}, the largest over its nodes on the deck, spans "
-                                f"and overhangs"
-                                f"{' and rail samples' if len(self.results.seeds) > 1 else ''}) against speed. "
-                                "Dashed red: the check's limit. Dotted verticals: the resonance speeds "
-                                "v = n₀ D / i (i = 1, 2, 3) of each train, labelled 'train D/i'. "
-                                "Star: the governing case.", "peak deck acceleration against speed"))
+            blocks.append(Chart("acceleration", self.acceleration_png(accel), self.acceleration_caption(accel),
+                                "peak deck acceleration against speed"))
         disp = self.output("disp", cutoff=False)
         if disp is not None:
             checked, dynamic = self.deflection_curves(disp)
@@ -507,7 +587,8 @@ class _Report:
             marked = self.history_marks(train, speed, seed, panels)
             blocks += [Heading(f"{text}: governs {', '.join(_label(c) for c in criteria)}"),
                        Chart(f"history_{len(shown)}", self.history_png(train, speed, seed, panels, marked),
-                             self.history_caption(text, panels, marked), f"time histories of {text}")]
+                             self.history_caption(text, panels, marked, (train, speed, seed)),
+                             f"time histories of {text}")]
         if not self.governing_cases():
             blocks.append(Paragraph("The check names no governing passage."))
         elif not shown:
@@ -565,17 +646,46 @@ class _Report:
             top = max([np.nanmax(y) for _, y in curves.values()] + [row.limit if row is not None else 0.0])
             if top > 0:
                 ax.set_ylim(0, 1.22 * top)
-            n0 = np.unique(deck_first_frequencies(self.bridge))     # each deck's: its own resonances
+            n0, n2 = self.marked_frequencies()
             lengths = {t: float(self.trains[t].get("characteristic_length_m", np.nan)) for t in curves}
             marks = _resonance_marks(n0, lengths, res.speeds_kmh)
+            second = _resonance_marks(n2, lengths, res.speeds_kmh) if len(n2) else []
             for v, t, i in marks:
                 ax.axvline(v, color=self.colours[t], ls=":", lw=1.2, alpha=0.9)
+            for v, t, i in second:
+                ax.axvline(v, color=self.colours[t], ls=(0, (6, 3)), lw=0.9, alpha=0.7)
             self._speed_axis(ax)
             ax.set_ylabel("peak deck acceleration [m/s²]")
-            ax.set_title(f"Peak deck acceleration (n₀ = {', '.join(significant_text(f) for f in n0)} Hz)")
-            _resonance_labels(ax, marks, self.colours)
+            ax.set_title(f"Peak deck acceleration (n₀ = {', '.join(significant_text(f) for f in n0)} Hz"
+                         + (f"; n₂ = {', '.join(significant_text(f) for f in n2)} Hz" if len(n2) else "") + ")")
+            _resonance_labels(ax, sorted([(v, t, f"{i}") for v, t, i in marks]
+                                         + [(v, t, f"{i} (n₂)") for v, t, i in second]), self.colours)
             _legend(ax)
             return _png(fig)
+
+    def marked_frequencies(self):
+        """``(n₀, n₂)`` [Hz] whose resonances the acceleration chart marks: each deck's n₀, and the
+        n₂ of each continuous deck (of several spans), whose second mode is a bending mode of
+        its own near n₀ (a simply supported deck's n₂ = 4 n₀ puts its resonances far above the
+        swept speeds). EN 1991-2 6.4.6.2 names n₀; vtsi's EN series also resolves n₂ and n₃."""
+        n0 = np.unique(deck_first_frequencies(self.bridge))     # each deck's: its own resonances
+        n2 = []
+        if "deck_frequencies_hz" in self.bridge:
+            table = np.asarray(self.bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
+            decks = span_decks(self.bridge)
+            n2 = [float(table[d, 1]) for d in range(len(table)) if np.sum(decks == d) > 1 and np.isfinite(table[d, 1])]
+        return n0, np.unique(n2)
+
+    def acceleration_caption(self, name):
+        """The acceleration chart's caption: its curves and which resonances it marks."""
+        n0, n2 = self.marked_frequencies()
+        return (f"Peak deck acceleration ({name}, the largest over its nodes on the deck, spans and overhangs"
+                f"{' and rail samples' if len(self.results.seeds) > 1 else ''}) against speed. Dashed red: the "
+                "check's limit. Dotted verticals: the resonance speeds v = n₀ D / i (i = 1, 2, 3) of each train, "
+                "n₀ each deck's first vertical frequency, labelled 'train D/i'"
+                + ("; dashed verticals, labelled 'train D/i (n₂)': the same for n₂, the second vertical frequency of "
+                   "each continuous deck" if len(n2) else "")
+                + " (n₃'s are not marked). Star: the governing case.")
 
     def deflection_curves(self, name):
         """``(checked, dynamic)`` of output ``name`` against speed, ``{train: (speeds, [mm])}`` each,
@@ -663,24 +773,30 @@ class _Report:
             _legend(ax)
             return _png(fig)
 
+    def _governed(self, train, speed, seed):
+        """``{criterion: node}``: the rows this case governs at a node (their place 'node …')."""
+        return {r.criterion: int(r.where.split()[1]) for r in self.rows
+                if (r.train, r.speed_kmh, r.seed) == (train, speed, seed) and r.where.startswith("node ")}
+
     def _history_nodes(self, kind, train, speed, seed):
         """The nodes drawn in a history panel: ``[(node, label, governing)]``, each span's middle
-        and the node at which this case governs a criterion of that response (deck acceleration,
-        dynamic increment); without one, the first span's middle is drawn in the train's colour."""
-        criterion = {"accel": "deck_acceleration", "disp": "dynamic_increment"}[kind]
-        row = self.row(criterion)
-        node = None
-        if row is not None and (row.train, row.speed_kmh, row.seed) == (train, speed, seed) and \
-                row.where.startswith("node "):
-            node = int(row.where.split()[1])
+        and each node at which this case governs a criterion of that panel's quantity (the
+        acceleration: deck acceleration; the deflection: the dynamic increment of the mid-span
+        deflection and the deflection rows), those nodes (``governing``) in the train's colour;
+        none is when the case governs no such row."""
+        criteria = HISTORY_CRITERIA[kind]
+        nodes = {}
+        for criterion, node in self._governed(train, speed, seed).items():
+            if criterion in criteria:
+                nodes.setdefault(node, []).append(_label(criterion))
         mid = [int(n) for n in self.bridge["midspan_nodes"]]
         out = []
         for j, n in enumerate(mid):
             label = f"span {j + 1} middle, node {n}" if len(mid) > 1 else f"mid-span, node {n}"
-            out.append((n, label + (f"\ngoverns {_label(criterion)}" if n == node else ""),
-                        n == node or (node is None and j == 0)))
-        if node is not None and node not in mid:
-            out.append((node, f"node {node}\ngoverns {_label(criterion)}", True))
+            out.append((n, label + (f"\ngoverns {', '.join(nodes[n])}" if n in nodes else ""), n in nodes))
+        for n, governs in nodes.items():
+            if n not in mid:
+                out.append((n, f"node {n}\ngoverns {', '.join(governs)}", True))
         return out
 
     def history_panels(self, train, speed, seed):
@@ -723,11 +839,18 @@ class _Report:
             out[kind] = (column, wheel_label(k, data) if kind == "contact_force" else car_label(k, int(data["n_cars"])))
         return out
 
-    def history_caption(self, text, panels, marked=None):
-        """The caption of a history chart: what its panels draw, and nothing else."""
+    def history_caption(self, text, panels, marked=None, case=None):
+        """The caption of a history chart: what its panels draw, and nothing else; with ``case``
+        (train, speed, seed), the nodes drawn in the train's colour (where the case governs a row of
+        a drawn quantity) and the rows it governs whose quantity no panel draws (a bending moment,
+        an end rotation)."""
         marked = marked or {}
         n_spans = len(self.bridge["midspan_nodes"])
         where = "at each span's middle" if n_spans > 1 else "at mid-span"
+        governed = self._governed(*case) if case is not None else {}
+        drawn = {c for k in ("accel", "disp") if k in panels for c in HISTORY_CRITERIA[k]}
+        coloured = [f"{_label(c)} at {self.row(c).where}" for c in governed if c in drawn]
+        elsewhere = [f"{_label(c)} at {self.row(c).where}" for c in governed if c not in drawn]
         shown = []
         if "accel" in panels:
             row = self.row("deck_acceleration")
@@ -737,8 +860,10 @@ class _Report:
             shown.append("the deflection [mm]")
         parts = []
         if shown:
-            parts.append(" and ".join(shown) + f" {where}" + (" (one line style per span; in the train's colour: the "
-                                                             "node at which this case governs)" if n_spans > 1 else ""))
+            style = ["one line style per span"] if n_spans > 1 else []
+            if coloured:
+                style.append(f"in the train's colour: where this case governs {'; '.join(coloured)}")
+            parts.append(" and ".join(shown) + f" {where}" + (f" ({'; '.join(style)})" if style else ""))
         if "contact_force" in panels:
             parts.append("the contact force [kN] of every wheel (its 10 ms mean, as the check reads it; black: "
                          f"{marked['contact_force'][1] if 'contact_force' in marked else 'the wheel'}, the lowest "
@@ -751,9 +876,11 @@ class _Report:
                          f"{marked['car_body_accel'][1] if 'car_body_accel' in marked else 'the car'}, the largest on "
                          "the bridge; dotted: while it counts, a wheel of it on a deck and the run-out after"
                          + ("; dashed red: ± the comfort limit" if limit else "") + ")")
+        missing = (f" This case {'also ' if coloured else ''}governs {'; '.join(elsewhere)}: the histories do not hold that quantity "
+                   "(bending moments and rotations are not recorded as histories)." if elsewhere else "")
         if not parts:
-            return f"{text}: no acceleration, deflection, contact force or car body history recorded."
-        return f"{text}: " + "; ".join(parts) + ", against time; shaded: axles on the deck."
+            return f"{text}: no acceleration, deflection, contact force or car body history recorded." + missing
+        return f"{text}: " + "; ".join(parts) + ", against time; shaded: axles on the deck." + missing
 
     def _counted(self, kind, train, speed, x_head0, column):
         """``(t_first, t_last)`` [s] while the marked wheel's contact force (``kind``
@@ -1029,7 +1156,11 @@ def _bridge_model_text(settings, bridge):
         return "FE model, time-stepped"
     f_max = modal_basis_hz(kind, settings.get("modal_hz"), bridge)
     how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
-    return f"modal: its modes up to {significant_text(f_max)} Hz, {how}"
+    en = en_cutoff_hz(bridge)
+    relation = (f"{f_max / en:.3g} × the EN cut-off {significant_text(en)} Hz" + ("" if settings.get("modal_hz") else
+                ", the default") if f_max >= en * (1 - 1e-9) else f"below the EN cut-off {significant_text(en)} Hz")
+    return (f"modal: its modes up to {significant_text(f_max)} Hz ({relation}; the results file does not hold how many "
+            f"modes), {how}")
 
 
 def _damping_text(settings):
