@@ -163,8 +163,8 @@ def test_the_settings_name_the_bridge_model(files, tmp_path):
                   PassageSettings(dt=1e-3, damping=0.013, bridge="modal"))
     check(modal.run(path, workers=1, progress=False)).store(path)
     text = write_report(path, tmp_path / "modal")["markdown"].read_text(encoding="utf-8")
-    assert ("| bridge model | modal: its modes up to 49.53 Hz (1.1 × the EN cut-off 45.02 Hz, the default; the results "
-            "file does not hold how many modes), exact passages of moving forces, cars time-stepped |") in text
+    assert ("| bridge model | modal: 3 modes up to 49.53 Hz (1.1 × the EN cut-off 45.02 Hz, the default; the highest "
+            "at 45.02 Hz), exact passages of moving forces, cars time-stepped |") in text
     assert "| damping | ζ = 1.3 % on every mode (modal damping) |" in text
 
 

@@ -177,7 +177,7 @@ def test_scene_and_animation_of_a_recorded_case(tmp_path, caplog):
     row = result.row("deck_acceleration")
     sweep.record_histories(path, [(row.train, row.speed_kmh, row.seed)])
     png = render_case(path, tmp_path / "s.png", window_size=(400, 180))
-    assert iio.imread(png).shape[:2] == (180, 400)
+    assert iio.imread(png.path).shape[:2] == (180, 400)          # a RenderedScene: os.PathLike, imageio wants a Path
     gif = animate_case(path, tmp_path / "s.gif", max_frames=3, window_size=(400, 176))
     assert iio.imread(gif, index=None).shape[0] == 3
     assert "the deck's vibration is aliased; max_frames >= " in caplog.text

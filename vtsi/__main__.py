@@ -21,6 +21,7 @@ Exit status of ``check``: 0 every criterion passes; 1 a criterion fails, or no v
 """
 import argparse
 import contextlib
+import dataclasses
 import os
 import re
 import signal
@@ -438,28 +439,48 @@ def _prepare_sweep(ns, out):
 
 def _code_damping(ns, source, values):
     """The check's damping ratio: --damping (or the bridge file's), else EN 1991-2 Table 6.6 for
-    --bridge-type at the longest span (+ Eq. 6.13 with --additional-damping)."""
+    --bridge-type at the longest span (+ Eq. 6.13 with --additional-damping). Sets
+    ``ns.damping_source``, where it came from in words (stored with the check, printed in the
+    report); notes on standard error (unless --quiet) when --bridge-type replaces the bridge
+    file's [analysis] damping."""
     from vtsi.codes.en1991_2 import additional_damping, damping_lower_bound
     from vtsi.passage import PassageRunner, PassageSettings
 
+    in_file = source.settings.get("damping")
+    replaced = ("" if in_file is None else
+                f"; it replaces the bridge file's [analysis] damping = {in_file:g} ({_percent(in_file)})")
     if ns.bridge_type is None:
         if values.get("damping") is None:
             raise _UsageError("the bridge's damping is needed: --bridge-type TYPE (EN 1991-2 Table 6.6) or "
                               "--damping ZETA")
         if ns.additional_damping:
             raise _UsageError("--additional-damping adds to the Table 6.6 value: give --bridge-type")
+        ns.damping_source = (f"--damping {ns.damping:g}{replaced}" if ns.damping is not None else
+                             f"the bridge file's [analysis] damping = {in_file:g} ({os.path.basename(source.path)})")
         return values["damping"]
     if ns.damping is not None:
         raise _UsageError("give either --bridge-type (EN 1991-2 Table 6.6) or --damping, not both")
     runner = PassageRunner(source.bridge.model, source.bridge.track_elements, PassageSettings(), outputs=())
     span = float(max(runner.span_lengths))
-    zeta = damping_lower_bound(ns.bridge_type, span)
+    zeta = base = damping_lower_bound(ns.bridge_type, span)
+    how = f"EN 1991-2 Table 6.6, {ns.bridge_type.replace('_', ' ')}, longest span L = {span:g} m: {_percent(base)}"
     if ns.additional_damping:
         if values.get("cars", "force") != "force":
             raise _UsageError("--additional-damping (EN 1991-2 Eq. 6.13) is for moving forces; the cars' "
                               "interaction is in the model with --cars full")
-        zeta += additional_damping(span)
+        extra = additional_damping(span)
+        zeta += extra
+        how += f" + Eq. 6.13 Δζ {_percent(extra)} = {_percent(zeta)}"
+    ns.damping_source = how + replaced
+    if in_file is not None and not ns.quiet:
+        _print_err(f"vtsi check: --bridge-type {ns.bridge_type} replaces the bridge file's [analysis] damping = "
+                   f"{in_file:g} ({os.path.basename(source.path)}) by ζ = {_percent(zeta)}: {how}")
     return zeta
+
+
+def _percent(zeta):
+    """A damping ratio [-] in percent, three significant digits: 0.012965 -> '1.3 %'."""
+    return f"{100 * float(zeta):.3g} %"
 
 
 def _check_numbers(ns):
@@ -500,7 +521,10 @@ def _check(ns):
                 _speeds_reach(ns.speeds, line)
         if os.path.exists(report_dir) and not os.path.isdir(report_dir):
             raise _UsageError(f"--report {report_dir}: exists and is not a directory")
+        ns.damping_source = ""
         sweep = _prepare_sweep(ns, out)
+        settings = dataclasses.replace(settings, damping_source=ns.damping_source,     # provenance: in the report
+                                       line_speed_kmh=None if ns.line_speed is None else line)
         if sweep.settings.bridge_self_weight:
             raise _UsageError(SELF_WEIGHT_REFUSED.removeprefix("check: "))
         try:                                           # what the check would refuse after the sweep: refused now

@@ -85,6 +85,14 @@ class CheckSettings:
     maintenance : 'careful' (Φ₂, φ''/2) or 'standard' (Φ₃, φ'').
     alpha : classification factor α of LM71 [-].
     unloading_limit : ΔQ/Q limit [-] (a project criterion).
+    damping_source : where the sweep's damping ratio came from, for the report's reader, e.g.
+        'EN 1991-2 Table 6.6, steel, L = 20 m: 0.5 % + Eq. 6.13 Δζ 0.3 %' (``vtsi check``
+        --bridge-type), '--damping' or "the bridge file's [analysis] damping"; '' not recorded.
+    line_speed_kmh : the line's maximum speed [km/h] (EN 1991-2 6.4.6.2: the speeds up to 1.2 ×
+        it); None not recorded.
+
+    The last two are provenance only: no criterion reads them, and they are not part of the
+    sweep's identity (a sweep resumes whatever they are).
     """
 
     track: str = "ballasted"
@@ -92,11 +100,22 @@ class CheckSettings:
     maintenance: str = "careful"
     alpha: float = 1.0
     unloading_limit: float = 0.6
+    damping_source: str = ""
+    line_speed_kmh: float = None
 
     def __post_init__(self):
         en1990_a2.deck_acceleration_limit(self.track)
         en1990_a2.comfort_limit(self.comfort)
         en1991_2.dynamic_factor(10.0, self.maintenance)
+        if not isinstance(self.damping_source, str):
+            raise ModelError(f"check settings: damping_source must be text, got {self.damping_source!r}")
+        if self.line_speed_kmh is not None:
+            value = self.line_speed_kmh
+            ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
+                and np.isfinite(value) and value > 0
+            if not ok:
+                raise ModelError(f"check settings: line_speed_kmh must be a speed > 0 [km/h] or None, got {value!r}")
+            object.__setattr__(self, "line_speed_kmh", float(value))
         for name, most in (("alpha", np.inf), ("unloading_limit", 1.0)):
             value = getattr(self, name)
             ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \

@@ -154,7 +154,7 @@ class Section:
 
 
 # -- the report ------------------------------------------------------------------------------------
-def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_case=None):
+def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_case=None, scene_animation=None):
     """Write the report of the sweep and check stored in ``results_path``.
 
     Parameters
@@ -164,11 +164,15 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_cas
         are overwritten, any other file there is left alone.
     title : the report's title (default: "Dynamic analysis: <file name>").
     scene_png : optional path of a 3-D scene image (PNG) rendered elsewhere; embedded in the
-        "3-D scene" section.
+        "3-D scene" section. A :class:`~vtsi.scene3d.RenderedScene` (what
+        :func:`~vtsi.scene3d.render_case` returns) brings its case for the caption.
     scene_case : optional mapping of what ``scene_png`` draws, for its caption: ``train``,
         ``speed_kmh``, ``seed`` (-1: smooth rail), ``time_s`` (the time drawn) and ``scale`` (the
-        displacements' exaggeration); any key may be left out. Without it the caption says the
-        image alone names them.
+        displacements' exaggeration); any key may be left out. Default: ``scene_png.case`` where
+        it has one; without either the caption says the image alone names them.
+    scene_animation : optional path of an animation of the scene's passage (GIF or MP4, e.g.
+        :func:`~vtsi.scene3d.animate_case`'s); the caption names it (by its name when it lies in
+        ``out_dir``, else by its path). It is not copied or embedded.
 
     Returns
     -------
@@ -184,9 +188,17 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_cas
         raise SweepError(f"report: the title must be text, got {title!r}")
     if not (scene_png is None or isinstance(scene_png, (str, os.PathLike))):
         raise SweepError(f"report: the scene image must be a path, got {scene_png!r}")
+    if scene_case is None and isinstance(getattr(scene_png, "case", None), dict):
+        scene_case = scene_png.case                    # a RenderedScene names what it drew
     if not (scene_case is None or isinstance(scene_case, dict)):
         raise SweepError(f"report: the scene's case must be a dict (train, speed_kmh, seed, time_s, scale), got "
                          f"{scene_case!r}")
+    if not (scene_animation is None or isinstance(scene_animation, (str, os.PathLike))):
+        raise SweepError(f"report: the scene's animation must be a path, got {scene_animation!r}")
+    if scene_animation is not None and not Path(scene_animation).is_file():
+        raise SweepError(f"report: the scene's animation {Path(scene_animation)} is not a file")
+    if scene_animation is not None and scene_png is None:
+        raise SweepError("report: a scene animation needs its scene image (scene_png): the caption names it")
     path = Path(results_path)
     if not path.is_file():
         raise SweepError(f"report: results file {path} not found")
@@ -206,6 +218,10 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_cas
     title = title or f"Dynamic analysis: {path.name}"
     report = _Report(results, checked, path.resolve())
     report.scene_case = dict(scene_case or {})
+    if scene_animation is not None:
+        movie = Path(scene_animation).resolve()
+        beside = isinstance(out_dir, (str, os.PathLike)) and movie.parent == Path(out_dir).resolve()
+        report.scene_animation = movie.name if beside else str(movie)
     sections = report.sections(scene)
 
     out = report_folder(out_dir)
@@ -261,6 +277,7 @@ class _Report:
         return [build[name]() for name in SECTIONS if name != "scene" or scene is not None]
 
     scene_case = {}
+    scene_animation = None      # the animation's name (in the report's directory) or path, for the caption
 
     def scene_section(self, scene):
         return Section("scene", "3-D scene", [
@@ -281,11 +298,14 @@ class _Report:
             what.append(f"at t = {float(c['time_s']):.4g} s")
         text = f"The passage{' of ' + ' '.join(what) if what else ''} as a 3-D scene ({name})"
         drawn = "the deck's vertical displacements, drawn through a cubic spline between its nodes"
+        movie = (f" The whole passage as an animation: {self.scene_animation} (not embedded)."
+                 if self.scene_animation else "")
         if "scale" in c:
-            return f"{text}: {drawn}, exaggerated × {float(c['scale']):g}; the axles where they are at that time."
+            return (f"{text}: {drawn}, exaggerated × {float(c['scale']):g}; the axles where they are at that time."
+                    + movie)
         return (f"{text}: {drawn}, exaggerated (the factor is written in the image); the axles where they are at "
                 "that time" + ("" if what else "; the case and time are written in the image's title and legend")
-                + ".")
+                + "." + movie)
 
     # -- helpers ------------------------------------------------------------------------------
     def row(self, criterion):
@@ -509,7 +529,21 @@ class _Report:
                 ["speeds", self.speeds_text()],
                 ["vtsi version", f"{res.vtsi_version} (sweep), {__version__} (report)"],
                 ["results file", str(self.path)]]
+        checked = self.checked.settings                 # provenance stored with the check (none by an older vtsi)
+        if checked.damping_source:
+            rows.insert([r[0] for r in rows].index("damping") + 1, ["damping from", checked.damping_source])
+        if checked.line_speed_kmh is not None:
+            rows.insert([r[0] for r in rows].index("speeds"), ["line speed", self.line_speed_text()])
         return Section("settings", "Settings", [Table(["setting", "value"], rows, cls="properties")])
+
+    def line_speed_text(self):
+        """The line speed stored with the check and whether the speeds reach 1.2 × it (EN 1991-2
+        6.4.6.2(1))."""
+        line = self.checked.settings.line_speed_kmh
+        top, needed = float(np.max(self.results.speeds_kmh)), 1.2 * line
+        reach = (f"the speeds reach 1.2 × it = {_fmt_speed(needed)} km/h" if top >= needed - 1e-6 else
+                 f"the speeds stop at {_fmt_speed(top)} km/h, short of 1.2 × it = {_fmt_speed(needed)} km/h")
+        return f"{_fmt_speed(line)} km/h: {reach} (EN 1991-2 6.4.6.2(1))"
 
     def approach_text(self):
         """Where the trains start: the first axle's distance before the track at t = 0 [m], from the
@@ -1149,8 +1183,9 @@ def _plural(n, word, words=None):
 
 
 def _bridge_model_text(settings, bridge):
-    """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz]
-    (``bridge`` the results file's bridge record)."""
+    """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz] and,
+    where the results file holds them (``modal_frequencies_hz``), how many modes and the highest
+    one's frequency (``bridge`` the results file's bridge record)."""
     kind = settings.get("bridge", "fe")
     if kind == "fe":
         return "FE model, time-stepped"
@@ -1159,8 +1194,12 @@ def _bridge_model_text(settings, bridge):
     en = en_cutoff_hz(bridge)
     relation = (f"{f_max / en:.3g} × the EN cut-off {significant_text(en)} Hz" + ("" if settings.get("modal_hz") else
                 ", the default") if f_max >= en * (1 - 1e-9) else f"below the EN cut-off {significant_text(en)} Hz")
-    return (f"modal: its modes up to {significant_text(f_max)} Hz ({relation}; the results file does not hold how many "
-            f"modes), {how}")
+    modes = np.ravel(np.asarray(bridge.get("modal_frequencies_hz", []), dtype=float))
+    if not modes.size:                                  # a file of an older vtsi
+        return (f"modal: its modes up to {significant_text(f_max)} Hz ({relation}; the results file does not hold "
+                f"how many modes), {how}")
+    return (f"modal: {_plural(modes.size, 'mode')} up to {significant_text(f_max)} Hz ({relation}; the highest at "
+            f"{significant_text(modes.max())} Hz), {how}")
 
 
 def _damping_text(settings):

@@ -1004,11 +1004,40 @@ def _case_title(results, train, speed_kmh, seed):
     return f"{train} at {speed_kmh:g} km/h" + (f", rail sample {seed}" if seed is not None and seed >= 0 else "")
 
 
+@dataclass(frozen=True)
+class RenderedScene(os.PathLike):
+    """What :func:`render_case` drew: the PNG's ``path`` (the object is os.PathLike: ``open``,
+    ``os.fspath`` and ``Path`` take it as that path; ``str`` gives it), the case (``train``,
+    ``speed_kmh`` [km/h], ``seed``: -1 a smooth rail, else the rail sample), the time drawn
+    ``time_s`` [s] and the displacements' exaggeration ``scale`` [-]."""
+
+    path: Path
+    train: str
+    speed_kmh: float
+    seed: int
+    time_s: float
+    scale: float
+
+    def __fspath__(self):
+        return os.fspath(self.path)
+
+    def __str__(self):
+        return os.fspath(self.path)
+
+    @property
+    def case(self):
+        """``{train, speed_kmh, seed, time_s, scale}``: the scene's caption for
+        :func:`vtsi.report.write_report` (``scene_case``)."""
+        return {"train": self.train, "speed_kmh": self.speed_kmh, "seed": self.seed, "time_s": self.time_s,
+                "scale": self.scale}
+
+
 def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=None, **kwargs):
     """A PNG of a case recorded in a sweep's results file (its deck-displacement history,
     :meth:`vtsi.sweep.Sweep.record_histories`): by default the case and time of the largest deck
     acceleration of the stored check (else of the envelope), the train's axles where they are
-    then. ``kwargs`` go to :meth:`PassageScene.render_png`. Returns the path written."""
+    then. ``kwargs`` go to :meth:`PassageScene.render_png`. Returns a :class:`RenderedScene`:
+    the path written (os.PathLike), with the case, the time and the exaggeration drawn."""
     results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
     times, uy, _ = history["deck_displacement"]
     if time is None:
@@ -1022,9 +1051,12 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
     data = results.train_data(train)
     head = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k]
     bodies = car_body_offsets(data)
-    title = kwargs.pop("title", _case_title(results, train, speed_kmh, history["attrs"].get("seed", seed)))
-    return scene.render_png(path, uy[k], head - data["axle_offsets_m"], None if bodies is None else head - bodies,
-                            time=float(times[k]), title=title, **kwargs)
+    seed = int(history["attrs"].get("seed", seed))
+    title = kwargs.pop("title", _case_title(results, train, speed_kmh, seed))
+    wheels, bounds = head - data["axle_offsets_m"], None if bodies is None else head - bodies
+    scale = scene._look([scene._frame(uy[k], wheels, bounds, None)], kwargs.pop("scale", None), title).scale
+    written = scene.render_png(path, uy[k], wheels, bounds, time=float(times[k]), title=title, scale=scale, **kwargs)
+    return RenderedScene(Path(written), str(train), float(speed_kmh), seed, float(times[k]), float(scale))
 
 
 def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_frames=None, **kwargs):

@@ -547,6 +547,10 @@ class ResultsWriter:
                 b["track_on_a_structure"] = bool(runner.track_on_a_structure)
                 asm = runner.model.build()
                 b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.deck_nodes]]
+                modal = getattr(runner, "modal", None)
+                if modal is not None:                  # the modal bridge's basis: its modes' frequencies
+                    b["modal_frequencies_hz"] = np.asarray(modal.frequencies, dtype=float)
+                    b["modal_frequencies_hz"].attrs["units"] = "Hz"
                 shape = (len(ident["trains"]), len(ident["speeds_kmh"]), len(ident["seeds"]))
                 env = f.create_group("envelopes")
                 for q, output, stat, units in quantities(ident["outputs"]):
@@ -1001,7 +1005,9 @@ class SweepResults:
         """The stored bridge data: frequencies_hz, deck_frequencies_hz (n_decks, 3) and en_cutoff_hz
         (not in a file of an older vtsi: :func:`~vtsi.passage.en_cutoff_hz` reads either), deck_nodes,
         deck_x_m, midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2), deck_ends_m (n_decks,
-        2; not in a file of an older vtsi), mode_shapes_uy, track_on_a_structure."""
+        2; not in a file of an older vtsi), mode_shapes_uy, track_on_a_structure, and of a modal
+        sweep modal_frequencies_hz (n_modes,): the frequencies of the modal bridge's modes (not in
+        a file of an older vtsi)."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 

@@ -28,8 +28,9 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
     What the check would refuse on the sweep's inputs alone is refused before the sweep runs or
     anything is written (:func:`refuse_before_sweep`).
 
-    Returns ``(CheckResult, report paths: dict html, markdown, images, scene and animation (or
-    None))``."""
+    Returns ``(CheckResult, report paths: dict html, markdown, images, scene (a
+    :class:`~vtsi.scene3d.RenderedScene`: its path, case, time and exaggeration, which the
+    report's caption names) and animation (or None))``."""
     if not isinstance(sweep, Sweep):
         raise SweepError(f"design check: sweep must be a vtsi.sweep.Sweep, got {type(sweep).__name__}")
     if not isinstance(path, (str, os.PathLike)):
@@ -51,7 +52,8 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
     movie = animate_case(path, os.path.join(report_dir, "scene.gif")) if available and animation else None
     if scene is None:
         log.info("no 3-D scene: %s", reason)
-    paths = write_report(path, report_dir, scene_png=scene)
+    paths = write_report(path, report_dir, scene_png=scene, scene_case=None if scene is None else scene.case,
+                         scene_animation=movie)
     return result, {**paths, "scene": scene, "animation": movie}
 
 
