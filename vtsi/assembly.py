@@ -328,6 +328,7 @@ class Assembly:
         if self.n_full == 0:
             raise ModelError("model has no nodes")
         self._matrices = {}
+        self._equivalent_loads = {}     # id(pattern) -> (pattern, its version, element_equivalent_loads)
         self._element_data(model)
         self._assemble(model)
         self._number_free_dofs(model)
@@ -531,7 +532,11 @@ class Assembly:
 
     def element_equivalent_loads(self, pattern):
         """``{element tag: (ndof,) global nodal loads}`` equivalent to the element loads of
-        ``pattern`` (factor 1; :meth:`vtsi.loads.LoadPattern.beam_load`)."""
+        ``pattern`` (factor 1; :meth:`vtsi.loads.LoadPattern.beam_load`), computed once per
+        version of the pattern's loads (a query per element reads them: OpenSees's cost)."""
+        cached = self._equivalent_loads.get(id(pattern))
+        if cached is not None and cached[0] is pattern and cached[1] == pattern.version:
+            return dict(cached[2])
         out = {}
         for tag, kind, values in pattern.element_loads:
             if tag not in self.element_location:
@@ -543,7 +548,8 @@ class Assembly:
             except ModelError as exc:
                 raise ModelError(f"pattern {pattern.tag}: element {tag}: {exc}") from None
             out[tag] = out.get(tag, 0.0) + f
-        return out
+        self._equivalent_loads[id(pattern)] = (pattern, pattern.version, out)
+        return dict(out)
 
     def load_vector(self, pattern):
         """Free-dof load vector ``(n_free,)`` of a pattern (:meth:`load_vectors`)."""

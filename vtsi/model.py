@@ -298,8 +298,15 @@ class Model:
         del self.time_series[tag]
 
     def remove_sp(self, node, dof, pattern_tag=None):
-        """Remove the prescribed displacement of ``node``'s 1-based ``dof`` (in ``pattern_tag``,
-        or in whichever pattern holds it)."""
+        """Free ``node``'s 1-based ``dof``: without ``pattern_tag`` its ``fix`` if it is fixed
+        (OpenSees's ``remove sp``: the domain's single-point constraint; a later ``fix`` may fix
+        it again), else its prescribed displacement (in ``pattern_tag``, or in whichever pattern
+        holds it)."""
+        flags = self.fixities.get(node)
+        if pattern_tag is None and flags is not None and 1 <= dof <= len(flags) and flags[dof - 1]:
+            self.fixities[node] = tuple(0 if d == dof - 1 else f for d, f in enumerate(flags))
+            self._changed()
+            return
         holders = [p for p in self.patterns.values() if (node, dof - 1) in p.prescribed
                    and (pattern_tag is None or p.tag == pattern_tag)]
         if not holders:

@@ -12,7 +12,7 @@ from vtsi.recorders.element import FORCE_KINDS, element_response
 from vtsi.recorders.node import AppliedLoads, element_ground_loads
 
 from .args import Args, dof_value, is_number
-from .base import SessionBase
+from .base import Placeholder, SessionBase
 from .model_text import model_text
 from .responses import ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, opensees_layout
 
@@ -59,7 +59,7 @@ class QueryCommands(SessionBase):
         """Mode ``mode`` (1-based) of the last ``eigen`` at ``node``: list over the dofs or one dof."""
         tag = self._node("nodeEigenvector", node)
         if self._eigen is None:
-            raise CommandError("nodeEigenvector: no eigenvectors; call eigen(n) first")
+            raise CommandError(f"nodeEigenvector: no eigenvectors; {self._command_hint(('eigen', Placeholder('n')))} first")
         asm, _, shapes = self._eigen
         if not is_int(mode) or not 1 <= mode <= shapes.shape[1]:
             raise CommandError(f"nodeEigenvector: mode must be 1..{shapes.shape[1]} (eigen computed "
@@ -222,17 +222,18 @@ class QueryCommands(SessionBase):
                     p[i: i + ndf] += f * np.asarray(values)[:ndf]
         return p
 
-    def _element_loads_now(self, asm):
-        """``{element tag: (ndof,) global nodal loads}`` equivalent to the element loads at the
-        last load time (the fixed-end forces, negated, that OpenSees counts in element forces)."""
-        out = {}
+    def _element_load_now(self, asm, tag):
+        """The ``(ndof,)`` global nodal loads equivalent to element ``tag``'s element loads at the
+        last load time (the fixed-end forces, negated, that OpenSees counts in element forces),
+        or None when it has none."""
+        out = None
         if self._load_time is None:
             return out
         for pattern in self.domain.patterns.values():
             if pattern.element_loads:
-                f = float(pattern.factors(np.array([self._load_time]))[0])
-                for tag, eq in asm.element_equivalent_loads(pattern).items():
-                    out[tag] = out.get(tag, 0.0) + f * eq
+                eq = asm.element_equivalent_loads(pattern).get(tag)
+                if eq is not None:
+                    out = (0.0 if out is None else out) + float(pattern.factors(np.array([self._load_time]))[0]) * eq
         return out
 
     def _ground_accelerations_now(self):
@@ -263,8 +264,8 @@ class QueryCommands(SessionBase):
         d = dofs[i]
         rows, u_e, v_e = slice(i, i + 1), u[d][None, :], v[d][None, :]
         values = element_response(asm, b, rows, source, u_e, v_e)
-        loaded = self._element_loads_now(asm).get(tag)
-        if loaded is not None and source not in etype.unloaded_responses:
+        loaded = None if source in etype.unloaded_responses else self._element_load_now(asm, tag)
+        if loaded is not None:
             try:
                 values = values - np.asarray(etype.end_force_response(source, coords[rows], loaded[None, :]),
                                              dtype=float)
