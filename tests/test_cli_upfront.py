@@ -130,3 +130,33 @@ def test_sweep_notes_a_dt_coarser_than_the_check_resolves(tmp_path, bridge, caps
                          "deck accelerations are not converged in dt; take dt <= 1 ms (a dt left unset resolves them)"]
     else:
         assert notes == []
+
+
+def test_approaches_on_the_ground_do_not_dilute_the_deck_mass():
+    """The deck mass per metre is read over the decks, not the whole track: a 4 t/m, 12 m deck with
+    60 m of rail (120 kg/m) on ground springs at each end read 472.7 kg/m over the 132 m track and
+    was refused as 'typed in t/m'; over its 12 m deck it reads 5200 kg/m (the rail's 14.4 t counted
+    with the deck's 48 t) and is accepted."""
+    import numpy as np
+
+    import vtsi
+    from vtsi.units import deck_mass_per_length
+
+    m = vtsi.Model()
+    xs = np.arange(-60.0, 72.0 + 1e-9, 2.0)
+    for i, x in enumerate(xs):
+        m.node(i + 1, float(x), 0.0)
+        if x < -1e-9 or x > 12.0 + 1e-9:                      # the approaches: rail on ground springs
+            m.node(1000 + i, float(x), 0.0)
+            m.fix(1000 + i, 1, 1, 1)
+            m.element("zeroLength", 1000 + i, (i + 1, 1000 + i), ky=1e8)
+        elif abs(x) < 1e-9 or abs(x - 12.0) < 1e-9:
+            m.fix(i + 1, int(abs(x) < 1e-9), 1, 0)
+    for e in range(1, len(xs)):
+        deck = 0.0 <= 0.5 * (xs[e - 1] + xs[e]) <= 12.0
+        m.element("elasticBeamColumn", e, (e, e + 1), A=1.0, E=2.1e11, I=0.05 if deck else 3e-5,
+                  rho=4000.0 if deck else 120.0)
+    track = list(range(1, len(xs)))
+    assert deck_mass_per_length(m, track) == pytest.approx((12 * 4000.0 + 120 * 120.0) / 12.0, rel=1e-12)
+    sweep = Sweep(SweepBridge(m, track, {"kind": "script"}), ["HSLM-A1"], "300", PassageSettings(dt=2e-3, damping=0.02))
+    assert sweep.runner.span_lengths == pytest.approx([12.0])

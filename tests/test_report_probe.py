@@ -78,6 +78,22 @@ def test_the_en_series_and_fine_steps_are_not_coarse(tmp_path):
     assert f"| speeds | {len(speeds)} speeds, 200–240 km/h: the EN 1991-2 6.4.6.2 series" in page
     _, _, fine = _sweep(tmp_path / "fine.h5", "219:227:2")          # 2 km/h across 223: as fine as EN's
     assert fine.speed_grid == ""
+    # a design check for a line speed reads the series from 40 m/s: what lies below 219 km/h is named
+    below = check(SweepResults(tmp_path / "fine.h5"), CheckSettings(line_speed_kmh=200.0))
+    assert "): step" not in below.speed_grid and below.speed_grid.count("below the speeds swept") == 1   # D/3
+
+
+def test_resonances_below_the_first_speed_are_named():
+    """A sweep starting above 144 km/h (40 m/s) never reads the resonances below its first speed:
+    a 3.5 Hz span swept at 250-300 km/h passed its deflection (0.71 of L/600) where the EN series
+    fails it (1.63, HSLM-A1 at 227 km/h). They are named, and a PASS there is not checked."""
+    coarse = CoarseResonance("HSLM-A1", 226.8, 3.5, 0, 4, float("inf"), 0.0)
+    assert coarse.text() == "HSLM-A1 D/4 at 226.8 km/h (n0 3.5 Hz): below the speeds swept"
+    out = CheckResult(CheckSettings(), [CheckRow("deflection", "EN 1990 A2.4.4.2.3(1)", 0.0237, "m", 0.0333,
+                                                 0.71, "pass", "LM71")], cases_done=1, cases_total=1)
+    _coarse_speeds(out, [coarse])
+    assert out.rows[0].status == "info" and out.rows[0].note.startswith("; not checked: ")
+    assert "1 of them below the speeds swept, which start above the series' 144 km/h" in out.rows[0].note
 
 
 def test_report_gives_the_steps_places_defaults_and_end_rotation(coarse, tmp_path):

@@ -49,8 +49,9 @@ the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'f
 Newmark's undamped rule with 'hermite' rows; 'info' rows carry their reading in ``note``, and
 the verdict names the unchecked ones). Rows whose outputs the sweep did not keep are left out.
 Speeds that step across a resonance v = n D / i more coarsely than the EN series
-(:func:`coarse_resonances`) are named in the rows read against speed and in the verdict, and a
-deck acceleration that passes on them is not checked (info).
+(:func:`coarse_resonances`), or that start above the series' 144 km/h, are named in the rows
+read against speed and in the verdict, and a deck acceleration or deflection that passes on them
+is not checked (info).
 """
 import datetime
 import json
@@ -328,7 +329,7 @@ def check(results, settings=None):
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
-    _coarse_speeds(out, coarse_resonances(results, bridge))
+    _coarse_speeds(out, coarse_resonances(results, bridge, settings.line_speed_kmh))
     if bool(bridge.get("track_on_a_structure", False)):
         for row in out.rows:
             if not row.criterion.startswith(("car_body", "wheel_unloading", "contact_loss")):
@@ -363,9 +364,11 @@ class CoarseResonance:
     en_step_kmh: float          # the EN series' step there [km/h]
 
     def text(self):
-        """'ICE3 D/3 at 232.4 km/h (n0 7.812 Hz): step 6 km/h'."""
+        """'ICE3 D/3 at 232.4 km/h (n0 7.812 Hz): step 6 km/h'; a resonance below the speeds
+        swept (step inf): '...: below the speeds swept'."""
         return (f"{self.train} D/{self.order} at {self.speed_kmh:.4g} km/h (n{('0', '2', '3')[self.mode]} "
-                f"{self.frequency_hz:.4g} Hz): step {self.step_kmh:.3g} km/h")
+                f"{self.frequency_hz:.4g} Hz): "
+                + (f"step {self.step_kmh:.3g} km/h" if np.isfinite(self.step_kmh) else "below the speeds swept"))
 
 
 COARSE_LISTED = 4           # resonances a note or the verdict names (then: 'and k more')
@@ -405,32 +408,44 @@ def _train_lengths(results):
     return {t: D for t, D in lengths.items() if np.isfinite(D) and D > 0}
 
 
-def en_series(results, bridge):
-    """The EN 1991-2 6.4.6.2 speed series [km/h] over the sweep's speed range, as ``vtsi sweep
-    --speeds en:V`` builds it (:func:`vtsi.sweep.en_speed_grid`, the sweep's top speed / 1.2, from its lowest; each deck's n₀, n₂, n₃; the trains' D); None for a sweep of one speed
-    or of trains without D."""
+def en_series(results, bridge, line_speed_kmh=None):
+    """The EN 1991-2 6.4.6.2 speed series [km/h] up to the sweep's top speed, as ``vtsi sweep
+    --speeds en:V`` builds it (:func:`vtsi.sweep.en_speed_grid`, V the top speed / 1.2; each
+    deck's n₀, n₂, n₃; the trains' D), from the sweep's lowest speed, or with the line speed
+    known from 40 m/s (:func:`_series_start`); None for trains without D, or for a sweep of one
+    speed without the line speed."""
     grid = np.unique(np.asarray(results.speeds_kmh, dtype=float))
     lengths = _train_lengths(results)
-    if len(grid) < 2 or not lengths:
+    if not lengths or (len(grid) < 2 and not line_speed_kmh):
         return None
     return en_speed_grid(grid[-1] / 1.2, [f for f, _ in _grid_frequencies(bridge)], list(lengths.values()),
-                         start_kmh=float(grid[0]))
+                         start_kmh=_series_start(grid, line_speed_kmh))
 
 
-def coarse_resonances(results, bridge):
+def _series_start(grid, line_speed_kmh=None):
+    """Where the EN series a sweep is read against starts [km/h]: the sweep's lowest speed; with
+    the line speed known (a design check for it, :attr:`CheckSettings.line_speed_kmh`) 40 m/s,
+    where EN 1991-2 6.4.6.2(1) starts it, unless the sweep starts lower or stops below it."""
+    start = en1991_2.SPEED_SERIES_START_KMH
+    return float(min(start, grid[0]) if line_speed_kmh and grid[-1] > start else grid[0])
+
+
+def coarse_resonances(results, bridge, line_speed_kmh=None):
     """The resonance speeds v = n D / i (:func:`vtsi.sweep.resonance_speeds`; n each deck's n₀,
     n₂, n₃, D each train's characteristic length) inside the sweep's speeds that they step across
     more coarsely than the EN 1991-2 6.4.6.2 series does (:func:`vtsi.sweep.en_speed_grid` over the
     same range: 10 km/h steps, finer ones near each resonance): ``[CoarseResonance]`` by n, then
     i, then v. The sweep's step across v is its largest between the speeds either side of it;
     the EN series' is its largest over that same stretch (so that a speed of the EN series on v
-    itself does not count as a finer step). A sweep of one speed, or of trains without D, has
-    none: nothing to compare."""
+    itself does not count as a finer step). With ``line_speed_kmh`` (a design check for a line
+    speed) the series starts at 40 m/s, and the resonances below the sweep's first speed are
+    named too (step inf). Trains without D, or a sweep of one speed without the line speed,
+    have none: nothing to compare."""
     grid = np.unique(np.asarray(results.speeds_kmh, dtype=float))
-    lengths, en = _train_lengths(results), en_series(results, bridge)
+    lengths, en = _train_lengths(results), en_series(results, bridge, line_speed_kmh)
     if en is None:
         return []
-    lo, hi = float(grid[0]), float(grid[-1])
+    lo, hi = _series_start(grid, line_speed_kmh), float(grid[-1])
     freqs = _grid_frequencies(bridge)
     out = []
     for f, mode in freqs:
@@ -439,7 +454,10 @@ def coarse_resonances(results, bridge):
                 v = float(v)
                 if not lo - 1e-6 <= v <= hi + 1e-6:
                     continue
-                step = _step_across(grid, v)
+                if v < grid[0] - 1e-6:          # below the speeds swept: not read at all
+                    out.append(CoarseResonance(t, v, f, mode, int(round(3.6 * f * D / v)), np.inf, 0.0))
+                    continue
+                step = _step_across(grid, v) if len(grid) > 1 else 0.0
                 en_step = _step_across(en, v, reach=step)
                 if step > en_step * (1 + 1e-6) + 1e-9:
                     out.append(CoarseResonance(t, v, f, mode, int(round(3.6 * f * D / v)), step, en_step))
@@ -456,33 +474,37 @@ def coarse_text(coarse, listed=COARSE_LISTED):
 def _coarse_speeds(out, coarse):
     """Say in ``out`` (a CheckResult) that the sweep's speeds step across the resonances ``coarse``
     more coarsely than the EN series: in the notes of the rows read from envelopes against speed
-    on the deck (deck acceleration, deflection, the dynamic increments); the deck acceleration,
-    the criterion EN reads at resonance, is then not checked (info) unless it fails (a peak the
-    grid misses only adds to a FAIL); the verdict names them (``out.speed_grid``)."""
+    on the deck (deck acceleration, deflection, the dynamic increments); the deck acceleration and
+    the deflection, both peaking at resonance, are then not checked (info) unless they fail (a
+    peak the grid misses only adds to a FAIL); the verdict names them (``out.speed_grid``)."""
     if not coarse:
         return
     governing = next((r for r in out.rows if r.criterion == "deck_acceleration" and r.train), None)
     if governing is not None:           # the governing train's resonances first, the nearest its speed first
         coarse = sorted(coarse, key=lambda c: (c.train != governing.train, abs(c.speed_kmh - governing.speed_kmh)))
-    en_step = max(c.en_step_kmh for c in coarse)
+    below = sum(not np.isfinite(c.step_kmh) for c in coarse)
+    missed = (f" ({below} of them below the speeds swept, which start above the series' "
+              f"{en1991_2.SPEED_SERIES_START_KMH:g} km/h)" if below else "")
     said = (f"the sweep's speeds step across {_plural_of(len(coarse), 'resonance speed')} v = n D / i more "
-            f"coarsely than the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: at most {en_step:.3g} km/h "
-            f"there): {coarse_text(coarse)}; the peak may lie between the speeds swept: sweep the EN series "
+            f"coarsely than the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: from "
+            f"{en1991_2.SPEED_SERIES_START_KMH:g} km/h, finer steps within ±10 % of each resonance){missed}: "
+            f"{coarse_text(coarse)}; the peak may lie between the speeds swept: sweep the EN series "
             "(--speeds en:LINE_SPEED) or finer speeds across them")
     affected = [r for r in out.rows if r.criterion.startswith(("deck_acceleration", "deflection", "dynamic_increment",
                                                                 "dynamic_vs_lm71"))]
     first = next((r for r in affected if r.criterion == "deck_acceleration"), affected[0] if affected else None)
     for row in affected:
-        if row is first and row.criterion == "deck_acceleration" and row.status == "pass":
+        unchecked = row.status == "pass" and row.criterion in ("deck_acceleration", "deflection")
+        if unchecked:                   # a peak between the speeds swept may exceed the limit
             row.status = "info"
-            row.note += f"; not checked: {said}"
-        elif row is first:
-            row.note += f"; {said}"
+        if row is first:
+            row.note += f"; {'not checked: ' if unchecked else ''}{said}"
         else:
-            row.note += (f"; the sweep's speeds step across {_plural_of(len(coarse), 'resonance speed')} more coarsely "
-                         f"than the EN series (see the {first.criterion} note): the peak may lie between them")
+            row.note += (f"; {'not checked: ' if unchecked else ''}the sweep's speeds step across "
+                         f"{_plural_of(len(coarse), 'resonance speed')} more coarsely than the EN series (see the "
+                         f"{first.criterion} note): the peak may lie between them")
     out.speed_grid = (f"the speeds step across {_plural_of(len(coarse), 'resonance')} more coarsely than the EN "
-                      f"series ({coarse_text(coarse, 2)})")
+                      f"series{' or start above them' if below else ''} ({coarse_text(coarse, 2)})")
 
 
 def _plural_of(n, word):
@@ -669,7 +691,7 @@ def _dynamic_increment(results, outputs, bridge, settings):
             if r.criterion.endswith("_moment"):
                 r.note += (f"; the hogging moment over the intermediate support{'s' * (len(piers) > 1)} (node"
                            f"{'s' * (len(piers) > 1)} {', '.join(map(str, piers))}) is not read: no bending-moment "
-                           "output of the sweep holds it (keep one at nodes='supports', as the default outputs do)")
+                           "output of the sweep holds it (keep one at nodes='piers', as the default outputs do)")
     return rows
 
 

@@ -575,8 +575,8 @@ class _Report:
         en = en_series(self.results, self.bridge)
         steps = np.unique(np.round(np.diff(v), 2))
         if en is not None and len(en) == len(v) and np.allclose(en, v, atol=0.01):
-            text += (": the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: 10 km/h steps, finer, "
-                     f"{_fmt_speed(steps.min())} km/h, within ±10 % of each resonance v = n D / i)")
+            text += (": the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: 10 km/h steps, finer ones "
+                     "within ±10 % of each resonance v = n D / i)")
         elif len(steps) == 1:
             text += f" in steps of {_fmt_speed(steps[0])} km/h"
         else:

@@ -380,8 +380,10 @@ class Sweep:
         if not coarse:
             return ""
         steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period" for f, where, _ in coarse)
-        return (f"note: dt = {1e3 * s.dt:g} ms steps {steps}, fewer than {STEPS_PER_CUTOFF_PERIOD}: "
-                f"{' and '.join(what for _, _, what in coarse)} are not converged in dt; take dt <= "
+        exact = s.bridge == "modal" and s.cars == "force"        # exact passages: dt only samples them
+        return (f"note: dt = {1e3 * s.dt:g} ms {'samples' if exact else 'steps'} {steps}, fewer than "
+                f"{STEPS_PER_CUTOFF_PERIOD}: {' and '.join(what for _, _, what in coarse)} "
+                f"{'read low between the samples' if exact else 'are not converged in dt'}; take dt <= "
                 f"{1e3 * dt_resolving(max(f for f, _, _ in coarse)):g} ms (a dt left unset resolves them)")
 
     def prepare(self):

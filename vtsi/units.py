@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vtsi.deck import deck_layout
 from vtsi.errors import ModelError
 from vtsi.vehicle import GRAVITY, MAX_TRAIN_SPEED, Car, Train
 from vtsi.track import Track
@@ -50,8 +51,10 @@ _SPEED = re.compile(r"^\s*([-+0-9.eE]+)\s*(km/h|kmh|m/s)\s*$")
 
 
 def deck_mass_per_length(model, track_elements):
-    """The model's whole vertical (uy) mass divided by the length of the track along
-    ``track_elements`` [model mass / model length]."""
+    """The model's whole vertical (uy) mass divided by the length of its decks along
+    ``track_elements`` [model mass / model length] (:func:`vtsi.deck.deck_layout`: the track's
+    approaches on the ground, a light rail on springs, do not count; the whole track where the
+    layout cannot be read yet, e.g. before the supports are given)."""
     asm = model.build()
     uy = np.zeros(asm.n_full)
     uy[1::asm.ndf] = 1.0
@@ -60,7 +63,11 @@ def deck_mass_per_length(model, track_elements):
     if not length > 0.0:
         raise ModelError(f"elements {list(track_elements)} have no length along x ({track.x_begin:g} to "
                          f"{track.x_end:g}); a track is a chain of beam elements")
-    return float(uy @ (asm.M_full @ uy)) / length
+    try:
+        decks = sum(b - a for a, b in deck_layout(model, track).deck_ends)
+    except ModelError:
+        decks = 0.0
+    return float(uy @ (asm.M_full @ uy)) / (decks if decks > 0.0 else length)
 
 
 @dataclass(frozen=True)
