@@ -66,7 +66,8 @@ import numpy as np
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
-from vtsi.passage import STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz
+from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
+                          resolves)
 from vtsi.sweep import en_speed_grid, resonance_speeds
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 deck_ranges, span_decks, x_tolerance)
@@ -589,7 +590,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     # the highest frequency EN counts in this output: a modal basis above the cut-off is margin
     f_top, dt = min(counted[name] or en_cutoff, en_cutoff), float(sweep.get("dt", 0.0))
     steps = 1.0 / (f_top * dt) if dt > 0 else math.inf
-    if steps < STEPS_PER_CUTOFF_PERIOD:
+    if dt > 0 and not resolves(dt, f_top):
         finer = dt_resolving(f_top)
         effect = ("the peak may fall between the samples and read low by up to 1 - cos(pi f dt) (exact passages have "
                   "no step error, but their output is sampled)" if exact else
@@ -1047,7 +1048,7 @@ def _rail_step_note(results):
     top = float(np.max(results.speeds_kmh))
     f = rail_frequency_hz(sweep.get("irregularity"), sweep.get("cars", "force"), top)
     dt = float(sweep.get("dt") or 0.0)
-    if f is None or not dt > 0 or 1.0 / (f * dt) >= STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9):
+    if f is None or not dt > 0 or resolves(dt, f):
         return ""
     return (f"; not converged in dt: dt = {1e3 * dt:g} ms steps the rail's shortest wavelength "
             f"({top / 3.6 / f:g} m) at the top speed, {top:g} km/h ({f:.3g} Hz), {1.0 / (f * dt):.3g} times a "

@@ -376,6 +376,13 @@ def rail_frequency_hz(irregularity, cars, speed_kmh):
     return float(speed_kmh) / 3.6 / WAVELENGTH_BAND[0]
 
 
+def resolves(dt, frequency_hz):
+    """Whether the time step ``dt`` [s] takes at least STEPS_PER_CUTOFF_PERIOD steps a period of
+    ``frequency_hz`` [Hz] (rounding aside): the rule the default Δt keeps (:func:`dt_resolving`)
+    and the notes of a coarser one read (``vtsi sweep``, the check's rows)."""
+    return 1.0 / (frequency_hz * dt) >= STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9)
+
+
 def dt_resolving(frequency_hz):
     """DEFAULT_DT [s], or finer for STEPS_PER_CUTOFF_PERIOD steps a period of ``frequency_hz``,
     rounded down to 1, 2, 2.5 or 5 × 10^k s."""

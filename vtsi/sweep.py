@@ -39,7 +39,7 @@ from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
 from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PERIOD, Output, PassageRunner,
-                          PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz)
+                          PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz, resolves)
 from vtsi.sweep_results import ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index
 from vtsi.train import TrainSubdomain
 from vtsi.units import MAX_MASS_PER_METRE, MIN_MASS_PER_METRE, deck_mass_per_length
@@ -376,7 +376,7 @@ class Sweep:
             (deck, "the deck accelerations"),
             ((rail_frequency_hz(s.irregularity, s.cars, top), f"the rail's shortest wavelength at {top:g} km/h"),
              "the contact forces and car-body accelerations"))
-            if f is not None and 1.0 / (f * s.dt) < STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9)]
+            if f is not None and not resolves(s.dt, f)]
         if not coarse:
             return ""
         steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period" for f, where, _ in coarse)
