@@ -366,6 +366,30 @@ def test_mechanism_names_a_dof_of_the_unsupported_beam_and_fixing_it_restores_th
     assert midspan_deflection(m) == pytest.approx(DEFLECTION, rel=1e-9)
 
 
+def test_a_mechanism_whose_zero_pivot_round_off_made_positive_is_named():
+    """A deck on rollers only (nothing holds it along x), 32 elements, EA = 2.6e11 N, 24 t/m: the
+    axial rigid-body mode's pivot comes out of the Cholesky sweep as round-off (~1e-18 of its
+    diagonal, positive), which eigen took as a stiffness ('only 1 dofs carry mass'). Every
+    analysis must name the mechanism instead; holding one node along x restores eigen."""
+    m = vtsi.Model()
+    for i in range(33):
+        m.node(i + 1, 2.5 * i, 0.0)
+    for e in range(1, 33):
+        m.element("elasticBeamColumn", e, (e, e + 1), A=7.2, E=3.6e10, I=5.8, rho=24000.0)
+    for n in (1, 11, 23, 33):
+        m.fix(n, 0, 1, 0)
+    for run in (lambda: vtsi.eigen(m, 12), lambda: vtsi.StaticAnalysis(m).run(1)):
+        with pytest.raises(AnalysisError, match=r"^stiffness matrix K " + MECHANISM):
+            run()
+    m.fix(1, 1, 0, 0)
+    omega2, _ = vtsi.eigen(m, 2)
+    # the first span (25 m of 80 m on rollers at 0, 25, 55, 80 m) sets the first bending mode: a
+    # continuous three-span beam's first frequency lies between the simply supported 25 m and 30 m spans'
+    f1 = math.sqrt(omega2[0]) / (2 * math.pi)
+    fss = [math.pi / (2 * L ** 2) * math.sqrt(3.6e10 * 5.8 / 24000.0) for L in (30.0, 25.0)]
+    assert fss[0] < f1 < fss[1]
+
+
 def test_unconnected_node_is_named():
     m = loaded_beam()
     m.node(6, 20.0, 0.0)

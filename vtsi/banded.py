@@ -24,6 +24,9 @@ import scipy.sparse as sp
 from numba import njit
 from scipy.linalg import lapack
 
+LOST_PIVOT = 1e-13   # a pivot below this fraction of its diagonal entry is round-off of a zero one: the
+                     # elimination cancelled the entry's 13 significant digits (double precision keeps ~16)
+
 
 def half_bandwidth(a):
     coo = sp.coo_matrix(a)
@@ -47,7 +50,8 @@ def band_rows_of_entries(rows, cols, values, n, kd):
 
 
 class NotPositiveDefinite(Exception):
-    """Cholesky failed at ``pivot`` (0-based index of the first non-positive leading minor)."""
+    """Cholesky failed at ``pivot`` (0-based index of the first non-positive leading minor, or
+    of the first pivot lost to round-off: LOST_PIVOT)."""
 
     def __init__(self, pivot):
         super().__init__(pivot)
@@ -70,10 +74,15 @@ def ldl_band_of_entries(rows, cols, values, n, kd):
 def ldl_band_of_storage(ab):
     """Banded LDLᵀ factor ``(n + kd, kd + 1)`` (the kernels' ``lower`` layout) of the SPD matrix
     in LAPACK's lower band storage ``ab (kd + 1, n)`` (Fortran order: factored in place); raises
-    :class:`NotPositiveDefinite`."""
+    :class:`NotPositiveDefinite` also where a pivot kept less than LOST_PIVOT of its diagonal
+    entry (a mechanism whose zero pivot round-off made positive)."""
+    diagonal = ab[0].copy()
     factor, info = lapack.dpbtrf(ab, lower=1, overwrite_ab=1)
     if info > 0:
         raise NotPositiveDefinite(info - 1)
+    lost = np.flatnonzero(factor[0] ** 2 <= LOST_PIVOT * diagonal)
+    if len(lost):
+        raise NotPositiveDefinite(int(lost[0]))
     return _ldl_of_cholesky(factor, ab.shape[0] - 1)
 
 
