@@ -49,6 +49,29 @@ def test_check_writes_results_checks_histories_and_report(tmp_path, bridge, caps
     assert (tmp_path / "check_report" / "report.md").exists()
 
 
+def test_a_criterion_not_checked_gives_no_verdict_and_exit_1(tmp_path, bridge, capsys, monkeypatch):
+    """ICE3's cars over the 20 m, 5 Hz span at 200, 220 and 240 km/h: its resonance n0 D / 2 (D =
+    24.775 m) lies between 220 and 240, where the EN series steps 2 km/h, so the deck acceleration
+    and the deflection are not checked, while the car rows pass. It printed "PASS: every criterion
+    checked is within its limit (not checked: ...)" and exited 0; a design check it is not."""
+    monkeypatch.chdir(tmp_path)
+    status = main(["check", str(bridge), "--trains", "ICE3", "--speeds", "200:240:20", "--cars", "full",
+                   "--bridge-type", "prestressed_concrete", "--workers", "1", "--quiet"])
+    out = capsys.readouterr().out
+    with h5py.File(tmp_path / "check.h5", "r") as f:
+        assert 220 < 3.6 * float(f["bridge/frequencies_hz"][0]) * 24.775 / 2 < 240
+        assert not f["checks"].attrs["passed"]
+    result = stored_check(tmp_path / "check.h5")
+    statuses = {r.criterion: r.status for r in result.rows}
+    assert statuses["deck_acceleration"] == statuses["deflection"] == "info"
+    assert [statuses[c] for c in ("car_body_acceleration", "wheel_unloading", "contact_loss")] == ["pass"] * 3
+    assert status == 1 and not result.passed
+    assert "\nNO VERDICT: deck_acceleration, deflection not checked (see their notes); the 3 criteria checked pass; " \
+           "the speeds step across" in out and "PASS:" not in out
+    page = (tmp_path / "check_report" / "report.html").read_text(encoding="utf-8")
+    assert '<p class="verdict none">NO VERDICT: deck acceleration, deflection not checked' in page
+
+
 @pytest.mark.parametrize("extra, words", [
     (["--bridge-type", "timber"], "timber"),                                  # unknown bridge type (Table 6.6)
     (["--bridge-type", "steel", "--additional-damping", "LONG"], "30 m"),     # span out of Eq. 6.13's range

@@ -17,11 +17,12 @@ import numpy as np
 import pytest
 
 import vtsi
-from vtsi.check import (MIN, CheckSettings, _design_factors, check, intermediate_supports, stored_check,
-                        support_ratios)
+from vtsi.check import MIN, CheckSettings, _design_factors, check, stored_check, support_ratios
+from vtsi.deck_record import intermediate_supports, piers
 from vtsi.influence import LM71_AXLE, LM71_SPACING, LM71_UDL, InfluenceLines
 from vtsi.models.bridges import continuous_beam
 from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageSettings
+from vtsi.places import node_text
 from vtsi.report import write_report
 from vtsi.sweep import Sweep, SweepBridge, beam_bridge
 from vtsi.sweep_results import SweepResults
@@ -200,12 +201,24 @@ def test_a_continuous_deck_swept_without_the_pier_moment_says_so():
 
 def test_intermediate_supports_of_a_deck_over_two_close_bearings():
     """A continuous deck over two bearings 0.5 m apart (their stretch no span) reads both; a
-    joint between two decks none."""
+    joint between two decks none. Either way the bearings stand on one pier, and their nodes
+    are named so (before: 'span 1' and 'span 2'), a node between them too."""
     bridge = {"span_ends_m": np.array([[0.0, 20.0], [20.5, 40.5]]), "deck_ends_m": np.array([[0.0, 40.5]]),
-              "deck_nodes": np.arange(1, 6), "deck_x_m": np.array([0.0, 10.0, 20.0, 20.5, 40.5])}
+              "deck_nodes": np.arange(1, 7), "deck_x_m": np.array([0.0, 10.0, 20.0, 20.5, 40.5, 20.25])}
     assert intermediate_supports(bridge) == [(0, 20.0, [3]), (0, 20.5, [4])]
+    assert piers(bridge) == [(0, 20.0, 20.5)]
+    assert [node_text(bridge, n) for n in range(1, 7)] == [
+        "node 1 (x = 0 m, end support of span 1)", "node 2 (x = 10 m, span 1)",
+        "node 3 (x = 20 m, support of span 1 on the pier of spans 1 and 2)",
+        "node 4 (x = 20.5 m, support of span 2 on the pier of spans 1 and 2)",
+        "node 5 (x = 40.5 m, end support of span 2)", "node 6 (x = 20.25 m, pier of spans 1 and 2)"]
     bridge["deck_ends_m"] = np.array([[0.0, 20.25], [20.25, 40.5]])
-    assert intermediate_supports(bridge) == []
+    assert intermediate_supports(bridge) == [] and piers(bridge) == [(0, 20.0, 20.5)]
+    assert node_text(bridge, 6) == "node 6 (x = 20.25 m, overhang x = 20 to 20.25 m on the pier of spans 1 and 2)"
+    assert node_text(bridge, 3) == "node 3 (x = 20 m, support of span 1 on the pier of spans 1 and 2)"
+    bridge["span_ends_m"] = np.array([[0.0, 20.0], [21.0, 41.0]])        # 1 m apart: each deck's end support
+    bridge["deck_ends_m"] = np.array([[0.0, 20.5], [20.5, 41.0]])
+    assert piers(bridge) == [] and node_text(bridge, 3) == "node 3 (x = 20 m, end support of span 1)"
 
 
 def test_the_report_shows_the_pier_rows(continuous, tmp_path):

@@ -26,7 +26,7 @@ from vtsi.models.bridges import first_frequency, simply_supported_beam
 from vtsi.models.catalogue import catalogue_train
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.damping import rayleigh_coefficients
-from vtsi.passage import Output, PassageSettings
+from vtsi.passage import Output, PassageSettings, body_runout
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.sweep import Sweep, beam_bridge, en_speed_grid, resonance_speeds, speeds
 from vtsi.sweep_results import SweepResults
@@ -160,7 +160,13 @@ def _single_passage(name, speed_kmh, settings, n_elements):
     analysis = CoupledAnalysis(model, tie, settings.integrator, dt=settings.dt,
                                recorders=[every, *recs.values()] + ([forces, bodies] if train.n_dof else []))
     analysis.static()
-    n = int(np.ceil(((L + approach + train.length) / train.speed + 1.5 / bending[0]) / settings.dt - 1e-9))
+    end = (L + approach + train.length) / train.speed + 1.5 / bending[0]
+    x_head0 = -approach + float(train.wheel_offsets[0])
+    for i, car in enumerate(train.cars):      # the run holds each car body's window: last wheel off the deck + run-out
+        if "body_y" in car.dof_names:
+            end = max(end, (L - x_head0 + train.wheel_offsets[train.wheel_car == i].max()) / train.speed
+                      + body_runout(car))
+    n = int(np.ceil(end / settings.dt - 1e-9))
     analysis.run(n)
     out = {k: np.array([r.envelope.min, r.envelope.max, r.envelope.absmax]) for k, r in recs.items()}
     if train.n_dof:     # the sweep's contact force: its 10 ms centred mean, trapezoidal weights on 2m + 1 samples

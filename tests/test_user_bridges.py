@@ -11,6 +11,7 @@ import pytest
 from vtsi.bridge_file import load_bridge
 from vtsi.errors import ModelError, SweepError
 from vtsi.passage import PassageRunner, PassageSettings
+from vtsi.places import node_text
 from vtsi.sweep import Sweep
 
 pytest.importorskip("tkinter")
@@ -76,6 +77,8 @@ def test_two_decks_ending_on_one_pier_are_two_spans(tmp_path):
     assert "L_Phi = 15 m" in rows["dynamic_vs_lm71"].note
     assert rows["deflection"].limit == pytest.approx(15.0 / 600)
     assert rows["end_rotation"].where.split(" (")[0] in ("node 1", "node 11", "node 12", "node 22")
+    assert [node_text(results.bridge(), n) for n in (11, 12)] == ["node 11 (x = 15 m, support of spans 1 and 2)",
+                                                                  "node 12 (x = 15 m, support of spans 1 and 2)"]
 
 
 PIER_CAP = """
@@ -198,7 +201,7 @@ def test_an_overhang_is_deck(tmp_path):
     acceleration is checked (before: 12.1 m/s² at node 7, between the supports, against 26.0 at
     the tip, no note), its tip deflection is read (info) against L_c/600 of its 5 m, and the
     report's acceleration chart reads the nodes the check reads."""
-    from vtsi.check import deck_nodes, overhangs
+    from vtsi.deck_record import deck_nodes, overhangs
 
     bridge = _bridge(tmp_path, CANTILEVER)
     runner = _runner(bridge)
@@ -265,9 +268,16 @@ def test_a_joint_between_two_decks_is_no_span(tmp_path):
     runner = _runner(bridge)
     assert runner.span_lengths == pytest.approx([14.7, 14.7]) and runner.midspan_nodes == [6, 17]
     np.testing.assert_allclose(runner.deck_ends, [(0.0, 14.7), (15.3, 30.0)], rtol=0, atol=1e-9)
-    _, rows = _checked(bridge, tmp_path)
+    results, rows = _checked(bridge, tmp_path)
     assert rows["dynamic_vs_lm71_moment"].where.split(" (")[0] in ("node 6", "node 17")
     assert "L_Phi = 14.7 m" in rows["dynamic_vs_lm71_moment"].note
+    # the two decks' bearings, 0.6 m apart either side of the joint, stand on one pier (before: 'span 1')
+    supports = [node_text(results.bridge(), n) for n in (1, 11, 12, 22)]
+    assert supports == ["node 1 (x = 0 m, end support of span 1)",
+                        "node 11 (x = 14.7 m, support of span 1 on the pier of spans 1 and 2)",
+                        "node 12 (x = 15.3 m, support of span 2 on the pier of spans 1 and 2)",
+                        "node 22 (x = 30 m, end support of span 2)"]
+    assert rows["end_rotation"].where in supports
 
 
 @pytest.mark.parametrize("text, n3", [

@@ -16,8 +16,9 @@ ran (the finished cases stay in the results file); 130 interrupted (Ctrl-C) and 
 (SIGTERM, as Slurm and systemd stop a job): the finished cases stay in the results file
 (``--resume``). A reader that closes standard output early (``| head``) changes nothing: the
 results file is complete and the status is what it would have been.
-Exit status of ``check``: 0 every criterion passes; 1 a criterion fails, or no verdict; 2 and 130,
-143 as ``sweep``; 3 a passage failed.
+Exit status of ``check``: 0 every criterion passes (PASS); 1 a criterion fails (FAIL), or no verdict
+(NO VERDICT: an incomplete sweep, a criterion with a limit left not checked, or none held to a
+limit; :meth:`vtsi.check.CheckResult.verdict`); 2 and 130, 143 as ``sweep``; 3 a passage failed.
 """
 import argparse
 import contextlib
@@ -222,6 +223,9 @@ def _parser():
     check.add_argument("--report", metavar="DIR", help="report directory (default: <out>_report beside the results)")
     check.add_argument("--animation", action="store_true",
                        help="also a GIF of the governing passage (scene.gif in the report directory)")
+    check.add_argument("--animation-frames", type=_int_at_least(2), metavar="N",
+                       help="the GIF's number of frames, >= 2 (default: 4 n0 T + 1 over the passage's T seconds, "
+                            "a quarter period of n0 apart, at most 400)")
     check.set_defaults(func=_check)
 
     trains = sub.add_parser("trains", prog="vtsi trains",
@@ -245,7 +249,7 @@ def _sweep_options(p, check):
     mode.add_argument("--resume", action="store_true",
                       help="continue the sweep in an existing results file (a file of another sweep is refused)")
     mode.add_argument("--overwrite", action="store_true", help="replace an existing results file")
-    p.add_argument("--workers", type=_positive_int, metavar="N", help="processes (default: every core; 1: serial)")
+    p.add_argument("--workers", type=_int_at_least(1), metavar="N", help="processes (default: every core; 1: serial)")
     p.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
     settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
     settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001, or finer: 20 steps a period of the EN cut-off frequency)")
@@ -276,14 +280,17 @@ def _sweep_options(p, check):
     p.add_argument("--quiet", action="store_true", help="no progress bar (shown on standard error when a terminal)")
 
 
-def _positive_int(text):
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}")
-    return value
+def _int_at_least(low):
+    """The argparse type of an integer >= ``low`` (else argparse's one-line error, naming the value)."""
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            value = low - 1
+        if value < low:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {text!r}")
+        return value
+    return parse
 
 
 def _irregularities():
@@ -440,42 +447,74 @@ def _prepare_sweep(ns, out):
 def _code_damping(ns, source, values):
     """The check's damping ratio: --damping (or the bridge file's), else EN 1991-2 Table 6.6 for
     --bridge-type at the longest span (+ Eq. 6.13 with --additional-damping). Sets
-    ``ns.damping_source``, where it came from in words (stored with the check, printed in the
-    report); notes on standard error (unless --quiet) when --bridge-type replaces the bridge
-    file's [analysis] damping."""
+    ``ns.damping_source``, where it came from in words, with what it replaces (the bridge file's
+    [analysis] damping, a bridge script's own damping: :func:`_script_damping`); stored with the
+    check, printed in the report. Notes on standard error (unless --quiet) when --bridge-type
+    replaces the bridge file's [analysis] damping, and when --bridge-type or --damping replaces
+    a bridge script's own damping."""
     from vtsi.codes.en1991_2 import additional_damping, damping_lower_bound
     from vtsi.passage import PassageRunner, PassageSettings
 
     in_file = source.settings.get("damping")
-    replaced = ("" if in_file is None else
-                f"; it replaces the bridge file's [analysis] damping = {in_file:g} ({_percent(in_file)})")
+    in_script = _script_damping(source.bridge)          # '' unless a bridge script damps its model
+    file_text = None if in_file is None else f"the bridge file's [analysis] damping = {in_file:g}"
     if ns.bridge_type is None:
         if values.get("damping") is None:
             raise _UsageError("the bridge's damping is needed: --bridge-type TYPE (EN 1991-2 Table 6.6) or "
-                              "--damping ZETA")
+                              "--damping ZETA" + (f"; a check does not take {in_script}" if in_script else ""))
         if ns.additional_damping:
             raise _UsageError("--additional-damping adds to the Table 6.6 value: give --bridge-type")
-        ns.damping_source = (f"--damping {ns.damping:g}{replaced}" if ns.damping is not None else
-                             f"the bridge file's [analysis] damping = {in_file:g} ({os.path.basename(source.path)})")
-        return values["damping"]
-    if ns.damping is not None:
-        raise _UsageError("give either --bridge-type (EN 1991-2 Table 6.6) or --damping, not both")
-    runner = PassageRunner(source.bridge.model, source.bridge.track_elements, PassageSettings(), outputs=())
-    span = float(max(runner.span_lengths))
-    zeta = base = damping_lower_bound(ns.bridge_type, span)
-    how = f"EN 1991-2 Table 6.6, {ns.bridge_type.replace('_', ' ')}, longest span L = {span:g} m: {_percent(base)}"
-    if ns.additional_damping:
-        if values.get("cars", "force") != "force":
-            raise _UsageError("--additional-damping (EN 1991-2 Eq. 6.13) is for moving forces; the cars' "
-                              "interaction is in the model with --cars full")
-        extra = additional_damping(span)
-        zeta += extra
-        how += f" + Eq. 6.13 Δζ {_percent(extra)} = {_percent(zeta)}"
-    ns.damping_source = how + replaced
-    if in_file is not None and not ns.quiet:
-        _print_err(f"vtsi check: --bridge-type {ns.bridge_type} replaces the bridge file's [analysis] damping = "
-                   f"{in_file:g} ({os.path.basename(source.path)}) by ζ = {_percent(zeta)}: {how}")
+        zeta = values["damping"]
+        if ns.damping is None:                          # the bridge file's, over its script's: no note
+            ns.damping_source = f"{file_text} ({os.path.basename(source.path)})" + (
+                f"; it replaces {in_script}" if in_script else "")
+            return zeta
+        how = option = f"--damping {ns.damping:g}"
+        noted = [in_script]                             # [analysis] damping is the option's default: no note
+    else:
+        if ns.damping is not None:
+            raise _UsageError("give either --bridge-type (EN 1991-2 Table 6.6) or --damping, not both")
+        runner = PassageRunner(source.bridge.model, source.bridge.track_elements, PassageSettings(), outputs=())
+        span = float(max(runner.span_lengths))
+        zeta = base = damping_lower_bound(ns.bridge_type, span)
+        how = f"EN 1991-2 Table 6.6, {ns.bridge_type.replace('_', ' ')}, longest span L = {span:g} m: {_percent(base)}"
+        if ns.additional_damping:
+            if values.get("cars", "force") != "force":
+                raise _UsageError("--additional-damping (EN 1991-2 Eq. 6.13) is for moving forces; the cars' "
+                                  "interaction is in the model with --cars full")
+            extra = additional_damping(span)
+            zeta += extra
+            how += f" + Eq. 6.13 Δζ {_percent(extra)} = {_percent(zeta)}"
+        option = f"--bridge-type {ns.bridge_type}"
+        noted = [file_text and f"{file_text} ({os.path.basename(source.path)})", in_script]
+    replaced = [text for text in (file_text and f"{file_text} ({_percent(in_file)})", in_script) if text]
+    noted = [text for text in noted if text]
+    ns.damping_source = how + (f"; it replaces {' and '.join(replaced)}" if replaced else "")
+    if noted and not ns.quiet:
+        _print_err(f"vtsi check: {option} replaces {' and '.join(noted)} by ζ = {_percent(zeta)}" +
+                   ("" if how == option else f": {how}"))
     return zeta
+
+
+def _script_damping(bridge):
+    """The damping a bridge script gives its model, in words naming the script (a sweep with a
+    damping ratio of its own replaces it: :class:`~vtsi.passage.PassageRunner`), or '' (none,
+    or a bridge that is not a script): its ``rayleigh`` factors αM [1/s], βK [s] (βK the sum of
+    OpenSees's three) and its ``modalDamping`` ratios on the modes of its latest ``eigen``."""
+    if bridge.description.get("kind") != "script":
+        return ""
+    parts = []
+    alpha_m, beta_k = bridge.model.rayleigh_factors
+    if alpha_m or beta_k:
+        parts.append(f"rayleigh αM = {alpha_m:g} 1/s, βK = {beta_k:g} s")
+    if bridge.modal_damping:
+        ratios = [z for _, z in bridge.modal_damping]
+        n = len(ratios)
+        parts.append("modalDamping " + (f"{ratios[0]:g}" if len(set(ratios)) == 1 else " ".join(f"{z:g}" for z in ratios))
+                     + (" on mode 1 of its eigen" if n == 1 else f" on modes 1-{n} of its eigen"))
+    if not parts:
+        return ""
+    return f"the bridge script's {' and '.join(parts)} ({os.path.basename(bridge.description['path'])})"
 
 
 def _percent(zeta):
@@ -521,6 +560,9 @@ def _check(ns):
                 _speeds_reach(ns.speeds, line)
         if os.path.exists(report_dir) and not os.path.isdir(report_dir):
             raise _UsageError(f"--report {report_dir}: exists and is not a directory")
+        if ns.animation_frames is not None and not ns.animation:
+            raise _UsageError(f"--animation-frames {ns.animation_frames}: the frames of the GIF of --animation; "
+                              "give --animation too")
         ns.damping_source = ""
         sweep = _prepare_sweep(ns, out)
         settings = dataclasses.replace(settings, damping_source=ns.damping_source,     # provenance: in the report
@@ -528,7 +570,7 @@ def _check(ns):
         if sweep.settings.bridge_self_weight:
             raise _UsageError(SELF_WEIGHT_REFUSED.removeprefix("check: "))
         try:                                           # what the check would refuse after the sweep: refused now
-            refuse_before_sweep(sweep, settings)
+            refuse_before_sweep(sweep, settings)       # (once: design_check is told, refuse_first=False)
         except SweepError as exc:
             raise _UsageError(_message(exc).removeprefix("check: ")) from None
     except (VtsiError, OSError, _UsageError) as exc:
@@ -550,7 +592,7 @@ def _check_and_report(sweep, out, report_dir, settings, ns):
     from vtsi.workflow import design_check
 
     result, paths = design_check(sweep, out, settings, report_dir, workers=ns.workers, resume=True,
-                                 animation=ns.animation)
+                                 animation=ns.animation, animation_frames=ns.animation_frames, refuse_first=False)
     _print_out(result.text())
     if not ns.quiet:
         _print_err(f"vtsi check: results in {out}; report in {paths['html']}" +

@@ -44,7 +44,7 @@ from typing import Callable
 
 from vtsi import opensees
 from vtsi.commands.tcl import Interpreter, script_line
-from vtsi.errors import BridgeModelError, ModelError, VtsiError, is_int
+from vtsi.errors import BridgeModelError, CommandError, ModelError, VtsiError, is_int
 from vtsi.models.bridges import MAX_ELEMENTS_PER_SPAN
 from vtsi.passage import PassageSettings
 from vtsi.sweep import SweepBridge, beam_bridge, check_deck_mass
@@ -294,6 +294,7 @@ def script_bridge(path, track=None):
     session = opensees.Session()
     if path.lower().endswith(".tcl"):
         _run_tcl(path, session)
+        session.syntax = "tcl"      # what is said of the script below names its commands in Tcl
     else:
         _run_python(path, session)
     model = session.domain
@@ -324,8 +325,11 @@ def script_bridge(path, track=None):
         raise BridgeModelError(f"bridge script {path}: track {track}: {exc}") from None
     description = {"kind": "script", "path": path, "sha256": sha256, "track": int(track)}
     modal_damping = ()
-    if session._modal_damping is not None:      # modalDamping's ratios, on the modes of the last eigen
-        omega2, ratios = session._eigen[1], session._modal_damping[1]
+    if session._modal_damping is not None:      # modalDamping's ratios, on the modes of the latest eigen
+        try:
+            omega2, ratios = session._damped_modes(f"bridge script {path}")
+        except CommandError as exc:
+            raise BridgeModelError(str(exc)) from None
         modal_damping = tuple((math.sqrt(w2) / (2 * math.pi), float(z)) for w2, z in zip(omega2, ratios))
         description["modal_damping"] = [list(pair) for pair in modal_damping]
     return SweepBridge(model, list(tracks[track]), description, modal_damping)

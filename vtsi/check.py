@@ -43,15 +43,18 @@ a deck and a car body while a wheel of it is (:meth:`vtsi.passage.PassageRunner.
 the whole run (rigid ground with an irregular rail before and after the bridge) holds a larger
 value, the row's note gives it with its case and place. Each row names the governing train,
 speed, rail sample and place ('node 26 (x = 62.5 m, span 3)'; 'wheel 3 of 32 (car 1 of 8), x = 6.4 m'; 'car 2 of 8':
-people's counting from 1, where the results file's indices count from 0), with
+people's counting from 1, where the results file's indices count from 0; :mod:`vtsi.places`), with
 the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'fail' or 'info'
 (no limit, or a value the check cannot hold to its limit: wheel unloading and contact loss from
-Newmark's undamped rule with 'hermite' rows; 'info' rows carry their reading in ``note``, and
-the verdict names the unchecked ones). Rows whose outputs the sweep did not keep are left out.
-Speeds that step across a resonance v = n D / i more coarsely than the EN series
-(:func:`coarse_resonances`), or that start above the series' 144 km/h, are named in the rows
-read against speed and in the verdict, and a deck acceleration or deflection that passes on them
-is not checked (info).
+Newmark's undamped rule with 'hermite' rows; 'info' rows carry their reading in ``note``). Rows
+whose outputs the sweep did not keep are left out. Speeds that step across a resonance v = n D /
+i more coarsely than the EN series (:func:`vtsi.speed_grid.coarse_resonances`), or that start
+above the series' 144 km/h, are named in the rows read against speed and in the verdict, and a
+deck acceleration or deflection that passes on them is not checked (info).
+
+The verdict (:meth:`CheckResult.verdict`) is FAIL when a criterion fails; else NO VERDICT when
+the sweep is incomplete, when a criterion with a limit could not be held to it (an 'info' row
+of the five above with a limit: not checked) or when none was held to a limit; else PASS.
 """
 import datetime
 import json
@@ -64,13 +67,15 @@ import h5py
 import numpy as np
 
 from vtsi.codes import en1990_a2, en1991_2
+from vtsi.deck_record import deck_nodes, intermediate_supports, overhangs, span_columns, support_columns
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
 from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
                           resolves)
-from vtsi.sweep import en_speed_grid, resonance_speeds
+from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
+from vtsi.speed_grid import coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
-                                deck_ranges, span_decks, x_tolerance)
+                                span_decks, x_tolerance)
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
 RENAMED = {"deflection_lm71": "deflection"}   # rows of checks stored by an older vtsi, by today's name
@@ -156,7 +161,7 @@ class CheckResult:
     cases_total: int = 0        # ... its cases (0 and 0: not known, a check stored by an older vtsi)
     bridge: str = ""            # the bridge as the check read it (vtsi.sweep_results.bridge_text): one line
     speed_grid: str = ""        # the resonances the sweep's speeds step across more coarsely than the EN
-                                # series (:func:`coarse_resonances`), one line; '' when none
+                                # series (:func:`vtsi.speed_grid.coarse_resonances`), one line; '' when none
 
     @property
     def complete(self):
@@ -165,9 +170,11 @@ class CheckResult:
 
     @property
     def passed(self):
-        """True when the sweep is complete, a criterion with a limit was checked and none fails."""
+        """True when the sweep is complete, a criterion with a limit was checked, none fails and
+        none with a row was left not checked (:attr:`unchecked`); the criteria with no row
+        (:attr:`not_evaluated`) do not count."""
         return (self.complete and any(r.status == "pass" for r in self.rows)
-                and all(r.status != "fail" for r in self.rows))
+                and all(r.status != "fail" for r in self.rows) and not self.unchecked)
 
     @property
     def unchecked(self):
@@ -183,23 +190,30 @@ class CheckResult:
 
     def verdict(self, label=str):
         """One line: FAIL (how many of the criteria held to a limit fail, and which), NO VERDICT
-        (an incomplete sweep, or nothing held to a limit) or PASS, with what was not checked or
-        not evaluated; ``label`` names a criterion (the report's words)."""
+        (an incomplete sweep; a criterion with a limit not checked, :attr:`unchecked`, named
+        with how many of the others pass; or nothing held to a limit) or PASS, with what was not
+        checked or not evaluated; ``label`` names a criterion (the report's words)."""
         failed = [label(r.criterion) for r in self.rows if r.status == "fail"]
         held = sum(r.status in ("pass", "fail") for r in self.rows)
         missing = f"{self.cases_done} of {self.cases_total} cases"
+        unchecked = ", ".join(map(label, self.unchecked))
         if failed:
             text = (f"FAIL: {len(failed)} of {held} {'criterion' if held == 1 else 'criteria'} held to a limit "
                     f"fail{'s' if len(failed) == 1 else ''}: {', '.join(failed)}"
                     + ("" if self.complete else f" (in an incomplete sweep: {missing})"))
         elif not self.complete:
             text = f"NO VERDICT: the sweep is incomplete ({missing}; resume it, then check again)"
+        elif self.unchecked:
+            one = len(self.unchecked) == 1
+            others = ("no other criterion was held to a limit" if not held else "the criterion checked passes"
+                      if held == 1 else f"the {held} criteria checked pass")
+            text = f"NO VERDICT: {unchecked} not checked (see {'its note' if one else 'their notes'}); {others}"
         elif self.passed:
             text = "PASS: every criterion checked is within its limit"
         else:
             text = "NO VERDICT: no criterion with a limit was checked"
-        if self.unchecked:
-            text += f" (not checked: {', '.join(map(label, self.unchecked))}; see their notes)"
+        if self.unchecked and (failed or not self.complete):
+            text += f" (not checked: {unchecked}; see {'its note' if len(self.unchecked) == 1 else 'their notes'})"
         if self.not_evaluated and not failed:
             text += f" (not evaluated, the sweep kept no output for them: {', '.join(map(label, self.not_evaluated))})"
         if self.speed_grid:
@@ -351,127 +365,6 @@ def refuse_inputs(results, settings=None):
 
 
 # -- the speed grid --------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class CoarseResonance:
-    """A resonance speed v = n D / i inside a sweep's speeds that they step across more coarsely
-    than the EN series (:func:`coarse_resonances`)."""
-
-    train: str
-    speed_kmh: float            # v = n D / i [km/h]
-    frequency_hz: float         # n: a deck's n₀, n₂ or n₃ [Hz]
-    mode: int                   # which of the deck's frequencies: 0 (n₀), 1 (n₂), 2 (n₃)
-    order: int                  # i
-    step_kmh: float             # the sweep's step across v [km/h]
-    en_step_kmh: float          # the EN series' step there [km/h]
-
-    def text(self):
-        """'ICE3 D/3 at 232.4 km/h (n0 7.812 Hz): step 6 km/h'; a resonance below the speeds
-        swept (step inf): '...: below the speeds swept'."""
-        return (f"{self.train} D/{self.order} at {self.speed_kmh:.4g} km/h (n{('0', '2', '3')[self.mode]} "
-                f"{self.frequency_hz:.4g} Hz): "
-                + (f"step {self.step_kmh:.3g} km/h" if np.isfinite(self.step_kmh) else "below the speeds swept"))
-
-
-COARSE_LISTED = 4           # resonances a note or the verdict names (then: 'and k more')
-
-
-def _grid_frequencies(bridge):
-    """``[(f [Hz], mode)]``: each deck's n₀, n₂, n₃ (/bridge/deck_frequencies_hz, mode 0, 1, 2),
-    the frequencies whose resonances the EN series of ``vtsi sweep --speeds en:V`` resolves; in a
-    results file of an older vtsi each deck's n₀ only."""
-    if "deck_frequencies_hz" in bridge:
-        table = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
-    else:
-        table = deck_first_frequencies(bridge)[:, None]
-    found = {}
-    for row in table:
-        for mode, f in enumerate(row):
-            if np.isfinite(f) and f > 0:
-                found.setdefault(round(float(f), 9), mode)
-    return sorted((f, m) for f, m in found.items())
-
-
-def _step_across(grid, v, reach=0.0):
-    """The largest step [km/h] of the sorted speeds ``grid`` across ``v`` [km/h]: between the last
-    speed at or below v - ``reach`` and the first at or above v + ``reach`` (the ends of the grid
-    where it stops short); a speed on v (within 1e-6 km/h) counts its steps on both sides."""
-    tol = 1e-6
-    lo = max(int(np.searchsorted(grid, v - reach + tol, side="right")) - 1, 0)
-    hi = min(int(np.searchsorted(grid, v + reach - tol, side="left")), len(grid) - 1)
-    if hi <= lo:
-        lo, hi = max(lo - 1, 0), min(lo + 1, len(grid) - 1)
-    return float(np.max(np.diff(grid[lo: hi + 1]))) if hi > lo else 0.0
-
-
-def _train_lengths(results):
-    """``{train: D [m]}``: the characteristic lengths the results file holds (trains without one left out)."""
-    lengths = {t: float(results.train_data(t)["characteristic_length_m"]) for t in results.trains}
-    return {t: D for t, D in lengths.items() if np.isfinite(D) and D > 0}
-
-
-def en_series(results, bridge, line_speed_kmh=None):
-    """The EN 1991-2 6.4.6.2 speed series [km/h] up to the sweep's top speed, as ``vtsi sweep
-    --speeds en:V`` builds it (:func:`vtsi.sweep.en_speed_grid`, V the top speed / 1.2; each
-    deck's n₀, n₂, n₃; the trains' D), from the sweep's lowest speed, or with the line speed
-    known from 40 m/s (:func:`_series_start`); None for trains without D, or for a sweep of one
-    speed without the line speed."""
-    grid = np.unique(np.asarray(results.speeds_kmh, dtype=float))
-    lengths = _train_lengths(results)
-    if not lengths or (len(grid) < 2 and not line_speed_kmh):
-        return None
-    return en_speed_grid(grid[-1] / 1.2, [f for f, _ in _grid_frequencies(bridge)], list(lengths.values()),
-                         start_kmh=_series_start(grid, line_speed_kmh))
-
-
-def _series_start(grid, line_speed_kmh=None):
-    """Where the EN series a sweep is read against starts [km/h]: the sweep's lowest speed; with
-    the line speed known (a design check for it, :attr:`CheckSettings.line_speed_kmh`) 40 m/s,
-    where EN 1991-2 6.4.6.2(1) starts it, unless the sweep starts lower or stops below it."""
-    start = en1991_2.SPEED_SERIES_START_KMH
-    return float(min(start, grid[0]) if line_speed_kmh and grid[-1] > start else grid[0])
-
-
-def coarse_resonances(results, bridge, line_speed_kmh=None):
-    """The resonance speeds v = n D / i (:func:`vtsi.sweep.resonance_speeds`; n each deck's n₀,
-    n₂, n₃, D each train's characteristic length) inside the sweep's speeds that they step across
-    more coarsely than the EN 1991-2 6.4.6.2 series does (:func:`vtsi.sweep.en_speed_grid` over the
-    same range: 10 km/h steps, finer ones near each resonance): ``[CoarseResonance]`` by n, then
-    i, then v. The sweep's step across v is its largest between the speeds either side of it;
-    the EN series' is its largest over that same stretch (so that a speed of the EN series on v
-    itself does not count as a finer step). With ``line_speed_kmh`` (a design check for a line
-    speed) the series starts at 40 m/s, and the resonances below the sweep's first speed are
-    named too (step inf). Trains without D, or a sweep of one speed without the line speed,
-    have none: nothing to compare."""
-    grid = np.unique(np.asarray(results.speeds_kmh, dtype=float))
-    lengths, en = _train_lengths(results), en_series(results, bridge, line_speed_kmh)
-    if en is None:
-        return []
-    lo, hi = _series_start(grid, line_speed_kmh), float(grid[-1])
-    freqs = _grid_frequencies(bridge)
-    out = []
-    for f, mode in freqs:
-        for t, D in lengths.items():
-            for v in resonance_speeds([f], [D]):
-                v = float(v)
-                if not lo - 1e-6 <= v <= hi + 1e-6:
-                    continue
-                if v < grid[0] - 1e-6:          # below the speeds swept: not read at all
-                    out.append(CoarseResonance(t, v, f, mode, int(round(3.6 * f * D / v)), np.inf, 0.0))
-                    continue
-                step = _step_across(grid, v) if len(grid) > 1 else 0.0
-                en_step = _step_across(en, v, reach=step)
-                if step > en_step * (1 + 1e-6) + 1e-9:
-                    out.append(CoarseResonance(t, v, f, mode, int(round(3.6 * f * D / v)), step, en_step))
-    return sorted(out, key=lambda c: (c.mode, c.order, c.speed_kmh, c.train))
-
-
-def coarse_text(coarse, listed=COARSE_LISTED):
-    """The resonances ``coarse`` (:func:`coarse_resonances`) in words, the first ``listed`` named."""
-    named = "; ".join(c.text() for c in coarse[:listed])
-    more = len(coarse) - listed
-    return named + (f"; and {more} more" if more > 0 else "")
-
-
 def _coarse_speeds(out, coarse):
     """Say in ``out`` (a CheckResult) that the sweep's speeds step across the resonances ``coarse``
     more coarsely than the EN series: in the notes of the rows read from envelopes against speed
@@ -611,66 +504,6 @@ def _deck_acceleration(results, outputs, bridge, settings):
                      node_text(bridge, columns[idx[-1]]), f"{settings.track.replace('_', ' ')} track; {note}")]
 
 
-def deck_nodes(bridge):
-    """The track's nodes on a deck (its spans and overhangs): the track's nodes on an approach
-    (ground) or on a joint between two decks are no deck."""
-    x, tol = np.asarray(bridge["deck_x_m"]), x_tolerance(bridge)
-    inside = np.zeros(len(x), dtype=bool)
-    for a, b in deck_ranges(bridge):
-        inside |= (x >= a - tol) & (x <= b + tol)
-    return set(np.asarray(bridge["deck_nodes"])[inside].tolist())
-
-
-def overhangs(bridge):
-    """The decks' overhangs: ``[(deck, x of its support, x of its free end)]`` [m], the stretches
-    of a deck beyond its outermost spans' supports."""
-    ends, tol = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2), x_tolerance(bridge)
-    out, of = [], span_decks(bridge)
-    for d, (a, b) in enumerate(deck_ranges(bridge)):
-        mine = ends[of == d]
-        if not len(mine):
-            continue
-        if mine[0, 0] > a + tol:
-            out.append((d, float(mine[0, 0]), float(a)))
-        if mine[-1, 1] < b - tol:
-            out.append((d, float(mine[-1, 1]), float(b)))
-    return out
-
-
-def _span_columns(columns, bridge):
-    """For each span: the output column of its middle node (or -1)."""
-    return [int(np.flatnonzero(columns == m)[0]) if np.any(columns == m) else -1 for m in bridge["midspan_nodes"]]
-
-
-def intermediate_supports(bridge):
-    """The intermediate supports of the continuous decks: ``[(span, x [m], node tags)]``, one per
-    support line between two spans of one deck (span: the one before it, whose deck gives L_Φ, Φ
-    and φ''); a pier with two bearings closer than a span (their stretch no span, the deck
-    continuous over it) is two, one at each bearing. Two decks ending on one pier (or separated
-    by a joint) have none there: their spans are of different decks. The node tags are the deck's
-    track nodes at that x (/bridge/deck_nodes, deck_x_m)."""
-    ends, decks = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2), span_decks(bridge)
-    nodes, xs, tol = np.asarray(bridge["deck_nodes"]), np.asarray(bridge["deck_x_m"], dtype=float), x_tolerance(bridge)
-    out = []
-    for k in range(len(ends) - 1):
-        if decks[k] != decks[k + 1]:
-            continue
-        for x in (ends[k, 1], ends[k + 1, 0]) if ends[k + 1, 0] - ends[k, 1] > tol else (ends[k, 1],):
-            out.append((k, float(x), [int(n) for n in nodes[np.abs(xs - x) <= tol]]))
-    return out
-
-
-def _support_columns(columns, bridge):
-    """The output columns (node tags ``columns``) over the intermediate supports of continuous
-    decks: ``[(column, span, x [m])]`` (:func:`intermediate_supports`)."""
-    columns, out = np.asarray(columns), []
-    for k, x, nodes in intermediate_supports(bridge):
-        held = [int(np.flatnonzero(columns == n)[0]) for n in nodes if np.any(columns == n)]
-        if held:
-            out.append((held[0], k, x))
-    return out
-
-
 def _dynamic_increment(results, outputs, bridge, settings):
     """φ'_dyn and the comparison with Φ × LM71, on the mid-span deflections (downward: the
     envelope's minimum) and, when the sweep kept them, the mid-span bending moments (sagging:
@@ -682,7 +515,7 @@ def _dynamic_increment(results, outputs, bridge, settings):
         for name in _outputs_of(outputs, response, cutoff=False):
             rows.extend(_increment_rows(results, name, row, suffix, what, bridge, settings))
     moments = _outputs_of(outputs, "moment", cutoff=False)
-    held = [n for n in moments if _support_columns(results.column_envelopes(n)[1], bridge)]
+    held = [n for n in moments if support_columns(results.column_envelopes(n)[1], bridge)]
     if held:                                           # the first moment output holding them (the default's)
         rows.extend(_increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
                                     "intermediate supports", bridge, settings, supports=True))
@@ -706,16 +539,17 @@ def mid_span_ratios(results, name, row, bridge):
     'mid-span' over a support) is NaN. ``bridge``: the results file's bridge record
     (:meth:`SweepResults.bridge`)."""
     columns = results.column_envelopes(name)[1]
-    return _ratios(results, name, row, [c for c in _span_columns(columns, bridge) if c >= 0])
+    return _ratios(results, name, row, [c for c in span_columns(columns, bridge) if c >= 0])
 
 
 def support_ratios(results, name, bridge):
     """:func:`mid_span_ratios` of the hogging moment (the envelope's minimum, negative) of the
     moment output ``name`` over the intermediate supports of continuous decks (its columns there,
-    :func:`intermediate_supports`): ``(ratio (n_train, n_speed, n_seed, n_supports) = M_dyn /
-    M_stat, both hogging, the columns, the static moments under the trains (n_train, n_supports)
-    and under LM71 (n_supports), negative)``, or None (no static values, no such column)."""
-    return _ratios(results, name, MIN, [c for c, _, _ in _support_columns(results.column_envelopes(name)[1], bridge)])
+    :func:`vtsi.deck_record.intermediate_supports`): ``(ratio (n_train, n_speed, n_seed,
+    n_supports) = M_dyn / M_stat, both hogging, the columns, the static moments under the trains
+    (n_train, n_supports) and under LM71 (n_supports), negative)``, or None (no static values, no
+    such column)."""
+    return _ratios(results, name, MIN, [c for c, _, _ in support_columns(results.column_envelopes(name)[1], bridge)])
 
 
 def _ratios(results, name, row, columns):
@@ -754,14 +588,14 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
     over the intermediate supports of continuous decks (Φ and φ'' of the support's deck)."""
     columns = results.column_envelopes(name)[1]
     if supports:
-        places = _support_columns(columns, bridge)
+        places = support_columns(columns, bridge)
         ratios = support_ratios(results, name, bridge)
         kept = [k for _, k, _ in places]                                    # the span (deck) of each column
         labels = [f"the support at x = {x:g} m" for _, _, x in places]
         sense, at = "hogging", "the intermediate supports"
     else:
         ratios = mid_span_ratios(results, name, row, bridge)
-        kept = [k for k, c in enumerate(_span_columns(columns, bridge)) if c >= 0]    # the span of each column
+        kept = [k for k, c in enumerate(span_columns(columns, bridge)) if c >= 0]    # the span of each column
         labels = [f"span {k + 1}" for k in kept]
         sense, at = "downward" if row == MIN else "sagging", "the spans' middles"
     if ratios is None:
@@ -987,54 +821,6 @@ def _end_rotation(results, outputs, bridge, settings):
     return []
 
 
-def car_label(car, n_cars):
-    """A car as people count them: 'car 1 of 8 (the leading car)' for index ``car`` (0-based, as
-    the results file keeps it)."""
-    where = " (the leading car)" if car == 0 and n_cars > 1 else " (the last car)" if car == n_cars - 1 > 0 else ""
-    return f"car {car + 1} of {n_cars}{where}"
-
-
-def wheel_label(wheel, data):
-    """A contact wheel as people count them: 'wheel 3 of 32 (car 1 of 8)' for its index ``wheel``
-    (0-based, as the results file keeps it) in a train of stored data ``data``
-    (:meth:`SweepResults.train_data`)."""
-    contact = np.asarray(data["contact_wheels"])
-    car = int(np.asarray(data["wheel_car"])[contact[wheel]])
-    return f"wheel {wheel + 1} of {len(contact)} (car {car + 1} of {int(data['n_cars'])})"
-
-
-def node_text(bridge, node):
-    """A deck node in words: 'node 26 (x = 62.5 m, span 3)'; over a support two spans share 'node 11
-    (x = 25 m, support of spans 1 and 2)'; on an overhang 'node 2 (x = 1 m, overhang x = 0 to 4
-    m)'; 'node 7' alone when the bridge record (/bridge/deck_nodes, deck_x_m) does not hold it."""
-    deck_x = dict(zip(np.asarray(bridge["deck_nodes"]).tolist(), np.asarray(bridge["deck_x_m"]).tolist()))
-    node = int(node)
-    if node not in deck_x:
-        return f"node {node}"
-    x, tol = float(deck_x[node]), x_tolerance(bridge)
-    ends = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2)
-    inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
-    if len(inside) > 1:
-        place = f"support of spans {' and '.join(str(k + 1) for k in inside)}"
-    elif len(inside):
-        place = f"span {inside[0] + 1}"
-    else:
-        hang = [(a, b) for _, a, b in overhangs(bridge) if min(a, b) - tol <= x <= max(a, b) + tol]
-        place = f"overhang x = {min(hang[0]):g} to {max(hang[0]):g} m" if hang else ""
-    return f"node {node} (x = {x:g} m" + (f", {place})" if place else ")")
-
-
-def _decks_text(bridge):
-    return "; ".join(f"x = {a:g} to {b:g} m" for a, b in deck_ranges(bridge))
-
-
-def _x_at(results, idx, time, offsets):
-    """The x [m] of points ``offsets`` [m] behind the head of case ``idx`` (train, speed, seed)
-    at ``time`` [s]."""
-    x_head0 = results.start_positions()[tuple(idx[:3])]
-    return x_head0 + float(results.speeds_kmh[idx[1]]) / 3.6 * time - np.asarray(offsets, dtype=float)
-
-
 def _case_text(results, idx):
     seed = results.seeds[idx[2]]
     return f"{results.trains[idx[0]]} {float(results.speeds_kmh[idx[1]]):g} km/h" + (f" seed {seed}" if seed >= 0 else "")
@@ -1071,7 +857,7 @@ def _car_body(results, outputs, bridge, settings):
         runouts = [results.train_data(t)["body_runout_s"] for t in results.trains]
         runout = max((float(r) for r in runouts if np.isfinite(r)), default=0.0)
         note = (f"level of comfort '{settings.comfort.replace('_', ' ')}'; the body's vertical acceleration at its "
-                f"centre or over either bogie, while a wheel of the car is on a deck ({_decks_text(bridge)}) and for "
+                f"centre or over either bogie, while a wheel of the car is on a deck ({decks_text(bridge)}) and for "
                 f"{runout:.3g} s after its last wheel left it (half a period of the car's lowest mode: its largest "
                 "bridge-induced motion after the exit)")
         note += _whole_run_note(results, name, ABSMAX, value, "m/s^2", bridge)
@@ -1079,22 +865,6 @@ def _car_body(results, outputs, bridge, settings):
                          value / limit, "pass" if value <= limit else "fail", train, speed, seed,
                          car_label(car, int(data["n_cars"])), note + _rail_step_note(results))]
     return []
-
-
-def _place(results, name, idx, row, columns, whole_run=True):
-    """Where the extreme of envelope row ``row`` (MIN, MAX, ABSMAX) of output ``name`` at ``idx``
-    (train, speed, seed, column) lies, in words: a wheel and its x, or a car and its wheels' x;
-    of the whole-run envelope or (``whole_run=False``) the bridge's."""
-    env, _ = results.column_envelopes(name, whole_run=whole_run)
-    time = float(env[tuple(idx[:3]) + (row + 3, idx[3])])
-    data = results.train_data(results.trains[idx[0]])
-    offsets = np.asarray(data["axle_offsets_m"], dtype=float)
-    k = int(columns[idx[3]])
-    if results.describe(name)["kind"] == "car":
-        x = _x_at(results, idx, time, offsets[np.asarray(data["wheel_car"]) == k])
-        return f"{car_label(k, int(data['n_cars']))}, its wheels at x = {x.min():.1f} to {x.max():.1f} m"
-    x = _x_at(results, idx, time, offsets[np.asarray(data["contact_wheels"])[k]])
-    return f"{wheel_label(k, data)}, x = {float(x):.1f} m"
 
 
 def _whole_run_note(results, name, row, value, units, bridge, transform=None):
@@ -1112,7 +882,7 @@ def _whole_run_note(results, name, row, value, units, bridge, transform=None):
     if not whole > value * (1 + 1e-9) + 1e-12:
         return ""
     return (f"; the largest over the whole run, {whole:.4g}{' ' + units if units != DIMENSIONLESS else ''} "
-            f"({_case_text(results, idx)}, {_place(results, name, idx, row, columns)}), is off the bridge "
+            f"({_case_text(results, idx)}, {wheel_or_car_place(results, name, idx, row, columns)}), is off the bridge "
             "(on the ground before or after it), not counted; the sweep keeps it (column_envelopes(..., "
             "whole_run=True))")
 
@@ -1159,7 +929,7 @@ def _wheel_unloading(results, outputs, bridge, settings):
         done = results.n_done
         lifting = -_nanmax(-low, axis=-1) <= 0.0          # NaN (a case not run): no lift, no warning
         lifts = int(np.sum(lifting))
-        counted = (f"counted while the wheel is on a deck ({_decks_text(bridge)}; the 10 ms mean's reach beyond "
+        counted = (f"counted while the wheel is on a deck ({decks_text(bridge)}; the 10 ms mean's reach beyond "
                    "its ends included)")
         note = ("Delta Q / Q = 1 - min contact force (its 10 ms mean) / static wheel load; the limit is the "
                 f"project's (not an EN 1990 A2 clause); {counted}")
@@ -1178,7 +948,7 @@ def _wheel_unloading(results, outputs, bridge, settings):
         coarse = _rail_step_note(results)
         rows = [CheckRow("wheel_unloading", "project criterion", value, "-", limit, value / limit,
                          "info" if rings else ("pass" if value <= limit else "fail"), train, speed, seed,
-                         _place(results, name, idx, MIN, columns, whole_run=False), note + coarse)]
+                         wheel_or_car_place(results, name, idx, MIN, columns, whole_run=False), note + coarse)]
         held = ("; bilateral contact held the wheels on the rail: what follows a lift is not physical, take "
                 "contact='lcp'") if lifts and sweep.get("contact", "bilateral") == "bilateral" else ""
         whole, _ = results.column_envelopes(name, whole_run=True)
@@ -1188,8 +958,8 @@ def _wheel_unloading(results, outputs, bridge, settings):
             w = np.where(lifting[..., None], np.nan, whole[..., MIN, :])
             at = np.unravel_index(np.nanargmin(w), w.shape)
             off = (f"; {ground} of {done} passages lift a wheel off the bridge only (on the ground before or after "
-                   f"it; the lowest: {_case_text(results, at)}, {_place(results, name, at, MIN, columns)}), not "
-                   "counted")
+                   f"it; the lowest: {_case_text(results, at)}, "
+                   f"{wheel_or_car_place(results, name, at, MIN, columns)}), not counted")
         loss = CheckRow("contact_loss", "-", float(lifts), "passages", 0.0, np.nan,
                         "info" if rings else ("pass" if lifts == 0 else "fail"),
                         note=f"passages (of the {done} in the file) in which a wheel's contact force (its 10 ms mean) "
@@ -1198,6 +968,6 @@ def _wheel_unloading(results, outputs, bridge, settings):
         if lifts:
             t, v, s, i2 = _governing(results, np.where(lifting[..., None], -low, np.nan), np.nanargmax)
             loss.train, loss.speed_kmh, loss.seed = t, v, s
-            loss.where = _place(results, name, i2, MIN, columns, whole_run=False)
+            loss.where = wheel_or_car_place(results, name, i2, MIN, columns, whole_run=False)
         return rows + [loss]
     return []

@@ -13,7 +13,9 @@ A passage (docs/sweeps.md):
   and reused at every speed: on rigid ground it does not depend on the speed);
 * it runs until the last wheel has left the track, plus a free-vibration window (default
   ``FREE_VIBRATION_PERIODS`` periods of the bridge's first vertical mode: the largest free
-  vibration follows the exit within one period, as every mode then decays);
+  vibration follows the exit within one period, as every mode then decays), and, when the
+  sweep's outputs read car bodies, at least until every car body has stopped counting (its
+  last wheel off the decks plus its run-out, :meth:`PassageRunner.n_steps`);
 * the irregular rail (optional) is a seeded sample of a spectrum, faded in over the
   ``TAPER`` metres ahead of the first wheel, so that the train starts at rest on a level rail;
 * the envelopes of the cars' outputs (contact forces, car bodies) count what happens on the
@@ -215,8 +217,10 @@ class PassageSettings:
         case's seed selects the sample. Only with cars='full' (moving forces do not feel it).
     approach : distance of the first wheel before the track at t = 0 [m]; None: 0 for moving
         forces, CAR_APPROACH for cars.
-    free_vibration : time after the last wheel leaves the track [s]; None:
-        FREE_VIBRATION_PERIODS periods of the first vertical mode.
+    free_vibration : the bridge's free vibration, time after the last wheel leaves the track [s];
+        None: FREE_VIBRATION_PERIODS periods of the first vertical mode. A sweep reading car
+        bodies runs longer where a car body still counts then (its last wheel off the decks
+        plus :func:`body_runout`, :meth:`PassageRunner.n_steps`), whatever this is.
     bridge_self_weight : include the deck's self weight (results are then totals, which the
         check refuses: its criteria read the trains' effects).
     bridge : 'fe' (the FE bridge, time-stepped) or 'modal' (its modes up to ``modal_hz``, each
@@ -663,11 +667,38 @@ class PassageRunner:
         return self.track.x_begin - self.approach(train) + float(train.wheel_offsets[0])
 
     def n_steps(self, train):
-        """Steps of a passage: to the last wheel leaving the track, plus the free vibration."""
+        """Steps of a passage of ``train``, the one rule of its length (the passages, their cost
+        estimate, :meth:`check_resolution` and the resume of a results file call it): until its last wheel has left the track
+        plus the free vibration (``free_vibration`` [s], default FREE_VIBRATION_PERIODS periods of
+        n₀), or, when the runner's outputs read car bodies ('car_body_accel'), until every car
+        body has stopped counting (:meth:`body_windows_end`) if that is later. A governing case
+        re-run with other outputs (:meth:`~vtsi.sweep.Sweep.record_histories`) runs as long as
+        the sweep's passage."""
         s = self.settings
         travel = self.track.x_end - self.track.x_begin + self.approach(train) + train.length
         free = s.free_vibration if s.free_vibration is not None else FREE_VIBRATION_PERIODS / self.frequencies[0]
-        return int(math.ceil((travel / train.speed + free) / s.dt - 1e-9))
+        end = travel / train.speed + free
+        if any(o.response == "car_body_accel" for o in self.outputs):
+            end = max(end, self.body_windows_end(train))
+        return int(math.ceil(end / s.dt - 1e-9))
+
+    def body_windows_end(self, train):
+        """The time [s] at which the last of ``train``'s car bodies stops counting in its envelope
+        (:meth:`counted`): the latest over its cars of their last wheel leaving the decks' last end
+        plus :func:`body_runout`. A car whose run-out is infinite is left out (it counts to the
+        end of the run, however long); 0 when no car is left, for a train without car bodies
+        (moving forces) and on a track without a deck (every sample counts)."""
+        ends = np.asarray(self.deck_ends, dtype=float).reshape(-1, 2)
+        cars = self.columns(Output("body", "car_body_accel"), train)
+        if not len(ends) or not len(cars):
+            return 0.0
+        runouts = self.body_runouts(train)
+        cars = [i for i in cars if math.isfinite(runouts[i])]
+        if not cars:
+            return 0.0
+        x_head0, offsets = self.start_position(train), np.asarray(train.wheel_offsets, dtype=float)
+        return max((float(ends.max()) - x_head0 + offsets[np.asarray(train.wheel_car) == i].max()) / train.speed
+                   + runouts[i] for i in cars)
 
     def check_resolution(self, name, speed_kmh):
         """A ModelError unless the passage of train ``name`` at ``speed_kmh`` [km/h] is resolved
@@ -980,7 +1011,8 @@ class PassageRunner:
           few decimetres before a deck holds the rail's kink at the deck's end: an ICE3 at 300
           km/h on a 3 Hz span, smooth rail, read ΔQ/Q 0.447 there, 0.404 from the wheel on the deck);
         * a car body's acceleration while any of its wheels is on a deck, and for
-          :func:`body_runout` (half a period of its lowest mode) after its last wheel left it.
+          :func:`body_runout` (half a period of its lowest mode) after its last wheel left it
+          (a sweep reading car bodies runs until every car's has ended, :meth:`n_steps`).
         """
         t = np.asarray(time, dtype=float)
         x = x_head0 + train.speed * t[:, None] - np.asarray(train.wheel_offsets)[None, :]

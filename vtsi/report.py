@@ -61,11 +61,13 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import (ABSMAX, car_label, deck_nodes, en_series, mid_span_ratios, node_deflections, node_text,
-                         stored_check, wheel_label)
+from vtsi.check import ABSMAX, mid_span_ratios, node_deflections, stored_check
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
+from vtsi.deck_record import deck_nodes
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz, modal_basis_hz
+from vtsi.places import car_label, wheel_label
+from vtsi.speed_grid import en_series
 from vtsi.sweep import resonance_speeds
 from vtsi.sweep_results import (ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges,
                                 significant_text, span_decks, x_tolerance)
@@ -566,7 +568,7 @@ class _Report:
 
     def speeds_text(self):
         """The sweep's speeds: how many, their range and steps, or that they are the EN 1991-2
-        6.4.6.2 series (:func:`~vtsi.check.en_series`), and where the check found them coarser
+        6.4.6.2 series (:func:`~vtsi.speed_grid.en_series`), and where the check found them coarser
         than it (:attr:`~vtsi.check.CheckResult.speed_grid`)."""
         v = np.unique(self.results.speeds_kmh)
         text = f"{_plural(len(v), 'speed')}, {_fmt_speed(v.min())}–{_fmt_speed(v.max())} km/h"
@@ -941,14 +943,20 @@ class _Report:
     @staticmethod
     def _one_among_many(ax, time, values, one, colour, label, counted):
         """Columns of ``values`` faint, column ``one`` in black with ``label``, and the dotted
-        times ``counted`` between which it counts in the check."""
+        times ``counted`` between which it counts in the check, those within the data's times
+        only: the end of a window that goes on past the run (a car body's, in histories of a
+        sweep without a car-body output or of an older vtsi, whose runs were not extended to hold
+        it, :meth:`vtsi.passage.PassageRunner.n_steps`) is not drawn, and the legend says so."""
         for j in range(values.shape[1]):
             if j != one:
                 ax.plot(time, values[:, j], color=colour, lw=0.5, alpha=0.35)
         if values.size:
             ax.plot(time, values[:, one], color="black", lw=1.2, label=label)
-            for k, t in enumerate(counted):
-                ax.axvline(t, color="black", ls=":", lw=1.0, label="while it counts" if k == 0 else None)
+            end = float(time[-1]) + 1e-9 * max(1.0, abs(float(time[-1])))
+            inside = [t for t in counted if t <= end]
+            text = "while it counts" + ("" if len(inside) == len(counted) else " (past the run's end)")
+            for k, t in enumerate(inside):
+                ax.axvline(t, color="black", ls=":", lw=1.0, label=text if k == 0 else None)
 
     def _limit_lines(self, ax, criterion):
         """± the limit [m/s²] of the check's row ``criterion``, dashed, when it has one."""

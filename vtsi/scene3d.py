@@ -1082,8 +1082,9 @@ def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_fr
     spacing = (times[-1] - times[0]) / max(min(len(times), int(max_frames)) - 1, 1)
     if spacing > 0.25 / n0 * (1 + 1e-9):
         logger.warning("animation of %s at %g km/h: frames %.3g s apart, more than a quarter period of the first "
-                       "mode (%.3g Hz%s): the deck's vibration is aliased; max_frames >= %d resolves it", train,
-                       speed_kmh, spacing, n0, ", the highest of the decks' n0" if len(n0s) > 1 else "", needed)
+                       "mode (%.3g Hz%s): the deck's vibration is aliased; max_frames >= %d resolves it (vtsi check: "
+                       "--animation-frames %d)", train, speed_kmh, spacing, n0,
+                       ", the highest of the decks' n0" if len(n0s) > 1 else "", needed, needed)
     data = results.train_data(train)
     heads = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times
     wheels = heads[:, None] - data["axle_offsets_m"][None, :]

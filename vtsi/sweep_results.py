@@ -600,9 +600,16 @@ class ResultsWriter:
             raise SweepError(f"results file {self.path}: cannot write there ({exc.strerror or exc})") from None
 
     def _check(self, path):
-        """A SweepError unless the file ``path`` holds this sweep (the first difference named)."""
+        """A SweepError unless the file ``path`` holds this sweep (the first difference named) and
+        its cases ran as many steps as this vtsi's passages of them
+        (:meth:`~vtsi.passage.PassageRunner.n_steps`; the identity does not hold the rule of a
+        passage's length: a file of the same sweep written before the runs of cars held every
+        car body's counting window ran the last cars' windows short)."""
         with open_results(path) as f:
             version, stored = _header(f, path)
+            cases = f.get("cases") if version == FORMAT_VERSION else None
+            done = None if cases is None or "n_steps" not in cases else \
+                [cases[k][()] for k in ("train", "speed_kmh", "n_steps")]
         if version != FORMAT_VERSION:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
                              "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
@@ -610,6 +617,20 @@ class ResultsWriter:
         if diff:
             raise SweepError(f"results file {path} holds a different sweep ({_describe(diff)}); "
                              "use another file, or overwrite=True (--overwrite)")
+        if done is None:
+            return
+        names, lengths = self.identity["trains"], {}
+        for i, speed, n in zip(*done):
+            key = (int(i), float(speed))
+            if key not in lengths:
+                lengths[key] = self.runner.n_steps(self.runner.train(names[key[0]], key[1] / 3.6))
+            if lengths[key] != int(n):
+                raise SweepError(f"results file {path}: its passage of {names[key[0]]} at {key[1]:g} km/h ran "
+                                 f"{int(n)} steps, this vtsi runs {lengths[key]}: the file was written by a vtsi whose "
+                                 "passages ended by another rule (a sweep reading car bodies now runs until the last "
+                                 "car body has stopped counting, vtsi.passage.PassageRunner.n_steps; before, the last "
+                                 "cars' counting windows were cut short), and resuming would mix passages of both; use "
+                                 "another file, or overwrite=True (--overwrite)")
 
     def done(self):
         """Keys of the cases already in the file (:func:`case_key`)."""

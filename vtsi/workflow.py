@@ -18,15 +18,19 @@ log = logging.getLogger(__name__)
 
 
 def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, progress=None, resume=False,
-                 overwrite=False, animation=False):
+                 overwrite=False, animation=False, animation_frames=None, refuse_first=True):
     """Run ``sweep`` into ``path``, check it (``settings``: :class:`~vtsi.check.CheckSettings`),
     store the check, record the governing cases' histories, render the 3-D scene of the largest
     deck acceleration (when off-screen rendering works here) and write the report into
     ``report_dir`` (default: ``<path without .h5>_report``); with ``animation`` also a GIF of
-    that passage (``scene.gif``, about 10-20 s).
+    that passage (``scene.gif``, about 10-20 s) of ``animation_frames`` frames (an integer >= 2;
+    default :func:`~vtsi.scene3d.animate_case`'s: 4 n₀ T + 1 over the record's T seconds, at
+    most 400).
 
     What the check would refuse on the sweep's inputs alone is refused before the sweep runs or
-    anything is written (:func:`refuse_before_sweep`).
+    anything is written (:func:`refuse_before_sweep`); ``refuse_first=False`` leaves that out for
+    a caller that has just done it (``vtsi check``, which runs the sweep itself first), and the
+    check refuses the same inputs on the results after the sweep.
 
     Returns ``(CheckResult, report paths: dict html, markdown, images, scene (a
     :class:`~vtsi.scene3d.RenderedScene`: its path, case, time and exaggeration, which the
@@ -37,7 +41,14 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
         raise SweepError(f"design check: the results file must be a path, got {path!r}")
     if not (settings is None or isinstance(settings, CheckSettings)):
         raise SweepError(f"design check: settings must be CheckSettings, got {type(settings).__name__}")
-    refuse_before_sweep(sweep, settings)
+    if animation_frames is not None:
+        if isinstance(animation_frames, bool) or not isinstance(animation_frames, (int, np.integer)) \
+                or animation_frames < 2:
+            raise SweepError(f"design check: animation_frames must be an integer >= 2, got {animation_frames!r}")
+        if not animation:
+            raise SweepError(f"design check: animation_frames = {animation_frames} is the GIF's: give animation=True")
+    if refuse_first:
+        refuse_before_sweep(sweep, settings)
     path = os.path.abspath(os.fspath(path))
     report_dir = os.path.abspath(report_folder(report_dir or os.path.splitext(path)[0] + "_report"))
     sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
@@ -49,7 +60,8 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
         sweep.record_histories(path, governing)
     available, reason = rendering_available()
     scene = render_case(path, os.path.join(report_dir, "scene.png")) if available else None
-    movie = animate_case(path, os.path.join(report_dir, "scene.gif")) if available and animation else None
+    movie = (animate_case(path, os.path.join(report_dir, "scene.gif"), max_frames=animation_frames)
+             if available and animation else None)
     if scene is None:
         log.info("no 3-D scene: %s", reason)
     paths = write_report(path, report_dir, scene_png=scene, scene_case=None if scene is None else scene.case,

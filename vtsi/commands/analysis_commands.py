@@ -171,8 +171,8 @@ class AnalysisCommands(SessionBase):
     """The analysis settings, ``analyze``, ``eigen`` and ``modalDamping``."""
 
     def _clear_results(self):
-        self._eigen = None
-        self._modal_damping = None  # (assembly, ratios, modal bridge) of the last modalDamping
+        self._eigen = None          # (assembly, omega2, shapes) of the last eigen
+        self._modal_damping = None  # (ratios, eigen, assembly, modal bridge): see _modal_bridge
         self._load_time = None      # time at which the domain last applied its loads
 
     def _clear_analysis(self):
@@ -316,8 +316,8 @@ class AnalysisCommands(SessionBase):
         model = self.domain
         integrator, constraint, modal = self._transient_integrator, self._constraint, self._modal_damping
         return (args, model, model.build() if model is not None and model.nodes else None, self._analysis,
-                id(integrator), integrator, id(constraint), constraint, id(modal), modal, self._recorder_count,
-                len(self._kept))
+                id(integrator), integrator, id(constraint), constraint, id(modal), modal, id(self._eigen),
+                self._eigen, self._recorder_count, len(self._kept))
 
     def analyze(self, *args):
         """``analyze(numSteps)`` (static) or ``analyze(numSteps, dt)`` (transient); returns 0.
@@ -427,15 +427,18 @@ class AnalysisCommands(SessionBase):
         return [float(w) for w in omega2]
 
     def modalDamping(self, *args):
-        """``modalDamping(zeta)`` or ``modalDamping(zeta_1, ..., zeta_n)``: damping ratios [-] of the
-        modes of the last ``eigen`` (one for all, or one per mode), added to the model's own
-        (Rayleigh) damping: C = M Φ diag(2ζω) Φᵀ M. vtsi then steps the model as a modal bridge of
+        """``modalDamping(zeta)`` or ``modalDamping(zeta_1, ..., zeta_n)``: damping ratios [-], one
+        for all or one per mode of the last ``eigen`` (its n modes: one ratio stands for n equal
+        ones). As in OpenSees, the ratios are kept and damp the modes of the latest ``eigen`` when
+        the model is stepped: after a change of the model (masses, elements) and a new ``eigen``,
+        the first min(n, that eigen's number of modes) of the new modes. The damping is added to
+        the model's own (Rayleigh): C = M Φ diag(2ζω) Φᵀ M. vtsi then steps the model as a modal bridge of
         every mode of finite frequency (:class:`~vtsi.modal_bridge.ModalBridge`, ``n_modes='all'``):
         the model's own equations, a dof without mass following statically, so the model's own
         damping must be classical (Rayleigh) and no load may act on a dof without mass. Equal to
         OpenSees with nodal masses (``mass``); with element mass (``-mass``, ``-rho``) OpenSees's
         modal damping force differs from this C by a fraction of a percent (docs/commands.md)."""
-        model = self._model("modalDamping")
+        self._model("modalDamping")
         a = Args("modalDamping", args)
         ratios = [a.float("damping ratio")]
         while a.more():
@@ -444,11 +447,7 @@ class AnalysisCommands(SessionBase):
         if self._eigen is None:
             raise CommandError(f"modalDamping: no modes; {self._command_hint(('eigen', Placeholder('n')))} first "
                                "(the ratios apply to its modes)")
-        asm, omega2, _ = self._eigen
-        if not same_modes(asm, model.build()):
-            raise CommandError("modalDamping: the model changed after the last eigen (its dofs, stiffness or mass); "
-                               f"{self._command_hint(('eigen', Placeholder('n')))} again")
-        n = len(omega2)
+        n = len(self._eigen[1])
         if len(ratios) not in (1, n):
             raise CommandError(f"modalDamping: give one ratio or one per mode of the last eigen ({n}), got {len(ratios)}")
         bad = [z for z in ratios if not (np.isfinite(z) and z >= 0.0)]
@@ -459,35 +458,47 @@ class AnalysisCommands(SessionBase):
             raise CommandError(f"modalDamping: damping ratio {over[0]:g} is {100 * over[0]:g} % of critical (an "
                                f"overdamped mode); a ratio is a fraction: {over[0] / 100:g} for {over[0]:g} %. "
                                "vtsi takes ratios in [0, 1), as its other damping inputs (OpenSees takes any)")
-        self._modal_damping = (model.build(), np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None)
+        self._modal_damping = (np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None, None, None)
         self._transient = None
 
+    def _damped_modes(self, command):
+        """``(omega2 (k,) [rad²/s²], ratios (k,) [-])``: the modes that ``modalDamping``'s ratios
+        damp, as OpenSees: the first k = min(number of ratios, n) of the n modes of the latest
+        ``eigen``. A CommandError naming ``command`` when the model's modes changed after that
+        ``eigen`` (OpenSees would damp the modes of a model that is no more)."""
+        ratios = self._modal_damping[0]
+        asm, omega2, _ = self._eigen
+        if not same_modes(asm, self._model(command).build()):
+            raise CommandError(f"{command}: the model changed after the last eigen (its dofs, stiffness or mass), "
+                               f"whose modes modalDamping damps; {self._command_hint(('eigen', Placeholder('n')))} "
+                               "again")
+        k = min(len(ratios), len(omega2))
+        return omega2[:k], ratios[:k]
+
     def _modal_bridge(self, command):
-        """The modal bridge that ``modalDamping`` asks for (None without it), built once per build
-        of the model: a change that keeps the modes (``rayleigh``: only C) builds it again with the
-        same ratios, as OpenSees applies both; one that changes them is refused."""
+        """The modal bridge that ``modalDamping`` asks for (None without it), built once per
+        ``eigen`` and build of the model (:meth:`_damped_modes`): a change that keeps the modes
+        (``rayleigh``: only C) builds it again with the same ratios, as OpenSees applies both; a
+        new ``eigen`` after a change of the modes gives the ratios to the new modes."""
         if self._modal_damping is None:
             return None
-        asm, ratios, bridge = self._modal_damping
+        ratios, eigen, asm, bridge = self._modal_damping
         model = self._model(command)
         current = model.build()
-        if asm is not current:
-            if not same_modes(asm, current):
-                raise CommandError(f"{command}: the model changed after eigen and modalDamping (its dofs, stiffness "
-                                   "or mass); call them again")
-            asm, bridge = current, None
-        if bridge is None:
-            massless = np.flatnonzero(asm.M.diagonal() <= 0.0)
-            damped = massless[np.abs(asm.C[massless]).sum(axis=1).A1 > 0.0] if len(massless) else massless
-            if len(damped):
-                raise CommandError(f"{command}: modalDamping: {asm.dof_label(damped[0])} has damping (rayleigh "
-                                   "betaK) but no mass; vtsi steps the modes of the model, where a dof without "
-                                   "mass follows statically (give it mass, or use rayleigh alphaM only)")
-            try:
-                bridge = ModalBridge(model, n_modes="all")
-                bridge.add_ratios(ratios)
-            except (ModelError, AnalysisError) as exc:
-                raise CommandError(f"{command}: modalDamping: {exc}") from None
-            self._modal_damping = (asm, ratios, bridge)
+        if eigen is self._eigen and asm is current:
+            return bridge
+        damped = self._damped_modes(command)[1]
+        massless = np.flatnonzero(current.M.diagonal() <= 0.0)
+        with_c = massless[np.abs(current.C[massless]).sum(axis=1).A1 > 0.0] if len(massless) else massless
+        if len(with_c):
+            raise CommandError(f"{command}: modalDamping: {current.dof_label(with_c[0])} has damping (rayleigh "
+                               "betaK) but no mass; vtsi steps the modes of the model, where a dof without "
+                               "mass follows statically (give it mass, or use rayleigh alphaM only)")
+        try:
+            bridge = ModalBridge(model, n_modes="all")
+            bridge.add_ratios(damped)
+        except (ModelError, AnalysisError) as exc:
+            raise CommandError(f"{command}: modalDamping: {exc}") from None
+        self._modal_damping = (ratios, self._eigen, current, bridge)
         return bridge
 
