@@ -14,7 +14,8 @@ existing file path ending in '.csv' is an axle table read by
 in N (the CSV table is in m and kN).
 
 Every built train carries ``characteristic_length`` D [m] (coach length; HSLM-B: the spacing d;
-a CSV table: None), from which a sweep places its resonance speeds v = n0 D / i.
+a CSV table: from its dynamic signature, :mod:`vtsi.signature`, None when it has no regular
+spacing), from which a sweep places its resonance speeds v = n0 D / i.
 
 Adding a train is adding one :class:`Entry` to the registry (:func:`register`); nothing in a
 sweep branches on a name.
@@ -185,7 +186,8 @@ def catalogue_train(name, speed, *, fidelity='force', span=None) -> Train:
     Returns
     -------
     Train
-        With ``characteristic_length`` D [m] (None for a CSV table).
+        With ``characteristic_length`` D [m] (a CSV table's from its dynamic signature, None
+        when it has no regular spacing).
 
     Raises
     ------

@@ -874,9 +874,11 @@ def test_seeds_and_train_spellings_are_checked():
     dropped without a word, and a seed given twice was run once."""
     rough = PassageSettings(dt=5e-3, damping=0.0125, cars="full", irregularity="german-low")
     for seeds, bad in (([0.5, 0.7], "0.5"), ([True], "True"), ([-1], "-1"), ([2 ** 63], str(2 ** 63))):
-        with pytest.raises(SweepError, match=re.escape(f"sweep: a seed is an integer in [0, 2^63), got {bad}")):
+        words = f"sweep: a seed is an integer in [0, 2^63), got {bad}"      # the whole message, as docs/bad_inputs.md
+        with pytest.raises(SweepError, match=f"^{re.escape(words)}$"):
             Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=seeds)
-    with pytest.raises(SweepError, match=re.escape("sweep: seeds must be a list of integers >= 0, got '01'")):
+    words = "sweep: seeds must be a list of integers >= 0, got '01'"
+    with pytest.raises(SweepError, match=f"^{re.escape(words)}$"):
         Sweep(small_bridge(), ["ICE3"], "200", rough, seeds="01")
     with pytest.raises(SweepError, match=r"^sweep: seed 0 is given twice$"):
         Sweep(small_bridge(), ["ICE3"], "200", rough, seeds=[0, 0])

@@ -34,7 +34,12 @@ class DomainState:
 
 
 def domain_state(model):
-    """The model's committed state, created (at rest) or resized when the dofs change."""
+    """The model's committed state, a :class:`DomainState`: ``time`` [s] (a static analysis's
+    pseudo-time), and ``u``, ``v``, ``a``, float64 ``(n_full,)`` [m, m/s, m/s²; rad, rad/s,
+    rad/s² at rotations] over every dof, node after node in the order the nodes were added
+    (``model.build().full_dof(node, dof)``), fixed dofs included. Created at rest (time 0) on
+    first use; when the number of dofs changes (a node added or removed) it is made anew at
+    rest, keeping its time."""
     n_full = model.build().n_full
     state = getattr(model, "state", None)
     if state is None or state.u.shape[0] != n_full:
@@ -327,7 +332,17 @@ class _RecorderFeed:
 
 class StaticAnalysis:
     """Linear static analysis with load control: step ``k`` applies the patterns at pseudo-time
-    ``t0 + k dλ`` (OpenSees ``integrator LoadControl dλ``) and solves ``K u = P``."""
+    ``t0 + k dλ`` (OpenSees ``integrator LoadControl dλ``) and solves ``K u = P``.
+
+    Parameters
+    ----------
+    model : the :class:`~vtsi.model.Model`.
+    d_lambda : dλ, the pseudo-time added by each step (finite; default 1): each pattern's load
+        is scaled by ``factor × series(t0 + k dλ)`` (a ``Linear`` series then grows by ``factor
+        dλ`` a step). AnalysisError if not a finite number.
+    recorders : recorders (:mod:`vtsi.recorders`), each given one row per step at its
+        pseudo-time; an HDF5 sink stores ``analysis='static'``, ``integrator='LoadControl'`` and
+        ``dt`` = dλ. AnalysisError if one is not a recorder."""
 
     def __init__(self, model, d_lambda=1.0, recorders=()):
         try:
@@ -340,6 +355,11 @@ class StaticAnalysis:
         self.recorders = _recorders("static analysis", recorders)
 
     def run(self, n_steps=1):
+        """Take ``n_steps`` (an integer >= 0, else AnalysisError) load steps from the committed
+        state's time t0: each solves ``K u = P(t0 + k dλ)`` from scratch (linear: no iteration),
+        commits u with v = a = 0 and the pseudo-time, and feeds the recorders. Returns the
+        committed :class:`DomainState` (:func:`domain_state`). A singular K (a mechanism) raises
+        the AnalysisError of the factorisation, before any step."""
         n_steps = _integer("static analysis", "number of steps", n_steps, 0)
         model = self.model
         asm = model.build()
@@ -461,8 +481,11 @@ class TransientAnalysis:
     integrator : name, class or instance (``'Newmark'``, ``HHT(0.9)``, ``'Bathe'`` ...).
     dt : time step [s], > 0.
     recorders : recorders fed every chunk.
-    divergence_limit : a step whose largest |u| exceeds this (or is NaN) stops the run with
-        a :class:`~vtsi.errors.DivergenceError` naming the step and the time.
+    divergence_limit : [m] (> 0; default 1e8): a step whose largest |u| over the integrated
+        dofs exceeds this (rotations [rad] compared with the same number; with ``bridge`` the
+        modal coordinates q [m·√kg]), or is NaN or inf, stops the run with a
+        :class:`~vtsi.errors.DivergenceError` naming the step and the time; ``inf``: NaN and inf
+        only.
     chunk_steps : steps per compiled call (recorders receive chunks of this size).
     bridge : None (the FE model) or a :class:`~vtsi.modal_bridge.ModalBridge` of the model: the
         steps then integrate its modal coordinates (the recorders read Φ q).

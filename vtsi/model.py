@@ -163,7 +163,19 @@ class Model:
         self._changed()
 
     def element(self, type_name, tag, nodes, **params):
-        """Add element ``tag`` of the registered type ``type_name`` on ``nodes``."""
+        """Add element ``tag`` (an integer not yet taken) of the registered type ``type_name`` on
+        ``nodes`` (a sequence of existing node tags, as many as the type takes), with the type's
+        parameters by name in SI units (its class docstring lists them, e.g.
+        ``'elasticBeamColumn'``: ``A`` [m²], ``E`` [Pa], ``I`` [m⁴], ``rho`` mass per length
+        [kg/m], ``cmass`` 0 lumped or 1 consistent; the types: ``'elasticBeamColumn'``,
+        ``'ElasticTimoshenkoBeam'``, ``'truss'``, ``'zeroLength'``, ``'pointMass'`` and any a user
+        registers, :mod:`vtsi.elements.base`). Parameters are checked here, the geometry when
+        the model is built.
+
+        Raises ModelError if the tag is taken or not an integer, the type is unknown (the message
+        lists the known ones), ``nodes`` is not a sequence or names a missing node, the type
+        needs a dof the model lacks (``ndf``), or a parameter is unknown, missing, not finite or
+        out of its range."""
         tag = _tag("element", tag)
         if tag in self._element_owner:
             raise ModelError(f"element {tag} already exists")
@@ -206,7 +218,14 @@ class Model:
         return series
 
     def pattern(self, tag, series, factor=1.0):
-        """Create and return a :class:`LoadPattern`; ``series`` is a TimeSeries or its tag."""
+        """Create and return load pattern ``tag`` (an integer not yet taken; OpenSees ``pattern Plain``),
+        a :class:`~vtsi.loads.LoadPattern` whose loads (:meth:`load`, :meth:`beam_load`,
+        :meth:`sp`) act times ``factor × series(t)`` [–]; ``series`` a
+        :class:`~vtsi.timeseries.TimeSeries` or the tag of one added with
+        :meth:`add_time_series`; ``factor`` finite.
+
+        Raises ModelError if the tag is taken or not an integer, the series tag is unknown, or
+        ``factor`` is not finite."""
         tag, series = self._new_pattern(tag, series)
         return self._add_pattern(LoadPattern(tag, series, factor))
 
@@ -339,8 +358,14 @@ class Model:
             self._changed()
 
     def rayleigh(self, alpha_m, beta_k, beta_k_init=0.0, beta_k_comm=0.0):
-        """Rayleigh damping ``C = alpha_m M + (beta_k + beta_k_init + beta_k_comm) K`` (linear model:
-        current, initial and committed stiffness coincide)."""
+        """Rayleigh damping ``C = alpha_m M + (beta_k + beta_k_init + beta_k_comm) K`` (OpenSees
+        ``rayleigh αM βK βKinit βKcomm``; a linear model: current, initial and committed
+        stiffness coincide, so the three β add up): ``alpha_m`` αM [1/s], the ``beta_*`` βK [s],
+        all finite and >= 0 (ModelError otherwise). The damping ratio at circular frequency ω
+        [rad/s] is ζ(ω) = αM/(2ω) + βK ω/2 (:func:`vtsi.damping.rayleigh_coefficients` gives the
+        pair for a ratio at two frequencies). Replaces earlier factors. The nodal masses are in
+        the αM term; elements with ``do_rayleigh=0`` (the default of ``truss`` and
+        ``zeroLength``) are in neither term, their own dashpots kept."""
         values = np.array([alpha_m, beta_k, beta_k_init, beta_k_comm], dtype=float)
         if not np.all(np.isfinite(values)) or np.any(values < 0):
             raise ModelError(f"rayleigh: factors must be finite and >= 0, got {values.tolist()}")

@@ -135,4 +135,3 @@ def coarse_text(coarse, listed=COARSE_LISTED):
     named = "; ".join(c.text() for c in coarse[:listed])
     more = len(coarse) - listed
     return named + (f"; and {more} more" if more > 0 else "")
-

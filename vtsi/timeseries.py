@@ -62,6 +62,12 @@ class TimeSeries:
 
 
 class Constant(TimeSeries):
+    """OpenSees ``timeSeries Constant``: the load factor ``factor`` [–] at every time.
+
+    ``factor`` (finite) is the first argument and ``tag`` a keyword: ``Constant(2.0, tag=1)`` is
+    OpenSees's ``timeSeries Constant 1 -factor 2.0``, and ``Constant(1)`` a factor of 1 without
+    a tag (a model that names series by tag asks for one: :meth:`TimeSeries.required_tag`)."""
+
     def __init__(self, factor=1.0, tag=None):
         self.factor, self.tag = _finite("Constant", tag, "factor", factor), tag
 
@@ -70,6 +76,13 @@ class Constant(TimeSeries):
 
 
 class Linear(TimeSeries):
+    """OpenSees ``timeSeries Linear``: the load factor ``factor × t``, ``factor`` [1/s] (t the
+    domain's time [s]; in a static analysis the pseudo-time, advanced by its load step).
+
+    ``factor`` (finite) is the first argument and ``tag`` a keyword: ``Linear(2.0, tag=1)`` is
+    OpenSees's ``timeSeries Linear 1 -factor 2.0``, and ``Linear(1)`` a factor of 1 without a
+    tag (a model that names series by tag asks for one: :meth:`TimeSeries.required_tag`)."""
+
     def __init__(self, factor=1.0, tag=None):
         self.factor, self.tag = _finite("Linear", tag, "factor", factor), tag
 

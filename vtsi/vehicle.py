@@ -23,12 +23,15 @@ import scipy.linalg
 import scipy.sparse
 
 from vtsi.errors import ModelError, as_number, is_count
+from vtsi.signature import principal_wavelength
 
 GRAVITY = 9.81
 """Default acceleration of gravity g [m/s²], as in the reference data."""
 MAX_TRAIN_SPEED = 200.0
 """[m/s] (720 km/h) The fastest train speed accepted: rail vehicles run slower (the record is
 160 m/s); a speed in km/h given as a number of m/s reads 3.6 times faster."""
+SIGNATURE = 'signature'
+"""``characteristic_length=SIGNATURE``: D from the train's dynamic signature (:mod:`vtsi.signature`)."""
 
 
 # What a CSV axle table may hold (Train.from_csv): outside these a table is taken to be in other
@@ -185,10 +188,12 @@ class Train:
     speed : float
         Constant speed V ≥ 0 [m/s], in +x.
     name : str
-    characteristic_length : float or None, keyword only
+    characteristic_length : float, 'signature' or None, keyword only
         The regular spacing D [m] (> 0) of the train's repeated load groups (coach length), or None
-        when the train has none. Speed sweeps place resonance speeds at v = n0 D / i (n0 the
-        bridge frequency [Hz], i = 1, 2, …); the train's own geometry does not depend on it.
+        when the train has none, or 'signature': D from the wheels' offsets and static loads
+        (:func:`vtsi.signature.principal_wavelength`), None when they have no regular spacing.
+        Speed sweeps place resonance speeds at v = n0 D / i (n0 the bridge frequency [Hz],
+        i = 1, 2, …); the train's own geometry does not depend on it.
     max_speed : float, keyword only
         The fastest speed accepted, here and by :meth:`with_speed`: MAX_TRAIN_SPEED [m/s] for an
         SI train (the command layer's trains in other units pass it in theirs).
@@ -200,7 +205,10 @@ class Train:
     speed : float
     name : str
     characteristic_length : float or None
-        D [m], as given.
+        D [m], as given or as its signature gave it.
+    signature_peak : SignaturePeak or None
+        With characteristic_length='signature', the signature's peak D came from (or why there is
+        none: :meth:`~vtsi.signature.SignaturePeak.text`); None when D was given.
     n_dof : int
         Total number of dofs; car i owns the dofs ``dof_start[i]:dof_start[i + 1]``.
     dof_start : ndarray, shape (n_cars + 1,), int64
@@ -236,7 +244,7 @@ class Train:
             raise ModelError(f"{where}: car_offsets must be numbers [m], got {car_offsets!r}") from None
         self.max_speed = float(max_speed)
         self.speed = _speed(speed, where, self.max_speed)
-        self.characteristic_length = _check_characteristic_length(characteristic_length, where)
+        length = _check_characteristic_length(characteristic_length, where)
         if not self.cars or not all(isinstance(car, Car) for car in self.cars):
             raise ModelError(f"{where}: cars must be a non-empty sequence of Car")
         if self.car_offsets.shape != (len(self.cars),) or not np.all(np.isfinite(self.car_offsets)):
@@ -258,6 +266,9 @@ class Train:
                              f"at {self.wheel_offsets[i - 1]} m")
         self.static_wheel_loads = _frozen(np.concatenate([car.static_wheel_loads for car in self.cars]),
                                           np.float64)
+        self.signature_peak = (principal_wavelength(self.wheel_offsets, self.static_wheel_loads)
+                               if length == SIGNATURE else None)
+        self.characteristic_length = length if self.signature_peak is None else self.signature_peak.length_m
         self.force_wheels = _frozen(np.repeat([car.n_dof == 0 for car in self.cars],
                                               [car.n_wheels for car in self.cars]), bool)
         self.wheel_dofs = _frozen(np.concatenate(
@@ -321,7 +332,7 @@ class Train:
                    name=name or f"{int(n_cars)} x {car.name}", characteristic_length=float(car_length))
 
     @classmethod
-    def from_axle_table(cls, positions, loads, speed, name='axle table', *, characteristic_length=None):
+    def from_axle_table(cls, positions, loads, speed, name='axle table', *, characteristic_length=SIGNATURE):
         """A train of moving forces, one per axle.
 
         Parameters
@@ -333,8 +344,10 @@ class Train:
         speed : float
             [m/s]
         name : str
-        characteristic_length : float or None
-            Regular spacing D of the repeated load groups [m] (see :class:`Train`).
+        characteristic_length : float, 'signature' or None
+            Regular spacing D of the repeated load groups [m], or None (no D); by default
+            'signature': D from the table's dynamic signature, None when it has no regular
+            spacing (see :class:`Train` and :attr:`Train.signature_peak`).
 
         Raises
         ------
@@ -347,7 +360,7 @@ class Train:
                    characteristic_length=characteristic_length)
 
     @classmethod
-    def from_csv(cls, path, speed, name=None, *, characteristic_length=None):
+    def from_csv(cls, path, speed, name=None, *, characteristic_length=SIGNATURE):
         """A train of moving forces from a CSV table with a header and the columns ``position_m``
         (axle offset behind the head, m) and ``load_kN`` (axle load, kN).
 
@@ -355,7 +368,8 @@ class Train:
         blank lines are skipped; the text may be UTF-8, UTF-16 with its byte-order mark
         (spreadsheets' "Unicode text") or an 8-bit code page (read as Latin-1: the header and the
         numbers are ASCII in each). Errors name the file and line. ``speed`` is in m/s;
-        ``characteristic_length`` [m] as in :class:`Train` (a CSV table carries none).
+        ``characteristic_length`` as in :meth:`from_axle_table` (a CSV table carries none: by
+        default D comes from its dynamic signature).
         """
         text = _read_text(path)
         try:
@@ -461,13 +475,14 @@ def _check_csv_units(positions, loads_kn, labels):
 
 
 def _check_characteristic_length(value, where):
-    if value is None:
-        return None
+    """D [m] as a float, None, or SIGNATURE; else a ModelError naming ``where`` and the value."""
+    if value is None or (isinstance(value, str) and value == SIGNATURE):
+        return value
     try:
         D = float(value)
     except (TypeError, ValueError):
         D = float('nan')
     if isinstance(value, bool) or not (np.isfinite(D) and D > 0):
-        raise ModelError(f"{where}: characteristic_length must be a finite length > 0 [m] or None, "
-                         f"got {value!r}")
+        raise ModelError(f"{where}: characteristic_length must be a finite length > 0 [m], "
+                         f"'{SIGNATURE}' (from the train's dynamic signature) or None, got {value!r}")
     return D

@@ -100,7 +100,11 @@ class HDF5Sink(Sink):
 
         /                 attrs: recorder, response, quantity, vtsi_version, n_nodes,
                           n_elements, ndf, record_dt, created (UTC ISO 8601) and, when the
-                          analysis gives them, analysis, integrator, dt
+                          analysis gives them, analysis ('static', 'transient', 'coupled'),
+                          integrator, dt [s] (static: the load step), loads (a text: what
+                          the response includes, e.g. 'the load patterns'; a coupled
+                          analysis: the train's weight and axle forces, and whether the
+                          bridge's self weight)
         /time             (n,) float64 [s], resizable, a dimension scale
         /values           (n, n_columns) float64, resizable along time, chunked;
                           dims[0] = /time, dims[1] = the /columns scales;

@@ -1,0 +1,253 @@
+"""A train's dynamic signature and the characteristic length D it gives an axle table
+(docs/trains.md, "D from the dynamic signature").
+
+The signature of N axle loads F_k at positions x_k along the train (increasing; G does not
+depend on their origin) is, for a wavelength λ [m],
+
+    G(λ) = max over i = 1 … N of | Σ_{k=1..i} F_k exp(2πj x_k / λ) |,
+
+in the units of F (N or kN): proportional to the largest free-vibration amplitude the axles
+build up, one after the other, in a mode excited at wavelength λ = v / n (speed v [m/s],
+frequency n [Hz]). ERRI D214's DER method (decomposition of the excitation at resonance) bounds a
+span's resonant response by this signature with the bridge's damping ζ in it, term k decaying as
+exp(−2πζ (x_i − x_k)/λ) over the distance since axle k passed; vtsi takes ζ = 0, where G depends
+on the train alone. A single axle has G = F at every λ; two axles F a distance d apart have
+G = max(F, 2F |cos(π d / λ)|).
+
+A train of N_c identical coaches of length D adds their phasors in step at λ = D / i, so G peaks
+there and grows with N_c. :func:`principal_wavelength` takes the signature's highest peak
+between 12 and 30 m (:data:`WAVELENGTH_RANGE_M`) and, as D, the axle spacing that recurs inside
+that peak; a table without a recurring spacing there gets none.
+
+References
+----------
+ERRI D214 Committee (1999), Rail bridges for speeds higher than 200 km/h, Report RP9 (DER and
+LIR methods, the signature of the train). Domínguez Barbero, J. (2001), Dinámica de puentes de
+ferrocarril para alta velocidad: métodos de cálculo y estudio de la resonancia, PhD thesis, UPM
+Madrid. Goicolea, J. M., Domínguez, J., Navarro, J. A., Gabaldón, F. (2002), New dynamic analysis
+methods for railway bridges in codes IAPF and Eurocode 1, Railway Bridges Design, Construction
+and Maintenance, Madrid.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from vtsi.errors import ModelError
+
+WAVELENGTH_RANGE_M = (12.0, 30.0)
+"""[m] Where :func:`principal_wavelength` looks for the signature's peak. Coaches run from 13.14 m
+(Talgo) to 26.4-27.5 m (UIC-Z and double-deck coaches); EN 1991-2's HSLM-A spans D = 18-27 m
+(Table 6.3), the trains its Annex E lets it stand for. The range adds about the half-width of a
+100 m train's peak (D² / (2 × 100 m): 0.85 m at 13 m, 3.6 m at 27 m) at either end, so that such
+a D is an interior peak, and starts at 12 m, below which lie the D/2 harmonics of coaches of up
+to 24 m."""
+SAMPLES_PER_LOBE = 8
+"""Coarse samples of the signature per half-width of its peaks: in wavenumber 1/λ a peak's main
+lobe reaches ±1/L from its top (L the distance from the first to the last axle), so the grid
+steps 1/(8 L) and its highest sample lies on the highest peak's lobe, within 1/(16 L) of its top."""
+SPACING_BAND_M = 0.2
+"""[m] Axle spacings that agree within this band count as one spacing: axle positions read to
+0.1 m (each rounded by up to 0.05 m) still repeat a coach length within it."""
+MIN_SHARE = 0.3
+"""A spacing is regular (the train has a D) when at least this share of the axles has another
+axle that spacing behind it (spacings within :data:`SPACING_BAND_M` counted as one): N_c
+identical coaches give (N_c − 1) / N_c of their axles, fewer with locomotives (two ICE3 cars 0.5,
+HSLM-A10 0.61, 13 Talgo axles between two locomotives 0.57); 8241 seeded irregular random tables
+of 24-200 axles reached at most 0.28 (docs/trains.md; tests/test_train_signature.py runs 120)."""
+MIN_REPEATS = 4
+"""... and at least this many axles (two identical four-axle coaches), so that a spacing met by
+chance in a short table (a single coach's bogie spacing: 2 axles) is not a D."""
+_CHUNK = 1 << 16                       # terms per block of wavelengths (0.5 MB arrays)
+
+
+@dataclass(frozen=True)
+class SignaturePeak:
+    """The highest peak of a train's signature in a range of wavelengths and the axle spacing that
+    recurs inside it (:func:`principal_wavelength`).
+
+    Attributes
+    ----------
+    wavelength_m : float or None
+        λ* [m], where the signature's highest interior peak in ``wavelength_range_m`` is; None
+        when the signature has no peak there (it rises or falls across the whole range).
+    signature : float
+        G(λ*), in the units of the loads; NaN without a peak.
+    length_m : float or None
+        D [m], to 1 mm: the median of the axle spacings within :data:`SPACING_BAND_M` that recur
+        most often inside the peak's main lobe (|1/s − 1/λ*| ≤ 1/L); None when fewer than
+        :data:`MIN_SHARE` of the axles, or fewer than :data:`MIN_REPEATS`, have another axle
+        that far behind them (no regular spacing), or without a peak.
+    repeats : int
+        How many axles have another axle the recurring spacing behind them.
+    share : float
+        ``repeats`` / the number of axles [-].
+    wavelength_range_m : tuple of float
+        The range searched [m].
+    """
+
+    wavelength_m: float | None
+    signature: float
+    length_m: float | None
+    repeats: int
+    share: float
+    wavelength_range_m: tuple
+
+    def text(self):
+        """'D = 24.775 m from its dynamic signature', or why the signature gives no D."""
+        if self.length_m is not None:
+            return f"D = {self.length_m:g} m from its dynamic signature"
+        lo, hi = self.wavelength_range_m
+        if self.wavelength_m is None:
+            why = f"it has no peak between {lo:g} and {hi:g} m"
+        elif self.share < MIN_SHARE:
+            why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} m: {100 * self.share:.0f} % of "
+                   f"the axles repeat there, a D needs {100 * MIN_SHARE:.0f} %")
+        else:
+            why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} m: {self.repeats} axles repeat "
+                   f"there, a D needs {MIN_REPEATS}")
+        return f"no characteristic length D from its dynamic signature ({why})"
+
+
+def signature(positions, loads, wavelengths):
+    """The train's signature G(λ) (module docstring) at each wavelength.
+
+    Parameters
+    ----------
+    positions : array_like, shape (n_axles,)
+        Axle positions along the train [m], strictly increasing (offsets behind the head, or
+        positions from the first axle: G does not depend on the origin).
+    loads : array_like, shape (n_axles,)
+        Axle loads F_k > 0 [N, kN or any force unit].
+    wavelengths : array_like
+        λ > 0 [m], any shape.
+
+    Returns
+    -------
+    ndarray, the shape of ``wavelengths``
+        G(λ), in the units of ``loads``.
+    """
+    x, F = _axles(positions, loads, "signature")
+    lam = np.asarray(wavelengths, dtype=float)
+    if lam.size == 0 or not np.all(np.isfinite(lam) & (lam > 0)):
+        raise ModelError(f"signature: wavelengths must be finite and > 0 [m], got {wavelengths!r}")
+    return _signature(x, F, lam.ravel()).reshape(lam.shape)
+
+
+def principal_wavelength(positions, loads, wavelength_range=WAVELENGTH_RANGE_M) -> SignaturePeak:
+    """The signature's highest peak in ``wavelength_range`` and the train's characteristic length D.
+
+    The signature is sampled on a grid uniform in wavenumber 1/λ (:data:`SAMPLES_PER_LOBE`); its
+    highest interior local maximum is refined by a bounded Brent search in 1/λ between the
+    samples either side, to 1e-9 of 1/λ. The peak is not D itself: each coach's own phasor
+    varies with λ and pulls the peak of the whole train off D (ICE3: 24.456 m for 24.775 m; a
+    Talgo between two locomotives 12.64 m for 13.14 m), while D stays the spacing at which the
+    coaches' phasors add exactly in step. So D is the axle spacing that recurs most often within
+    the peak's main lobe, spacings within :data:`SPACING_BAND_M` counted as one (ties go to the
+    spacing whose signature is highest), their median rounded to 1 mm; it is kept if it is
+    regular (:data:`MIN_SHARE`, :data:`MIN_REPEATS`).
+
+    Parameters
+    ----------
+    positions, loads : array_like, shape (n_axles,)
+        As for :func:`signature`.
+    wavelength_range : (float, float)
+        [m], 0 < low < high.
+
+    Returns
+    -------
+    SignaturePeak
+    """
+    x, F = _axles(positions, loads, "principal_wavelength")
+    try:
+        lo, hi = (float(v) for v in wavelength_range)
+    except (TypeError, ValueError):
+        lo = hi = math.nan
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+        raise ModelError(f"principal_wavelength: wavelength_range must be two lengths 0 < low < high [m], "
+                         f"got {wavelength_range!r}")
+    span = float(x[-1] - x[0])
+    none = SignaturePeak(None, math.nan, None, 0, 0.0, (lo, hi))
+    if span == 0.0:
+        return none
+    k = np.linspace(1 / hi, 1 / lo, max(16, math.ceil(SAMPLES_PER_LOBE * span * (1 / lo - 1 / hi)) + 1))
+    G = _signature(x, F, 1 / k)
+    interior = np.flatnonzero((G[1:-1] > G[:-2]) & (G[1:-1] >= G[2:])) + 1
+    if interior.size == 0:
+        return none
+    m = int(interior[np.argmax(G[interior])])
+    found = minimize_scalar(lambda q: -_signature(x, F, np.array([1 / q]))[0], bounds=(k[m - 1], k[m + 1]),
+                            method="bounded", options={"xatol": 1e-9 * k[m]})
+    k_peak, G_peak = (found.x, -found.fun) if -found.fun >= G[m] else (k[m], G[m])
+    D, repeats = _recurring_spacing(x, F, k_peak, span)
+    share = repeats / x.size
+    regular = share >= MIN_SHARE and repeats >= MIN_REPEATS
+    return SignaturePeak(float(1 / k_peak), float(G_peak), D if regular else None, repeats, share, (lo, hi))
+
+
+def _recurring_spacing(x, F, k_peak, span):
+    """(D [m] to 1 mm, repeats): the axle spacing s with |1/s − k_peak| ≤ 1/span that most axles
+    have another axle behind them at (within SPACING_BAND_M), and how many axles do; (None, 0)
+    when no spacing lies there."""
+    first, second = np.triu_indices(x.size, 1)
+    s = x[second] - x[first]
+    inside = np.abs(1 / s - k_peak) <= 1 / span
+    s, first = s[inside], first[inside]
+    if s.size == 0:
+        return None, 0
+    order = np.argsort(s, kind="stable")
+    s, first = s[order], first[order]
+    end = np.searchsorted(s, s + SPACING_BAND_M, side="right")
+    axles = np.array([np.unique(first[a:b]).size for a, b in zip(range(s.size), end)])
+    best = np.flatnonzero(axles == axles.max())
+    middle = np.array([np.median(s[a:end[a]]) for a in best])
+    a = int(np.argmax(_signature(x, F, middle)))
+    return round(float(middle[a]), 3), int(axles[best[a]])
+
+
+def _signature(x, F, lam):
+    """G(λ) for validated axles ``x`` [m], ``F`` and wavelengths ``lam`` (1-d) [m], in blocks of
+    wavelengths of at most _CHUNK terms (cos and sin in place: half the time of complex exp)."""
+    out = np.empty(lam.size)
+    rel = x - x[0]
+    step = max(1, _CHUNK // x.size)
+    for start in range(0, lam.size, step):
+        phase = (2 * np.pi / lam[start:start + step])[:, None] * rel[None, :]
+        re = np.cos(phase)
+        re *= F
+        np.cumsum(re, axis=1, out=re)
+        im = np.sin(phase, out=phase)
+        im *= F
+        np.cumsum(im, axis=1, out=im)
+        re *= re
+        im *= im
+        re += im
+        out[start:start + step] = np.sqrt(re.max(axis=1))
+    return out
+
+
+def _axles(positions, loads, where):
+    """(x, F) as float arrays: equal 1-d shapes, x finite and strictly increasing, F finite and > 0;
+    else a ModelError naming ``where`` and the first bad value."""
+    try:
+        x = np.asarray(positions, dtype=float)
+        F = np.asarray(loads, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{where}: positions and loads must be numbers, got {positions!r} and {loads!r}") from None
+    if x.ndim != 1 or x.shape != F.shape or x.size == 0:
+        raise ModelError(f"{where}: positions and loads must be 1-d arrays of equal, non-zero length, "
+                         f"got shapes {x.shape} and {F.shape}")
+    bad = np.flatnonzero(~np.isfinite(x))
+    if bad.size:
+        raise ModelError(f"{where}: axle {bad[0]}: position must be finite, got {x[bad[0]]}")
+    bad = np.flatnonzero(np.diff(x) <= 0)
+    if bad.size:
+        i = bad[0] + 1
+        raise ModelError(f"{where}: axle {i}: position {x[i]} m is not greater than the previous {x[i - 1]} m")
+    bad = np.flatnonzero(~(np.isfinite(F) & (F > 0)))
+    if bad.size:
+        raise ModelError(f"{where}: axle {bad[0]}: load must be > 0, got {F[bad[0]]:g}")
+    return x, F
