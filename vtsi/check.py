@@ -699,7 +699,6 @@ class NodeDeflection:
 
     node: int                   # its tag
     criterion: str              # 'deflection' (a span's node) or 'deflection_overhang'
-    place: str                  # 'span 2', 'overhang x = 0 to 1.5 m'
     length: float               # [m] of its span or overhang (the limit: length / 600)
     lm71: float                 # [m] Φ α |y_stat,LM71|, downward
     dynamic: np.ndarray         # (n_train, n_speed, n_seed) [m] max |y_dyn|, downward
@@ -730,16 +729,16 @@ def node_deflections(results, name, bridge, settings):
         inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
         if len(inside):
             k = f = int(inside[0])
-            key, length, place = "deflection", spans[k], f"span {k + 1}"
+            key, length = "deflection", spans[k]
         else:
             on = [h for h, (d, a, b) in enumerate(hangs) if min(a, b) - tol <= x <= max(a, b) + tol]
             if not on:            # off the deck: on the ground beyond its spans, or a joint
                 continue
             d, a, b = hangs[on[0]]
             f = int(np.flatnonzero(decks == d)[0])
-            key, length, place = "deflection_overhang", abs(b - a), f"overhang x = {min(a, b):g} to {max(a, b):g} m"
+            key, length = "deflection_overhang", abs(b - a)
         dynamic = np.abs(env[..., MIN, c])
-        out.append(NodeDeflection(int(node), key, place, float(length), Phi[f] * settings.alpha * lm71_static[c],
+        out.append(NodeDeflection(int(node), key, float(length), Phi[f] * settings.alpha * lm71_static[c],
                                   dynamic, dynamic + share * phi2[f] * train_static[:, c][:, None, None],
                                   float(Phi[f]), float(phi2[f])))
     return out
@@ -766,13 +765,13 @@ def _deflection(results, outputs, bridge, settings):
             value = max(n.lm71, at[case] if case is not None else -np.inf)
             key = n.criterion
             if worst[key] is None or value / limit > worst[key][0] / worst[key][1]:
-                worst[key] = (value, limit, n.node, n.place, n.lm71, n.Phi, n.phi2, n.length,
+                worst[key] = (value, limit, n.node, n.lm71, n.Phi, n.phi2, n.length,
                               None if value == n.lm71 else case)
         rows = []
         for key, found in worst.items():
             if found is None:
                 continue
-            value, limit, node, place, lm71, Phi_f, phi2_f, length, case = found
+            value, limit, node, lm71, Phi_f, phi2_f, length, case = found
             rule = (f"the more unfavourable of Phi x alpha x LM71 ({lm71:.4g} m; Phi = {Phi_f:.3f}, alpha = "
                     f"{settings.alpha:g}) and (1 + phi'dyn + {share:g} phi'') x each train (phi'' = {phi2_f:.3f}; "
                     "EN 1991-2 6.4.6.5(3)); limit L/600")
