@@ -1,11 +1,11 @@
 """Vertical rail irregularity: spectra, random sample profiles, and profiles as functions of x.
 
-The irregularity r(x) is the rail's vertical deviation [m], positive upwards (DESIGN §3): a wheel
-on a smooth, rigid rail at x sits at height r(x). Spectra are one-sided power spectral densities
-S(Ω) [m²/(rad/m)] of the spatial angular frequency Ω = 2π/wavelength [rad/m], so that the variance
-of r is ∫₀^∞ S(Ω) dΩ.
+The irregularity r(x) is the rail's vertical deviation [m], positive upwards (as r(t) in
+docs/theory/coupled_step.md): a wheel on a smooth, rigid rail at x sits at height r(x). Spectra
+are one-sided power spectral densities S(Ω) [m²/(rad/m)] of the spatial angular frequency
+Ω = 2π/wavelength [rad/m], so that the variance of r is ∫₀^∞ S(Ω) dΩ.
 
-The spectra's constants are those of the project's reference data (reference/README.md).
+Each spectrum's constants are stated with it (:func:`german_psd`, :func:`fra_psd`), after [1].
 
 References
 ----------

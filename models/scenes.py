@@ -1,16 +1,18 @@
-"""The benchmark scenes of DESIGN §7 as data and builders, shared by tests, benchmarks and
-examples. Every number here is either from ../shared/reference (with its source) or our own
-choice, stated as such.
+"""The benchmark scenes of docs/scenes.md as data and builders, shared by tests, benchmarks and
+examples. Every number here is either from a published source or an independent computation
+(named beside it and in docs/scenes.md) or our own choice, stated as such.
 """
 
 from .bridges import continuous_beam, simply_supported_beam
 from .cars import four_dof_car, sprung_mass
 from .trains import Train
 
-# S1: constant force over a simply supported beam (reference/README.md, speed anchors).
+# S1: constant force over a simply supported beam (Frýba 1972, ch. 1). Our own numbers: the scene
+# of the speed anchors quoted in benchmarks/README.md.
 S1 = dict(L=25.0, E=2.943e10, I=3.81, mu=36000.0, P=1.0e5, V=100.0 / 3.6, dt=1.0e-3)
 
-# S2: Yang & Yau (1997) sprung mass, after Biggs (1964) (reference/README.md).
+# S2: Yang & Yau (1997) sprung mass, after Biggs (1964); the maxima are a modal solution computed
+# for this project (20 modes, docs/scenes.md).
 S2 = dict(L=25.0, E=2.87e9, I=2.9, mu=2303.0, m_s=5750.0, k_s=1595.0e3, V=100.0 / 3.6,
           max_midspan_deflection=2.4073e-3, time_of_max=0.3711, max_sprung_acceleration=0.148)
 

@@ -30,7 +30,7 @@ def ice3(n_cars=8, *, speed, name='ICE3'):
     """An ICE3 (AVE S103 / Velaro E) trainset of 10-dof cars.
 
     Every car uses the 'ICE3_coach' parameter set (coaches C2, C3, C6, C7). Assumptions: the end
-    cars reuse the coach's masses, as the reference data state; the lighter coaches C4/C5 (41.2 t
+    cars reuse the coach's masses, as in TTB-2D's C1/C8 files; the lighter coaches C4/C5 (41.2 t
     body in TTB-2D) are not distinguished. Geometry as in TTB-2D: bogie centres 17.375 m apart,
     3.7 m from a bogie centre to a coupled car end, 4.76 m from the nose to the nearest bogie
     centre. The end cars are then 25.835 m long and the others 24.775 m, the published ICE 3 car

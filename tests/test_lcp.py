@@ -6,7 +6,7 @@ Checked against two independent solutions:
   g >= 0 off F (for SPD W exactly one set passes, up to degenerate ties);
 - the equivalent bound-constrained least-squares problem: with W = L Lᵀ (Cholesky),
   ½λᵀWλ + qᵀλ = ½‖Lᵀλ + L⁻¹q‖² + const, so λ = argmin ‖Lᵀλ + L⁻¹q‖, λ >= 0, which
-  ``scipy.optimize.nnls`` solves (DESIGN §4).
+  ``scipy.optimize.nnls`` solves (docs/theory/contact.md §3, §6).
 
 Random problems are seeded. W is built as J Jᵀ + δ I with a moderate condition number; q mixes
 signs so that typically a part of the contacts separates.
@@ -118,7 +118,8 @@ def test_any_warm_start_free_set_gives_the_same_solution(n):
 
 @pytest.mark.parametrize("n", [1, 4, 12, 40])
 def test_agrees_with_cholesky_and_nnls(n):
-    """DESIGN §4: the LCP as min ‖Lᵀλ + L⁻¹q‖, λ >= 0, solved by scipy.optimize.nnls; 1e-12."""
+    """The LCP as min ‖Lᵀλ + L⁻¹q‖, λ >= 0, solved by scipy.optimize.nnls (docs/theory/contact.md
+    §6); 1e-12."""
     rng = np.random.default_rng(300 + n)
     for _ in range(50 if n < 40 else 10):
         W, q = random_problem(rng, n, condition=1e2)

@@ -10,7 +10,7 @@ reference_solvers.md has the full tables):
   a massive wheel carries bridge modes up to ~10 kHz whose phase both solvers resolve to ~1e-5 of
   λ only), impulses at span entry and exit;
 - R1 on S2 against Yang & Yau (1997): max midspan deflection 2.4073 mm at 0.3711 s, max |sprung-mass
-  acceleration| 0.148 m/s² (reference/README.md, S2, 20 modes);
+  acceleration| 0.148 m/s² (the modal solution of docs/scenes.md, S2, 20 modes);
 - CoupledAnalysis converges to R1 on S3 (10 ms window averages of the midspan deflection: ~4×
   per halving of dt);
 - contact loss: a wheel over a raised-cosine bump on rigid ground against the closed-form lift-off,
@@ -204,8 +204,9 @@ def test_r1_r2_agree_with_irregularity_and_force_wheels():
 
 # -- R1 against published and converged numbers ----------------------------------------------
 def test_s2_yang_yau(s2_r1):
-    """Yang & Yau (1997) / Biggs: reference/README.md S2 (20 modes). Measured with 20 elements:
-    2.40733 mm at t = 0.3710 s (output every 0.5 ms), max |a| = 0.147956 m/s² (at 0.448 s)."""
+    """Yang & Yau (1997) / Biggs: the modal solution of docs/scenes.md S2 (20 modes). Measured
+    with 20 elements: 2.40733 mm at t = 0.3710 s (output every 0.5 ms), max |a| = 0.147956 m/s²
+    (at 0.448 s)."""
     bridge, sub, r1 = s2_r1
     w = -r1.node(bridge.midspan_nodes[0], 2)
     i = int(np.argmax(w))

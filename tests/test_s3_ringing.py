@@ -1,6 +1,7 @@
-"""S3 ringing study (DESIGN §4, §7): the contact force λ of the trapezoidal rule with the exact
-Hermite constraint rows rings with period 2Δt; remedy (a) ('bspline' rows) and remedy (b)
-(Bathe) remove it. Metrics and numbers: docs/theory/constraints.md §6.
+"""S3 ringing study (docs/scenes.md S3, docs/theory/constraints.md §3-§4): the contact force λ
+of the trapezoidal rule with the exact Hermite constraint rows rings with period 2Δt; remedy (a)
+('bspline' rows) and remedy (b) (Bathe) remove it. Metrics and numbers:
+docs/theory/constraints.md §6.
 
 Scene: S3 (models/scenes.py: 30 m span, 20 elements, 4-dof car, 300 km/h), the car starting
 2 m before the span on rigid ground (so that the smoothed rows of 'bspline' are zero at t = 0,

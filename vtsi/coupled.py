@@ -1,4 +1,4 @@
-"""Coupled train-bridge transient analysis (Fedorova & Sivaselvan 2017; DESIGN §4-§5).
+"""Coupled train-bridge transient analysis (Fedorova & Sivaselvan 2017; docs/theory/coupled_step.md).
 
 Bridge and train are separate subdomains; the wheel-rail contact forces are the Lagrange
 multipliers of a :class:`~vtsi.constraint.MovingLoadConstraint`. Every effective matrix is

@@ -1,4 +1,4 @@
-"""The compiled time loop of a coupled train-bridge analysis (DESIGN §4).
+"""The compiled time loop of a coupled train-bridge analysis (docs/theory/coupled_step.md).
 
 Each stage of each step, for bridge (b) and train (t) subdomains with constant factored
 effective matrices K̂ (acceleration form, see :mod:`vtsi.integrators.base`):

@@ -1,4 +1,4 @@
-"""The bridge subdomain the time loops step (DESIGN §4): one contract, two implementations.
+"""The bridge subdomain the time loops step (docs/modal.md): one contract, two implementations.
 
 A time loop (:func:`vtsi.timeloop.run_linear_steps`, :func:`vtsi.coupled_loop.run_coupled_steps`)
 advances a padded state bank ``(n_slots, n + 2 kd)`` of ``n`` coordinates: per integrator stage, a

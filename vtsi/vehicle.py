@@ -2,10 +2,10 @@
 force) and a :class:`Train` (cars in a row at a constant speed), the core types the coupled
 analysis steps; :mod:`vtsi.models` builds catalogue cars and trains from them.
 
-Conventions (DESIGN §3): x along the track, the train moves in +x; y vertical, positive up;
-rotations rz counter-clockwise positive, so a point a metres *ahead* of a body's centre (larger
-x) moves up by ``a * rz``. SI units (kg, kg·m², N/m, N·s/m, m, N). A wheel's contact force
-λ ≥ 0 is compression and pushes the wheel up.
+Conventions (OpenSees's 2-D frame, as docs/theory/coupled_step.md): x along the track, the train
+moves in +x; y vertical, positive up; rotations rz counter-clockwise positive, so a point a metres
+*ahead* of a body's centre (larger x) moves up by ``a * rz``. SI units (kg, kg·m², N/m, N·s/m, m,
+N). A wheel's contact force λ ≥ 0 is compression and pushes the wheel up.
 
 Positions along a train are *offsets* measured backwards from the train's head (the reference
 point at offset 0): a car's offset locates its reference point (its leading wheel), and a
@@ -26,7 +26,8 @@ from vtsi.errors import ModelError, as_number, is_count
 from vtsi.signature import principal_wavelength
 
 GRAVITY = 9.81
-"""Default acceleration of gravity g [m/s²], as in the reference data."""
+"""Default acceleration of gravity g [m/s²], the value the S2 reference solution (Yang & Yau 1997
+data, docs/scenes.md) was computed with."""
 MAX_TRAIN_SPEED = 200.0
 """[m/s] (720 km/h) The fastest train speed accepted: rail vehicles run slower (the record is
 160 m/s); a speed in km/h given as a number of m/s reads 3.6 times faster."""

@@ -1,5 +1,5 @@
-"""The design-check workflow (DESIGN §9): the stages one after the other, each doing its own job
-on the results file — sweep (passages), check (criteria), the governing cases' histories (the
+"""The design-check workflow (docs/check.md): the stages one after the other, each doing its own
+job on the results file — sweep (passages), check (criteria), the governing cases' histories (the
 sweep again, for them only), the 3-D scene and the report. Used by ``vtsi check`` and
 ``examples/design_check.py``."""
 import logging

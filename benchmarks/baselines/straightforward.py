@@ -1,7 +1,7 @@
 """The coupled train-bridge step of vtsi written the straightforward way: a Python loop over the
 steps, constraint rows assembled with numpy, scipy's sparse solver for every bridge solve.
 
-Same algorithm as :mod:`vtsi.coupled_loop` (DESIGN §4, docs/theory/coupled_step.md), same
+Same algorithm as :mod:`vtsi.coupled_loop` (docs/theory/coupled_step.md), same
 integrator (Newmark, acceleration form, one stage), same velocity-level constraint and the same
 projection; the math is re-derived here, not the code copied. Per step, with γ, β Newmark's
 parameters and K̂ = M + γΔt C + βΔt² K for each subdomain:

@@ -1,8 +1,8 @@
 """Scene S1: a constant force crossing a simply supported beam (Frýba), vtsi vs OpenSeesPy.
 
-Model (DESIGN §7, reference/README.md "Speed anchors for S1"): span 25 m, E = 2.943e10 Pa,
-I = 3.81 m⁴, A = 1 m², 36 t/m, consistent mass, ``n_el`` equal elasticBeamColumn elements
-(20 and 200), pinned / roller supports, no damping; P = 100 kN downward at 100 km/h;
+Model (docs/scenes.md S1; the scene of the speed anchors in benchmarks/README.md): span 25 m,
+E = 2.943e10 Pa, I = 3.81 m⁴, A = 1 m², 36 t/m, consistent mass, ``n_el`` equal elasticBeamColumn
+elements (20 and 200), pinned / roller supports, no damping; P = 100 kN downward at 100 km/h;
 Newmark average acceleration, dt = 1 ms, 1400 steps (the crossing takes 900 ms).
 
 Both codes get the *same* nodal loads: the peer's ``nodal_force_histories`` (hat-function

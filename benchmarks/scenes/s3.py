@@ -9,8 +9,8 @@ equilibrium, and the run ends ``RUN_OUT`` = 50 ms after the rear wheel has left 
 
 Methods: Newmark (average acceleration, 'hermite' constraint rows), HHT with α = 0.9 (OpenSees
 convention, ρ∞ = 0.82), Bathe (γ = 1/2, ρ∞ = 0, two stages per step), Newmark with the
-'bspline' constraint (remedy (a) of DESIGN §4), and Newmark with 'hermite' rows and
-``exact_events=True`` (each span entry and exit taken at its own time,
+'bspline' constraint (remedy (a), docs/theory/constraints.md §4), and Newmark with 'hermite'
+rows and ``exact_events=True`` (each span entry and exit taken at its own time,
 docs/theory/coupled_step.md §6).
 
 (i) Work-precision, at 300 km/h, Δt = 4 ms … 0.125 ms, against the reference R1
@@ -19,8 +19,8 @@ docs/theory/coupled_step.md §6).
 
     - contact force error = RMS over the wheels and the samples of the crossing (first entry to
       last exit) of (λ − λ_ref) / P, without the samples within ±5 ms of a wheel's entry or exit
-      (where the exact bilateral λ holds an impulse, DESIGN §4; a time-stepping scheme spreads it
-      over a step as a spike of impulse/Δt);
+      (where the exact bilateral λ holds an impulse, docs/theory/constraints.md §5; a
+      time-stepping scheme spreads it over a step as a spike of impulse/Δt);
     - deflection error = max |w − w_ref| / max |w_ref| of the midspan deflection, whole run;
     - cost = CPU time (``time.process_time``) of ``CoupledAnalysis.run(n)`` from the dead-load
       state, the analysis already compiled and factored by a warm-up run; best of ``repeats``

@@ -49,11 +49,11 @@ What is timed (wall clock, ``time.perf_counter``; best of ``repeats``, the codes
   25 m approach on rigid ground), the same bridge, mesh, Δt and speeds, outputs the midspan
   acceleration and the contact forces, ``workers=1`` and the pool. Damping ζ = 1.0 % only: Δζ
   (Eq. 6.13) stands for the vehicle-bridge interaction that this model contains. Constraint rows
-  'bspline' (DESIGN §4 remedy (a)): with Hermite rows, Newmark rings after each wheel crosses a
-  support (max |a| 71.9 m/s² at 420 km/h, Δt = 0.5 ms, against 15.4 with B-spline rows, with
-  Bathe or with exact events). The contact-force extremes are one-step spikes at the supports,
-  where the bilateral λ holds an impulse (the rail kinks there): they grow as Δt shrinks and are
-  not converged values (docs/benchmarks.md, S4).
+  'bspline' (remedy (a), docs/theory/constraints.md §4): with Hermite rows, Newmark rings after
+  each wheel crosses a support (max |a| 71.9 m/s² at 420 km/h, Δt = 0.5 ms, against 15.4 with
+  B-spline rows, with Bathe or with exact events). The contact-force extremes are one-step spikes
+  at the supports, where the bilateral λ holds an impulse (the rail kinks there): they grow as Δt
+  shrinks and are not converged values (docs/benchmarks.md, S4).
 
 - the modal bridge (``modal``): the same 570 passages with ``bridge='modal'`` (10 elements, the
   modes up to 1.1 × the EN cut-off: 3, sampled every 1 ms, ζ on every mode), ``workers=1``;

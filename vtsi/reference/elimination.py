@@ -1,6 +1,7 @@
 """Reference solution R1: the bilateral train-bridge problem by constraint elimination.
 
-The coupled equations (DESIGN §3-§4; λ ≥ 0 is compression: it pushes the wheel up, the rail down)
+The coupled equations (docs/theory/coupled_step.md §1; λ ≥ 0 is compression: it pushes the wheel
+up, the rail down)
 
     M_b ü_b + C_b u̇_b + K_b u_b = P_b(t) − Nᵀ λ
     M_t ü_t + C_t u̇_t + K_t u_t = P_t + Sᵀ λ

@@ -1,7 +1,7 @@
 """Reference solution R2: the bilateral train-bridge DAE with SUNDIALS IDA (scikit-sundae).
 
-The full system (DESIGN §4), with u = [u_b; u_t], M = blkdiag(M_b, M_t) (likewise C, K),
-G(t) = [−N(t), S] and P = [P_b(t); P_t],
+The full system (docs/theory/coupled_step.md §1), with u = [u_b; u_t], M = blkdiag(M_b, M_t)
+(likewise C, K), G(t) = [−N(t), S] and P = [P_b(t); P_t],
 
     M ü + C u̇ + K u = P + Gᵀ λ,        G u = r(t)            (index 3),
 
