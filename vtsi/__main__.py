@@ -54,8 +54,9 @@ the bridge and defines its track ('track 1 -eleRange 1 40'). Scripts must be in 
 TRAINS: catalogue names (see 'vtsi trains'; 'A1' for 'HSLM-A1'), 'HSLM-A' for all of
 HSLM-A1 .. HSLM-A10, or axle-table CSV files (columns position_m, load_kN).
 SPEEDS [km/h]: START:STOP:STEP (STOP included when on the grid), v1,v2,..., or en:LINE_SPEED
-for the EN 1991-2 6.4.6.2 series (144 km/h to 1.2 x LINE_SPEED in 10 km/h steps, 2 km/h
-steps within +-10 % of every resonance speed n D / i of the bridge and trains).
+for the EN 1991-2 6.4.6.2 series (144 km/h to 1.2 x LINE_SPEED in 10 km/h steps, plus every
+resonance speed n D / i itself (n each deck's first three vertical frequencies, D each train's
+characteristic length, i = 1..4) and 2 km/h steps within +-10 % of it; rounded to 0.01 km/h).
 
 Prints the table of envelope maxima with the governing train and speed per quantity, and a
 note when dt takes fewer than 20 steps a period of the EN cut-off (what 'vtsi check' calls not
@@ -388,8 +389,8 @@ def _speeds_reach(spec, line_kmh):
 
 
 def _prepare_sweep(ns, out):
-    from vtsi.bridge_file import read_bridge_file
-    from vtsi.errors import BridgeError
+    from vtsi.bridge_file import ANALYSIS_KEYS, read_bridge_file
+    from vtsi.errors import BridgeError, SettingError
     from vtsi.passage import PassageRunner, PassageSettings
     from vtsi.sweep import Sweep, en_speed_grid, speeds
     from vtsi.sweep_results import ResultsWriter
@@ -408,11 +409,11 @@ def _prepare_sweep(ns, out):
     with _stdout_to_stderr():                          # stdout carries only the results table
         source = read_bridge_file(ns.bridge, ns.track)
     values = dict(source.settings)
-    for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping", "irregularity", "modal_hz"):
-        if getattr(ns, name) is not None:
-            values[name] = getattr(ns, name)
+    given = {name: getattr(ns, name) for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping",
+                                                  "irregularity", "modal_hz") if getattr(ns, name) is not None}
     if ns.bridge_model is not None:
-        values["bridge"] = ns.bridge_model
+        given["bridge"] = ns.bridge_model
+    values.update(given)
     try:                                               # the bridge is analysed from here on
         if getattr(ns, "command", None) == "check":
             values["damping"] = _code_damping(ns, source, values)
@@ -438,7 +439,19 @@ def _prepare_sweep(ns, out):
         if str(source.path) in text:
             raise
         raise _UsageError(f"bridge file {source.path}: {text}") from None
+    except SettingError as exc:                        # a setting the bridge file gave: its key named
+        key = next((k for k, name in ANALYSIS_KEYS.items() if name == exc.setting), None)
+        if key is None or exc.setting not in source.settings or exc.setting in given:
+            raise
+        raise _UsageError(f"bridge file {source.path}: [analysis] {key} = {source.settings[exc.setting]!r}: "
+                          f"{_message(exc)}") from None
     sweep.prepare()                                    # integrator, contact ...: refused before any file is written
+    if not ns.quiet:                                   # where each axle table's D came from, once
+        for name in trains:
+            peak = sweep.runner.train(name, 40.0).signature_peak
+            if peak is not None:
+                _print_err(f"vtsi {ns.command}: {name}: {peak.text()}" + (
+                    "" if peak.length_m is not None else ": it has no resonance speeds to check the grid against"))
     if os.path.exists(out) and not ns.overwrite:      # refuses, or checks the file to resume (and its lock)
         ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume).close()
     return sweep
@@ -515,6 +528,22 @@ def _script_damping(bridge):
     if not parts:
         return ""
     return f"the bridge script's {' and '.join(parts)} ({os.path.basename(bridge.description['path'])})"
+
+
+def _sweep_damping(sweep, ns, results):
+    """The damping a sweep's passages had, in words for its summary's bridge line: the ratio ζ of
+    the results file's settings and where it came from (--damping, or the bridge file's
+    [analysis] damping), else the bridge script's own (:func:`_script_damping`), else none."""
+    zeta = results.identity["settings"].get("damping")
+    in_script = _script_damping(sweep.bridge)
+    if zeta is not None:
+        where = "--damping" if ns.damping is not None else "the bridge file's [analysis] damping"
+        over = ", over the script's own" if in_script else ""
+        return f"damping ζ = {_percent(zeta)} ({where}{over})"
+    if in_script:
+        return f"damping: {in_script}"
+    script = sweep.bridge.description.get("kind") == "script"
+    return f"damping: none ({'the script defines' if script else 'the bridge file gives'} none; --damping ZETA)"
 
 
 def _percent(zeta):
@@ -680,7 +709,7 @@ def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
         return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED, command)
     if summary:
         note = sweep.resolution_note()              # a dt the check would call unconverged
-        _print_out(results.summary() + (f"\n{note}" if note else ""))
+        _print_out(results.summary(_sweep_damping(sweep, ns, results)) + (f"\n{note}" if note else ""))
         if not ns.quiet:
             _print_err(f"vtsi sweep: results in {out}")
     return 0

@@ -345,7 +345,7 @@ def _run_tcl(path, session):
     except Exception as exc:      # the user's script: any error, re-raised naming the script and line
         line = script_line(exc, path)
         line = f", line {line}" if line else ""
-        raise BridgeModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
+        raise BridgeModelError(f"bridge script {path}{line}: {_first_line(exc)}") from None
     if code:
         raise BridgeModelError(f"bridge script {path}: exited with status {code}")
 
@@ -363,15 +363,18 @@ def _run_python(path, session):
     except Exception as exc:      # the user's script: any error, re-raised naming the script and line
         frames = [f for f in traceback.extract_tb(exc.__traceback__) if os.path.abspath(f.filename) == path]
         line = f", line {frames[-1].lineno}" if frames else ""
-        raise BridgeModelError(f"bridge script {path}{line}: {type(exc).__name__}: {_first_line(exc)}") from None
+        raise BridgeModelError(f"bridge script {path}{line}: {_first_line(exc)}") from None
     finally:
         opensees.set_session(old_session)
         sys.argv, sys.path[:] = old_argv, old_path
 
 
 def _first_line(exc):
+    """The first line of a script's error: vtsi's own message as it is (it names the command and
+    the value), any other error (Python's) after its class: 'NameError: name 'x' is not defined'."""
     text = str(exc).strip()
-    return text.splitlines()[0] if text else ""
+    text = text.splitlines()[0] if text else ""
+    return text if isinstance(exc, VtsiError) else f"{type(exc).__name__}: {text}"
 
 
 # -- the SI check ----------------------------------------------------------------------------

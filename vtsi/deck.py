@@ -52,15 +52,15 @@ JOINT_STIFFNESS_SHARE = 0.01  # a track element this much less stiff in bending 
 class DeckLayout:
     """A bridge's layout along its track (see the module docstring).
 
-    deck_nodes : the track's nodes in x order (nodes at one x in the track's order).
-    support_nodes : the track nodes that carry it, in x order.
+    track_nodes : every node of the track, in x order (nodes at one x in the track's order).
+    support_nodes : the track nodes that carry a deck, in x order (not those on the ground).
     span_ends : ((x_a, x_b), ...) [m] each span's supports.
     midspan_nodes : the track node nearest each span's middle.
     span_decks : the deck of each span (index into ``deck_ends``).
     deck_ends : ((x_0, x_1), ...) [m] each deck's ends: its spans and overhangs.
     nodes_by_deck : ((node tags), ...) each deck's track nodes, in x order (a deck's end nodes
         at a joint are its own; two decks ending on one pier each keep their end node).
-    ground_nodes : the track's nodes on no deck (approaches on the ground).
+    ground_nodes : the track's nodes on no deck (approaches on the ground, a joint's inner nodes).
     pier_nodes : the track nodes over the intermediate supports of continuous decks, in x order:
         where two spans of one deck meet (both bearings of a pier whose deck runs on over a short
         stretch); none where two decks end on one pier or at a joint.
@@ -68,7 +68,7 @@ class DeckLayout:
         nodes (a rail on its pads over the deck): the deck outputs are the track's.
     """
 
-    deck_nodes: tuple
+    track_nodes: tuple
     support_nodes: tuple
     span_ends: tuple
     midspan_nodes: tuple
@@ -82,6 +82,12 @@ class DeckLayout:
     @property
     def span_lengths(self):
         return [b - a for a, b in self.span_ends]
+
+    @property
+    def deck_nodes(self):
+        """The track's nodes on a deck (its spans and overhangs), in x order: every track node
+        but those on no deck (``ground_nodes``)."""
+        return tuple(n for n in self.track_nodes if n not in self.ground_nodes)
 
 
 def deck_layout(model, track):
@@ -174,11 +180,13 @@ def deck_layout(model, track):
     members = [{n for e in runs[d] for n in ends[e]} for d in used]
     on_deck = set().union(*members)
     piers = [n for (_, b, d), (a, _, e) in zip(spans, spans[1:]) if d == e for n in dict.fromkeys((b, a))]
-    return DeckLayout(tuple(deck), tuple(supports), tuple((x[a], x[b]) for a, b, _ in spans),
+    ground = frozenset(n for n in deck if n not in on_deck)
+    return DeckLayout(tuple(deck), tuple(n for n in supports if n not in ground),
+                      tuple((x[a], x[b]) for a, b, _ in spans),
                       tuple(_middle(deck, x, x[a], x[b]) for a, b, _ in spans),
                       tuple(renumber[d] for *_, d in spans), deck_ends,
-                      tuple(tuple(n for n in deck if n in mine) for mine in members),
-                      frozenset(n for n in deck if n not in on_deck), tuple(piers), on_structure)
+                      tuple(tuple(n for n in deck if n in mine) for mine in members), ground, tuple(piers),
+                      on_structure)
 
 
 def _middle(deck, x, a, b):

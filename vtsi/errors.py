@@ -9,6 +9,7 @@ The classes, by what is at fault::
     │   └── DivergenceError              a run that diverged (.step, .time)
     ├── CommandError (ValueError)        a command of the OpenSees-style layer
     ├── SweepError (ValueError)          a sweep that cannot run as asked
+    │   ├── SettingError                 a setting that does not suit the bridge or trains (.setting)
     │   ├── PassageError                 a passage that failed while the sweep ran
     │   └── BridgeSweepError             a bridge the sweep refuses (also a BridgeError)
     └── BridgeError                      the bridge is at fault (never raised alone)
@@ -78,6 +79,18 @@ class BridgeModelError(BridgeError, ModelError):
 class BridgeSweepError(BridgeError, SweepError):
     """A :class:`BridgeError` found when a :class:`~vtsi.sweep.Sweep` is built (a
     :class:`BridgeModelError` of its passages' bridge, re-raised as the sweep's: ``sweep: ...``)."""
+
+
+class SettingError(SweepError):
+    """A setting of a sweep's passages does not suit its bridge or trains (a time step that does
+    not resolve the bridge's first mode, or the passage of a train at a speed). ``setting``: the
+    :class:`~vtsi.passage.PassageSettings` field at fault ('dt'), so that a caller that read the
+    value from a file names the file and its key (``vtsi sweep``: 'bridge file b.toml: [analysis]
+    dt_s = 1: ...')."""
+
+    def __init__(self, message, setting):
+        super().__init__(message)
+        self.setting = setting
 
 
 class PassageError(SweepError):

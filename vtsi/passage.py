@@ -41,7 +41,7 @@ from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import decks_cutoff_hz, deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
-from vtsi.errors import BridgeModelError, ModelError, VtsiError, as_flag, as_positive
+from vtsi.errors import AnalysisError, BridgeModelError, ModelError, SettingError, VtsiError, as_flag, as_positive
 from vtsi.influence import InfluenceLines
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
@@ -65,6 +65,7 @@ DEFAULT_DT = 1e-3               # [s] a passage's default time step ...
 STEPS_PER_CUTOFF_PERIOD = 20    # ... or finer: 20 steps a period of the EN cut-off frequency (Newmark's
                                 # period error there (2π/20)²/12 = 0.8 %, its samples' under-read 1.2 %)
 PLAUSIBLE_FREQUENCY_SHARE = 0.2  # a first frequency below this share of EN 1991-2 Fig. 6.10's lower limit: other units
+E_UNITS = (("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9))   # E typed in them as Pa: f1 ∝ √E reads √(factor) times low
 STEPS_ON_TRACK = 10             # an axle takes at least 10 steps to cross the track
 MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one passage
 TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
@@ -78,7 +79,7 @@ IRREGULARITIES = ("german-low", "german-high") + tuple(f"fra-{k}" for k in range
 # Output responses: node responses (NodeRecorder names) and the vehicle responses.
 NODE_RESPONSES = {"disp": "m", "vel": "m/s", "accel": "m/s^2", "rotation": "rad", "moment": "N m"}
 VEHICLE_RESPONSES = {"contact_force": "N", "car_body_accel": "m/s^2"}
-PLACES = ("deck", "midspan", "supports", "piers")
+PLACES = ("deck", "track", "midspan", "supports", "piers")
 CONTACT_FORCE_WINDOW = 0.01   # [s] a sweep's contact forces are their centred moving mean over this window
 BODY_ON_TWO_SUPPORTS = ("four_dof", "ten_dof")   # car kinds whose body rests at the mean of each wheel half
 BRIDGE_MODELS = ("fe", "modal", "modal-stepped")
@@ -118,10 +119,12 @@ class Output:
         cars (fidelity 'full'); a train of moving forces skips them. Their envelopes count what
         happens on the bridge (:meth:`PassageRunner.counted`); ``CaseResult.whole_run`` holds
         their envelopes over the whole run.
-    nodes : 'deck' (every node of the track, in x order), 'midspan' (the node nearest each
-        span's middle), 'supports' (the track's nodes that carry it: uy fixed, or on bearings or piers,
-        :func:`vtsi.deck.deck_layout`), 'piers' (those over the intermediate supports of
-        continuous decks; a bridge without any produces no such output) or a tuple of node tags.
+    nodes : 'deck' (the track's nodes on a deck, its spans and overhangs, in x order:
+        :func:`vtsi.deck.deck_layout`; the approaches on the ground are not), 'track' (every node
+        of the track, in x order, the approaches' too), 'midspan' (the node nearest each span's
+        middle), 'supports' (the track's nodes that carry a deck: uy fixed, or on bearings or
+        piers), 'piers' (those over the intermediate supports of continuous decks; a bridge
+        without any produces no such output) or a tuple of node tags.
     history : keep the time history too.
     cutoff : None (the FE model's full response), 'en' (the EN 1990 A2.4.4.2.1 cut-off
         max(30 Hz, 1.5 n₀, n₃); of several decks the largest of theirs, :func:`en_cutoff_hz`)
@@ -380,6 +383,24 @@ def rail_frequency_hz(irregularity, cars, speed_kmh):
     return float(speed_kmh) / 3.6 / WAVELENGTH_BAND[0]
 
 
+def e_unit_slip(f1, band=None):
+    """The hint for a first vertical frequency ``f1`` [Hz] far too low: the unit of E_UNITS in
+    which E typed as pascals (the rest SI) brings f₁ into EN 1991-2 Fig. 6.10's ``band`` (lower,
+    upper) [Hz] of the span, or nearest it within half a unit's step (f₁ ∝ √E: kPa reads f₁ 31.6
+    times low, MPa 1000, GPa 31623); all of them when none does or without a band."""
+    ratios = [math.sqrt(factor) for _, factor in E_UNITS]
+    shown = [f"{r:.3g}" if r < 100 else f"{r:.0f}" for r in ratios]
+    if band is not None:
+        # how far f₁ √factor lies outside the band, in decades; a unit's step is log10 √1000 = 1.5
+        off = [max(0.0, math.log10(band[0] / (f1 * r)), math.log10(f1 * r / band[1])) for r in ratios]
+        k = int(np.argmin(off))
+        if off[k] <= 0.5 * math.log10(ratios[1] / ratios[0]):
+            return f"E in {E_UNITS[k][0]} reads f1 {shown[k]} times low"
+    units = [unit for unit, _ in E_UNITS]
+    return (f"E in {', '.join(units[:-1])} or {units[-1]} reads f1 {', '.join(shown[:-1])} or {shown[-1]} "
+            "times low")
+
+
 def resolves(dt, frequency_hz):
     """Whether the time step ``dt`` [s] takes at least STEPS_PER_CUTOFF_PERIOD steps a period of
     ``frequency_hz`` [Hz] (rounding aside): the rule the default Δt keeps (:func:`dt_resolving`)
@@ -511,11 +532,12 @@ class PassageRunner:
     en_cutoff_hz : the bridge's EN cut-off [Hz], the largest of its decks'
         (:func:`en_cutoff_hz`): the default Δt, 'en' outputs, the Rayleigh damping's upper
         anchor and the modal basis follow it.
-    deck_nodes, midspan_nodes : node tags along the track (x order) and at each span's middle.
+    track_nodes, deck_nodes, midspan_nodes : node tags of the track (x order), of those on a deck
+        (its spans and overhangs, x order: not the ground's) and at each span's middle.
     span_ends : (n_spans, 2) x of each span's first and last support [m]; span_lengths [m]
         their distances; span_decks the deck of each span; deck_ends (n_decks, 2) the x of each
         deck's ends (its spans and overhangs); ground_nodes the track's nodes on no deck
-        (approaches); support_nodes the track's nodes that carry it, pier_nodes those over the
+        (approaches); support_nodes the track's nodes that carry a deck, pier_nodes those over the
         intermediate supports of continuous decks. The rules:
         :mod:`vtsi.deck` (docs/sweeps.md).
     track_on_a_structure : the track stands on elements over another structure at most of its
@@ -529,7 +551,7 @@ class PassageRunner:
         if len(set(names)) != len(names):
             raise ModelError(f"sweep outputs: names must differ, got {names}")
         self.track = Track(self.model, list(track_elements))
-        self.deck_nodes, self.midspan_nodes, self.span_ends = self._deck()
+        self.track_nodes, self.deck_nodes, self.midspan_nodes, self.span_ends = self._deck()
         self.outputs = tuple(o for o in outputs if o.nodes != "piers" or self.pier_nodes)   # none: not produced
         self.span_lengths = [b - a for a, b in self.span_ends]
         for o in self.outputs:
@@ -540,23 +562,23 @@ class PassageRunner:
             self.frequencies, self.mode_shapes = vertical_frequencies(self.model, 3, ground=self.ground_nodes)
             self.deck_frequencies = self.frequencies[None, :] if len(self.nodes_by_deck) == 1 else \
                 deck_frequencies(self.model, self.nodes_by_deck, 3, ground=self.ground_nodes)
-        except ModelError as exc:
+        except (ModelError, AnalysisError) as exc:      # a mechanism (eigen factors K) is the bridge's too
             raise BridgeModelError(f"bridge (its track: {len(self.track.elements)} elements, x = "
                                    f"{self.track.x_begin:g} to {self.track.x_end:g} m): {exc}") from None
         # a first frequency far below what a span of its length has: E, I or the mass in other units
         # (E in kPa reads f₁ 31.6 times low: it passes an absolute floor on most spans)
         span = max(self.span_lengths, default=None)
+        band = None if span is None else frequency_limits(span)
         if span is None:
             lowest, floor = MIN_FIRST_FREQUENCY_HZ, f"the {MIN_FIRST_FREQUENCY_HZ:g} Hz of any railway bridge"
         else:                          # (a fifth of Fig. 6.10's limit is >= 0.31 Hz: above the absolute floor)
-            limit = frequency_limits(span)[0]
-            lowest = PLAUSIBLE_FREQUENCY_SHARE * limit
+            lowest = PLAUSIBLE_FREQUENCY_SHARE * band[0]
             floor = (f"{PLAUSIBLE_FREQUENCY_SHARE:g} x EN 1991-2 Figure 6.10's lower limit for its {span:g} m span "
-                     f"({limit:.3g} Hz)")
+                     f"({band[0]:.3g} Hz)")
         if not self.frequencies[0] >= lowest:
             raise BridgeModelError(f"bridge: first vertical frequency {self.frequencies[0]:.3g} Hz, below {floor}: "
-                                   "are E, I or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; E in kPa "
-                                   "reads f1 31.6 times low)")
+                                   "are E, I or the mass in other units? (vtsi's data are SI: Pa, m^4, kg/m; "
+                                   f"{e_unit_slip(self.frequencies[0], band)})")
         self.en_cutoff_hz = en_cutoff_hz(self.frequency_record)
         if settings.dt is None:
             rail = rail_frequency_hz(settings.irregularity, settings.cars, top_speed_kmh)
@@ -595,7 +617,7 @@ class PassageRunner:
     def _deck(self):
         """The bridge's layout along its track (:func:`vtsi.deck.deck_layout`): sets
         ``support_nodes``, ``span_decks``, ``deck_ends``, ``nodes_by_deck``, ``ground_nodes`` and
-        ``track_on_a_structure``; returns the deck nodes, mid-span nodes and span ends."""
+        ``track_on_a_structure``; returns the track nodes, deck nodes, mid-span nodes and span ends."""
         layout = deck_layout(self.model, self.track)
         self.support_nodes = list(layout.support_nodes)
         self.pier_nodes = list(layout.pier_nodes)
@@ -604,7 +626,7 @@ class PassageRunner:
         self.nodes_by_deck = layout.nodes_by_deck
         self.ground_nodes = layout.ground_nodes
         self.track_on_a_structure = layout.track_on_a_structure
-        return list(layout.deck_nodes), list(layout.midspan_nodes), list(layout.span_ends)
+        return list(layout.track_nodes), list(layout.deck_nodes), list(layout.midspan_nodes), list(layout.span_ends)
 
     @property
     def frequency_record(self):
@@ -701,24 +723,24 @@ class PassageRunner:
                    + runouts[i] for i in cars)
 
     def check_resolution(self, name, speed_kmh):
-        """A ModelError unless the passage of train ``name`` at ``speed_kmh`` [km/h] is resolved
-        by Δt: Δt <= T₁/STEPS_PER_PERIOD, an axle crossing the track in at least STEPS_ON_TRACK
-        steps, and at most MAX_PASSAGE_STEPS steps in all."""
+        """A :class:`~vtsi.errors.SettingError` (setting 'dt') unless the passage of train ``name``
+        at ``speed_kmh`` [km/h] is resolved by Δt: Δt <= T₁/STEPS_PER_PERIOD, an axle crossing the
+        track in at least STEPS_ON_TRACK steps, and at most MAX_PASSAGE_STEPS steps in all."""
         dt, f1 = self.settings.dt, float(self.frequencies[0])
         if dt > 1.0 / (STEPS_PER_PERIOD * f1):
-            raise ModelError(f"time step dt = {dt:g} s does not resolve the bridge's first mode ({f1:.4g} Hz, "
-                             f"period {1.0 / f1:.4g} s): take dt <= {1.0 / (STEPS_PER_PERIOD * f1):.3g} s "
-                             f"(T1/{STEPS_PER_PERIOD})")
+            raise SettingError(f"time step dt = {dt:g} s does not resolve the bridge's first mode ({f1:.4g} Hz, "
+                               f"period {1.0 / f1:.4g} s): take dt <= {1.0 / (STEPS_PER_PERIOD * f1):.3g} s "
+                               f"(T1/{STEPS_PER_PERIOD})", "dt")
         train = self.train(name, speed_kmh / 3.6)
         length = self.track.x_end - self.track.x_begin
         if length / train.speed < STEPS_ON_TRACK * dt:
-            raise ModelError(f"{name} at {speed_kmh:g} km/h crosses the {length:g} m track in "
-                             f"{length / train.speed:.3g} s, fewer than {STEPS_ON_TRACK} steps of dt = {dt:g} s: "
-                             "lower the speed or dt")
+            raise SettingError(f"{name} at {speed_kmh:g} km/h crosses the {length:g} m track in "
+                               f"{length / train.speed:.3g} s, fewer than {STEPS_ON_TRACK} steps of dt = {dt:g} s: "
+                               "lower the speed or dt", "dt")
         n = self.n_steps(train)
         if n > MAX_PASSAGE_STEPS:
-            raise ModelError(f"{name} at {speed_kmh:g} km/h needs {n:.3g} steps of dt = {dt:g} s, more than "
-                             f"{MAX_PASSAGE_STEPS:.0e}: raise the speed or dt")
+            raise SettingError(f"{name} at {speed_kmh:g} km/h needs {n:.3g} steps of dt = {dt:g} s, more than "
+                               f"{MAX_PASSAGE_STEPS:.0e}: raise the speed or dt", "dt")
 
     def _irregularity(self, seed, x_first, x_last, start):
         """The seed's profile over [x_first, x_last], faded in over TAPER metres from ``start``
@@ -890,9 +912,11 @@ class PassageRunner:
         return output_map
 
     def output_nodes(self, nodes):
-        """Node tags of an output's ``nodes`` ('deck', 'midspan' or tags)."""
+        """Node tags of an output's ``nodes`` (a place of PLACES, or tags)."""
         if nodes == "deck":
             return list(self.deck_nodes)
+        if nodes == "track":
+            return list(self.track_nodes)
         if nodes == "midspan":
             return list(self.midspan_nodes)
         if nodes == "supports":

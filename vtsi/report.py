@@ -4,7 +4,8 @@ Markdown with PNG charts (docs/report.md).
     from vtsi.report import write_report
     paths = write_report("hslm.h5", "report/")     # report/report.html, report/report.md, report/img/*.png
 
-A report lays out what the check found (DESIGN §9): it reads everything from the results file
+A report lays out what the check found, the last stage of sweep → check → report
+(docs/check.md): it reads everything from the results file
 (:class:`~vtsi.sweep_results.SweepResults` and the check stored there,
 :func:`~vtsi.check.stored_check`), runs no passage and evaluates no criterion. The only numbers it
 derives are plotting quantities from stored values: the peak over rail samples of each train's
@@ -452,17 +453,15 @@ class _Report:
         keys = sorted(desc, key=lambda k: k != "kind")        # spans_m: the 'spans' row below
         rows = [[DESCRIPTION_TEXT[k][0], f"{_value_text(desc[k])} {DESCRIPTION_TEXT[k][1]}"] if k in DESCRIPTION_TEXT
                 else [_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
-        x = np.asarray(b["deck_x_m"], dtype=float)
+        x = np.asarray(b["deck_x_m"], dtype=float)     # every node of the track, the approaches' too
         rows += [["spans", " + ".join(f"{s:g}" for s in spans) + f" m ({len(spans)} span{'s' * (len(spans) > 1)})"]]
-        if several:                                     # each deck: its extent and its nodes
-            tol = x_tolerance(b)
-            rows += [[f"deck {d + 1}", f"{e - a:.4g} m, {int(np.sum((x >= a - tol) & (x <= e + tol)))} nodes "
-                                       f"(x = {a:g} … {e:g} m)"] for d, (a, e) in enumerate(deck_ranges(b))]
-            rows += [["track nodes", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes (x = {x.min():g} … "
-                               f"{x.max():g} m)"]]
-        else:
-            rows += [["deck", f"{x.max() - x.min():.4g} m, {len(b['deck_nodes'])} nodes "
-                              f"(x = {x.min():g} … {x.max():g} m)"]]
+        tol = x_tolerance(b)                            # each deck: its extent and its nodes
+        rows += [[f"deck {d + 1}" if several else "deck",
+                  f"{e - a:.4g} m, {int(np.sum((x >= a - tol) & (x <= e + tol)))} nodes (x = {a:g} … {e:g} m)"]
+                 for d, (a, e) in enumerate(deck_ranges(b))]
+        if several or len(deck_nodes(b)) < len(x):      # the track runs beyond the decks: on the approaches
+            rows += [["track nodes", f"{x.max() - x.min():.4g} m, {len(x)} nodes (x = {x.min():g} … "
+                                     f"{x.max():g} m)"]]
         rows += [["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
                  ["first vertical frequencies" + (" of the model" if several else ""),
                   ", ".join(significant_text(f) for f in freqs) + " Hz"]]

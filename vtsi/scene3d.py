@@ -18,7 +18,7 @@ Coordinates: x along the track, y up, z across it (the 2-D model is drawn extrud
 rail top at rest is y = 0; a wheel on the deck rides on the deformed (exaggerated) rail, a wheel
 off the deck on rigid ground at y = 0.
 
-Off-screen rendering (DESIGN §8): VTK segfaults rather than raising when it finds no OpenGL
+Off-screen rendering (docs/scene3d.md): VTK segfaults rather than raising when it finds no OpenGL
 library, so :func:`rendering_available` first renders a tiny scene in a subprocess, with
 ``VTK_DEFAULT_OPENGL_WINDOW=vtkOSOpenGLRenderWindow`` (OSMesa, Debian's ``libosmesa6``) unless
 the variable is set already, then VTK's own default window; the first that works is used in
@@ -972,8 +972,14 @@ def _recorded_case(results_path, train, speed_kmh, seed):
     history = results.history(train, speed_kmh, seed)
     if "deck_displacement" not in history:
         raise SweepError(f"scene: case {train} at {speed_kmh:g} km/h has no deck displacement history")
-    bridge = results.bridge()
-    scene = PassageScene(bridge["deck_x_m"], np.unique(bridge["span_ends_m"]), deck_ends=deck_ranges(bridge))
+    bridge = results.bridge()          # the x of the history's nodes: the decks' (an older vtsi's: the track's)
+    x_of = dict(zip(np.asarray(bridge["deck_nodes"]).tolist(), np.asarray(bridge["deck_x_m"]).tolist()))
+    columns = [int(n) for n in history["deck_displacement"][2]]
+    missing = [n for n in columns if n not in x_of]
+    if missing:
+        raise SweepError(f"scene: the deck displacement history of {train} at {speed_kmh:g} km/h holds node "
+                         f"{missing[0]}, which is not on the track (/bridge/deck_nodes)")
+    scene = PassageScene([x_of[n] for n in columns], np.unique(bridge["span_ends_m"]), deck_ends=deck_ranges(bridge))
     return results, train, float(speed_kmh), seed, history, scene
 
 

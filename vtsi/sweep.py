@@ -33,8 +33,8 @@ from tqdm.auto import tqdm
 from vtsi.codes.en1991_2 import SPEED_SERIES_START_KMH
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
-from vtsi.errors import (BridgeError, BridgeModelError, BridgeSweepError, ModelError, PassageError, SweepError,
-                         VtsiError, is_int)
+from vtsi.errors import (BridgeError, BridgeModelError, BridgeSweepError, ModelError, PassageError, SettingError,
+                         SweepError, VtsiError, is_int)
 from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
@@ -208,11 +208,11 @@ class SweepBridge:
 def check_deck_mass(model, track_elements, what, minimum=MIN_MASS_PER_METRE):
     """The deck's mass per metre of track [kg/m] (:func:`~vtsi.units.deck_mass_per_length`), or a
     :class:`~vtsi.errors.BridgeModelError` naming ``what``, the value and the likely unit slip
-    when it is below ``minimum`` (:data:`~vtsi.units.MIN_MASS_PER_METRE`; 0: no lower bound) or
-    above :data:`~vtsi.units.MAX_MASS_PER_METRE`: a deck of 15 t/m typed as ``mu=15``, or a
-    model in kN, t, m, reads 1000 times too light, and the trains' loads in N would then move
-    it 1000 times too far. The one check of a sweep's bridge, whichever way it came (a
-    :func:`beam_bridge`, a user's model, a bridge file)."""
+    when it is below ``minimum`` (:data:`~vtsi.units.MIN_MASS_PER_METRE`; 0: no lower bound; a
+    model without vertical mass is told so) or above :data:`~vtsi.units.MAX_MASS_PER_METRE`: a
+    deck of 15 t/m typed as ``mu=15``, or a model in kN, t, m, reads 1000 times too light, and
+    the trains' loads in N would then move it 1000 times too far. The one check of a sweep's
+    bridge, whichever way it came (a :func:`beam_bridge`, a user's model, a bridge file)."""
     if isinstance(minimum, bool) or not isinstance(minimum, (int, float, np.integer, np.floating)) \
             or not (math.isfinite(minimum) and minimum >= 0):
         raise SweepError(f"{what}: min_mass_per_metre must be a number >= 0 [kg/m], got {minimum!r}")
@@ -220,6 +220,10 @@ def check_deck_mass(model, track_elements, what, minimum=MIN_MASS_PER_METRE):
         mu = deck_mass_per_length(model, track_elements)
     except ModelError as exc:
         raise BridgeModelError(f"{what}: {exc}") from None
+    if minimum and mu == 0.0:
+        raise BridgeModelError(f"{what}: the model has no vertical mass (0 kg/m along its track): give its "
+                               "elements their mass per metre [kg/m] (elasticBeamColumn ... -mass MU) or its nodes "
+                               "theirs (mass)")
     if minimum and not mu >= minimum:
         raise BridgeModelError(
             f"{what}: the deck weighs {mu:.4g} kg/m along its track, below {minimum:g} kg/m (no railway deck is that "
@@ -284,9 +288,10 @@ class Sweep:
         (:mod:`vtsi.models.catalogue`).
     speeds_kmh : speeds [km/h]: anything :func:`speeds` takes, or :func:`en_speed_grid`'s output.
     settings : PassageSettings (Δt, integrator, fidelity, contact, damping, irregularity …).
-    outputs : the responses kept per passage (:class:`~vtsi.passage.Output`); default: deck
-        deflection and acceleration at every deck node, and with cars the contact forces and
-        car-body accelerations.
+    outputs : the responses kept per passage (:class:`~vtsi.passage.Output`); default
+        (DEFAULT_OUTPUTS): deck deflection and acceleration at every deck node (the track's nodes
+        on a deck: not the approaches'), end rotations at the decks' supports, bending moments at
+        mid-span and over the piers, and with cars the contact forces and car-body accelerations.
     seeds : rail samples (ints in [0, 2⁶³), at most MAX_SEEDS, each once) of an irregular rail;
         None: seed 0 on an irregular rail, the one smooth case (seed -1) without irregularity,
         where seeds are refused (they would select nothing).
@@ -338,6 +343,8 @@ class Sweep:
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
                     self.runner.check_resolution(name, float(speed))
+        except SettingError as exc:              # a setting's refusal keeps its setting (a file names its key)
+            raise SettingError(f"sweep: {exc}", exc.setting) from None
         except VtsiError as exc:                 # what is the bridge's stays the bridge's (BridgeError)
             raise (BridgeSweepError if isinstance(exc, BridgeError) else SweepError)(f"sweep: {exc}") from None
         self.outputs = self.runner.outputs

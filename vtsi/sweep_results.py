@@ -8,11 +8,13 @@ Layout (docs/sweeps.md)::
     /bridge/               frequencies_hz (3,: the first vertical frequencies n₀, n₂, n₃ of a
                            single deck; of several, the model's first three), deck_frequencies_hz
                            (n_decks, 3: each deck's n₀, n₂, n₃), en_cutoff_hz (the EN 1990 A2 cut-off:
-                           the largest of the decks', vtsi.passage.en_cutoff_hz), deck_nodes,
-                           deck_x_m, midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2: each
+                           the largest of the decks', vtsi.passage.en_cutoff_hz), deck_nodes and
+                           deck_x_m (every node of the track, in x order, and its x: the approaches'
+                           too; those on a deck lie within deck_ends_m, vtsi.deck_record.deck_nodes),
+                           midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2: each
                            span's supports' x), deck_ends_m (n_decks, 2: each deck's ends, spans
-                           and overhangs), mode_shapes_uy, track_on_a_structure (a rail on pads
-                           over the deck: outputs are the rail's)
+                           and overhangs), mode_shapes_uy (at deck_nodes), track_on_a_structure
+                           (a rail on pads over the deck: outputs are the rail's)
     /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
                            columns per case (NaN: not run yet, or not produced by that train);
                            <q>_where (the column: node tag, contact wheel or car; attrs kind,
@@ -538,15 +540,16 @@ class ResultsWriter:
                 b["frequencies_hz"] = runner.frequencies
                 b["deck_frequencies_hz"] = np.asarray(runner.deck_frequencies, dtype=float).reshape(-1, 3)
                 b["en_cutoff_hz"] = float(runner.en_cutoff_hz)
-                b["deck_nodes"] = np.asarray(runner.deck_nodes, dtype=np.int64)
-                b["deck_x_m"] = np.array([runner.model.nodes[n][0] for n in runner.deck_nodes])
+                # every node of the track (as every vtsi wrote them), those on a deck within deck_ends_m
+                b["deck_nodes"] = np.asarray(runner.track_nodes, dtype=np.int64)
+                b["deck_x_m"] = np.array([runner.model.nodes[n][0] for n in runner.track_nodes])
                 b["midspan_nodes"] = np.asarray(runner.midspan_nodes, dtype=np.int64)
                 b["span_lengths_m"] = np.asarray(runner.span_lengths, dtype=float)
                 b["span_ends_m"] = np.asarray(runner.span_ends, dtype=float).reshape(-1, 2)
                 b["deck_ends_m"] = np.asarray(runner.deck_ends, dtype=float).reshape(-1, 2)
                 b["track_on_a_structure"] = bool(runner.track_on_a_structure)
                 asm = runner.model.build()
-                b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.deck_nodes]]
+                b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.track_nodes]]
                 modal = getattr(runner, "modal", None)
                 if modal is not None:                  # the modal bridge's basis: its modes' frequencies
                     b["modal_frequencies_hz"] = np.asarray(modal.frequencies, dtype=float)
@@ -600,16 +603,21 @@ class ResultsWriter:
             raise SweepError(f"results file {self.path}: cannot write there ({exc.strerror or exc})") from None
 
     def _check(self, path):
-        """A SweepError unless the file ``path`` holds this sweep (the first difference named) and
-        its cases ran as many steps as this vtsi's passages of them
-        (:meth:`~vtsi.passage.PassageRunner.n_steps`; the identity does not hold the rule of a
-        passage's length: a file of the same sweep written before the runs of cars held every
-        car body's counting window ran the last cars' windows short)."""
+        """A SweepError unless the file ``path`` holds this sweep (the first difference named),
+        its node outputs hold the nodes this vtsi's places give them (the identity names a place,
+        'deck', not its nodes: a file written when 'deck' was every node of the track, the
+        approaches' too, holds other columns) and its cases ran as many steps as this vtsi's
+        passages of them (:meth:`~vtsi.passage.PassageRunner.n_steps`; the identity does not hold
+        the rule of a passage's length: a file of the same sweep written before the runs of cars
+        held every car body's counting window ran the last cars' windows short)."""
         with open_results(path) as f:
             version, stored = _header(f, path)
             cases = f.get("cases") if version == FORMAT_VERSION else None
             done = None if cases is None or "n_steps" not in cases else \
                 [cases[k][()] for k in ("train", "speed_kmh", "n_steps")]
+            written = f.get("outputs") if version == FORMAT_VERSION else None
+            columns = {o.name: written[o.name]["columns"][()] for o in self.runner.outputs
+                       if not o.vehicle and written is not None and o.name in written}
         if version != FORMAT_VERSION:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
                              "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
@@ -617,6 +625,17 @@ class ResultsWriter:
         if diff:
             raise SweepError(f"results file {path} holds a different sweep ({_describe(diff)}); "
                              "use another file, or overwrite=True (--overwrite)")
+        before = {"deck": " ('deck' was every node of the track, the approaches' too: 'track' now)",
+                  "supports": " ('supports' held the approaches' springs too)"}
+        for o in self.runner.outputs:
+            now = self.runner.columns(o, None) if o.name in columns else None
+            if now is not None and not np.array_equal(columns[o.name], now):
+                place = f"{o.nodes!r}" if isinstance(o.nodes, str) else "nodes"
+                raise SweepError(f"results file {path}: its output {o.name!r} at {place} holds "
+                                 f"{self._nodes_text(columns[o.name])}, this vtsi's {place} {self._nodes_text(now)}: "
+                                 "the file was written by a vtsi whose place held other nodes"
+                                 f"{before.get(o.nodes, '')}, and resuming would mix the two; use another file, or "
+                                 "overwrite=True (--overwrite)")
         if done is None:
             return
         names, lengths = self.identity["trains"], {}
@@ -631,6 +650,12 @@ class ResultsWriter:
                                  "car body has stopped counting, vtsi.passage.PassageRunner.n_steps; before, the last "
                                  "cars' counting windows were cut short), and resuming would mix passages of both; use "
                                  "another file, or overwrite=True (--overwrite)")
+
+    def _nodes_text(self, nodes):
+        """Node tags ``nodes`` in words: '49 nodes (x = -20 to 100 m)'."""
+        x = [float(self.runner.model.nodes[int(n)][0]) for n in nodes if int(n) in self.runner.model.nodes]
+        where = f" (x = {min(x):g} to {max(x):g} m)" if x else ""
+        return f"{len(nodes)} node{'s' * (len(nodes) != 1)}{where}"
 
     def done(self):
         """Keys of the cases already in the file (:func:`case_key`)."""
@@ -1024,11 +1049,12 @@ class SweepResults:
 
     def bridge(self):
         """The stored bridge data: frequencies_hz, deck_frequencies_hz (n_decks, 3) and en_cutoff_hz
-        (not in a file of an older vtsi: :func:`~vtsi.passage.en_cutoff_hz` reads either), deck_nodes,
-        deck_x_m, midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2), deck_ends_m (n_decks,
-        2; not in a file of an older vtsi), mode_shapes_uy, track_on_a_structure, and of a modal
-        sweep modal_frequencies_hz (n_modes,): the frequencies of the modal bridge's modes (not in
-        a file of an older vtsi)."""
+        (not in a file of an older vtsi: :func:`~vtsi.passage.en_cutoff_hz` reads either), deck_nodes
+        and deck_x_m (every node of the track and its x [m], x order; those on a deck:
+        :func:`vtsi.deck_record.deck_nodes`), midspan_nodes, span_lengths_m, span_ends_m (n_spans,
+        2), deck_ends_m (n_decks, 2; not in a file of an older vtsi), mode_shapes_uy (at
+        deck_nodes), track_on_a_structure, and of a modal sweep modal_frequencies_hz (n_modes,):
+        the frequencies of the modal bridge's modes (not in a file of an older vtsi)."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 
@@ -1091,9 +1117,10 @@ class SweepResults:
         return out
 
     # -- views ----------------------------------------------------------------------------------
-    def summary(self):
-        """The cases done, the bridge as vtsi read it (:func:`bridge_text`), then a text table: per
-        quantity its extreme, the governing train, speed, place and time."""
+    def summary(self, damping=""):
+        """The cases done, the bridge as vtsi read it (:func:`bridge_text`; ``damping``, the damping
+        the passages had in words, on its line: ``vtsi sweep`` says it and where it came from),
+        then a text table: per quantity its extreme, the governing train, speed, place and time."""
         rows = [("quantity", "value", "units", "train", "speed km/h", "seed", "where", "t [s]")]
         for q in self.quantities:
             c = self.critical(q)
@@ -1104,7 +1131,7 @@ class SweepResults:
         widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
         lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows]
         lines.insert(1, "  ".join("-" * w for w in widths))
-        head = f"{self.n_done} of {self.n_cases} cases\n{bridge_text(self.bridge())}"
+        head = f"{self.n_done} of {self.n_cases} cases\n{bridge_text(self.bridge())}{'; ' * bool(damping)}{damping}"
         return head + "\n" + "\n".join(lines)
 
     def _where_text(self, critical):
