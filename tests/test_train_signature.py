@@ -15,8 +15,8 @@ from vtsi.__main__ import main
 from vtsi.errors import ModelError
 from vtsi.models import Train, hslm_a, hslm_b, ice3, ice3_axle_loads
 from vtsi.models.trains import hslm_b_parameters
-from vtsi.signature import (MIN_REPEATS, MIN_SHARE, SPACING_BAND_M, WAVELENGTH_RANGE_M, principal_wavelength,
-                            signature)
+from vtsi.signature import (DOMINANCE, MIN_REPEATS, MIN_SHARE, SPACING_BAND_M, WAVELENGTH_RANGE_M,
+                            principal_wavelength, signature)
 from vtsi.sweep import en_speed_grid
 from vtsi.sweep_results import SweepResults
 
@@ -181,6 +181,29 @@ def test_irregular_random_tables_get_no_d(kind):
         peak = principal_wavelength(x, rng.uniform(80.0, 250.0, x.size))
         assert peak.length_m is None and peak.share < MIN_SHARE
         assert Train.from_axle_table(x, np.full(x.size, 2e5), 1.0).characteristic_length is None
+
+
+@pytest.mark.parametrize("length, wheelbase", [(7.0, 4.0), (9.0, 5.5), (10.0, 6.0), (11.0, 6.5)])
+def test_wagons_shorter_than_the_range_get_no_false_d(length, wheelbase):
+    """40 two-axle wagons shorter than 12 m: every spacing recurs, multiples of the wagon inside
+    12-30 m too, and the range holds only sidelobes of the wagons' own peak (a review found D =
+    26 m for 10 m wagons, so that 'en:' refined around 117-234 km/h and stepped 10 km/h across
+    the true resonance n0 x 10 m). The peak below the range, DOMINANCE times the range's or more,
+    gives no D, and says so. Coaches' harmonics below the range stay under it (ICE3: 0.96)."""
+    x = np.sort(np.concatenate([k * length + np.array([0.0, wheelbase]) for k in range(40)]))
+    F = np.full(x.size, 2e5)
+    peak = principal_wavelength(x, F)
+    assert peak.length_m is None and peak.below_m is not None and peak.below_m < WAVELENGTH_RANGE_M[0]
+    lam_in = np.linspace(*WAVELENGTH_RANGE_M, 4000)
+    assert signature(x, F, [peak.below_m])[0] > DOMINANCE * signature(x, F, lam_in).max()
+    assert peak.text().startswith(f"no characteristic length D from its dynamic signature (its signature peaks at "
+                                  f"{peak.below_m:.4g} m, below the 12-30 m of coaches")
+    assert Train.from_axle_table(x, F, 1.0).characteristic_length is None
+    ice3 = ice3_axle_loads(8, speed=1.0)
+    below = np.linspace(WAVELENGTH_RANGE_M[0] / 3, WAVELENGTH_RANGE_M[0], 4000)
+    ratio = (signature(ice3.wheel_offsets, ice3.static_wheel_loads, below).max()
+             / signature(ice3.wheel_offsets, ice3.static_wheel_loads, lam_in).max())
+    assert 0.9 < ratio < 1 < DOMINANCE
 
 
 def test_a_short_table_gets_no_d():

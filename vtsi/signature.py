@@ -58,6 +58,16 @@ axle that spacing behind it (spacings within :data:`SPACING_BAND_M` counted as o
 identical coaches give (N_c − 1) / N_c of their axles, fewer with locomotives (two ICE3 cars 0.5,
 HSLM-A10 0.61, 13 Talgo axles between two locomotives 0.57); 8241 seeded irregular random tables
 of 24-200 axles reached at most 0.28 (docs/trains.md; tests/test_train_signature.py runs 120)."""
+BELOW_RANGE = 3
+"""The signature is also read between low / BELOW_RANGE and low (4 to 12 m), where only the
+harmonics D/i of coaches in the range peak, at most 0.96 of their peak in it (ICE3; HSLM-A
+0.50-0.74, the trains of tests/test_train_signature.py 0.63-0.90), while a train of wagons
+shorter than low peaks there 6 to 34 times higher than anywhere in the range (40 two-axle wagons
+of 7-11 m): then every spacing recurs, multiples of the wagon length inside the range too, and
+the range's peak (a sidelobe) would give a false D."""
+DOMINANCE = 2.0
+"""A peak below the range this many times the range's highest is the train's own: no D in the
+range (see BELOW_RANGE)."""
 MIN_REPEATS = 4
 """... and at least this many axles (two identical four-axle coaches), so that a spacing met by
 chance in a short table (a single coach's bogie spacing: 2 axles) is not a D."""
@@ -87,6 +97,10 @@ class SignaturePeak:
         ``repeats`` / the number of axles [-].
     wavelength_range_m : tuple of float
         The range searched [m].
+    below_m : float or None
+        Where the signature's highest peak lies [m] when it lies below the range and is more
+        than :data:`DOMINANCE` times the range's (a train of wagons shorter than the range): D is
+        then None; else None.
     """
 
     wavelength_m: float | None
@@ -95,13 +109,18 @@ class SignaturePeak:
     repeats: int
     share: float
     wavelength_range_m: tuple
+    below_m: float | None = None
 
     def text(self):
         """'D = 24.775 m from its dynamic signature', or why the signature gives no D."""
         if self.length_m is not None:
             return f"D = {self.length_m:g} m from its dynamic signature"
         lo, hi = self.wavelength_range_m
-        if self.wavelength_m is None:
+        if self.below_m is not None:
+            why = (f"its signature peaks at {self.below_m:.4g} m, below the {lo:g}-{hi:g} m of coaches, more than "
+                   f"{DOMINANCE:g} times higher than within them: wagons shorter than {lo:g} m, whose D is not "
+                   "read)")
+        elif self.wavelength_m is None:
             why = f"it has no peak between {lo:g} and {hi:g} m"
         elif self.share < MIN_SHARE:
             why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} m: {100 * self.share:.0f} % of "
@@ -175,6 +194,10 @@ def principal_wavelength(positions, loads, wavelength_range=WAVELENGTH_RANGE_M) 
         return none
     k = np.linspace(1 / hi, 1 / lo, max(16, math.ceil(SAMPLES_PER_LOBE * span * (1 / lo - 1 / hi)) + 1))
     G = _signature(x, F, 1 / k)
+    below = np.arange(1 / lo + (k[1] - k[0]), BELOW_RANGE / lo, k[1] - k[0])      # the same grid on, to lo / 3
+    G_below = _signature(x, F, 1 / below) if below.size else np.zeros(1)
+    if G_below.max() > DOMINANCE * G.max():         # wagons shorter than lo: the range holds sidelobes only
+        return SignaturePeak(None, math.nan, None, 0, 0.0, (lo, hi), below_m=float(1 / below[np.argmax(G_below)]))
     interior = np.flatnonzero((G[1:-1] > G[:-2]) & (G[1:-1] >= G[2:])) + 1
     if interior.size == 0:
         return none
