@@ -390,6 +390,32 @@ def test_a_mechanism_whose_zero_pivot_round_off_made_positive_is_named():
     assert fss[0] < f1 < fss[1]
 
 
+@pytest.mark.parametrize("k", [1e15, 1e20])
+def test_a_rigid_spring_whose_pivot_round_off_lost_is_named_as_such(k):
+    """A deck node tied to a 10 m column's head (EI = 3e8 N m², 9e5 N/m sideways) by a zeroLength
+    spring: k = 1e15 solves to the closed form (column + spring); k = 1e20, some 1e14 times the
+    column's stiffness, leaves the pivot 9e-15 of its diagonal, below LOST_PIVOT (OpenSees's
+    BandSPD solves it 1.3 % off): refused, naming the stiff spring as a cause beside a mechanism."""
+    m = vtsi.Model()
+    m.node(1, 0.0, 0.0)
+    m.node(2, 0.0, 10.0)
+    m.node(3, 0.0, 10.0)
+    m.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=3e10, I=0.01)
+    m.element("zeroLength", 2, (2, 3), kx=k, ky=k, krz=k)
+    m.fix(1, 1, 1, 1)
+    m.add_time_series(vtsi.Constant(tag=1))
+    m.pattern(1, 1)
+    m.load(1, 3, -1e3, 0.0, 0.0)
+    if k < 1e18:
+        ux = vtsi.StaticAnalysis(m).run(1).u[m.build().full_dof(3, 1)]
+        # a stiffness ratio of 1e9 costs some 9 of double precision's 16 digits (measured 2e-8)
+        assert ux == pytest.approx(-1e3 * (10.0 ** 3 / (3 * 3e10 * 0.01) + 1 / k), rel=1e-7)
+        return
+    with pytest.raises(AnalysisError, match=r"^stiffness matrix K " + MECHANISM + r", or a stiffness there is some "
+                                            r"1e\+13 times its neighbours' or more .*'rigid' spring"):
+        vtsi.StaticAnalysis(m).run(1)
+
+
 def test_unconnected_node_is_named():
     m = loaded_beam()
     m.node(6, 20.0, 0.0)

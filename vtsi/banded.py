@@ -50,12 +50,13 @@ def band_rows_of_entries(rows, cols, values, n, kd):
 
 
 class NotPositiveDefinite(Exception):
-    """Cholesky failed at ``pivot`` (0-based index of the first non-positive leading minor, or
-    of the first pivot lost to round-off: LOST_PIVOT)."""
+    """Cholesky failed at ``pivot`` (0-based index of the first non-positive leading minor, or,
+    ``lost``, of the first pivot lost to round-off: LOST_PIVOT)."""
 
-    def __init__(self, pivot):
+    def __init__(self, pivot, lost=False):
         super().__init__(pivot)
         self.pivot = pivot
+        self.lost = lost
 
 
 def ldl_band(a, kd):
@@ -82,7 +83,7 @@ def ldl_band_of_storage(ab):
         raise NotPositiveDefinite(info - 1)
     lost = np.flatnonzero(factor[0] ** 2 <= LOST_PIVOT * diagonal)
     if len(lost):
-        raise NotPositiveDefinite(int(lost[0]))
+        raise NotPositiveDefinite(int(lost[0]), lost=True)
     return _ldl_of_cholesky(factor, ab.shape[0] - 1)
 
 

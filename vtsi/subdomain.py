@@ -30,8 +30,8 @@ import scipy.sparse.linalg as spla
 from numba import njit
 
 from vtsi.assembly import renumbered
-from vtsi.banded import (NotPositiveDefinite, band_rows, band_rows_of_entries, band_type, inverse_columns,
-                          ldl_band_of_entries, ldl_band_of_storage, lower_band_storage, pad_solve)
+from vtsi.banded import (LOST_PIVOT, NotPositiveDefinite, band_rows, band_rows_of_entries, band_type,
+                          inverse_columns, ldl_band_of_entries, ldl_band_of_storage, lower_band_storage, pad_solve)
 from vtsi.errors import AnalysisError
 from vtsi.timeloop import stage_operators
 
@@ -57,11 +57,17 @@ def factor_entries(assembly, rows, cols, values, what, cause=None, dofs=None, kd
     try:
         return ldl_band_of_entries(rows, cols, values, len(dofs), kd)
     except NotPositiveDefinite as exc:
-        raise _singular(assembly, what, cause, dofs[exc.pivot]) from None
+        raise _singular(assembly, what, cause, dofs[exc.pivot], exc.lost) from None
 
 
-def _singular(assembly, what, cause, dof):
-    """The AnalysisError of a factor that failed at free dof ``dof``."""
+def _singular(assembly, what, cause, dof, lost=False):
+    """The AnalysisError of a factor that failed at free dof ``dof`` (``lost``: its pivot was lost
+    to round-off, :data:`vtsi.banded.LOST_PIVOT`)."""
+    if cause is None and lost:
+        cause = (f"the structure is a mechanism, or a stiffness there is some {1 / LOST_PIVOT:.0e} times its "
+                 f"neighbours' or more (its pivot kept less than {LOST_PIVOT:g} of its diagonal, lost to round-off: "
+                 "a 'rigid' spring or penalty of 1e20 on a member of 1e6 N/m; tie the dofs with equalDOF or "
+                 "rigidLink, or give the spring some 1e6 times the members' stiffness)")
     return AnalysisError(f"{what} is singular or not positive definite at {assembly.dof_label(dof)}: "
                          + (cause or "the structure is a mechanism or that dof has neither stiffness nor "
                                      "mass (fix it or connect it)"))
@@ -81,7 +87,7 @@ def factor_stage(assembly, active, kv, ku, what, cause=None):
         try:
             lower = ldl_band_of_storage(stage_storage(p.rows, p.cols, p.K, p.C, p.M, dofs, n, kv, ku))
         except NotPositiveDefinite as exc:
-            raise _singular(assembly, what, cause, dofs[exc.pivot]) from None
+            raise _singular(assembly, what, cause, dofs[exc.pivot], exc.lost) from None
     return lower
 
 
