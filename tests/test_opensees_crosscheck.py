@@ -237,8 +237,8 @@ def test_modal_damping_refusals():
         vops.modalDamping(0.05)
     with pytest.raises(vops.CommandError, match="betaK"):
         modal_damping_beam(vops, (0.05,), rayleigh=(0.0, 1e-4))
-    with pytest.raises(vops.CommandError, match="one per mode"):
-        modal_damping_beam(vops, (0.01, 0.02))
+    with pytest.raises(vops.CommandError, match="4 ratios for the 3 modes of the last eigen; give at most 3"):
+        modal_damping_beam(vops, (0.01, 0.02, 0.03, 0.04))
     with pytest.raises(vtsi.AnalysisError, match="no mass"):
         modal_damping_beam(vops, (0.05,), load_dof=3)
     vops.wipe()

@@ -22,7 +22,7 @@ ANALYSIS_COMMANDS = ("constraints", "numberer", "system", "test", "algorithm", "
                      "analyze", "eigen", "modalDamping", "wipeAnalysis")
 CONSTRAINT_HANDLERS = ("Plain", "Transformation")
 NUMBERERS = ("Plain", "RCM", "AMD")
-SYSTEMS = ("BandSPD", "BandGeneral", "ProfileSPD", "SparseGeneral", "UmfPack", "FullGeneral", "SparseSYM")
+SYSTEMS = ("BandSPD", "BandGeneral", "ProfileSPD", "SparseGeneral", "UmfPack", "Umfpack", "FullGeneral", "SparseSYM")
 TESTS = ("NormUnbalance", "NormDispIncr", "EnergyIncr", "RelativeNormUnbalance", "RelativeNormDispIncr",
          "RelativeTotalNormDispIncr", "RelativeEnergyIncr", "FixedNumIterations")
 ALGORITHMS = {   # name -> accepted flags (a linear model is solved exactly in one pass by all of them)
@@ -96,12 +96,16 @@ class OpenSeesTRBDF2:
     accumulated ``t += Δt``. A trapezoidal and the BDF2 sub-step after it are one composite step of
     :class:`vtsi.integrators.TRBDF2` (Bathe, γ = ½) of size 2Δt, so the compiled loop steps them,
     recording every sub-step; a run may start or end between the two, the bank keeping the
-    composite step's start and first sub-step in between (as long as nothing changed: then
-    OpenSees's rule of a trapezoidal sub-step after a new Δt applies here to any change)."""
+    composite step's start and first sub-step in between. As in OpenSees, the BDF2 sub-step
+    follows whatever the loads did in between (``loadConst``, ``remove loadPattern``, a new
+    pattern, ``setTime``): it needs only the two states before it. vtsi restarts with a
+    trapezoidal sub-step where that history is gone: a new Δt (as OpenSees), a change of the
+    model's dofs, K, C or M, or a committed state other than the one the trapezoidal sub-step
+    left (:meth:`_resumes`)."""
 
     def __init__(self, model):
         self.analysis = CommandTransient(model, TRBDF2())
-        self.resume = None      # (plan, time [s]) after a run that ended on a trapezoidal sub-step
+        self.resume = None      # the run plan whose bank holds the trapezoidal sub-step a run ended on
 
     def run(self, n, dt, recorders):
         """``n`` sub-steps of ``dt`` [s] from the model's committed state; returns the state."""
@@ -115,7 +119,7 @@ class OpenSeesTRBDF2:
         if not plan.fe:
             raise CommandError("analyze: integrator TRBDF2 does not step a modal bridge (modalDamping); "
                                "use Newmark, HHT or Bathe")
-        first = 1 if self.resume == (plan, state.time) else 0
+        first = 1 if self._resumes(plan, state) else 0
         plan.info.update(dt=dt, integrator="TRBDF2 (OpenSees: a sub-step per step)")
         feed = plan.start_feed()
         try:
@@ -130,10 +134,34 @@ class OpenSeesTRBDF2:
             if not plan.run_rows(state, times, table, span, 1, times[-1]):
                 raise CommandError("analyze: integrator TRBDF2: a dof at rest was moved between two analyze calls; "
                                    "call wipeAnalysis() and define the analysis again")
-            self.resume = (plan, state.time) if (first + n) % 2 == 1 else None
+            self.resume = plan if (first + n) % 2 == 1 else None
         finally:
             feed.close()
         return state
+
+    def _resumes(self, plan, state):
+        """Whether the next sub-step is the BDF2 one of the composite step whose trapezoidal
+        sub-step the last run ended on (OpenSees's ``TRBDF2::newStep``: Δt unchanged): that run's
+        plan had the same assembly (same dofs, K, C, M; its patterns may differ) and left the
+        committed free-dof state ``state``, and no dof moving in that step is at rest in ``plan``.
+        Then the composite step's start and first sub-step (bank slots 0..5) are copied into
+        ``plan``'s bank, dof by dof (its moving dofs may differ)."""
+        old, self.resume = self.resume, None
+        if old is None or old.asm is not plan.asm:
+            return False
+        free = plan.asm.full_of_free
+        held = np.zeros((6, len(free)))
+        b = old.bridge
+        held[:, b.active] = old.bank[:6, b.kd: b.kd + b.n]
+        if not all(np.array_equal(held[3 + i], x[free]) for i, x in enumerate((state.u, state.v, state.a))):
+            return False
+        b = plan.bridge
+        outside = np.ones(len(free), dtype=bool)
+        outside[b.active] = False
+        if held[:, outside].any():
+            return False
+        plan.bank[:6, b.kd: b.kd + b.n] = held[:, b.active]
+        return True
 
 
 class LoadControl:
@@ -223,9 +251,13 @@ class AnalysisCommands(SessionBase):
         algorithm gives the same solution, which vtsi computes exactly in one pass."""
         a = Args("algorithm", args)
         kind = a.word("algorithm", tuple(ALGORITHMS))
+        a.command = f"algorithm {kind}"
+        if a.more() and not ALGORITHMS[kind]:
+            raise CommandError(f"{a.command}: takes no options in vtsi (a linear model is solved exactly in one "
+                               f"pass), got {a.peek()!r}")
         flags = []
         while a.more():
-            flags.append(a.option(ALGORITHMS[kind] or ("(no options)",)))
+            flags.append(a.option(ALGORITHMS[kind]))
         self._settings["algorithm"] = (kind, *flags)
 
     def integrator(self, *args):
@@ -427,10 +459,12 @@ class AnalysisCommands(SessionBase):
         return [float(w) for w in omega2]
 
     def modalDamping(self, *args):
-        """``modalDamping(zeta)`` or ``modalDamping(zeta_1, ..., zeta_n)``: damping ratios [-], one
+        """``modalDamping(zeta)`` or ``modalDamping(zeta_1, ..., zeta_k)``: damping ratios [-], one
         for all or one per mode of the last ``eigen`` (its n modes: one ratio stands for n equal
-        ones). As in OpenSees, the ratios are kept and damp the modes of the latest ``eigen`` when
-        the model is stepped: after a change of the model (masses, elements) and a new ``eigen``,
+        ones; k < n ratios damp the first k modes and leave the others undamped, as OpenSees's
+        ``OPS_modalDamping`` sets them to 0; k > n is refused: OpenSees writes the extra ratios past
+        the end of its vector). As in OpenSees, the ratios are kept and damp the modes of the
+        latest ``eigen`` when the model is stepped: after a change of the model (masses, elements) and a new ``eigen``,
         the first min(n, that eigen's number of modes) of the new modes. The damping is added to
         the model's own (Rayleigh): C = M Φ diag(2ζω) Φᵀ M. vtsi then steps the model as a modal bridge of
         every mode of finite frequency (:class:`~vtsi.modal_bridge.ModalBridge`, ``n_modes='all'``):
@@ -448,8 +482,10 @@ class AnalysisCommands(SessionBase):
             raise CommandError(f"modalDamping: no modes; {self._command_hint(('eigen', Placeholder('n')))} first "
                                "(the ratios apply to its modes)")
         n = len(self._eigen[1])
-        if len(ratios) not in (1, n):
-            raise CommandError(f"modalDamping: give one ratio or one per mode of the last eigen ({n}), got {len(ratios)}")
+        if len(ratios) > n:
+            raise CommandError(f"modalDamping: {len(ratios)} ratios for the {n} modes of the last eigen; give at most "
+                               f"{n} (OpenSees warns that it ignores the extra ones, but writes them past the end of "
+                               "its vector of ratios: a wrong damping and a corrupted heap)")
         bad = [z for z in ratios if not (np.isfinite(z) and z >= 0.0)]
         if bad:
             raise CommandError(f"modalDamping: a damping ratio must be >= 0 (0.05 for 5 %), got {bad[0]:g}")
@@ -458,7 +494,9 @@ class AnalysisCommands(SessionBase):
             raise CommandError(f"modalDamping: damping ratio {over[0]:g} is {100 * over[0]:g} % of critical (an "
                                f"overdamped mode); a ratio is a fraction: {over[0] / 100:g} for {over[0]:g} %. "
                                "vtsi takes ratios in [0, 1), as its other damping inputs (OpenSees takes any)")
-        self._modal_damping = (np.broadcast_to(np.asarray(ratios, dtype=float), (n,)).copy(), None, None, None)
+        if len(ratios) == 1:
+            ratios *= n
+        self._modal_damping = (np.array(ratios + [0.0] * (n - len(ratios))), None, None, None)
         self._transient = None
 
     def _damped_modes(self, command):

@@ -54,6 +54,13 @@ class Args:
     def next_is_number(self):
         return self.more() and is_number(self.peek())
 
+    def numbers_ahead(self):
+        """How many numbers follow the cursor before the next word or the end."""
+        k = self.pos
+        while k < len(self.items) and is_number(self.items[k]):
+            k += 1
+        return k - self.pos
+
     def take(self, what):
         if not self.more():
             raise CommandError(f"{self.command}: missing {what}")

@@ -18,8 +18,11 @@ from .base import Placeholder, SessionBase
 MODEL_COMMANDS = ("model", "node", "fix", "equalDOF", "rigidLink", "mass", "geomTransf", "uniaxialMaterial", "element", "timeSeries",
                   "pattern", "load", "sp", "eleLoad", "rayleigh")
 ELEMENT_TYPES = ("elasticBeamColumn", "ElasticTimoshenkoBeam", "truss", "zeroLength")
+ELEMENT_ALIASES = {"Truss": "truss"}       # OpenSees's other names of the same types
 MATERIAL_TYPES = ("Elastic", "Viscous")
 SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
+SERIES_ALIASES = {"ConstantSeries": "Constant", "LinearSeries": "Linear", "Series": "Path", "TrigSeries": "Trig",
+                  "Sine": "Trig", "SineSeries": "Trig", "TriangleSeries": "Triangle", "PulseSeries": "Pulse"}
 
 
 class ModelCommands(SessionBase):
@@ -197,6 +200,7 @@ class ModelCommands(SessionBase):
         model = self._model("element")
         a = Args("element", args)
         kind = a.word("element type")
+        kind = ELEMENT_ALIASES.get(kind, kind)
         if kind not in ELEMENT_TYPES and kind not in command_element_types():
             raise CommandError(f"element: type {kind!r} is not supported; supported: "
                                f"{', '.join(ELEMENT_TYPES + tuple(command_element_types()))}")
@@ -236,6 +240,9 @@ class ModelCommands(SessionBase):
     def _element_elasticBeamColumn(self, model, a, name, tag, i, j):
         if model.ndf != 3:
             raise CommandError(f"{name}: needs -ndf 3 (the model has {model.ndf})")
+        if a.numbers_ahead() == 2:
+            raise CommandError(f"{name}: OpenSees's section form (secTag transfTag) is not supported (vtsi has no "
+                               "sections); give A E Iz transfTag")
         A, E, Iz = a.float("A"), a.float("E"), a.float("Iz")
         if not a.next_is_number():
             words = [Placeholder(w) for w in ("tag", "i", "j", "A", "E", "Iz", "transfTag", "...")]
@@ -243,7 +250,8 @@ class ModelCommands(SessionBase):
             raise CommandError(f"{name}: missing transfTag ({usage})")
         transf = a.int("transfTag")
         if a.next_is_number():
-            raise CommandError(f"{name}: the section form (secTag, transfTag) is not supported; give A, E, Iz")
+            raise CommandError(f"{name}: unexpected number {a.peek()!r} after transfTag {transf}; the 2-D form is "
+                               "A E Iz transfTag [-mass m] [-cMass]")
         if transf not in self._transforms:
             raise CommandError(f"{name}: geomTransf {transf} does not exist")
         rho, cmass = 0.0, 0
@@ -344,7 +352,7 @@ class ModelCommands(SessionBase):
         model = self._model("timeSeries")
         a = Args("timeSeries", args)
         kind = a.word("series type")
-        if kind not in SERIES_TYPES:
+        if kind not in SERIES_TYPES and kind not in SERIES_ALIASES:
             raise CommandError(f"timeSeries: type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
         tag = a.int("series tag")
         series = self._make_series(kind, tag, a)
@@ -353,8 +361,11 @@ class ModelCommands(SessionBase):
         model.add_time_series(series)
 
     def _make_series(self, kind, tag, a):
+        """The series ``kind`` (a name of :data:`SERIES_TYPES` or :data:`SERIES_ALIASES`) ``tag``
+        from the arguments after its tag."""
         name = f"timeSeries {kind} {tag}"
         a.command = name
+        kind = SERIES_ALIASES.get(kind, kind)
         if kind in ("Constant", "Linear"):
             f = 1.0
             while a.more():
@@ -390,6 +401,8 @@ class ModelCommands(SessionBase):
                 opts[opt] = a.float(opt)
             elif opt in ("-values", "-time"):
                 opts[opt] = np.array(a.floats(opt))
+                if not len(opts[opt]):
+                    raise CommandError(f"{name}: the {opt} list is empty; give its numbers after {opt}")
             elif opt in ("-filePath", "-fileTime"):
                 opts[opt] = read_numbers(name, os.fspath(a.word(f"{opt} file")))
             else:
@@ -487,7 +500,7 @@ class ModelCommands(SessionBase):
         self._series_count += 1
         a = Args(f"{name} series", words[1:])
         kind = words[0]
-        if kind not in SERIES_TYPES:
+        if kind not in SERIES_TYPES and kind not in SERIES_ALIASES:
             raise CommandError(f"{name}: series type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
         return self._make_series(kind, -self._series_count, a)
 

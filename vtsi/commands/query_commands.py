@@ -14,7 +14,8 @@ from vtsi.recorders.node import AppliedLoads, element_ground_loads
 from .args import Args, dof_value, is_number
 from .base import Placeholder, SessionBase
 from .model_text import model_text
-from .responses import ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, opensees_layout
+from .responses import (ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, element_response_word,
+                        opensees_layout)
 
 QUERY_COMMANDS = ("printModel", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce", "eleResponse",
                   "getTime", "setTime", "loadConst", "nodeCoord", "nodeEigenvector", "nodeResponse", "getNodeTags",
@@ -106,7 +107,7 @@ class QueryCommands(SessionBase):
         new_time = None
         while a.more():
             a.option(("-time",))
-            new_time = a.float("-time")
+            new_time = a.option_floats("-time", 1, "the new time [s]")[0]
         at = self._load_time if self._load_time is not None else self.getTime()
         for p in model.patterns.values():
             if p.constant_time is None:
@@ -294,8 +295,8 @@ class QueryCommands(SessionBase):
         """``eleResponse(tag, 'force'|'globalForce'|'localForce'|'basicForce'|...)`` as a list."""
         _, state = self._state("eleResponse")
         a = Args(f"eleResponse {tag}", args)
-        kind = a.word("response")
-        a.done()
+        a.word("response")      # a name first: a missing one or a number is named
+        kind = element_response_word(a.command, a.items)
         if not is_int(tag):
             raise CommandError(f"eleResponse: element tag must be an integer, got {tag!r}")
         return [float(x) for x in self._element_response("eleResponse", int(tag), kind, state.u, state.v)]

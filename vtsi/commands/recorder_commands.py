@@ -12,7 +12,8 @@ from vtsi.units import Units
 
 from .args import Args
 from .base import SessionBase
-from .responses import ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, opensees_layout
+from .responses import (ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, element_response_word,
+                        opensees_layout)
 
 RECORDER_COMMANDS = ("recorder",)
 NODE_RESPONSES = ("disp", "vel", "accel", "reaction", "reactionIncInertia")
@@ -233,11 +234,13 @@ class RecorderCommands(SessionBase):
             if is_node and not rest and response[0] not in NODE_RESPONSES:
                 raise CommandError(f"{name}: {response[0]!r} is neither a {what} (an integer) nor a response "
                                    f"({', '.join(NODE_RESPONSES)})")
-        if len(response) > 1 or not isinstance(response[0], str):
+        if not is_node:
+            response = element_response_word(name, response)
+        elif len(response) > 1 or not isinstance(response[0], str):
             raise CommandError(f"{name}: response {' '.join(map(str, response))!r} is not supported; supported: "
-                               + (", ".join(NODE_RESPONSES) if is_node else "force, globalForce, localForce, "
-                                  "basicForce, deformation, axialForce (as the element type offers)"))
-        response = response[0]
+                               + ", ".join(NODE_RESPONSES))
+        else:
+            response = response[0]
         envelope = kind.startswith("Envelope")
         if is_node:
             if response not in NODE_RESPONSES:

@@ -2,11 +2,24 @@
 element response are built from vtsi's (``eleResponse``, ``eleForce``, ``recorder Element``)."""
 import numpy as np
 
+from vtsi.errors import CommandError
+
 ELEMENT_RESPONSE_ALIASES = {
     "forces": "force", "globalForces": "globalForce", "localForces": "localForce",
     "basicForces": "basicForce", "deformations": "deformation", "basicDeformations": "basicDeformation",
     "axialForces": "axialForce",
 }
+
+
+def element_response_word(command, words):
+    """The response name of ``words``, what follows the elements in ``eleResponse`` or ``recorder
+    Element``: one name; several (OpenSees's ``section 1 force``, ``material 1 stress``: a response
+    of a part of the element) raise a CommandError naming them and ``command``."""
+    if len(words) == 1 and isinstance(words[0], str):
+        return words[0]
+    raise CommandError(f"{command}: response {' '.join(map(str, words))!r} is not supported: vtsi's elements are "
+                       "elastic, with no sections or materials to query; supported: force, globalForce, localForce, "
+                       "basicForce, deformation, axialForce (as the element type offers)")
 
 
 def opensees_layout(etype, kind, ndf, materials=None):
