@@ -5,14 +5,20 @@ once per session, as a user's script would import it, before the test modules ar
 contract tests (tests/test_element_contract.py) are parametrised over the registry and so check
 it like the shipped types; tests/test_custom_element.py gets the module from the
 ``custom_element`` fixture. ``moving_load_beam`` gives the builders of the moving-force script
-that several tests run through OpenSeesPy and vtsi.
+that several tests run through OpenSeesPy and vtsi. The other fixtures are the test data and
+setup that several test files share (bridge files and scripts, a fresh command session, the
+comparisons with OpenSeesPy): each is defined here once.
 """
 import importlib.util
+import json
 import os
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
+
+import vtsi.opensees as vops
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "custom_element.py"
 MODULE = "vtsi_example_custom_element"
@@ -57,6 +63,28 @@ def cantilever():
 
 
 @pytest.fixture(scope="session")
+def truss_spring():
+    """``truss_spring(o, series, stiffness=1.0, element="truss")``: with the command module or
+    Session ``o``, a fresh 2-D model (ndf 2) of one truss ``element`` of A = 1 from node 1 (fixed)
+    to node 2 (x = 1, free along x only), its Elastic material of modulus ``stiffness`` (so EA/L =
+    ``stiffness``), under a load of 1 along x at node 2 in Plain pattern 1 of the timeSeries
+    ``series`` (its arguments: type, tag, options)."""
+    def build(o, series, stiffness=1.0, element="truss"):
+        o.wipe()
+        o.model("basic", "-ndm", 2, "-ndf", 2)
+        o.node(1, 0.0, 0.0)
+        o.node(2, 1.0, 0.0)
+        o.fix(1, 1, 1)
+        o.fix(2, 0, 1)
+        o.uniaxialMaterial("Elastic", 1, stiffness)
+        o.element(element, 1, 1, 2, 1.0, 1)
+        o.timeSeries(*series)
+        o.pattern("Plain", 1, series[1])
+        o.load(2, 1.0, 0.0)
+    return build
+
+
+@pytest.fixture(scope="session")
 def deck_script():
     """``deck_script(I, tail)``: the text of an OpenSeesPy bridge script (``import vtsi.opensees
     as ops``) of a 20 m simply supported deck: nodes 1-11 every 2 m, ten elasticBeamColumn
@@ -75,6 +103,102 @@ for i in range(1, 11):
 ops.track(1, '-eleRange', 1, 10)
 """
     return lambda I, tail="": head.replace(", I, 1,", f", {I!r}, 1,") + tail
+
+
+@pytest.fixture(scope="session")
+def deck_tcl():
+    """``deck_tcl(tail)``: the deck of :func:`deck_script` with I = 0.6948 m⁴ (f1 = 5 Hz) as a Tcl
+    bridge script, then the lines ``tail``."""
+    head = """model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 10} {incr i} { node [expr $i + 1] [expr 2.0 * $i] 0.0 }
+fix 1 1 1 0
+fix 11 0 1 0
+geomTransf Linear 1
+for {set i 1} {$i <= 10} {incr i} { element elasticBeamColumn $i $i [expr $i + 1] 5.0 3.5e10 0.6948 1 -mass 15000.0 -cMass }
+track 1 -eleRange 1 10
+"""
+    return lambda tail="": head + tail
+
+
+@pytest.fixture(scope="session")
+def approaches_tcl():
+    """A Tcl bridge script: 5 m approaches of rail on ground springs (nodes 1-5 and 27-31, 1 m
+    apart; 1e8 N/m along x and y to fixed nodes 101-105 and 127-131) either side of a 20 m simply
+    supported deck (5 m², 35 GPa, 1.9 m⁴, 15 t/m) between node 6 (x = 5 m, pinned) and node 26
+    (x = 25 m, on rollers); track 1 on elements 1-30."""
+    return """
+model basic -ndm 2 -ndf 3
+for {set i 0} {$i <= 30} {incr i} { node [expr {$i + 1}] [expr {$i * 1.0}] 0.0 }
+geomTransf Linear 1
+uniaxialMaterial Elastic 1 1.0e8
+for {set i 1} {$i <= 30} {incr i} {
+  if {$i <= 5 || $i > 25} {
+    element elasticBeamColumn $i $i [expr {$i + 1}] 0.0154 2.1e11 6.1e-5 1 -mass 2000.0 -cMass
+  } else {
+    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.9 1 -mass 15000.0 -cMass
+  }
+}
+foreach n {1 2 3 4 5 27 28 29 30 31} {
+  node [expr {$n + 100}] [expr {($n - 1) * 1.0}] 0.0
+  fix [expr {$n + 100}] 1 1 1
+  element zeroLength [expr {$n + 100}] [expr {$n + 100}] $n -mat 1 1 -dir 1 2
+}
+fix 6 1 1 0
+fix 26 0 1 0
+track 1 -eleRange 1 30
+"""
+
+
+@pytest.fixture(scope="session")
+def beam_toml():
+    """``beam_toml(path, bridge=None, **analysis)``: writes ``path``, a bridge file of a 20 m
+    simply supported beam (``kind = "beam"``, E = 35 GPa, f1 = 5 Hz, μ = 15 t/m, 4 elements per
+    span), its ``[bridge]`` keys updated by the dict ``bridge`` (a key given None is left out),
+    its ``[analysis]`` table ``analysis`` (e.g. ``dt_s=0.005``); returns ``path``."""
+    def write(path, bridge=None, **analysis):
+        keys = {"kind": "beam", "spans_m": [20.0], "E_Pa": 3.5e10, "f1_Hz": 5.0, "mu_kg_m": 15000.0,
+                "elements_per_span": 4, **(bridge or {})}
+        lines = ["[bridge]", *(f"{key} = {json.dumps(value)}" for key, value in keys.items() if value is not None),
+                 "[analysis]", *(f"{key} = {json.dumps(value)}" for key, value in analysis.items())]
+        path.write_text("\n".join(lines) + "\n")
+        return path
+    return write
+
+
+@pytest.fixture
+def fresh_session():
+    """The test on its own default vtsi.opensees session, wiped after it, and OpenSeesPy (the
+    oracle) wiped too where a test module imported it. A module comparing with OpenSeesPy gives
+    it to every test: ``pytestmark = pytest.mark.usefixtures("fresh_session")``."""
+    old = vops.set_session(vops.Session())
+    yield
+    vops.session.wipe()
+    vops.set_session(old)
+    oracle = sys.modules.get("openseespy.opensees")
+    if oracle is not None:
+        oracle.wipe()
+
+
+@pytest.fixture(scope="session")
+def difference():
+    """``difference(reference, value)``: the largest difference of two histories (arrays of shape
+    (steps, columns)), relative to each column's largest magnitude in ``reference``."""
+    def largest(reference, value):
+        reference, value = np.asarray(reference), np.asarray(value)
+        return float((np.abs(value - reference).max(axis=0) / np.abs(reference).max(axis=0)).max())
+    return largest
+
+
+@pytest.fixture(scope="session")
+def one_line():
+    """``one_line(excinfo)``: the message of a ``pytest.raises`` exception, asserted to be one line
+    without a traceback."""
+    def text(excinfo):
+        message = str(excinfo.value)
+        assert "\n" not in message and "Traceback" not in message, message
+        return message
+    return text
+
 
 @pytest.fixture(scope="session")
 def required_args():

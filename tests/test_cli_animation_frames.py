@@ -1,7 +1,7 @@
 """What ``vtsi check`` hands ``design_check``: the GIF's frame count (``--animation-frames N``,
 an integer >= 2, passed to ``animate_case`` as ``max_frames``), and the up-front refusal, which
 ``vtsi check`` runs once before its own sweep (before, ``design_check`` ran it a second time,
-0.2 s on the 4-element beam below and about 1 s on a check's usual bridge), while
+0.2 s on the 4-element beam of ``beam_toml`` and about 1 s on a check's usual bridge), while
 ``design_check`` called directly still refuses before it writes anything."""
 import os
 
@@ -15,26 +15,13 @@ from vtsi.passage import PassageSettings
 from vtsi.scene3d import rendering_available
 from vtsi.sweep import Sweep, beam_bridge
 
-BEAM_TOML = """\
-[bridge]
-kind = "beam"
-spans_m = [20.0]
-E_Pa = 3.5e10
-f1_Hz = 5.0
-mu_kg_m = 15000.0
-elements_per_span = 4
-[analysis]
-dt_s = 0.005
-"""
 CHECK = ["--trains", "HSLM-A1", "--speeds", "300", "--bridge-type", "steel", "--workers", "1", "--quiet"]
 EI = 15000.0 * (2 * np.pi * 5.0 * (20.0 / np.pi) ** 2) ** 2       # f1 = 5 Hz: (π/L)² √(EI/μ) / 2π
 
 
 @pytest.fixture
-def bridge(tmp_path):
-    path = tmp_path / "bridge.toml"
-    path.write_text(BEAM_TOML)
-    return path
+def bridge(tmp_path, beam_toml):
+    return beam_toml(tmp_path / "bridge.toml", dt_s=0.005)
 
 
 @pytest.fixture

@@ -8,26 +8,10 @@ import pytest
 from vtsi.__main__ import main
 from vtsi.check import stored_check
 
-BEAM_TOML = """\
-[bridge]
-kind = "beam"
-spans_m = [20.0]
-E_Pa = 3.5e10
-f1_Hz = 5.0
-mu_kg_m = 15000.0
-elements_per_span = 4
-[analysis]
-dt_s = 0.005
-"""
-
-LONG_TOML = BEAM_TOML.replace("spans_m = [20.0]", "spans_m = [32.0]")
-
 
 @pytest.fixture
-def bridge(tmp_path):
-    path = tmp_path / "bridge.toml"
-    path.write_text(BEAM_TOML)
-    return path
+def bridge(tmp_path, beam_toml):
+    return beam_toml(tmp_path / "bridge.toml", dt_s=0.005)
 
 
 def test_check_writes_results_checks_histories_and_report(tmp_path, bridge, capsys, monkeypatch):
@@ -92,14 +76,15 @@ def test_a_criterion_not_checked_gives_no_verdict_and_exit_1(tmp_path, bridge, c
     (["--bridge-type", "steel", "SELF_WEIGHT"],                               # totals would be read as train effects
      "include the bridge's self weight (bridge_self_weight), and the EN criteria read the trains' effects"),
 ])
-def test_bad_check_input_is_one_line_exit_2_nothing_written(tmp_path, bridge, capsys, monkeypatch, extra, words):
+def test_bad_check_input_is_one_line_exit_2_nothing_written(tmp_path, bridge, beam_toml, capsys, monkeypatch, extra,
+                                                            words):
     monkeypatch.chdir(tmp_path)
     if "LONG" in extra:
         extra = [e for e in extra if e != "LONG"]
-        bridge.write_text(LONG_TOML)
+        beam_toml(bridge, {"spans_m": [32.0]}, dt_s=0.005)
     if "SELF_WEIGHT" in extra:
         extra = [e for e in extra if e != "SELF_WEIGHT"]
-        bridge.write_text(BEAM_TOML + "bridge_self_weight = true\n")
+        beam_toml(bridge, dt_s=0.005, bridge_self_weight=True)
     speeds = [] if "--speeds" in extra or "NO_SPEEDS" in extra else ["--speeds", "300"]
     extra = [e for e in extra if e != "NO_SPEEDS"]
     status = main(["check", str(bridge), "--trains", "HSLM-A1", *speeds, "--workers", "1", *extra])

@@ -12,26 +12,13 @@ from vtsi.errors import BridgeSweepError, SweepError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import Sweep, SweepBridge, beam_bridge
 
-BEAM_TOML = """\
-[bridge]
-kind = "beam"
-spans_m = [20.0]
-E_Pa = 3.5e10
-f1_Hz = 5.0
-mu_kg_m = 15000.0
-elements_per_span = 4
-[analysis]
-damping = 0.0125
-"""
 CUTOFF = "below the EN 1990 A2.4.4.2.1(4)P cut-off 45.82 Hz"
 TONNES = "the deck weighs 15 kg/m along its track, below 500 kg/m (no railway deck is that light)"
 
 
 @pytest.fixture
-def bridge(tmp_path):
-    path = tmp_path / "bridge.toml"
-    path.write_text(BEAM_TOML)
-    return path
+def bridge(tmp_path, beam_toml):
+    return beam_toml(tmp_path / "bridge.toml", damping=0.0125)
 
 
 def test_check_refuses_modal_hz_below_the_cutoff_before_the_sweep(tmp_path, bridge, capsys, monkeypatch):
@@ -108,8 +95,8 @@ def test_a_user_model_in_tonnes_per_metre_is_refused():
     Sweep(SweepBridge(_user_deck(15000.0), list(range(1, 11)), {"kind": "user"}), ["HSLM-A1"], "300")
 
 
-def test_a_bridge_file_in_tonnes_per_metre_is_refused_with_the_same_words(tmp_path, bridge, capsys):
-    bridge.write_text(BEAM_TOML.replace("f1_Hz = 5.0", "I_m4 = 0.6948").replace("15000.0", "15.0"))
+def test_a_bridge_file_in_tonnes_per_metre_is_refused_with_the_same_words(tmp_path, bridge, beam_toml, capsys):
+    beam_toml(bridge, {"f1_Hz": None, "I_m4": 0.6948, "mu_kg_m": 15.0}, damping=0.0125)
     status = main(["sweep", str(bridge), "--trains", "HSLM-A1", "--speeds", "300", "--out", str(tmp_path / "s.h5")])
     err = capsys.readouterr().err.strip()
     assert status == 2 and "\n" not in err

@@ -6,8 +6,6 @@ stored only where its ratio came from, and nobody was told that the script's dam
 dropped; now ``damping_source`` (stored with the check, printed in the report) names what it
 replaced, a line on standard error says so, and a check without a ratio says that it does not
 take the script's."""
-import textwrap
-
 import pytest
 
 import vtsi.workflow
@@ -18,16 +16,7 @@ from vtsi.errors import SweepError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import Sweep
 
-DECK_TCL = textwrap.dedent("""\
-    model basic -ndm 2 -ndf 3
-    for {set i 0} {$i <= 10} {incr i} { node [expr $i + 1] [expr 2.0 * $i] 0.0 }
-    fix 1 1 1 0
-    fix 11 0 1 0
-    geomTransf Linear 1
-    for {set i 1} {$i <= 10} {incr i} { element elasticBeamColumn $i $i [expr $i + 1] 5.0 3.5e10 0.6948 1 -mass 15000.0 -cMass }
-    track 1 -eleRange 1 10
-    """)
-RAYLEIGH_TCL = DECK_TCL + "rayleigh 0.1 0.0 0.002 0.0\n"
+RAYLEIGH_LINE = "rayleigh 0.1 0.0 0.002 0.0\n"          # the Tcl deck's damping, after deck_tcl's lines
 RAYLEIGH = "the bridge script's rayleigh αM = 0.1 1/s, βK = 0.002 s"
 # EN 1991-2 Table 6.6, lower limits for spans L >= 20 m: prestressed concrete 1.0 %, steel 0.5 %
 PRESTRESSED = "EN 1991-2 Table 6.6, prestressed concrete, longest span L = 20 m: 1 %"
@@ -48,11 +37,11 @@ def stopped_after_preparing(monkeypatch):
     return sources
 
 
-def test_bridge_type_replaces_a_tcl_scripts_rayleigh_stored_and_reported(tmp_path, capsys, monkeypatch):
+def test_bridge_type_replaces_a_tcl_scripts_rayleigh_stored_and_reported(tmp_path, deck_tcl, capsys, monkeypatch):
     pytest.importorskip("tkinter")
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(vtsi.workflow, "rendering_available", lambda: (False, "test: no scene"))
-    (tmp_path / "deck.tcl").write_text(RAYLEIGH_TCL)
+    (tmp_path / "deck.tcl").write_text(deck_tcl(RAYLEIGH_LINE))
     assert main(["check", "deck.tcl", *CHECK, "--bridge-type", "prestressed_concrete"]) in (0, 1)
     source = f"{PRESTRESSED}; it replaces {RAYLEIGH} (deck.tcl)"
     assert (f"vtsi check: --bridge-type prestressed_concrete replaces {RAYLEIGH} (deck.tcl) by ζ = 1 %: {PRESTRESSED}"
@@ -99,13 +88,13 @@ def test_a_python_scripts_own_damping_named_as_replaced(tmp_path, deck_script, c
     assert "replaces" not in capsys.readouterr().err
 
 
-def test_a_bridge_files_damping_over_a_script(tmp_path, capsys, monkeypatch, stopped_after_preparing):
+def test_a_bridge_files_damping_over_a_script(tmp_path, deck_tcl, capsys, monkeypatch, stopped_after_preparing):
     """A bridge file naming a script, with [analysis] damping: its ratio replaces the script's
     rayleigh (named in the source; no note: the file is the bridge's own description), and
     --damping replaces both."""
     pytest.importorskip("tkinter")
     monkeypatch.chdir(tmp_path)
-    (tmp_path / "deck.tcl").write_text(RAYLEIGH_TCL)
+    (tmp_path / "deck.tcl").write_text(deck_tcl(RAYLEIGH_LINE))
     (tmp_path / "b.toml").write_text('[bridge]\nkind = "script"\npath = "deck.tcl"\n[analysis]\ndamping = 0.02\n')
     assert main(["check", "b.toml", *CHECK]) == 2
     assert main(["check", "b.toml", *CHECK, "--damping", "0.013"]) == 2

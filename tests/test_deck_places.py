@@ -18,30 +18,7 @@ from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageSettings
 from vtsi.scene3d import _recorded_case
 from vtsi.sweep import Sweep, beam_bridge
 
-# 5 m approaches of rail on ground springs (nodes 1-5 and 27-31, 1 m apart) either side of a 20 m
-# simply supported deck between node 6 (x = 5 m, pinned) and node 26 (x = 25 m, on rollers)
-APPROACHES = """
-model basic -ndm 2 -ndf 3
-for {set i 0} {$i <= 30} {incr i} { node [expr {$i + 1}] [expr {$i * 1.0}] 0.0 }
-geomTransf Linear 1
-uniaxialMaterial Elastic 1 1.0e8
-for {set i 1} {$i <= 30} {incr i} {
-  if {$i <= 5 || $i > 25} {
-    element elasticBeamColumn $i $i [expr {$i + 1}] 0.0154 2.1e11 6.1e-5 1 -mass 2000.0 -cMass
-  } else {
-    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.9 1 -mass 15000.0 -cMass
-  }
-}
-foreach n {1 2 3 4 5 27 28 29 30 31} {
-  node [expr {$n + 100}] [expr {($n - 1) * 1.0}] 0.0
-  fix [expr {$n + 100}] 1 1 1
-  element zeroLength [expr {$n + 100}] [expr {$n + 100}] $n -mat 1 1 -dir 1 2
-}
-fix 6 1 1 0
-fix 26 0 1 0
-track 1 -eleRange 1 30
-"""
-DECK, TRACK = list(range(6, 27)), list(range(1, 32))     # the script's deck nodes (x = 5 ... 25 m), all
+DECK, TRACK = list(range(6, 27)), list(range(1, 32))     # approaches_tcl's deck nodes (x = 5 ... 25 m), all
 
 # two 15 m simply supported decks and a 0.6 m rail joint between them (x = 14.7 to 15.3 m): every
 # track node is a deck's (the joint's ends are the decks' ends)
@@ -72,12 +49,12 @@ def _script(tmp_path, text, name):
     return script_bridge(path)
 
 
-def test_the_deck_place_holds_the_decks_nodes_and_the_track_place_every_node(tmp_path):
+def test_the_deck_place_holds_the_decks_nodes_and_the_track_place_every_node(tmp_path, approaches_tcl):
     """On a deck with approaches on springs the default outputs read the deck's nodes, the end
     rotations its supports (not the approaches' springs), and the sweep's summary and critical
     cases name a deck node; an output at 'track' holds the approaches' nodes too, with the same
     values at the deck's nodes."""
-    bridge = _script(tmp_path, APPROACHES, "approaches.tcl")
+    bridge = _script(tmp_path, approaches_tcl, "approaches.tcl")
     outputs = DEFAULT_OUTPUTS + (Output("track_acceleration", "accel", nodes="track", cutoff="en"),
                                  Output("track_deflection", "disp", nodes="track"))
     sweep = Sweep(bridge, ["HSLM-A1"], "300", FAST, outputs=outputs)
@@ -130,11 +107,11 @@ def test_a_bridge_without_approaches_reads_every_track_node_as_before(tmp_path, 
     assert results.case("HSLM-A1", 250.0)["rotation"]["columns"].tolist() == supports
 
 
-def test_a_results_file_whose_deck_held_the_approaches_is_not_resumed(tmp_path):
+def test_a_results_file_whose_deck_held_the_approaches_is_not_resumed(tmp_path, approaches_tcl):
     """A results file of the same sweep written when 'deck' was every node of the track (its
     identity names the place, 'deck', not the nodes) is refused, naming the file, the output and
     both sets of nodes: resumed, its cases would hold other columns than the new ones."""
-    bridge = _script(tmp_path, APPROACHES, "approaches.tcl")
+    bridge = _script(tmp_path, approaches_tcl, "approaches.tcl")
     outputs = (Output("deflection", "disp"),)
     path = tmp_path / "old.h5"
     sweep = Sweep(bridge, ["HSLM-A1"], "250,300", FAST, outputs=outputs)
@@ -148,10 +125,10 @@ def test_a_results_file_whose_deck_held_the_approaches_is_not_resumed(tmp_path):
         sweep.run(path, workers=1, progress=False, resume=True)
 
 
-def test_the_scene_draws_the_deck_nodes_of_the_recorded_history(tmp_path):
+def test_the_scene_draws_the_deck_nodes_of_the_recorded_history(tmp_path, approaches_tcl):
     """The scene takes the x of the deck displacement history's own nodes (the decks', x = 5 to
     25 m here) from the bridge record, which holds every node of the track."""
-    bridge = _script(tmp_path, APPROACHES, "approaches.tcl")
+    bridge = _script(tmp_path, approaches_tcl, "approaches.tcl")
     path = tmp_path / "s.h5"
     sweep = Sweep(bridge, ["HSLM-A1"], "300", FAST)
     sweep.run(path, workers=1, progress=False)

@@ -19,16 +19,7 @@ from vtsi.passage import PassageSettings  # noqa: E402
 from vtsi.sweep import Sweep  # noqa: E402
 
 RTOL = 1e-9
-
-
-@pytest.fixture(autouse=True)
-def fresh_session():
-    """Each test on its own default session (and OpenSeesPy wiped)."""
-    old = vops.set_session(vops.Session())
-    yield
-    vops.session.wipe()
-    vops.set_session(old)
-    oracle.wipe()
+pytestmark = pytest.mark.usefixtures("fresh_session")
 
 
 def beam(o):
@@ -87,11 +78,6 @@ def history(o, script, n_steps=80):
     return np.array(out)
 
 
-def difference(reference, value):
-    """The largest difference of the histories, relative to each column's largest magnitude."""
-    return float((np.abs(value - reference).max(axis=0) / np.abs(reference).max(axis=0)).max())
-
-
 # each case: (what the script does, the ratios on other modes: the old model's, without the new
 # eigen, where OpenSees runs that; else more, fewer or other modes); both run by OpenSeesPy, the
 # first by vtsi too
@@ -124,20 +110,14 @@ CASES = {
 
 
 @pytest.mark.parametrize("case", list(CASES))
-def test_modal_damping_damps_the_modes_of_the_latest_eigen_as_opensees(case):
+def test_modal_damping_damps_the_modes_of_the_latest_eigen_as_opensees(case, difference):
     script, other = CASES[case]
     reference = history(oracle, script)
     assert difference(reference, history(vops, script)) < RTOL
     assert difference(reference, history(oracle, other)) > 1e3 * RTOL
 
 
-def one_line(exc):
-    text = str(exc.value)
-    assert "\n" not in text and "Traceback" not in text, text
-    return text
-
-
-def test_a_change_of_the_modes_without_eigen_again_is_refused():
+def test_a_change_of_the_modes_without_eigen_again_is_refused(one_line):
     """OpenSees would damp, with the new masses, the eigenvectors of the old model (and exits on
     a node the last eigen did not know): vtsi asks for ``eigen`` again, in the script's syntax."""
     beam(vops)
@@ -176,19 +156,9 @@ def test_a_bridge_scripts_modal_damping_after_a_new_eigen(tmp_path, deck_script)
     assert sorted(runs[0].zeta[runs[0].zeta > 0]) == [0.01, 0.02, 0.03]      # eigen(3)'s modes: all bend the deck
 
 
-def test_a_bridge_script_that_changes_its_modes_after_modal_damping_is_refused(tmp_path, deck_script):
+def test_a_bridge_script_that_changes_its_modes_after_modal_damping_is_refused(tmp_path, deck_tcl, one_line):
     path = tmp_path / "stale.tcl"
-    path.write_text("""model basic -ndm 2 -ndf 3
-for {set i 0} {$i <= 10} {incr i} { node [expr $i + 1] [expr 2.0 * $i] 0.0 }
-fix 1 1 1 0
-fix 11 0 1 0
-geomTransf Linear 1
-for {set i 1} {$i <= 10} {incr i} { element elasticBeamColumn $i $i [expr $i + 1] 5.0 3.5e10 0.6948 1 -mass 15000.0 -cMass }
-track 1 -eleRange 1 10
-eigen 4
-modalDamping 0.02
-mass 6 0.0 30000.0 0.0
-""")
+    path.write_text(deck_tcl("eigen 4\nmodalDamping 0.02\nmass 6 0.0 30000.0 0.0\n"))
     with pytest.raises(BridgeModelError) as exc:
         script_bridge(path)
     assert one_line(exc) == (f"bridge script {path}: the model changed after the last eigen (its dofs, stiffness or "

@@ -16,17 +16,7 @@ try:
 except ImportError:   # the OpenSeesPy comparisons are skipped
     oracle = None
 needs_oracle = pytest.mark.skipif(oracle is None, reason="openseespy is not installed")
-
-
-@pytest.fixture(autouse=True)
-def fresh_session():
-    """Each test on its own default session (and OpenSeesPy wiped)."""
-    old = ops.set_session(ops.Session())
-    yield
-    ops.session.wipe()
-    ops.set_session(old)
-    if oracle is not None:
-        oracle.wipe()
+pytestmark = pytest.mark.usefixtures("fresh_session")
 
 
 def beam(o, n_el=4, length=8.0, lumped=True, load=True, series=("Linear", 1)):
@@ -207,28 +197,22 @@ def test_truss_and_zero_length_options():
 
 
 # -- time series and patterns ------------------------------------------------------------------
-def series_factors(o, spec, times):
-    """Load factors of a series, read from a unit truss spring under a unit load (LoadControl 0:
-    the domain time stays where setTime puts it)."""
-    o.wipe()
-    o.model("basic", "-ndm", 2, "-ndf", 2)
-    o.node(1, 0.0, 0.0)
-    o.node(2, 1.0, 0.0)
-    o.fix(1, 1, 1)
-    o.fix(2, 0, 1)
-    o.uniaxialMaterial("Elastic", 1, 1.0)
-    o.element("truss", 1, 1, 2, 1.0, 1)
-    o.timeSeries(*spec)
-    o.pattern("Plain", 1, spec[1])
-    o.load(2, 1.0, 0.0)
-    o.integrator("LoadControl", 0.0)
-    o.analysis("Static")
-    out = []
-    for t in times:
-        o.setTime(float(t))
-        o.analyze(1)
-        out.append(o.nodeDisp(2, 1))
-    return np.array(out)
+@pytest.fixture(scope="module")
+def series_factors(truss_spring):
+    """``series_factors(o, spec, times)``: the load factors of the series ``spec`` (timeSeries
+    arguments) at ``times``, read from a unit truss spring under a unit load (LoadControl 0: the
+    domain time stays where setTime puts it)."""
+    def factors(o, spec, times):
+        truss_spring(o, spec)
+        o.integrator("LoadControl", 0.0)
+        o.analysis("Static")
+        out = []
+        for t in times:
+            o.setTime(float(t))
+            o.analyze(1)
+            out.append(o.nodeDisp(2, 1))
+        return np.array(out)
+    return factors
 
 
 PATHS = [
@@ -246,13 +230,13 @@ TIMES = np.r_[np.linspace(-0.05, 0.5, 23), 0.0, 0.1, 0.2, 0.3, 0.31]
 
 @needs_oracle
 @pytest.mark.parametrize("spec", PATHS, ids=lambda s: " ".join(map(str, s[2:])) or s[0])
-def test_series_factors_equal_opensees(spec):
+def test_series_factors_equal_opensees(spec, series_factors):
     """Path rules as OpenSees: -dt form zero at its last sample (unless -useLast), -time form
     inclusive at its last time, -prependZero/-startTime/-factor."""
     np.testing.assert_array_equal(series_factors(ops, spec, TIMES), series_factors(oracle, spec, TIMES))
 
 
-def test_path_files_and_time_form_use_last(tmp_path):
+def test_path_files_and_time_form_use_last(tmp_path, series_factors):
     (tmp_path / "v.txt").write_text("1 2\n3\n 0.5\n")
     (tmp_path / "t.txt").write_text("0.0 0.1 0.25 0.3")
     spec = ("Path", 1, "-fileTime", str(tmp_path / "t.txt"), "-filePath", str(tmp_path / "v.txt"))

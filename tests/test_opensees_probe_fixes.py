@@ -12,22 +12,7 @@ from vtsi.errors import CommandError  # noqa: E402
 from vtsi.tcl import Interpreter  # noqa: E402
 
 RTOL = 1e-9
-
-
-@pytest.fixture(autouse=True)
-def fresh_session():
-    """Each test on its own default session (and OpenSeesPy wiped)."""
-    old = vops.set_session(vops.Session())
-    yield
-    vops.session.wipe()
-    vops.set_session(old)
-    oracle.wipe()
-
-
-def difference(reference, value):
-    """The largest difference of two histories, relative to each column's largest magnitude."""
-    reference, value = np.asarray(reference), np.asarray(value)
-    return float((np.abs(value - reference).max(axis=0) / np.abs(reference).max(axis=0)).max())
+pytestmark = pytest.mark.usefixtures("fresh_session")
 
 
 def beam(o, n_el=8):
@@ -74,14 +59,8 @@ def modal_history(o, ratios, system="FullGeneral", algorithm="Linear", n_eigen=5
     return np.array(out)
 
 
-def one_line(exc):
-    text = str(exc.value)
-    assert "\n" not in text and "Traceback" not in text, text
-    return text
-
-
 # -- modalDamping ------------------------------------------------------------------------------
-def test_fewer_ratios_than_modes_damp_the_first_modes_only_as_opensees():
+def test_fewer_ratios_than_modes_damp_the_first_modes_only_as_opensees(difference):
     """``modalDamping 0.02 0.03 0.05`` after ``eigen 5``: OpenSees (``OPS_modalDamping``) sets
     modes 4 and 5 to 0 (the first axial mode and the fourth bending mode, both moved by the
     load); vtsi did refuse it."""
@@ -92,7 +71,7 @@ def test_fewer_ratios_than_modes_damp_the_first_modes_only_as_opensees():
     assert difference(reference, modal_history(oracle, (0.02, 0.03, 0.05, 0.05, 0.05))) > 1e3 * RTOL
 
 
-def test_more_ratios_than_modes_are_refused():
+def test_more_ratios_than_modes_are_refused(one_line):
     """OpenSees warns that it ignores the extra ratios but writes them past the end of its
     vector (OpenSeesPy 3.7.1: another response, then 'corrupted size vs. prev_size')."""
     beam(vops)
@@ -106,7 +85,7 @@ def test_more_ratios_than_modes_are_refused():
 
 @pytest.mark.parametrize("system, algorithm, agrees", [
     ("FullGeneral", "Linear", True), ("BandGeneral", "Newton", True), ("BandGeneral", "Linear", False)])
-def test_opensees_modal_damping_depends_on_its_system_and_algorithm(system, algorithm, agrees):
+def test_opensees_modal_damping_depends_on_its_system_and_algorithm(system, algorithm, agrees, difference):
     """OpenSees assembles the full modal damping matrix into the storage of its ``system``: a
     banded one keeps only the band, so the tangent misses the rest. Newton iterates the residual
     (which has it all) to vtsi's exact answer; Linear's one pass with BandGeneral does not
@@ -157,7 +136,7 @@ TRBDF2_CASES = {
 
 
 @pytest.mark.parametrize("case", list(TRBDF2_CASES))
-def test_trbdf2_goes_on_with_bdf2_after_a_change_of_the_loads_as_opensees(case):
+def test_trbdf2_goes_on_with_bdf2_after_a_change_of_the_loads_as_opensees(case, difference):
     """vtsi restarted with a trapezoidal sub-step after ``loadConst``/``remove loadPattern``
     (the probe: records 0.4–1.1 % off OpenSees); OpenSees restarts only on a new Δt."""
     between = TRBDF2_CASES[case]
@@ -168,7 +147,7 @@ def test_trbdf2_goes_on_with_bdf2_after_a_change_of_the_loads_as_opensees(case):
     assert difference(restarted, trbdf2_history(vops, between, restart=True)) < RTOL
 
 
-def test_trbdf2_restarts_after_a_change_of_the_model_where_opensees_goes_on():
+def test_trbdf2_restarts_after_a_change_of_the_model_where_opensees_goes_on(difference):
     """A heavier node between the trapezoidal and the BDF2 sub-step: vtsi restarts with a
     trapezoidal sub-step (as OpenSeesPy with a new ``integrator TRBDF2``); OpenSees goes on with
     BDF2 on the new mass from the states it kept (``TRBDF2::domainChanged`` keeps its step
@@ -193,33 +172,26 @@ SERIES = {   # OpenSees's other name -> (its arguments after the tag, vtsi's nam
 }
 
 
-def spring(o, series, element="truss", system="BandSPD"):
-    """A truss of stiffness EA/L = 1000 under a load of 1 in the pattern of ``series`` (type and
-    arguments), 20 static steps of 0.1 (the load factor is the time): the displacement after
-    each."""
-    o.wipe()
-    o.model("basic", "-ndm", 2, "-ndf", 2)
-    o.node(1, 0.0, 0.0)
-    o.node(2, 1.0, 0.0)
-    o.fix(1, 1, 1)
-    o.fix(2, 0, 1)
-    o.uniaxialMaterial("Elastic", 1, 1000.0)
-    o.element(element, 1, 1, 2, 1.0, 1)
-    o.timeSeries(series[0], 1, *series[1])
-    o.pattern("Plain", 1, 1)
-    o.load(2, 1.0, 0.0)
-    o.system(system)
-    o.integrator("LoadControl", 0.1)
-    o.analysis("Static")
-    out = []
-    for _ in range(20):
-        o.analyze(1)
-        out.append([o.nodeDisp(2, 1)])
-    return np.array(out)
+@pytest.fixture(scope="module")
+def spring(truss_spring):
+    """``spring(o, series, element="truss", system="BandSPD")``: a truss of stiffness EA/L = 1000
+    under a load of 1 in the pattern of ``series`` (type and arguments), 20 static steps of 0.1
+    (the load factor is the time): the displacement after each."""
+    def history(o, series, element="truss", system="BandSPD"):
+        truss_spring(o, (series[0], 1, *series[1]), 1000.0, element)
+        o.system(system)
+        o.integrator("LoadControl", 0.1)
+        o.analysis("Static")
+        out = []
+        for _ in range(20):
+            o.analyze(1)
+            out.append([o.nodeDisp(2, 1)])
+        return np.array(out)
+    return history
 
 
 @pytest.mark.parametrize("alias", list(SERIES))
-def test_opensees_other_series_names(alias):
+def test_opensees_other_series_names(alias, spring, difference):
     args, name = SERIES[alias]
     reference = spring(oracle, (alias, args))
     assert np.abs(reference).max() > 1e-4                     # the series is on in the steps
@@ -227,7 +199,7 @@ def test_opensees_other_series_names(alias):
     np.testing.assert_array_equal(spring(vops, (name, args)), spring(vops, (alias, args)))
 
 
-def test_opensees_other_element_and_system_names():
+def test_opensees_other_element_and_system_names(spring):
     series = ("Linear", ())
     reference = spring(oracle, series, element="Truss", system="Umfpack")
     np.testing.assert_allclose(reference[:, 0], 0.1 * np.arange(1, 21) / 1000.0, rtol=1e-12)   # F L / (E A)
@@ -270,14 +242,14 @@ MESSAGES = [
 
 
 @pytest.mark.parametrize("command, message", MESSAGES, ids=[m.split(":")[0] for _, m in MESSAGES])
-def test_messages(command, message):
+def test_messages(command, message, one_line):
     frame()
     with pytest.raises(CommandError) as exc:
         command()
     assert one_line(exc) == message
 
 
-def test_an_empty_tcl_values_list(tmp_path):
+def test_an_empty_tcl_values_list(tmp_path, one_line):
     """Tcl's ``{}`` arrives as an empty word after ``-values``: it was read as an option ''."""
     interp = Interpreter(vops.session)
     interp.eval("model basic -ndm 2 -ndf 3")

@@ -14,16 +14,7 @@ from vtsi.commands.responses import ELEMENT_RESPONSE_ALIASES  # noqa: E402
 from vtsi.errors import CommandError, ModelError  # noqa: E402
 
 RTOL = 1e-7
-
-
-@pytest.fixture(autouse=True)
-def fresh_session():
-    """Each test on its own default session (and OpenSeesPy wiped)."""
-    old = vops.set_session(vops.Session())
-    yield
-    vops.session.wipe()
-    vops.set_session(old)
-    oracle.wipe()
+pytestmark = pytest.mark.usefixtures("fresh_session")
 
 
 def assert_close(reference, value, what=""):
@@ -33,12 +24,6 @@ def assert_close(reference, value, what=""):
     assert reference.shape == value.shape, (what, reference.shape, value.shape)
     scale = max(float(np.abs(reference).max()) if reference.size else 0.0, 1e-300)
     np.testing.assert_allclose(value, reference, rtol=RTOL, atol=RTOL * scale, err_msg=what)
-
-
-def one_line(exc):
-    text = str(exc.value)
-    assert "\n" not in text and "Traceback" not in text, text
-    return text
 
 
 # -- rayleigh after eigen + modalDamping -----------------------------------------------------
@@ -117,7 +102,7 @@ def test_rayleigh_between_eigen_and_modal_damping():
         assert_close(ref, val)
 
 
-def test_modal_damping_still_refused_after_a_change_of_the_modes():
+def test_modal_damping_still_refused_after_a_change_of_the_modes(one_line):
     modal_beam(vops, (0.02,))
     vops.mass(3, 4000.0, 4000.0, 5.0)        # the modes of eigen no longer hold
     vops.integrator("Newmark", 0.5, 0.25)
@@ -148,7 +133,7 @@ def two_nodes(o):
     o.element("elasticBeamColumn", 1, 1, 2, 1.0, 1e9, 1.0, 1)
 
 
-def test_fix_of_a_fixed_dof_is_refused_as_opensees():
+def test_fix_of_a_fixed_dof_is_refused_as_opensees(one_line):
     """Before: accepted silently. OpenSees: 'Domain::addSP_Constraint - cannot add as node
     already constrained in that dof by existing SP_Constraint'."""
     two_nodes(oracle)
@@ -173,7 +158,7 @@ def test_fix_of_a_fixed_dof_is_refused_as_opensees():
         vops.fix(1, 0, 0, 1)
 
 
-def test_fix_of_a_prescribed_dof_and_sp_of_a_fixed_dof_are_refused():
+def test_fix_of_a_prescribed_dof_and_sp_of_a_fixed_dof_are_refused(one_line):
     two_nodes(vops)
     vops.fix(1, 1, 0, 1)
     vops.timeSeries("Linear", 1)
@@ -251,7 +236,7 @@ def frame(o, recorders=None):
     o.analyze(3)
 
 
-def test_element_responses_equal_opensees():
+def test_element_responses_equal_opensees(one_line):
     """Before: every one refused ('has no response ...'); OpenSeesPy answers them."""
     frame(oracle)
     expected = {(e, n): oracle.eleResponse(e, n) for e in ELEMENTS for n in NEW_RESPONSES}

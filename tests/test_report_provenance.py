@@ -23,17 +23,6 @@ from vtsi.sweep_results import SweepResults
 
 L, F1, MU = 20.0, 5.0, 15000.0
 EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
-TOML = """\
-[bridge]
-kind = "beam"
-spans_m = [20.0]
-E_Pa = 3.5e10
-f1_Hz = 5.0
-mu_kg_m = 15000.0
-elements_per_span = 4
-[analysis]
-dt_s = 0.005
-"""
 # EN 1991-2 Table 6.6, steel, L = 20 m: 0.5 %; Eq. 6.13 at 20 m: Δζ = 0.118 / 0.398 % = 0.296 %
 STEEL = "EN 1991-2 Table 6.6, steel, longest span L = 20 m: 0.5 % + Eq. 6.13 Δζ 0.296 % = 0.796 %"
 
@@ -143,15 +132,14 @@ def test_a_modal_sweep_stores_and_reports_its_number_of_modes(tmp_path):
 
 
 # -- N1: the damping's source and the line speed ------------------------------------------------------
-def test_vtsi_check_stores_and_reports_the_damping_source_and_line_speed(tmp_path, capsys, monkeypatch):
+def test_vtsi_check_stores_and_reports_the_damping_source_and_line_speed(tmp_path, beam_toml, capsys, monkeypatch):
     """--bridge-type steel --additional-damping over a bridge file with [analysis] damping = 0.02:
     ζ = 0.796 % replaces it, a line on standard error says so, and the check stores and the
     report prints where ζ came from and the line speed. A resume with another line speed runs
     (they are not the sweep's identity); --quiet prints no note; --damping is named as such."""
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(vtsi.workflow, "rendering_available", lambda: (False, "test: no scene"))
-    bridge = tmp_path / "b.toml"
-    bridge.write_text(TOML + "damping = 0.02\n")
+    bridge = beam_toml(tmp_path / "b.toml", dt_s=0.005, damping=0.02)
     base = ["check", str(bridge), "--trains", "HSLM-A1", "--speeds", "340,360", "--bridge-type", "steel",
             "--additional-damping", "--workers", "1"]
     assert main(base + ["--line-speed", "300"]) in (0, 1)
@@ -178,11 +166,10 @@ def test_vtsi_check_stores_and_reports_the_damping_source_and_line_speed(tmp_pat
     assert "line speed" not in _settings_rows((tmp_path / "d_report" / "report.md").read_text(encoding="utf-8"))
 
 
-def test_no_note_when_the_bridge_file_has_no_damping(tmp_path, capsys, monkeypatch):
+def test_no_note_when_the_bridge_file_has_no_damping(tmp_path, beam_toml, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(vtsi.workflow, "rendering_available", lambda: (False, "test: no scene"))
-    bridge = tmp_path / "b.toml"
-    bridge.write_text(TOML)
+    bridge = beam_toml(tmp_path / "b.toml", dt_s=0.005)
     assert main(["check", str(bridge), "--trains", "HSLM-A1", "--speeds", "360", "--bridge-type", "steel",
                  "--workers", "1"]) in (0, 1)
     assert "replaces" not in capsys.readouterr().err

@@ -113,23 +113,15 @@ def test_a_scripts_command_error_shows_no_class_name(tmp_path, capsys):
 
 
 # -- a bridge file's time step ----------------------------------------------------------------
-BEAM = """
-[bridge]
-kind = "beam"
-spans_m = [20.0]
-E_Pa = 3.5e10
-I_m4 = 1.9
-mu_kg_m = 15000.0
-[analysis]
-dt_s = 1
-"""
+# the 20 m beam of beam_toml, its I given (not f1) and its elements per span vtsi's default
+BEAM = {"f1_Hz": None, "I_m4": 1.9, "elements_per_span": None}
 
 
-def test_a_bridge_files_time_step_is_named_by_its_key(tmp_path, capsys):
+def test_a_bridge_files_time_step_is_named_by_its_key(tmp_path, capsys, beam_toml):
     """[analysis] dt_s = 1 does not resolve the 20 m beam's first mode, (π / 2L²) √(EI/μ) =
     8.27 Hz: the refusal names the file and the key; --dt on the command line is named as it
     was (not the file's)."""
-    path = _write(tmp_path, "dt.toml", BEAM)
+    path = beam_toml(tmp_path / "dt.toml", BEAM, dt_s=1)
     f1 = math.pi / (2 * 20.0 ** 2) * math.sqrt(3.5e10 * 1.9 / 15000.0)
     status, _, lines = _run(tmp_path, capsys, path, "--trains", "HSLM-A1", *SPEEDS)
     assert status == 2 and len(lines) == 1
@@ -145,15 +137,12 @@ def test_a_bridge_files_time_step_is_named_by_its_key(tmp_path, capsys):
 
 
 # -- the summary's damping ---------------------------------------------------------------------
-ANALYSIS_DAMPING = BEAM.replace("dt_s = 1", "damping = 0.0125")
-
-
 @pytest.mark.parametrize("case", ["none", "--damping", "rayleigh", "rayleigh and --damping", "file"])
-def test_the_summary_says_the_damping_the_sweep_used(tmp_path, capsys, deck_script, case):
+def test_the_summary_says_the_damping_the_sweep_used(tmp_path, capsys, deck_script, beam_toml, case):
     """The summary's bridge line ends with the damping the passages had: none (a script without
     damping runs undamped), the sweep's ratio and where it came from, or the script's own."""
     if case == "file":
-        path = _write(tmp_path, "beam.toml", ANALYSIS_DAMPING)
+        path = beam_toml(tmp_path / "beam.toml", BEAM, damping=0.0125)
     else:
         path = _write(tmp_path, "deck.py", deck_script(0.6948, "ops.rayleigh(0.1, 0.0, 0.0, 0.002)\n"
                                                        if case.startswith("rayleigh") else ""))

@@ -262,27 +262,17 @@ def test_bad_inputs_are_named(call, message):
 
 
 # -- the command line ------------------------------------------------------------------------------
-BEAM = """\
-[bridge]
-kind = "beam"
-spans_m = [20.0]
-E_Pa = 3.5e10
-I_m4 = 1.9
-mu_kg_m = 15000.0
-elements_per_span = 4
-[analysis]
-damping = 0.0125
-dt_s = 0.01
-"""
+@pytest.fixture
+def bridge(tmp_path, beam_toml):
+    """The 20 m beam of ``beam_toml`` with I = 1.9 m⁴ (not f1), [analysis] damping 1.25 %, dt 10 ms."""
+    return beam_toml(tmp_path / "bridge.toml", {"f1_Hz": None, "I_m4": 1.9}, damping=0.0125, dt_s=0.01)
 
 
-def test_an_axle_table_on_the_command_line_runs_the_en_series_of_its_catalogue_train(tmp_path):
+def test_an_axle_table_on_the_command_line_runs_the_en_series_of_its_catalogue_train(tmp_path, bridge):
     """'vtsi sweep --trains a4.csv --speeds en:300': the CSV of HSLM-A4's axles gets D = 21 m, so
     its series is the one of D = 21 m (EN 1991-2 Table 6.3), with the fine steps around each
     resonance that the series without a D lacks; the results file keeps D for the check and the
     report."""
-    bridge = tmp_path / "bridge.toml"
-    bridge.write_text(BEAM)
     table = tmp_path / "a4.csv"
     table.write_text("position_m,load_kN\n" + "".join(f"{p:.4f},190\n" for p in hslm_a(4, 1.0).wheel_offsets))
     assert main(["sweep", str(bridge), "--trains", str(table), "--speeds", "en:300", "--dt", "0.015",
@@ -294,13 +284,11 @@ def test_an_axle_table_on_the_command_line_runs_the_en_series_of_its_catalogue_t
     assert len(series) > len(en_speed_grid(300.0, results.frequencies_hz, []))
 
 
-def test_the_command_line_says_once_where_each_axle_tables_d_came_from(tmp_path, capsys):
+def test_the_command_line_says_once_where_each_axle_tables_d_came_from(tmp_path, bridge, capsys):
     """Standard error names, once per axle table, the D its signature gave (HSLM-A4's axles: 21 m,
     EN 1991-2 Table 6.3) or why it gave none (a locomotive and one coach: its bogie spacing recurs
     twice), and that such a train has no resonance speeds to check the grid against; the
     catalogue's trains, whose D is given, get no line; --quiet says nothing."""
-    bridge = tmp_path / "bridge.toml"
-    bridge.write_text(BEAM)
     a4, loco = tmp_path / "a4.csv", tmp_path / "loco.csv"
     a4.write_text("position_m,load_kN\n" + "".join(f"{p:.4f},190\n" for p in hslm_a(4, 1.0).wheel_offsets))
     loco.write_text("position_m,load_kN\n0,200\n3,200\n11,200\n14,200\n20,150\n22.5,150\n37,150\n39.5,150\n")

@@ -218,31 +218,7 @@ def test_an_overhang_is_deck(tmp_path):
     assert rows["deflection"].limit == pytest.approx(20.0 / 600) and "span 1)" in rows["deflection"].where
 
 
-APPROACH = """
-# 5 m approaches of rail on ground springs either side of a 20 m simply supported deck (x = 5 … 25 m)
-model basic -ndm 2 -ndf 3
-for {set i 0} {$i <= 30} {incr i} { node [expr {$i + 1}] [expr {$i * 1.0}] 0.0 }
-geomTransf Linear 1
-uniaxialMaterial Elastic 1 1.0e8
-for {set i 1} {$i <= 30} {incr i} {
-  if {$i <= 5 || $i > 25} {
-    element elasticBeamColumn $i $i [expr {$i + 1}] 0.0154 2.1e11 6.1e-5 1 -mass 2000.0 -cMass
-  } else {
-    element elasticBeamColumn $i $i [expr {$i + 1}] 5.0 3.5e10 1.9 1 -mass 15000.0 -cMass
-  }
-}
-foreach n {1 2 3 4 5 27 28 29 30 31} {
-  node [expr {$n + 100}] [expr {($n - 1) * 1.0}] 0.0
-  fix [expr {$n + 100}] 1 1 1
-  element zeroLength [expr {$n + 100}] [expr {$n + 100}] $n -mat 1 1 -dir 1 2
-}
-fix 6 1 1 0
-fix 26 0 1 0
-track 1 -eleRange 1 30
-"""
-
-
-def test_approach_modes_are_not_the_bridge_frequencies(tmp_path):
+def test_approach_modes_are_not_the_bridge_frequencies(tmp_path, approaches_tcl):
     """The approaches' modes on their springs are not the bridge's: n₀, n₂, n₃ are the deck's
     (8.28, 33.1, 74.4 Hz; the deck alone 8.27, 33.1, 74.5), so the EN cut-off is 74.4 Hz and the
     default dt 0.5 ms. Before: n₃ = 36.2 Hz, an approach mode, and the cut-off, Rayleigh damping
@@ -250,7 +226,7 @@ def test_approach_modes_are_not_the_bridge_frequencies(tmp_path):
     from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
     from vtsi.sweep import beam_bridge
 
-    runner = _runner(_bridge(tmp_path, APPROACH))
+    runner = _runner(_bridge(tmp_path, approaches_tcl))
     alone = _runner(beam_bridge([20.0], 3.5e10, 1.9, 15000.0, elements_per_span=20))
     assert runner.frequencies == pytest.approx(alone.frequencies, rel=0.01)
     assert acceleration_cutoff_hz(runner.frequencies) == pytest.approx(74.4, abs=0.1)
