@@ -97,7 +97,7 @@ def test_a_bridge_error_that_names_its_file_is_not_prefixed_again(tmp_path, caps
     path.write_text(deck_script(0.6948, "ops.track(2, '-ele', 1, 42)\n"))
     status, lines = _run("sweep", path, "--trains", "HSLM-A1", *SPEEDS, "--track", "2", capsys=capsys,
                          out=tmp_path / "out.h5")
-    assert status == 2 and lines == [f"vtsi sweep: bridge script {path}: track 2: track: element 42 does not exist"]
+    assert status == 2 and lines == [f"vtsi sweep: bridge script {path}: track 2: element 42 does not exist"]
     with pytest.raises(BridgeModelError):
         read_bridge_file(path, 2)
 

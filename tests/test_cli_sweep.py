@@ -251,7 +251,7 @@ def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypa
     monkeypatch.setattr(PassageRunner, "run", failing)
     assert sweep(tmp_path, bridge, *FAST) == 1
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("vtsi sweep: case HSLM-A1/250kmh/smooth: ModelError: no good at 250")
+    assert len(err) == 1 and err[0].startswith("vtsi sweep: case HSLM-A1/250kmh/smooth: no good at 250")
     assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
 
 

@@ -745,7 +745,7 @@ def test_resume_refuses_an_edited_axle_table_naming_the_train(tmp_path, monkeypa
     Sweep(small_bridge(), ["t.csv"], "200", FAST).run(path, workers=1, progress=False)
     _axle_table(csv, 250)
     with pytest.raises(SweepError, match=r"csv.h5 holds a different sweep \(train t.csv differs from the one it "
-                                         r"ran with in its axles, loads or cars: an edited axle table"):
+                                         r"ran with in its axles, loads, cars or characteristic length D: an edited axle table"):
         Sweep(small_bridge(), ["t.csv"], "200", FAST).run(path, workers=1, progress=False, resume=True)
 
 

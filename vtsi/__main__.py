@@ -198,9 +198,12 @@ def _parser():
                            description="The dynamic design check of a railway bridge: every train at every speed "
                                        "(EN 1991-2 6.4.6), the EN 1990 A2 / EN 1991-2 criteria on the results, the "
                                        "governing cases' histories, a 3-D scene and an HTML + Markdown report; prints "
-                                       "a one-screen summary. Exit status: 0 every criterion passes; 1 a criterion "
-                                       "fails; 2 bad command line or input (nothing written); 3 a passage failed; "
-                                       "130 interrupted.",
+                                       "a one-screen summary. Exit status: 0 every criterion passes (PASS); 1 a "
+                                       "criterion fails (FAIL), or no verdict (NO VERDICT: an incomplete sweep, a "
+                                       "criterion with a limit left not checked, or none held to a limit); 2 bad "
+                                       "command line or input (nothing written), or a results file another run is "
+                                       "writing; 3 a passage failed; 130 interrupted (Ctrl-C), 143 terminated "
+                                       "(SIGTERM): finished cases stay in the file, --resume continues.",
                            epilog=CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _sweep_options(check, check=True)
     rules = check.add_argument_group("code rules (EN 1990 A2, EN 1991-2)")

@@ -321,8 +321,8 @@ def script_bridge(path, track=None):
         model.remove_pattern(tag)
     try:
         Track(model, tracks[track])
-    except ModelError as exc:
-        raise BridgeModelError(f"bridge script {path}: track {track}: {exc}") from None
+    except ModelError as exc:     # Track's own messages begin 'track: '; the tag takes its place
+        raise BridgeModelError(f"bridge script {path}: track {track}: {str(exc).removeprefix('track: ')}") from None
     description = {"kind": "script", "path": path, "sha256": sha256, "track": int(track)}
     modal_damping = ()
     if session._modal_damping is not None:      # modalDamping's ratios, on the modes of the latest eigen

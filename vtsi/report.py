@@ -13,8 +13,8 @@ envelope, DAF = y_dyn / y_stat (the stored dynamic mid-span deflection over the 
 under the same train), the deflection as the check reads it at each speed (max |y_dyn| +
 φ''/2 |y_stat|, :func:`~vtsi.check.node_deflections`), the resonance speeds v = n₀ D / i (EN
 1991-2 §6.4.6.2) marked on the acceleration chart (n₀ each deck's, and n₂ of each continuous deck),
-the approach and free vibration the passages ran, and the times at which a train
-is on the deck in a history chart.
+the approach and free vibration the passages ran, and the times at which an axle
+is on a deck in a history chart (not on the approaches).
 
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
 
@@ -915,7 +915,7 @@ class _Report:
                    "(bending moments and rotations are not recorded as histories)." if elsewhere else "")
         if not parts:
             return f"{text}: no acceleration, deflection, contact force or car body history recorded." + missing
-        return f"{text}: " + "; ".join(parts) + ", against time; shaded: axles on the deck." + missing
+        return f"{text}: " + "; ".join(parts) + ", against time; shaded: while an axle is on a deck." + missing
 
     def _counted(self, kind, train, speed, x_head0, column):
         """``(t_first, t_last)`` [s] while the marked wheel's contact force (``kind``
@@ -971,15 +971,14 @@ class _Report:
         panels = list(kinds)
         colour = self.colours[train]
         data = self.trains[train]
-        x = np.asarray(self.bridge["deck_x_m"], dtype=float)
-        offsets = np.asarray(data["axle_offsets_m"], dtype=float)
-        V, x0 = speed / 3.6, float(h["attrs"].get("x_head0", 0.0))
-        on = ((x.min() - x0 + offsets.min()) / V, (x.max() - x0 + offsets.max()) / V)
+        x0 = float(h["attrs"].get("x_head0", 0.0))
+        on = _axles_on_decks(deck_ranges(self.bridge), data["axle_offsets_m"], x0, speed / 3.6)
         with _figure((11, 2.9 * max(len(panels), 1) + 0.6), n_rows=max(len(panels), 1)) as (fig, axes):
             axes = np.atleast_1d(axes)
             for ax, kind in zip(axes, panels):
                 time, values, columns = h[kinds[kind]]
-                ax.axvspan(*on, color="#f2f2f2", zorder=0)
+                for stretch in on:
+                    ax.axvspan(*stretch, color="#f2f2f2", zorder=0)
                 if kind in ("accel", "disp"):
                     scale = 1.0 if kind == "accel" else 1e3
                     for j, (node, label, governing) in enumerate(self._history_nodes(kind, train, speed, seed)):
@@ -1015,6 +1014,25 @@ class _Report:
                 axes[0].text(0.5, 0.5, "no acceleration, deflection, contact force or car body history",
                              transform=axes[0].transAxes, ha="center")
             return _png(fig)
+
+
+def _axles_on_decks(deck_ends, offsets, x_head0, speed):
+    """The stretches of time [s] while an axle is on a deck, ``[(t_on, t_off), ...]`` in time
+    order, overlapping ones merged: axle k at ``offsets[k]`` [m] behind the head, the head at
+    ``x_head0`` [m] at t = 0 running at ``speed`` [m/s] along +x, is on the deck from x = a to b
+    (a row of ``deck_ends``, :func:`~vtsi.sweep_results.deck_ranges`) from (a - x_head0 +
+    offsets[k]) / speed to (b - x_head0 + offsets[k]) / speed; on the approaches and on a rail
+    joint between decks no axle is on a deck."""
+    offsets = np.asarray(offsets, dtype=float)
+    stretches = sorted(((a - x_head0 + o) / speed, (b - x_head0 + o) / speed)
+                       for a, b in np.asarray(deck_ends, dtype=float) for o in offsets)
+    merged = []
+    for t_on, t_off in stretches:
+        if merged and t_on <= merged[-1][1]:
+            merged[-1] = (merged[-1][0], max(merged[-1][1], t_off))
+        else:
+            merged.append((t_on, t_off))
+    return merged
 
 
 def _drawn_mode_shape(x, phi, fine):

@@ -40,7 +40,8 @@ from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
 from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PERIOD, Output, PassageRunner,
                           PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz, resolves)
-from vtsi.sweep_results import ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index
+from vtsi.sweep_results import (ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index,
+                                 train_fingerprint)
 from vtsi.train import TrainSubdomain
 from vtsi.units import MAX_MASS_PER_METRE, MIN_MASS_PER_METRE, deck_mass_per_length
 from vtsi.vehicle import MAX_TRAIN_SPEED
@@ -146,20 +147,6 @@ def train_list(trains):
         else:
             out.append(canonical_train_name(item))
     return out
-
-
-def train_fingerprint(train):
-    """A hash of what a passage sees of ``train`` (a :class:`~vtsi.vehicle.Train`): its wheels'
-    offsets, static loads and dofs, and its cars' matrices and gravity loads; not its speed."""
-    digest = hashlib.sha256()
-    for part in (train.wheel_offsets, train.static_wheel_loads, train.force_wheels, train.wheel_dofs,
-                 train.gravity_load, [train.characteristic_length or 0.0]):
-        digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
-    for matrix in (train.M, train.C, train.K):
-        m = matrix.tocsr()
-        for part in (m.indptr, m.indices, m.data):
-            digest.update(np.ascontiguousarray(part).tobytes())
-    return digest.hexdigest()
 
 
 def _count(value, name):
@@ -273,7 +260,7 @@ def _run_task(runner, cases):
         try:
             out.append(runner.run(train, speed, seed))
         except VtsiError as exc:
-            raise PassageError(f"case {case_key(train, speed, seed)}: {type(exc).__name__}: {exc}") from None
+            raise PassageError(f"case {case_key(train, speed, seed)}: {exc}") from None
     return out
 
 

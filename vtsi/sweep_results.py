@@ -64,6 +64,7 @@ the same sweep) and renamed over the file only then (:meth:`ResultsWriter.commit
 """
 import datetime
 import errno
+import hashlib
 import json
 import numbers
 import os
@@ -407,6 +408,23 @@ def _header(f, name):
     return version, identity
 
 
+def train_fingerprint(train, length_m=None):
+    """A hash of what a sweep sees of ``train`` (a :class:`~vtsi.vehicle.Train`): its wheels'
+    offsets, static loads and dofs, its cars' matrices and gravity loads, and its characteristic
+    length D (0 without one), which places the resonance speeds; not its speed. ``length_m`` [m]:
+    a D to hash in place of the train's (0.0: none), the hash of the train with another D."""
+    digest = hashlib.sha256()
+    length = train.characteristic_length if length_m is None else length_m
+    for part in (train.wheel_offsets, train.static_wheel_loads, train.force_wheels, train.wheel_dofs,
+                 train.gravity_load, [length or 0.0]):
+        digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
+    for matrix in (train.M, train.C, train.K):
+        m = matrix.tocsr()
+        for part in (m.indptr, m.indices, m.data):
+            digest.update(np.ascontiguousarray(part).tobytes())
+    return digest.hexdigest()
+
+
 def _first_difference(a, b, path=()):
     """The first difference between the identities ``a`` (this sweep's) and ``b`` (the file's),
     keys in IDENTITY_ORDER first: ``(path, value here, value in the file)`` (None: missing), or
@@ -430,12 +448,21 @@ def _first_difference(a, b, path=()):
     return None if a == b else (path, a, b)
 
 
-def _describe(diff):
-    """A difference of :func:`_first_difference` in words."""
+def _describe(diff, runner):
+    """A difference of :func:`_first_difference` in words; ``runner`` (a
+    :class:`~vtsi.passage.PassageRunner`) builds a train whose fingerprint differs, to tell a D
+    the file's run had not (an axle table's D from its signature, since 2026-11-27) from other
+    changes."""
     path, here, there = diff
     if path[0] == "train_fingerprints" and len(path) == 2:
-        return (f"train {path[1]} differs from the one it ran with in its axles, loads or cars: an edited "
-                "axle table, or a catalogue train changed between vtsi versions")
+        train = runner.train(path[1], 1.0)
+        if train.characteristic_length is not None and train_fingerprint(train, 0.0) == there:
+            source = ("" if train.signature_peak is None else
+                      ": from its dynamic signature, which vtsi reads from an axle table since 2026-11-27")
+            return (f"train {path[1]} differs from the one it ran with in its characteristic length D only (none "
+                    f"in the file, {train.characteristic_length:g} m here{source})")
+        return (f"train {path[1]} differs from the one it ran with in its axles, loads, cars or characteristic "
+                "length D: an edited axle table, or a catalogue train changed between vtsi versions")
     if path == ("bridge_fingerprint",):
         return "it differs in the bridge's matrices or track (bridge_fingerprint)"
 
@@ -623,7 +650,7 @@ class ResultsWriter:
                              "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
         diff = _first_difference(self.identity, stored)
         if diff:
-            raise SweepError(f"results file {path} holds a different sweep ({_describe(diff)}); "
+            raise SweepError(f"results file {path} holds a different sweep ({_describe(diff, self.runner)}); "
                              "use another file, or overwrite=True (--overwrite)")
         before = {"deck": " ('deck' was every node of the track, the approaches' too: 'track' now)",
                   "supports": " ('supports' held the approaches' springs too)"}
@@ -646,10 +673,10 @@ class ResultsWriter:
             if lengths[key] != int(n):
                 raise SweepError(f"results file {path}: its passage of {names[key[0]]} at {key[1]:g} km/h ran "
                                  f"{int(n)} steps, this vtsi runs {lengths[key]}: the file was written by a vtsi whose "
-                                 "passages ended by another rule (a sweep reading car bodies now runs until the last "
-                                 "car body has stopped counting, vtsi.passage.PassageRunner.n_steps; before, the last "
-                                 "cars' counting windows were cut short), and resuming would mix passages of both; use "
-                                 "another file, or overwrite=True (--overwrite)")
+                                 "passages ran another length (since 2026-11-27, for one, a sweep reading car bodies "
+                                 "runs until the last car body stops counting: vtsi.passage.PassageRunner.n_steps), "
+                                 "and resuming would mix passages of both; use another file, or overwrite=True "
+                                 "(--overwrite)")
 
     def _nodes_text(self, nodes):
         """Node tags ``nodes`` in words: '49 nodes (x = -20 to 100 m)'."""

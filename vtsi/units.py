@@ -9,7 +9,8 @@ them (time is always s, mass is force·s²/length: kN and m give t, N and mm giv
 - a matrix entry of a car between dofs i and j scales by f_M s_i s_j, f_M = f_F / f_L the mass
   factor and s = f_L on a rotation (rz) dof, 1 on a translation (so kg, kg·m, kg·m², N/m,
   N·m/rad, N·s/m all come out right); its gravity load by f_F (× f_L on a rotation);
-- lengths (wheel and car offsets, irregularity profiles) by f_L, speeds by f_L, g by f_L;
+- lengths (wheel and car offsets, a train's D and its signature peak's wavelengths,
+  irregularity profiles) by f_L, speeds by f_L, g by f_L, the signature's G by f_F;
 
 with f_F, f_L the model's units per N and per m. Numbers a script gives itself (a
 ``movingForce`` P, a ``sprungMass`` m and k, a speed as a number, ``xHead0``) are already in its
@@ -22,7 +23,7 @@ in silence.
 """
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -156,13 +157,23 @@ class Units:
                    car.dof_names, loads)
 
     def train(self, train, speed):
-        """An SI :class:`~vtsi.vehicle.Train` in these units, at ``speed`` (model units)."""
+        """An SI :class:`~vtsi.vehicle.Train` in these units, at ``speed`` (model units); its D and
+        :attr:`~vtsi.vehicle.Train.signature_peak` (the one D came from) in them too."""
         if self.f_force == 1.0 and self.f_length == 1.0:
             return train.with_speed(speed)
-        length = train.characteristic_length
-        return Train([self.car(c) for c in train.cars], np.asarray(train.car_offsets) * self.f_length, speed,
-                     name=train.name, characteristic_length=None if length is None else length * self.f_length,
-                     max_speed=MAX_TRAIN_SPEED * self.f_length)
+
+        def length(value):                # [model length] of ``value`` [m], None as it is
+            return None if value is None else value * self.f_length
+        built = Train([self.car(c) for c in train.cars], np.asarray(train.car_offsets) * self.f_length, speed,
+                      name=train.name, characteristic_length=length(train.characteristic_length),
+                      max_speed=MAX_TRAIN_SPEED * self.f_length)
+        peak = train.signature_peak
+        if peak is not None:
+            built.signature_peak = replace(
+                peak, wavelength_m=length(peak.wavelength_m), signature=peak.signature * self.f_force,
+                length_m=length(peak.length_m), below_m=length(peak.below_m),
+                wavelength_range_m=tuple(length(x) for x in peak.wavelength_range_m))
+        return built
 
     def check_deck_mass(self, mass_per_length, what):
         """Refuse a deck lighter than :data:`MIN_MASS_PER_METRE` or heavier than

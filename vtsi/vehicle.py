@@ -209,7 +209,9 @@ class Train:
         D [m], as given or as its signature gave it.
     signature_peak : SignaturePeak or None
         With characteristic_length='signature', the signature's peak D came from (or why there is
-        none: :meth:`~vtsi.signature.SignaturePeak.text`); None when D was given.
+        none: :meth:`~vtsi.signature.SignaturePeak.text`); None when D was given. A train
+        converted to a model's units (:meth:`vtsi.units.Units.train`) keeps its SI train's peak,
+        its lengths in the model's units.
     n_dof : int
         Total number of dofs; car i owns the dofs ``dof_start[i]:dof_start[i + 1]``.
     dof_start : ndarray, shape (n_cars + 1,), int64
