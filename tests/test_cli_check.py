@@ -52,6 +52,9 @@ def test_a_criterion_not_checked_gives_no_verdict_and_exit_1(tmp_path, bridge, c
     assert status == 1 and not result.passed
     assert "\nNO VERDICT: deck_acceleration, deflection not checked (see their notes); the 3 criteria checked pass; " \
            "the speeds step across" in out and "PASS:" not in out
+    rows = {line.split()[0]: line for line in out.splitlines() if line.startswith(("deck_acceleration", "deflection "))}
+    assert "not checked 3.5" in rows["deck_acceleration"] and "ref." not in rows["deck_acceleration"]   # as the report
+    assert "not checked 0.03333" in rows["deflection"]
     page = (tmp_path / "check_report" / "report.html").read_text(encoding="utf-8")
     assert '<p class="verdict none">NO VERDICT: deck acceleration, deflection not checked' in page
 

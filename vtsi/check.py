@@ -237,8 +237,9 @@ class CheckResult:
             if r.train and r.seed >= 0:
                 case += f" seed {r.seed}"
             held = r.status != "info"          # an info row's limit is a reference: no utilisation
+            unheld = "" if held else ("not checked " if r.criterion in self.unchecked else "ref. ")   # as the report
             lines.append((r.criterion, "not evaluated" if np.isnan(r.value) else self.value_text(r, f"{r.value:.4g}"),
-                          "" if np.isnan(r.limit) else f"{'' if held else 'ref. '}{r.limit:.4g}",
+                          "" if np.isnan(r.limit) else f"{unheld}{r.limit:.4g}",
                           "" if np.isnan(r.utilisation) or not held else f"{r.utilisation:.2f}", r.status.upper(),
                           case, r.where, r.clause))
         widths = [max(len(line[j]) for line in lines) for j in range(len(head))]
