@@ -287,7 +287,7 @@ def test_an_axle_table_on_the_command_line_runs_the_en_series_of_its_catalogue_t
 def test_the_command_line_says_once_where_each_axle_tables_d_came_from(tmp_path, bridge, capsys):
     """Standard error names, once per axle table, the D its signature gave (HSLM-A4's axles: 21 m,
     EN 1991-2 Table 6.3) or why it gave none (a locomotive and one coach: its bogie spacing recurs
-    twice), and that such a train has no resonance speeds to check the grid against; the
+    twice), and that such a train's resonances are unknown, so that the EN series steps finely; the
     catalogue's trains, whose D is given, get no line; --quiet says nothing."""
     a4, loco = tmp_path / "a4.csv", tmp_path / "loco.csv"
     a4.write_text("position_m,load_kN\n" + "".join(f"{p:.4f},190\n" for p in hslm_a(4, 1.0).wheel_offsets))
@@ -298,7 +298,7 @@ def test_the_command_line_says_once_where_each_axle_tables_d_came_from(tmp_path,
     lines = [line for line in capsys.readouterr().err.splitlines() if "dynamic signature" in line]
     assert lines[0] == f"vtsi sweep: {a4}: D = {HSLM_A_D[4]:g} m from its dynamic signature"
     assert lines[1].startswith(f"vtsi sweep: {loco}: no characteristic length D from its dynamic signature (")
-    assert lines[1].endswith(": it has no resonance speeds to check the grid against")
+    assert lines[1].endswith(": its resonances are unknown; the EN series steps 2 km/h throughout for it")
     assert len(lines) == 2
     assert main(argv[:-2] + ["--quiet", "--overwrite", "--out", str(tmp_path / "out.h5")]) == 0
     assert "dynamic signature" not in capsys.readouterr().err

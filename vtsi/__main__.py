@@ -431,7 +431,7 @@ def _prepare_sweep(ns, out):
             seeds = _seed_list(ns.seeds)
         if en_line is not None:
             runner = PassageRunner(source.bridge.model, source.bridge.track_elements, settings, outputs=())
-            lengths = [runner.train(t, 40.0).characteristic_length for t in trains]
+            lengths = [runner.train(t, 40.0).characteristic_length for t in trains]   # None: fine steps throughout
             spec = en_speed_grid(en_line, runner.deck_frequencies.ravel(), lengths)    # every deck's resonances
         sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
     except BridgeError as exc:
@@ -454,7 +454,8 @@ def _prepare_sweep(ns, out):
             peak = sweep.runner.train(name, 40.0).signature_peak
             if peak is not None:
                 _print_err(f"vtsi {ns.command}: {name}: {peak.text()}" + (
-                    "" if peak.length_m is not None else ": it has no resonance speeds to check the grid against"))
+                    "" if peak.length_m is not None else
+                    ": its resonances are unknown; the EN series steps 2 km/h throughout for it"))
     if os.path.exists(out) and not ns.overwrite:      # refuses, or checks the file to resume (and its lock)
         ResultsWriter(out, sweep.identity(), sweep.runner, resume=ns.resume).close()
     return sweep

@@ -49,7 +49,8 @@ the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'f
 Newmark's undamped rule with 'hermite' rows; 'info' rows carry their reading in ``note``). Rows
 whose outputs the sweep did not keep are left out. Speeds that step across a resonance v = n D /
 i more coarsely than the EN series (:func:`vtsi.speed_grid.coarse_resonances`), or that start
-above the series' 144 km/h, are named in the rows read against speed and in the verdict, and a
+above the series' 144 km/h, or that step more coarsely than its 2 km/h over a train without D
+(its resonances unknown), are named in the rows read against speed and in the verdict, and a
 deck acceleration or deflection that passes on them is not checked (info).
 
 The verdict (:meth:`CheckResult.verdict`) is FAIL when a criterion fails; else NO VERDICT when
@@ -73,7 +74,7 @@ from vtsi.integrators import make_integrator
 from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
                           resolves)
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
-from vtsi.speed_grid import coarse_resonances, coarse_text
+from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 span_decks, x_tolerance)
 
@@ -161,7 +162,8 @@ class CheckResult:
     cases_total: int = 0        # ... its cases (0 and 0: not known, a check stored by an older vtsi)
     bridge: str = ""            # the bridge as the check read it (vtsi.sweep_results.bridge_text): one line
     speed_grid: str = ""        # the resonances the sweep's speeds step across more coarsely than the EN
-                                # series (:func:`vtsi.speed_grid.coarse_resonances`), one line; '' when none
+                                # series, and the trains without D they step too coarsely for
+                                # (:func:`vtsi.speed_grid.coarse_resonances`), one line; '' when none
 
     @property
     def complete(self):
@@ -368,23 +370,36 @@ def refuse_inputs(results, settings=None):
 # -- the speed grid --------------------------------------------------------------------------------
 def _coarse_speeds(out, coarse):
     """Say in ``out`` (a CheckResult) that the sweep's speeds step across the resonances ``coarse``
-    more coarsely than the EN series: in the notes of the rows read from envelopes against speed
-    on the deck (deck acceleration, deflection, the dynamic increments); the deck acceleration and
-    the deflection, both peaking at resonance, are then not checked (info) unless they fail (a
-    peak the grid misses only adds to a FAIL); the verdict names them (``out.speed_grid``)."""
+    (:func:`vtsi.speed_grid.coarse_resonances`) more coarsely than the EN series, or over the
+    speeds of a train without D (its resonances unknown, :class:`vtsi.speed_grid.UnknownResonances`)
+    more coarsely than the series' fine step: in the notes of the rows read from envelopes against
+    speed on the deck (deck acceleration, deflection, the dynamic increments); the deck
+    acceleration and the deflection, both peaking at resonance, are then not checked (info)
+    unless they fail (a peak the grid misses only adds to a FAIL); the verdict names them
+    (``out.speed_grid``)."""
     if not coarse:
         return
+    unknown = [c for c in coarse if isinstance(c, UnknownResonances)]
+    coarse = [c for c in coarse if not isinstance(c, UnknownResonances)]
     governing = next((r for r in out.rows if r.criterion == "deck_acceleration" and r.train), None)
     if governing is not None:           # the governing train's resonances first, the nearest its speed first
         coarse = sorted(coarse, key=lambda c: (c.train != governing.train, abs(c.speed_kmh - governing.speed_kmh)))
+        unknown = sorted(unknown, key=lambda c: c.train != governing.train)
     below = sum(not np.isfinite(c.step_kmh) for c in coarse)
     missed = (f" ({below} of them below the speeds swept, which start above the series' "
               f"{en1991_2.SPEED_SERIES_START_KMH:g} km/h)" if below else "")
-    said = (f"the sweep's speeds step across {_plural_of(len(coarse), 'resonance speed')} v = n D / i more "
-            f"coarsely than the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: from "
-            f"{en1991_2.SPEED_SERIES_START_KMH:g} km/h, finer steps within ±10 % of each resonance){missed}: "
-            f"{coarse_text(coarse)}; the peak may lie between the speeds swept: sweep the EN series "
-            "(--speeds en:LINE_SPEED) or finer speeds across them")
+    across = f"step across {_plural_of(len(coarse), 'resonance speed')}"
+    without = f"{_plural_of(len(unknown), 'train')} without D"
+    said = "; and ".join(
+        ([f"{across} v = n D / i more coarsely than the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: from "
+          f"{en1991_2.SPEED_SERIES_START_KMH:g} km/h, finer steps within ±10 % of each resonance){missed}: "
+          f"{coarse_text(coarse)}"] if coarse else [])
+        + ([f"step more coarsely than the EN 1991-2 6.4.6.2 series, which steps finely throughout for "
+            f"{without} (vtsi.sweep.en_speed_grid): {coarse_text(unknown)}"] if unknown else []))
+    said = (f"the sweep's speeds {said}; the peak may lie between the speeds swept: sweep the EN series "
+            f"(--speeds en:LINE_SPEED) or finer speeds{' across them' if not unknown else ''}")
+    short = " and ".join(([f"{across} more coarsely than the EN series"] if coarse else [])
+                         + ([f"step more coarsely than the EN series for {without}"] if unknown else []))
     affected = [r for r in out.rows if r.criterion.startswith(("deck_acceleration", "deflection", "dynamic_increment",
                                                                 "dynamic_vs_lm71"))]
     first = next((r for r in affected if r.criterion == "deck_acceleration"), affected[0] if affected else None)
@@ -395,11 +410,13 @@ def _coarse_speeds(out, coarse):
         if row is first:
             row.note += f"; {'not checked: ' if unchecked else ''}{said}"
         else:
-            row.note += (f"; {'not checked: ' if unchecked else ''}the sweep's speeds step across "
-                         f"{_plural_of(len(coarse), 'resonance speed')} more coarsely than the EN series (see the "
+            row.note += (f"; {'not checked: ' if unchecked else ''}the sweep's speeds {short} (see the "
                          f"{first.criterion} note): the peak may lie between them")
-    out.speed_grid = (f"the speeds step across {_plural_of(len(coarse), 'resonance')} more coarsely than the EN "
-                      f"series{' or start above them' if below else ''} ({coarse_text(coarse, 2)})")
+    out.speed_grid = "; and ".join(
+        ([f"the speeds step across {_plural_of(len(coarse), 'resonance')} more coarsely than the EN "
+          f"series{' or start above them' if below else ''} ({coarse_text(coarse, 2)})"] if coarse else [])
+        + ([f"the speeds step more coarsely than the EN series for {without} ({coarse_text(unknown, 2)})"]
+           if unknown else []))
 
 
 def _plural_of(n, word):

@@ -576,8 +576,10 @@ class _Report:
         en = en_series(self.results, self.bridge)
         steps = np.unique(np.round(np.diff(v), 2))
         if en is not None and len(en) == len(v) and np.allclose(en, v, atol=0.01):
-            text += (": the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: 10 km/h steps, finer ones "
-                     "within ±10 % of each resonance v = n D / i)")
+            fine = steps.max() < 10.0 - 0.01      # a train without D: the series steps finely throughout
+            text += (": the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: " +
+                     (f"steps of at most {_fmt_speed(steps.max())} km/h throughout, for a train without D)" if fine
+                      else "10 km/h steps, finer ones within ±10 % of each resonance v = n D / i)"))
         elif len(steps) == 1:
             text += f" in steps of {_fmt_speed(steps[0])} km/h"
         else:

@@ -106,7 +106,9 @@ def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=SPEED_SER
     line speed in steps of ``step_kmh``, plus every resonance speed v = n·D/i
     (:func:`resonance_speeds`) in that range and steps of ``fine_step_kmh`` within ± ``band`` (a
     fraction) of it, on one lattice from ``start_kmh`` (the bands of several trains share it).
-    The end points are included; speeds are rounded to 0.01 km/h."""
+    A length None or NaN in ``lengths_m`` (a train without D, whose resonance speeds are unknown)
+    makes the whole series step ``fine_step_kmh`` on that lattice. The end points are included;
+    speeds are rounded to 0.01 km/h."""
     v_max = 1.2 * float(line_speed_kmh)
     if not (math.isfinite(v_max) and v_max > 0):
         raise SweepError(f"EN speed grid: the line speed must be > 0 km/h, got {line_speed_kmh!r}")
@@ -121,8 +123,10 @@ def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=SPEED_SER
                          f"{' (EN 1991-2 6.4.6.2(1): from 40 m/s)' if start_kmh == SPEED_SERIES_START_KMH else ''}{in_ms}")
     if not (step_kmh > 0 and fine_step_kmh > 0 and band >= 0):
         raise SweepError("EN speed grid: steps must be > 0 km/h and band >= 0")
-    grid = [np.arange(start_kmh, v_max + 1e-9, step_kmh), [v_max]]
-    for v in resonance_speeds(frequencies_hz, lengths_m):
+    known = [d for d in lengths_m if d is not None and math.isfinite(d)]
+    steady = fine_step_kmh if len(known) < len(lengths_m) else step_kmh     # a train without D: fine throughout
+    grid = [np.arange(start_kmh, v_max + 1e-9, steady), [v_max]]
+    for v in resonance_speeds(frequencies_hz, known):
         lo, hi = max(start_kmh, v * (1 - band)), min(v_max, v * (1 + band))
         if lo <= hi:     # the fine steps on one lattice from the start, so that bands share them
             first = start_kmh + math.ceil((lo - start_kmh) / fine_step_kmh - 1e-9) * fine_step_kmh
