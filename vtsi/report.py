@@ -576,7 +576,7 @@ class _Report:
         en = en_series(self.results, self.bridge)
         steps = np.unique(np.round(np.diff(v), 2))
         if en is not None and len(en) == len(v) and np.allclose(en, v, atol=0.01):
-            fine = steps.max() < 10.0 - 0.01      # a train without D: the series steps finely throughout
+            fine = any(not float(d["characteristic_length_m"]) > 0 for d in self.trains.values())   # no D: fine
             text += (": the EN 1991-2 6.4.6.2 series (vtsi.sweep.en_speed_grid: " +
                      (f"steps of at most {_fmt_speed(steps.max())} km/h throughout, for a train without D)" if fine
                       else "10 km/h steps, finer ones within ±10 % of each resonance v = n D / i)"))
