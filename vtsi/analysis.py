@@ -706,25 +706,43 @@ class _RunPlan:
     def run_rows(self, state, times, table, span, first_step, settle_time):
         """Run ``table`` from ``state`` (:meth:`advance`), its rows recorded at ``times[1:]`` [s]
         (a row per step, or per stage: ``span``): the feed gets every row computed, also when
-        the run diverges, and then a DivergenceError names the row (counted from
-        ``first_step``) and its time. After a good run ``state.time`` is ``times[-1]`` and the
-        dependent dofs follow their loads at ``settle_time`` [s]. Returns False, having done
-        nothing, when a dof at rest has moved (the caller integrates it too)."""
+        the run diverges; then the rows before the diverging one are run again, so that
+        ``state`` is that of the last row recorded, and a DivergenceError names the row
+        (counted from ``first_step``) and its time. After a good run ``state.time`` is
+        ``times[-1]``; the dependent dofs follow their loads at ``settle_time`` [s] (at the
+        same distance before the last row's time after a divergence). Returns False, having
+        done nothing, when a dof at rest has moved (the caller integrates it too)."""
         n = len(times) - 1
         feed = self.feed
         out = np.zeros((n, len(self.rec_slot))) if feed.recorders else self.no_columns[:n]
+        start_bank = self.bank.copy() if span[0] > 0 else None     # a resumed step's start: overwritten by the run
         bad = self.advance(state, table, out, span)
         if bad == -2:
             return False
         good = n if bad < 0 else bad
+        if bad >= 0 and start_bank is not None:
+            self.bank[:] = start_bank
+        if bad > 0:
+            self.advance(state, *self._rows_before(table, out, span, bad))   # deterministic: the same rows again
         if feed.recorders:
             feed.deliver(times[1: good + 1], self.bridge.recorded(out[:good]), self.asm)
+        if good > 0:
+            state.time = float(times[good])
+            settle_dependent_dofs(self.asm, self.prescribed, state, times[good] - (times[n] - settle_time))
         if bad >= 0:
             limit = self.analysis.divergence_limit
             what = f"|u| > {limit:g} or NaN" if np.isfinite(limit) else "NaN or inf"
             step = first_step + bad
             raise DivergenceError(f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s ({what}) "
                                   f"with {self.info['integrator']}, dt = {self.info['dt']:g} s", step, times[bad + 1])
-        state.time = float(times[n])
-        settle_dependent_dofs(self.asm, self.prescribed, state, settle_time)
         return True
+
+    def _rows_before(self, table, out, span, rows):
+        """``(table, out, span)`` of the first ``rows`` rows of a run of ``table`` with ``span``
+        (:func:`~vtsi.timeloop.run_linear_steps`): whole steps, or stages when a row is recorded
+        after every stage."""
+        if span[2] == 0:
+            return table[:rows], out[:rows], np.array([span[0], table.shape[1], 0], dtype=np.int64)
+        last = int(span[0]) + rows - 1                       # the last row's stage, counted from the first step's
+        steps, stages = divmod(last, table.shape[1])
+        return table[: steps + 1], out[:rows], np.array([span[0], stages + 1, 1], dtype=np.int64)

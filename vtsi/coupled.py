@@ -147,6 +147,7 @@ class CoupledAnalysis:
         self._prepared = None
         self._path_tables = {}
         self._sag = None
+        self._diverged = None      # where a run diverged ("step N, t = … s"): no run goes on from there
         self.static_state = None
         self.reset_records()
         self._lcp_work = lcp_workspace(constraint.n_contact)
@@ -437,8 +438,13 @@ class CoupledAnalysis:
     # -- time stepping --------------------------------------------------------------------
     def run(self, n_steps):
         """Advance ``n_steps`` steps from the committed states (call :meth:`static` first for a
-        start from the dead-load equilibrium). Returns the domain state."""
+        start from the dead-load equilibrium). Returns the domain state. Refused after a run
+        that diverged (its model stays at the start of the diverging chunk)."""
         n_steps = _integer("CoupledAnalysis", "number of steps", n_steps, 0)
+        if self._diverged is not None:
+            raise AnalysisError(f"CoupledAnalysis: it diverged ({self._diverged}); a coupled analysis does not go on "
+                                f"from a divergence (the recorders hold the steps before it, the model is at the "
+                                f"start of their chunk): build a new one, e.g. with a smaller dt")
         patterns = list(self.model.patterns.values())
         load_ptr, load_dof, load_val = _pattern_loads(self.model.build(), patterns)
         asm = self._prepare(load_dof)
@@ -542,6 +548,7 @@ class CoupledAnalysis:
                 if bad != -1:
                     step = done + good + 1
                     t_bad = t0 + (good + 1) * self.dt
+                    self._diverged = f"step {step}, t = {t_bad:.6g} s"
                     if bad >= 0:
                         raise DivergenceError(f"coupled analysis diverged at step {step}, t = {t_bad:.6g} s "
                                               f"(|u| > {self.divergence_limit:g} m or NaN) with "
