@@ -16,8 +16,11 @@ G = max(F, 2F |cos(π d / λ)|).
 
 A train of N_c identical coaches of length D adds their phasors in step at λ = D / i, so G peaks
 there and grows with N_c. :func:`principal_wavelength` takes the signature's highest peak
-between 12 and 30 m (:data:`WAVELENGTH_RANGE_M`) and, as D, the axle spacing that recurs inside
-that peak; a table without a recurring spacing there gets none.
+between 12 and 30 m (:data:`WAVELENGTH_RANGE_M`) and, as D, the axle spacing s that recurs for
+the most axles with s / i inside that peak, i = 1 … 4: the peak is D or one of its harmonics
+(D/2 for coaches whose bogie centres, a third to two thirds of their length apart, weaken their
+own phasor at D), and the train's period recurs most often; a table without a recurring spacing
+there gets none.
 
 References
 ----------
@@ -52,25 +55,34 @@ steps 1/(8 L) and its highest sample lies on the highest peak's lobe, within 1/(
 SPACING_BAND_M = 0.2
 """[m] Axle spacings that agree within this band count as one spacing: axle positions read to
 0.1 m (each rounded by up to 0.05 m) still repeat a coach length within it."""
-MIN_SHARE = 0.3
+MIN_SHARE = 0.4
 """A spacing is regular (the train has a D) when at least this share of the axles has another
 axle that spacing behind it (spacings within :data:`SPACING_BAND_M` counted as one): N_c
 identical coaches give (N_c − 1) / N_c of their axles, fewer with locomotives (two ICE3 cars 0.5,
-HSLM-A10 0.61, 13 Talgo axles between two locomotives 0.57); 8241 seeded irregular random tables
-of 24-200 axles reached at most 0.28 (docs/trains.md; tests/test_train_signature.py runs 120)."""
+HSLM-A10 0.61, 13 Talgo axles between two locomotives 0.57; 2518 sampled trains of 4-14 coaches
+of 24-27.5 m with 0-2 locomotives at least 0.43, three coaches between two six-axle locomotives
+0.33); 18000 seeded irregular random tables of 24-200 axles reached at most 0.33, 30000 of 24-40
+axles in random bogies at most 0.385 (docs/trains.md; tests/test_train_signature.py runs 120)."""
 BELOW_RANGE = 3
 """The signature is also read between low / BELOW_RANGE and low (4 to 12 m), where only the
 harmonics D/i of coaches in the range peak, at most 0.96 of their peak in it (ICE3; HSLM-A
-0.50-0.74, the trains of tests/test_train_signature.py 0.63-0.90), while a train of wagons
-shorter than low peaks there 6 to 34 times higher than anywhere in the range (40 two-axle wagons
-of 7-11 m): then every spacing recurs, multiples of the wagon length inside the range too, and
-the range's peak (a sidelobe) would give a false D."""
+0.50-0.74, the trains of tests/test_train_signature.py 0.63-0.90), up to 1.86 where the coaches
+cancel their own phasor at D (2160 trains of 24-27.5 m coaches on bogies 15-19 m apart; the
+regional train of tests/test_no_d_grid.py 1.42), while a train of wagons shorter than low peaks
+there 6 to 34 times higher than anywhere in the range (40 two-axle wagons of 7-11 m): then every
+spacing recurs, multiples of the wagon length inside the range too, and the range's peak (a
+sidelobe) would give a false D."""
 DOMINANCE = 2.0
 """A peak below the range this many times the range's highest is the train's own: no D in the
 range (see BELOW_RANGE)."""
 MIN_REPEATS = 4
 """... and at least this many axles (two identical four-axle coaches), so that a spacing met by
 chance in a short table (a single coach's bogie spacing: 2 axles) is not a D."""
+HARMONICS = 4
+"""The signature's peak λ* may be a harmonic D/i of the train's D for i = 1 … HARMONICS, the
+orders around whose resonance speeds v = n₀ D / i the EN 1991-2 6.4.6.2 series refines
+(:func:`vtsi.sweep.resonance_speeds`): so the series of the D read at the peak refines around
+n₀ λ*, the speed at which the signature is highest."""
 _CHUNK = 1 << 16                       # terms per block of wavelengths (0.5 MB arrays)
 
 
@@ -87,8 +99,9 @@ class SignaturePeak:
     signature : float
         G(λ*), in the units of the loads; NaN without a peak.
     length_m : float or None
-        D [m], to 1 mm: the median of the axle spacings within :data:`SPACING_BAND_M` that recur
-        most often inside the peak's main lobe (|1/s − 1/λ*| ≤ 1/L); None when fewer than
+        D [m], to 1 mm: the median of the axle spacings s within :data:`SPACING_BAND_M` that
+        recur most often with s / i inside the peak's main lobe (|i/s − 1/λ*| ≤ 1/L for an order
+        i = 1 … :data:`HARMONICS`: :func:`principal_wavelength`); None when fewer than
         :data:`MIN_SHARE` of the axles, or fewer than :data:`MIN_REPEATS`, have another axle
         that far behind them (no regular spacing), or without a peak.
     repeats : int
@@ -101,6 +114,9 @@ class SignaturePeak:
         Where the signature's highest peak lies [m] when it lies below the range and is more
         than :data:`DOMINANCE` times the range's (a train of wagons shorter than the range): D is
         then None; else None.
+    length_unit : str
+        The unit of the lengths above: 'm', unless :meth:`vtsi.units.Units.train` converted the
+        peak into a model's units (then 'cm' or 'mm').
     """
 
     wavelength_m: float | None
@@ -110,23 +126,26 @@ class SignaturePeak:
     share: float
     wavelength_range_m: tuple
     below_m: float | None = None
+    length_unit: str = "m"
 
     def text(self):
-        """'D = 24.775 m from its dynamic signature', or why the signature gives no D."""
+        """'D = 24.775 m from its dynamic signature', or why the signature gives no D (lengths in
+        ``length_unit``)."""
+        u = self.length_unit
         if self.length_m is not None:
-            return f"D = {self.length_m:g} m from its dynamic signature"
+            return f"D = {self.length_m:g} {u} from its dynamic signature"
         lo, hi = self.wavelength_range_m
         if self.below_m is not None:
-            why = (f"its signature peaks at {self.below_m:.4g} m, below the {lo:g}-{hi:g} m of coaches, more than "
-                   f"{DOMINANCE:g} times higher than within them: wagons shorter than {lo:g} m, whose D is not "
-                   "read)")
+            why = (f"its signature peaks at {self.below_m:.4g} {u}, below the {lo:g}-{hi:g} {u} of coaches, more "
+                   f"than {DOMINANCE:g} times higher than within them: wagons shorter than {lo:g} {u}, whose D is "
+                   "not read")
         elif self.wavelength_m is None:
-            why = f"it has no peak between {lo:g} and {hi:g} m"
+            why = f"it has no peak between {lo:g} and {hi:g} {u}"
         elif self.share < MIN_SHARE:
-            why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} m: {100 * self.share:.0f} % of "
+            why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} {u}: {100 * self.share:.0f} % of "
                    f"the axles repeat there, a D needs {100 * MIN_SHARE:.0f} %")
         else:
-            why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} m: {self.repeats} axles repeat "
+            why = (f"no regular axle spacing at its peak, {self.wavelength_m:.4g} {u}: {self.repeats} axles repeat "
                    f"there, a D needs {MIN_REPEATS}")
         return f"no characteristic length D from its dynamic signature ({why})"
 
@@ -164,10 +183,21 @@ def principal_wavelength(positions, loads, wavelength_range=WAVELENGTH_RANGE_M) 
     samples either side, to 1e-9 of 1/λ. The peak is not D itself: each coach's own phasor
     varies with λ and pulls the peak of the whole train off D (ICE3: 24.456 m for 24.775 m; a
     Talgo between two locomotives 12.64 m for 13.14 m), while D stays the spacing at which the
-    coaches' phasors add exactly in step. So D is the axle spacing that recurs most often within
-    the peak's main lobe, spacings within :data:`SPACING_BAND_M` counted as one (ties go to the
-    spacing whose signature is highest), their median rounded to 1 mm; it is kept if it is
-    regular (:data:`MIN_SHARE`, :data:`MIN_REPEATS`).
+    coaches' phasors add exactly in step. N coaches of length D multiply their own phasor by
+    sin(πND/λ) / sin(πD/λ), whose main lobes stand at 1/λ = i/D with their first zeros 1/(ND)
+    either side: the same half-width, about 1/L (L from the first to the last axle), at every
+    harmonic i. So λ* lies within 1/L of some i/D, and D is the axle spacing s that recurs for
+    the most axles among those with |i/s − 1/λ*| ≤ 1/L for an order i = 1 … :data:`HARMONICS`.
+    Most trains peak at D itself (i = 1); a coach of 24-30 m whose bogie centres lie a apart,
+    D/3 < a < 2D/3, has |cos(π a/D)| < 1/2 < |cos(2π a/D)|, its own phasor weaker at D than at
+    D/2, and the train may peak at D/2 (the regional train of tests/test_no_d_grid.py, coaches of
+    26.4 m on bogies 17.2 m apart: at 13.09 m), where no spacing, or a bogie spacing of some of
+    each coach's axles, recurs. Among the harmonics the
+    train's period recurs most often: every axle of N − 1 of N identical coaches has one D
+    behind it; 2D, those of N − 2; a bogie spacing, some of each coach's axles (as many as D
+    with two coaches: ties go to the longer spacing, and no spacing inside a coach is longer
+    than D). Spacings within :data:`SPACING_BAND_M` count as one, their median rounded to 1 mm;
+    D is kept if it is regular (:data:`MIN_SHARE`, :data:`MIN_REPEATS`).
 
     Parameters
     ----------
@@ -205,19 +235,21 @@ def principal_wavelength(positions, loads, wavelength_range=WAVELENGTH_RANGE_M) 
     found = minimize_scalar(lambda q: -_signature(x, F, np.array([1 / q]))[0], bounds=(k[m - 1], k[m + 1]),
                             method="bounded", options={"xatol": 1e-9 * k[m]})
     k_peak, G_peak = (found.x, -found.fun) if -found.fun >= G[m] else (k[m], G[m])
-    D, repeats = _recurring_spacing(x, F, k_peak, span)
+    D, repeats = _recurring_spacing(x, k_peak, span)
     share = repeats / x.size
     regular = share >= MIN_SHARE and repeats >= MIN_REPEATS
     return SignaturePeak(float(1 / k_peak), float(G_peak), D if regular else None, repeats, share, (lo, hi))
 
 
-def _recurring_spacing(x, F, k_peak, span):
-    """(D [m] to 1 mm, repeats): the axle spacing s with |1/s − k_peak| ≤ 1/span that most axles
-    have another axle behind them at (within SPACING_BAND_M), and how many axles do; (None, 0)
-    when no spacing lies there."""
+def _recurring_spacing(x, k_peak, span):
+    """(D [m] to 1 mm, repeats): the axle spacing s with |i/s − k_peak| ≤ 1/span for an order
+    i = 1 … HARMONICS that most axles have another axle behind them at (within SPACING_BAND_M),
+    the longest of those tied, and how many axles do; (None, 0) when no spacing lies there."""
     first, second = np.triu_indices(x.size, 1)
     s = x[second] - x[first]
-    inside = np.abs(1 / s - k_peak) <= 1 / span
+    lowest = np.maximum(np.ceil(s * (k_peak - 1 / span)), 1)            # the orders i in the lobe:
+    highest = np.minimum(np.floor(s * (k_peak + 1 / span)), HARMONICS)    # s (k − 1/L) ≤ i ≤ s (k + 1/L)
+    inside = lowest <= highest
     s, first = s[inside], first[inside]
     if s.size == 0:
         return None, 0
@@ -227,7 +259,7 @@ def _recurring_spacing(x, F, k_peak, span):
     axles = np.array([np.unique(first[a:b]).size for a, b in zip(range(s.size), end)])
     best = np.flatnonzero(axles == axles.max())
     middle = np.array([np.median(s[a:end[a]]) for a in best])
-    a = int(np.argmax(_signature(x, F, middle)))
+    a = int(np.argmax(middle))                     # a tie: the longest
     return round(float(middle[a]), 3), int(axles[best[a]])
 
 

@@ -172,7 +172,7 @@ class Units:
             built.signature_peak = replace(
                 peak, wavelength_m=length(peak.wavelength_m), signature=peak.signature * self.f_force,
                 length_m=length(peak.length_m), below_m=length(peak.below_m),
-                wavelength_range_m=tuple(length(x) for x in peak.wavelength_range_m))
+                wavelength_range_m=tuple(length(x) for x in peak.wavelength_range_m), length_unit=self.length)
         return built
 
     def check_deck_mass(self, mass_per_length, what):
