@@ -359,6 +359,7 @@ def test_hdf5_file_survives_sigkill(tmp_path):
         assert f["time"].shape == (21,)
         np.testing.assert_array_equal(f["values"][...], ref.values)
         np.testing.assert_allclose(f["time"][...], ref.time, rtol=1e-12)
+        assert f["runs/rows"][...].tolist() == [21]        # written before every flush
 
 
 # -- text ----------------------------------------------------------------------------------------

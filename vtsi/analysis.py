@@ -306,7 +306,10 @@ class _RecorderFeed:
 
     def deliver(self, times, out, assembly, **groups):
         """Hand a chunk over: ``out`` the kernel's bridge columns, ``groups[name]`` the columns of
-        each channel group (as :meth:`group` listed them)."""
+        each channel group (as :meth:`group` listed them). A recorder that raises does not keep
+        the others from the chunk (every completed step stays recorded); the first error is
+        raised after all of them were served, with a note naming its recorder (and the others
+        that raised) when there are several."""
         if not self.recorders or len(times) == 0:
             return
         if self.bridge_only:
@@ -321,9 +324,23 @@ class _RecorderFeed:
             full[:, i] += value * pattern.factors(times - self.load_lag)
         for i, sources, coefficients in self.derived:
             full[:, i] = full[:, sources] @ coefficients
-        for rec, cols in zip(self.recorders, self.columns):
+        failed = None
+        for i, (rec, cols) in enumerate(zip(self.recorders, self.columns)):
             rec.load_lag = self.load_lag
-            rec.write(times, full[:, cols], assembly)
+            try:
+                rec.write(times, full[:, cols], assembly)
+            except Exception as exc:        # raised below, once every recorder has the chunk
+                if len(self.recorders) == 1:
+                    raise
+                if failed is None:
+                    failed = exc
+                    note = (f"raised by recorders[{i}] {rec!r} on the steps of t = {times[0]:.6g} to "
+                            f"{times[-1]:.6g}; the other recorders hold these steps")
+                else:
+                    note = f"recorders[{i}] {rec!r} raised too: {type(exc).__name__}: {exc}"
+                failed.__notes__ = [*getattr(failed, "__notes__", ()), note]   # add_note (3.11+)
+        if failed is not None:
+            raise failed
 
     def close(self):
         for rec in self.recorders:

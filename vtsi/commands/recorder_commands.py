@@ -18,11 +18,18 @@ from .responses import (ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layo
 RECORDER_COMMANDS = ("recorder",)
 NODE_RESPONSES = ("disp", "vel", "accel", "reaction", "reactionIncInertia")
 RECORDER_TYPES = ("Node", "EnvelopeNode", "Element", "EnvelopeElement", "Contact", "Train")
+# the options that take values: none of them is a file name (a flag, -time, is: as OpenSeesPy)
+VALUE_OPTIONS = ("-file", "-h5", "-hdf5", "-precision", "-dT", "-node", "-nodeRange", "-dof", "-ele", "-eleRange")
+# the options that shape a text file only: refused with -h5 (vtsi's own option, so no OpenSees script has both)
+TEXT_ONLY = {"-precision": "it sets the digits of a text file (an HDF5 file stores every value as a float64)",
+             "-closeOnWrite": "it reopens a text file for every write (an HDF5 file is flushed after every chunk "
+                              "of steps)"}
 
 
 class KeptOpen:
     """One command-layer recorder across many ``analyze`` calls, as in OpenSees: its record is
-    opened once (again only when the model or its load patterns change) and closed by
+    opened once (again only when the model, its load patterns or the analysis' description
+    ``info`` change: an HDF5 file then describes the new run) and closed by
     ``remove('recorder', tag)``, ``wipe()`` or the end of the process, not at the end of every
     ``analyze`` (scripts often call ``analyze(1, dt)`` in a loop). Follows the recorder
     contract of :mod:`vtsi.recorders.base` and delegates to the wrapped ``recorder``."""
@@ -30,7 +37,7 @@ class KeptOpen:
     def __init__(self, recorder):
         self.recorder = recorder
         self._requests = None     # (assembly, requests)
-        self._started = None      # (assembly, model.load_version, [(tag, pattern, n_loads)])
+        self._started = None      # (assembly, model.load_version, [(tag, pattern, n_loads)], info)
 
     def __repr__(self):
         return repr(self.recorder)
@@ -50,19 +57,21 @@ class KeptOpen:
         return self._requests[1]
 
     def start(self, assembly, model, info=None):
-        if self._started is not None and self._started[0] is assembly and self._started[1] == model.load_version:
+        info = dict(info or {})
+        if self._started is not None and self._started[0] is assembly and self._started[1] == model.load_version \
+                and self._started[3] == info:
             return        # nothing changed since the last analyze (a per-step loop)
         patterns = [(tag, p, len(p.nodal)) for tag, p in model.patterns.items()]
         if self._started is not None:
-            asm, _, old = self._started
-            same = asm is assembly and len(old) == len(patterns) and all(
+            asm, _, old, old_info = self._started
+            same = asm is assembly and old_info == info and len(old) == len(patterns) and all(
                 a[0] == b[0] and a[1] is b[1] and a[2] == b[2] for a, b in zip(old, patterns))
             if same:
-                self._started = (assembly, model.load_version, patterns)
+                self._started = (assembly, model.load_version, patterns, info)
                 return
             self.recorder.close()
         self.recorder.start(assembly, model, info)
-        self._started = (assembly, model.load_version, patterns)
+        self._started = (assembly, model.load_version, patterns, info)
 
     def write(self, times, columns, assembly):
         self.recorder.write(times, columns, assembly)
@@ -170,8 +179,10 @@ class RecorderCommands(SessionBase):
         """``recorder('Node'|'EnvelopeNode'|'Element'|'EnvelopeElement', ...)``; returns its tag.
         Options: ``-file f`` (OpenSees text), vtsi's ``-h5 f``/``-hdf5 f`` (HDF5; an existing file
         is replaced, as ``-file`` replaces its file), ``-time``,
-        ``-precision p``, ``-dT dt``, ``-closeOnWrite``, ``-node``, ``-nodeRange a b``, ``-dof``,
-        ``-ele``, ``-eleRange a b``; then the response."""
+        ``-precision p`` (p >= 0), ``-dT dt``, ``-closeOnWrite``, ``-node``, ``-nodeRange a b``,
+        ``-dof``, ``-ele``, ``-eleRange a b``; then the response. ``-precision`` and
+        ``-closeOnWrite`` with ``-h5`` are refused (they shape a text file); without a file
+        (memory, OpenSees's screen) they are accepted and change nothing."""
         if args and args[0] in ("Contact", "Train"):
             return self._vehicle_recorder(*args)
         model = self._model("recorder")
@@ -186,15 +197,23 @@ class RecorderCommands(SessionBase):
         targets = None            # None: no selection given
         response = []
         after = None              # the list option whose values the response words follow
+        given = set()             # the options given
         while a.more():
             x = a.peek()
             if isinstance(x, str) and x.startswith("-") and not response:
                 opt = a.option(valid)
+                given.add(opt)
                 after = None
                 if opt in ("-file", "-h5", "-hdf5"):
                     if "sink" in opts:
                         raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
-                    opts["sink"] = (opt, os.fspath(a.word(f"{opt} file name")))
+                    follows = a.peek()
+                    if not a.more():
+                        raise CommandError(f"{name}: {opt} needs a file name, got none")
+                    if not isinstance(follows, str) or follows in VALUE_OPTIONS:
+                        got = f"none ({follows!r} follows)" if isinstance(follows, str) else repr(follows)
+                        raise CommandError(f"{name}: {opt} needs a file name, got {got}")
+                    opts["sink"] = (opt, a.take(f"{opt} file name"))
                 elif opt in ("-time", "-closeOnWrite"):
                     opts[opt] = True
                 elif opt == "-precision":
@@ -225,6 +244,9 @@ class RecorderCommands(SessionBase):
                 response.append(a.take("response"))
         if not response:
             raise CommandError(f"{name}: no response given (e.g. 'disp' or 'force')")
+        clash = sorted(given & set(TEXT_ONLY)) if opts.get("sink", ("-file",))[0] != "-file" else []
+        if clash:
+            raise CommandError(f"{name}: {clash[0]} does nothing with {opts['sink'][0]}: {TEXT_ONLY[clash[0]]}")
         if after is not None:   # a word that is not a tag among the values of -node, -ele or -dof
             what = {"-node": "-node tag", "-ele": "-ele tag", "-dof": "-dof"}[after]
             rest = response[1:]
@@ -289,6 +311,10 @@ class RecorderCommands(SessionBase):
         return tag
 
     def _recorder_sink(self, name, opts):
+        """The sink of ``opts['sink']`` (``(option, path)``; none: memory). ``-precision`` must be
+        >= 0 (0 writes as 1, OpenSees's and C's ``%.0g``; OpenSees takes a negative one as 6)."""
+        if opts["-precision"] < 0:
+            raise CommandError(f"{name}: -precision must be an integer >= 0, got {opts['-precision']}")
         if "sink" not in opts:
             return rec.MemorySink()
         opt, path = opts["sink"]
@@ -299,8 +325,6 @@ class RecorderCommands(SessionBase):
                 raise CommandError(f"{name}: recorder {tag} already writes {path}; give each recorder its own "
                                    f"file (or remove recorder {tag} first)")
         if opt == "-file":
-            if opts["-precision"] < 1:
-                raise CommandError(f"{name}: -precision must be >= 1, got {opts['-precision']}")
             return rec.TextSink(path, time=opts["-time"], precision=opts["-precision"],
                                 close_on_write=opts["-closeOnWrite"])
         # as OpenSees's file recorders (-file): a re-run script replaces its file (the Python API's

@@ -21,8 +21,8 @@ Contract of a recorder (what an analysis relies on)
 2. ``start(assembly, model, info=None)``: called once per analysis run (an analysis run several
    times, as OpenSees's ``analyze`` in a loop, calls it every time: the record continues, it is
    not restarted). ``info`` (optional dict) describes the analysis: ``'analysis'``
-   (``'static'``/``'transient'``), ``'integrator'`` (name), ``'dt'`` [s]; sinks store it as
-   metadata.
+   (``'static'``/``'transient'``/``'coupled'``), ``'integrator'`` (name), ``'dt'`` [s] (static:
+   the load step dλ), ``'loads'``; sinks store it as metadata, the HDF5 sink per run.
 3. ``write(times, columns, assembly)``: ``times (n,)`` [s] increasing, ``columns (n,
    len(requests))`` in the order requested; called after every chunk of steps.
 4. ``close()``: flush and release; called when the run ends, also when it fails (files stay
@@ -44,7 +44,8 @@ b. ``prepare(assembly, model)``: resolve names to indices (once per run); return
      recorder's ``response`` attribute if it has one, else ``'quantity'``.
 
    :meth:`Recorder.start` checks it (ModelError naming the recorder and the key) before any
-   sink sees it, and completes ``n_columns``, ``response`` and ``attrs``.
+   sink sees it, and completes ``n_columns``, ``response``, ``attrs`` and ``run`` (the run's
+   ``info``, its None entries left out).
 c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of the kept steps
    (checked once per chunk: another shape is a ModelError naming the recorder).
 """
@@ -119,7 +120,8 @@ class Recorder:
         layout["n_columns"] = n_columns
         if self.unit_label is not None:
             layout["units"] = [self.unit_label(u) for u in layout["units"]]
-        layout.setdefault("attrs", {}).update(_model_metadata(assembly, info))
+        layout["run"] = {key: value for key, value in (info or {}).items() if value is not None}
+        layout.setdefault("attrs", {}).update(_model_metadata(assembly, layout["run"]))
         layout["attrs"].update(recorder=type(self).__name__, record_dt=float(self.dt or 0.0))
         self._layout = layout
         if self.envelope is not None:
@@ -133,7 +135,6 @@ class Recorder:
                 return
             times, columns = times[keep], columns[keep]
         times = np.ascontiguousarray(times, dtype=np.float64)
-        self.last_time = float(times[-1]) if len(times) else self.last_time
         values = np.ascontiguousarray(self.compute(times, columns, assembly), dtype=np.float64)
         if values.shape != (len(times), self._layout["n_columns"]):
             raise ModelError(f"{self!r}: compute() returned values of shape {values.shape} for {len(times)} steps; "
@@ -142,6 +143,7 @@ class Recorder:
         if self.envelope is not None:
             self.envelope.update(times, values)
         self.sink.write(times, values if self.history else None, self.envelope)
+        self.last_time = float(times[-1]) if len(times) else self.last_time
 
     def close(self):
         self.sink.close(self.envelope)
@@ -203,10 +205,9 @@ class Recorder:
             i += 1
 
 
-def _model_metadata(assembly, info):
+def _model_metadata(assembly, run):
+    """The model's metadata and the run's description ``run`` (a dict), as one dict."""
     meta = {"vtsi_version": __version__, "n_nodes": int(len(assembly.node_tags)),
             "n_elements": sum(len(block[1]) for block in assembly.blocks), "ndf": int(assembly.ndf)}
-    for key, value in (info or {}).items():
-        if value is not None:
-            meta[key] = value
+    meta.update(run)
     return meta

@@ -7,9 +7,11 @@ Contract of a sink
 2. ``open(layout, recorder)``: called at every analysis start. The first call creates the
    storage; later calls continue the same record. ``layout`` holds ``n_columns``, ``units``
    (one str per column), ``quantity``, ``response``, ``columns`` (name -> array per column)
-   and ``attrs`` (model and analysis metadata), all present: :meth:`Recorder.start
-   <vtsi.recorders.base.Recorder.start>` checks the response's description and fills in
-   ``n_columns``, ``attrs`` and a missing ``response``.
+   ``attrs`` (model and analysis metadata) and ``run`` (this run's description: the ``info``
+   the analysis gave, e.g. ``analysis``, ``integrator``, ``dt``, ``loads``; also in ``attrs``),
+   all present: :meth:`Recorder.start <vtsi.recorders.base.Recorder.start>` checks the
+   response's description and fills in ``n_columns``, ``attrs``, ``run`` and a missing
+   ``response``.
 3. ``write(times, values, envelope)``: after every chunk with at least one recorded step;
    ``values (n, n_columns)`` or None (envelope-only recorder), ``envelope`` or None.
 4. ``close(envelope)``: at the end of every run, also a failed one; the storage stays valid.
@@ -104,8 +106,14 @@ class HDF5Sink(Sink):
                           integrator, dt [s] (static: the load step), loads (a text: what
                           the response includes, e.g. 'the load patterns'; a coupled
                           analysis: the train's weight and axle forces, and whether the
-                          bridge's self weight)
-        /time             (n,) float64 [s], resizable, a dimension scale
+                          bridge's self weight). These last hold what every run of the
+                          file shares; one on which the runs differ is removed (/runs)
+        /runs/<field>     one row per run (consecutive runs alike share a row): first_row,
+                          rows (int64: the run's rows of /time), analysis, integrator, loads
+                          (str, '' if not given), dt (float64, NaN if not given),
+                          time_units (str: 's'; '' for a static run's pseudo-time)
+        /time             (n,) float64, resizable, a dimension scale; attrs units: 's' or
+                          '' (static runs: the pseudo-time), removed if the runs differ
         /values           (n, n_columns) float64, resizable along time, chunked;
                           dims[0] = /time, dims[1] = the /columns scales;
                           attrs: units (one str per column), quantity
@@ -129,10 +137,13 @@ class HDF5Sink(Sink):
 
     A run killed at any moment (even SIGKILL) leaves a readable file holding every step up
     to the last flush; a run that raises closes the file with every completed step. The file
-    is open, and locked by HDF5, only during a run: another process reads it between runs and
-    after them; during a run only with ``locking=False``, and then not reliably (no SWMR:
+    is open, and locked by HDF5, only during a run (from ``open`` to ``close``: a command-layer
+    recorder's lasts until it is removed): another process reads it between runs and after
+    them; during a run only with ``locking=False``, and then not reliably (no SWMR:
     docs/recorders.md says why and how).
     """
+
+    RUN_FIELDS = ("analysis", "integrator", "dt", "loads")   # of the run's description, in /runs
 
     def __init__(self, path, overwrite=False, flush_every=None, compression=None, compression_opts=None):
         self.path = _path("HDF5 recorder", path)
@@ -156,12 +167,19 @@ class HDF5Sink(Sink):
         self._created = False
         self._unflushed = 0
         self._failed = False
+        self._shared = None      # the run attributes every run so far shares (the root's)
+        self._run = None         # the /runs row of the current run, as a dict
+        self._rows = 0           # rows recorded (steps the envelope saw, without a history)
+        self._run_first = 0      # the current run's first row
+        self._run_rows = None    # (dataset, memory space, file space) of the current run's /runs/rows
 
     def open(self, layout, recorder):
         self._failed = False
         if self._created:
             self._file = h5py.File(self.path, "r+")
-            self._file.attrs.update(_h5_attrs(layout["attrs"]))
+            run = layout["run"]
+            self._file.attrs.update(_h5_attrs({k: v for k, v in layout["attrs"].items() if k not in run}))
+            self._begin_run(run)
             return
         mode = "w" if self.overwrite else "w-"
         try:
@@ -188,7 +206,7 @@ class HDF5Sink(Sink):
         if recorder.history:
             rows = int(np.clip(2 ** 18 // (8 * max(n, 1)), 64, 16384))
             time = f.create_dataset("time", shape=(0,), maxshape=(None,), chunks=(rows,), dtype="f8")
-            time.attrs["units"] = "s"
+            time.attrs["units"] = _time_units(layout["run"])
             time.make_scale("time")
             values = f.create_dataset("values", shape=(0, n), maxshape=(None, n), chunks=(rows, max(n, 1)),
                                       dtype="f8", compression=self.compression,
@@ -204,9 +222,49 @@ class HDF5Sink(Sink):
             env = f.create_group("envelope")
             for name in recorder.envelope.FIELDS:
                 env.create_dataset(name, data=np.full(n, np.nan))
-                env[name].attrs["units"] = "s" if name.startswith("time") else np.array(layout["units"], dtype=object)
+                env[name].attrs["units"] = _time_units(layout["run"]) if name.startswith("time") else \
+                    np.array(layout["units"], dtype=object)
             env.attrs["n_records"] = 0
+        runs = f.create_group("runs")
+        for name in ("first_row", "rows") + self.RUN_FIELDS + ("time_units",):
+            dtype = "i8" if name in ("first_row", "rows") else "f8" if name == "dt" else h5py.string_dtype()
+            runs.create_dataset(name, shape=(0,), maxshape=(None,), chunks=(64,), dtype=dtype)
+        self._begin_run(layout["run"])
         f.flush()
+
+    def _begin_run(self, run):
+        """Describe the run that starts (``layout['run']``): continue the last row of /runs if the
+        run is described alike, else add one; keep on the root (and on the times, their units)
+        only the description every run of the file shares."""
+        f = self._file
+        shown = _h5_attrs(run)
+        if self._shared is None:
+            self._shared = shown
+        else:
+            for key in [k for k, v in self._shared.items() if k not in shown or shown[k] != v]:
+                del self._shared[key]
+                if key in f.attrs:
+                    del f.attrs[key]
+        dt = run.get("dt")
+        row = {name: str(run.get(name, "")) for name in self.RUN_FIELDS}
+        row["dt"] = float(dt) if isinstance(dt, (int, float, np.integer, np.floating)) else np.nan
+        row["time_units"] = _time_units(run)
+        for name in ("time", *(f"envelope/time_of_{x}" for x in ("min", "max", "absmax"))):
+            if name in f and f[name].attrs.get("units", row["time_units"]) != row["time_units"]:
+                del f[name].attrs["units"]
+        if self._run is None or not _same_run(row, self._run):    # else the same analysis goes on
+            runs = f["runs"]
+            n = runs["rows"].shape[0]
+            for name, value in dict(row, first_row=self._rows, rows=0).items():
+                runs[name].resize((n + 1,))
+                runs[name][n] = value
+            self._run, self._run_first = row, self._rows
+        # the current run's element of /runs/rows, written at every flush: selected once (h5py's
+        # ds[i] = x costs some 65 µs a call, this low-level write 8)
+        rows = f["runs/rows"]
+        space = rows.id.get_space()
+        space.select_hyperslab((rows.shape[0] - 1,), (1,))
+        self._run_rows = (rows.id, h5py.h5s.create_simple((1,)), space)
 
     def write(self, times, values, envelope):
         try:
@@ -228,19 +286,27 @@ class HDF5Sink(Sink):
             for name in envelope.FIELDS:
                 env[name][...] = getattr(envelope, name)
             env.attrs["n_records"] = envelope.n_records
+        self._rows += len(times)
         self._unflushed += len(times)
         if self.flush_every is None or self._unflushed >= self.flush_every:
-            f.flush()
-            self._unflushed = 0
+            self._flush()
+
+    def _flush(self):
+        """Write the current run's number of rows into /runs, then flush the file (all that a
+        killed run keeps)."""
+        dataset, memory, element = self._run_rows
+        dataset.write(memory, element, np.array([self._rows - self._run_first], dtype=np.int64))
+        self._file.flush()
+        self._unflushed = 0
 
     def close(self, envelope):
         if self._file is not None:
             try:
                 if not self._failed:
-                    self._file.flush()
+                    self._flush()
             finally:
                 self._file.close()
-                self._file = None
+                self._file, self._run_rows = None, None
                 self._unflushed = 0
 
     def _read(self, name, empty):
@@ -388,6 +454,18 @@ def format_envelope(envelope, echo_time=False, precision=6):
             value = np.column_stack([getattr(envelope, "time_of_" + name), value]).ravel()
         rows.append(value)
     return format_rows(None, np.array(rows), precision)
+
+
+def _time_units(run):
+    """The units of the recorded times of the run described by ``run``: 's', or '' for a static
+    run (its pseudo-time t0 + k dλ, the load factor under a Linear series)."""
+    return "" if run.get("analysis") == "static" else "s"
+
+
+def _same_run(a, b):
+    """Whether two /runs rows describe the same analysis (a NaN dt equals a NaN dt)."""
+    return a.keys() == b.keys() and all(
+        a[k] == b[k] or (k == "dt" and np.isnan(a[k]) and np.isnan(b[k])) for k in a)
 
 
 def _h5_attrs(attrs):
