@@ -6,7 +6,7 @@ import h5py
 import pytest
 
 from vtsi.__main__ import main
-from vtsi.check import stored_check
+from vtsi.check import CheckResult, CheckSettings, stored_check
 
 
 @pytest.fixture
@@ -22,6 +22,11 @@ def test_check_writes_results_checks_histories_and_report(tmp_path, bridge, caps
     result = stored_check(tmp_path / "check.h5")
     assert status == (0 if result.passed else 1)
     assert "deck_acceleration" in out and ("PASS" in out or "FAIL" in out)
+    # the bridge line states the damping as vtsi sweep's does, with where it came from: EN 1991-2
+    # Table 6.6's 1.0 % for prestressed concrete (L >= 20 m) and Eq. 6.13's Δζ at L = 20 m,
+    # (0.0187 L - 0.00064 L²) / (1 - 0.0441 L - 0.0044 L² + 0.000255 L³) = 0.296 %
+    assert out.splitlines()[0] == (f"{result.bridge}; damping ζ = 1.3 % (EN 1991-2 Table 6.6, prestressed concrete, "
+                                   "longest span L = 20 m: 1 % + Eq. 6.13 Δζ 0.296 % = 1.3 %)")
     row = result.row("deck_acceleration")
     assert row.train in out and f"{row.speed_kmh:g} km/h" in out
     with h5py.File(tmp_path / "check.h5", "r") as f:
@@ -72,7 +77,7 @@ def test_a_criterion_not_checked_gives_no_verdict_and_exit_1(tmp_path, bridge, c
      "--speeds reach 300 km/h, short of 1.2 x --line-speed 300 = 360 km/h that EN 1991-2 6.4.6.2(1) asks"),
     (["--bridge-type", "steel", "--line-speed", "250", "--speeds", "en:300"], "name two line speeds"),
     (["--bridge-type", "steel", "--line-speed", "83.3", "NO_SPEEDS"],       # m/s typed: it named '(0, 99.96]'
-     "line speed 83.3 km/h: 1.2 x it = 99.96 km/h is below 144 km/h, where the series starts (EN 1991-2 6.4.6.2(1): "
+     "line speed 83.3 km/h: 1.2 x it = 99.96 km/h is below 144 km/h, where the series starts (EN 1991-2 6.4.6.2(3): "
      "from 40 m/s); if 83.3 is in m/s, the line speed is 299.88 km/h"),
     (["--bridge-type", "steel", "--line-speed", "3000", "NO_SPEEDS"],       # it named '3600 km/h' only
      "line speed 3000 km/h: 1.2 x it = 3600 km/h is faster than any train (at most 720 km/h)"),
@@ -119,10 +124,9 @@ class _ClosedPipe:
 def test_a_closed_standard_output_keeps_the_verdict_status(tmp_path, bridge, capsys, monkeypatch):
     """'vtsi check ... | head -3' exited 3 ('a passage failed') with '[Errno 32] Broken pipe'."""
     import vtsi.workflow
-    from types import SimpleNamespace
 
     monkeypatch.chdir(tmp_path)
-    verdict = SimpleNamespace(passed=False, text=lambda: "criterion ...\n" * 50)
+    verdict = CheckResult(CheckSettings(), bridge="bridge: ...")          # no row: no verdict (exit 1)
     monkeypatch.setattr(vtsi.workflow, "design_check", lambda *a, **k: (verdict, {"html": "r.html", "scene": None}))
     monkeypatch.setattr("sys.stdout", _ClosedPipe())
     status = main(["check", str(bridge), "--trains", "HSLM-A1", "--speeds", "300", "--bridge-type", "steel",

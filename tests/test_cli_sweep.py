@@ -24,22 +24,11 @@ from vtsi.sweep_results import SweepResults
 
 E, I, MU, L = 3.5e10, 1.9, 15000.0, 20.0
 
-BEAM_TOML = f"""\
-# a 20 m simply supported beam, 4 elements
-[bridge]
-kind = "beam"
-spans_m = [{L}]
-E_Pa = {E}
-I_m4 = {I}
-mu_kg_m = {MU}
-elements_per_span = 4
-[analysis]
-damping = 0.0125
-dt_s = 0.01
-"""
+BEAM = {"f1_Hz": None, "I_m4": I}           # conftest's beam_toml with its I given (not f1) ...
+ANALYSIS = {"damping": 0.0125, "dt_s": 0.01}   # ... and these [analysis] defaults
 
 BEAM_TCL = f"""\
-# the same beam as BEAM_TOML, as an OpenSees Tcl script
+# the beam of the `beam` fixture's bridge file, as an OpenSees Tcl script
 model basic -ndm 2 -ndf 3
 for {{set i 0}} {{$i <= 4}} {{incr i}} {{ node [expr {{$i + 1}}] [expr {{$i * {L / 4}}}] 0.0 }}
 fix 1 1 1 0
@@ -55,7 +44,7 @@ puts "built the beam"
 """
 
 BEAM_PY = f"""\
-# the same beam as BEAM_TOML, as an OpenSeesPy script on vtsi's commands
+# the beam of the `beam` fixture's bridge file, as an OpenSeesPy script on vtsi's commands
 import vtsi.opensees as ops
 ops.wipe()
 ops.model('basic', '-ndm', 2, '-ndf', 3)
@@ -90,6 +79,17 @@ def table_rows(text):
     lines = text.strip().splitlines()
     start = next(i for i, line in enumerate(lines) if line.startswith("quantity"))
     return {line.split()[0]: line.split()[1:] for line in lines[start + 2:]}
+
+
+@pytest.fixture
+def beam(tmp_path, beam_toml):
+    """``beam(name='bridge.toml', bridge=None, **analysis)``: writes ``tmp_path / name``, the 20 m
+    beam of conftest's ``beam_toml`` with BEAM and ANALYSIS, its [bridge] keys updated by
+    ``bridge`` and its [analysis] by ``analysis`` (a key given None is left out); returns its path."""
+    def write_beam(name="bridge.toml", bridge=None, **analysis):
+        keys = {key: value for key, value in {**ANALYSIS, **analysis}.items() if value is not None}
+        return beam_toml(tmp_path / name, {**BEAM, **(bridge or {})}, **keys)
+    return write_beam
 
 
 def sweep(tmp_path, bridge, *args, out="out.h5"):
@@ -139,9 +139,9 @@ def test_run_subcommand_and_the_original_form(tmp_path, capfd):
 
 
 # -- vtsi sweep ------------------------------------------------------------------------------------
-def test_sweep_subprocess_prints_the_critical_case(tmp_path):
+def test_sweep_subprocess_prints_the_critical_case(tmp_path, beam):
     """A real ``python -m vtsi sweep`` in a fresh directory: default results file, the table."""
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     proc = subprocess.run([sys.executable, "-m", "vtsi", "sweep", "bridge.toml", "--trains", "HSLM-A1",
                            "--speeds", "200:300:50", "--dt", "0.01", "--workers", "1"],
                           capture_output=True, text=True, cwd=tmp_path, timeout=120)
@@ -160,8 +160,8 @@ def test_sweep_subprocess_prints_the_critical_case(tmp_path):
     assert "Traceback" not in proc.stderr
 
 
-def test_sweep_toml_in_process(tmp_path, capsys):
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+def test_sweep_toml_in_process(tmp_path, capsys, beam):
+    bridge = beam()
     assert sweep(tmp_path, bridge, *FAST) == 0
     out = capsys.readouterr().out
     assert out.startswith("3 of 3 cases") and "HSLM-A1" in table_rows(out)["deflection_min"]
@@ -179,10 +179,10 @@ def test_sweep_toml_in_process(tmp_path, capsys):
     assert settings["dt"] == 0.015 and settings["damping"] == 0.02 and settings["integrator"] == "HHT(0.9)"
 
 
-def test_script_bridges_equal_the_described_beam(tmp_path, capsys):
+def test_script_bridges_equal_the_described_beam(tmp_path, capsys, beam):
     """The same beam as a TOML description, an OpenSeesPy script and a Tcl script: the same
     envelopes; a script's prints go to stderr, its load pattern is dropped."""
-    toml = write(tmp_path, "bridge.toml", BEAM_TOML)
+    toml = beam()
     script = py_script(tmp_path)
     args = ["--trains", "HSLM-A1,ICE3", "--speeds", "250,300", "--dt", "0.01", "--damping", "0.0125", "--workers", "1",
             "--quiet"]
@@ -216,15 +216,15 @@ def test_track_choice(tmp_path, capsys):
     assert SweepResults(tmp_path / "out.h5").identity["bridge"]["track"] == 1
 
 
-def test_hslm_a_shorthand_and_catalogue_spelling(tmp_path, capsys):
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+def test_hslm_a_shorthand_and_catalogue_spelling(tmp_path, capsys, beam):
+    bridge = beam()
     assert sweep(tmp_path, bridge, "--trains", "hslm-a,ice3", "--speeds", "300", "--dt", "0.015", "--workers", "1",
                  "--quiet") == 0
     assert SweepResults(tmp_path / "out.h5").trains == [f"HSLM-A{k}" for k in range(1, 11)] + ["ICE3"]
 
 
-def test_en_speed_grid(tmp_path, capsys):
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+def test_en_speed_grid(tmp_path, capsys, beam):
+    bridge = beam()
     assert sweep(tmp_path, bridge, "--trains", "A1", "--speeds", "en:300", "--dt", "0.015", "--workers", "1",
                  "--quiet") == 0
     results = SweepResults(tmp_path / "out.h5")
@@ -232,15 +232,15 @@ def test_en_speed_grid(tmp_path, capsys):
     assert results.speeds_kmh[0] == 144.0 and results.speeds_kmh[-1] == 360.0
 
 
-def test_csv_train(tmp_path, capsys):
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+def test_csv_train(tmp_path, capsys, beam):
+    bridge = beam()
     axles = write(tmp_path, "axles.csv", "position_m,load_kN\n0.0,200.0\n3.0,200.0\n")
     assert sweep(tmp_path, bridge, "--trains", str(axles), "--speeds", "200", "--workers", "1", "--quiet") == 0
     assert table_rows(capsys.readouterr().out)["deflection_min"][2] == str(axles)
 
 
-def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypatch):
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypatch, beam):
+    bridge = beam()
     run = PassageRunner.run
 
     def failing(self, train, speed_kmh, seed=-1):
@@ -257,10 +257,9 @@ def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypa
 
 # -- bad input: exit 2, one line, nothing written ------------------------------------------------
 def _other_sweep(tmp_path):
-    """An existing results file of another sweep (other speeds)."""
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
-    assert main(["sweep", str(bridge), "--trains", "HSLM-A1", "--speeds", "300", "--workers", "1", "--quiet",
-                 "--out", str(tmp_path / "out.h5")]) == 0
+    """An existing results file of another sweep (other speeds), of the test's bridge.toml."""
+    assert main(["sweep", str(tmp_path / "bridge.toml"), "--trains", "HSLM-A1", "--speeds", "300", "--workers", "1",
+                 "--quiet", "--out", str(tmp_path / "out.h5")]) == 0
 
 
 BAD = {
@@ -317,34 +316,43 @@ BAD = {
     "an existing file": (["--trains", "A1", "--speeds", "300"], _other_sweep, "exists; --resume continues"),
 }
 
-BAD_FILES = {
+def _latin1(path):
+    """``path`` with a comment in Latin-1 (a byte that is not UTF-8) before its TOML."""
+    path.write_bytes(("# a \u00b0 20 m beam\n" + path.read_text()).encode("latin-1"))
+    return path
+
+
+BAD_SCRIPTS = {
     "notrack.py": lambda p: py_script(p, "notrack.py", tracks=""),
     "tonnes.py": lambda p: py_script(p, "tonnes.py", mass=15.0),
     "failing.py": lambda p: write(p, "failing.py", "import vtsi.opensees as ops\nops.model(basic)\n"),
     "empty.py": lambda p: write(p, "empty.py", "x = 1\n"),
-    "typo.toml": lambda p: write(p, "typo.toml", BEAM_TOML.replace("I_m4", "I_m5")),
-    "typo2.toml": lambda p: write(p, "typo2.toml", BEAM_TOML.replace("dt_s", "dt")),
-    "typo3.toml": lambda p: write(p, "typo3.toml", BEAM_TOML.replace("dt_s = 0.01", "dt_s = -1.0")),
-    "bridge.txt": lambda p: write(p, "bridge.txt", BEAM_TOML),
-    "latin1.toml": lambda p: (lambda f: (f.write_bytes(BEAM_TOML.replace("# a 20", "# a \u00b0 20").encode("latin-1")), f)[1])(
-        p / "latin1.toml"),
-    "kind.toml": lambda p: write(p, "kind.toml", BEAM_TOML.replace('kind = "beam"', 'kind = ["beam"]')),
-    "fine.toml": lambda p: write(p, "fine.toml", BEAM_TOML.replace("elements_per_span = 4", "elements_per_span = 100000000")),
-    "mm.toml": lambda p: write(p, "mm.toml", BEAM_TOML.replace(f"spans_m = [{L}]", "spans_m = [20000.0]")),
-    "seeds.toml": lambda p: write(p, "seeds.toml", BEAM_TOML + "seeds = [1, 1]\n"),
-    "smooth_seeds.toml": lambda p: write(p, "smooth_seeds.toml", BEAM_TOML + "seeds = [0, 1]\n"),
-    "modal.toml": lambda p: write(p, "modal.toml", BEAM_TOML + "modal_hz = -5.0\n"),
+}
+BAD_FILES = {                   # bridge files: the shared beam with one thing wrong
+    "typo.toml": lambda beam: beam("typo.toml", {"I_m4": None, "I_m5": I}),
+    "typo2.toml": lambda beam: beam("typo2.toml", dt_s=None, dt=0.01),
+    "typo3.toml": lambda beam: beam("typo3.toml", dt_s=-1.0),
+    "bridge.txt": lambda beam: beam("bridge.txt"),
+    "latin1.toml": lambda beam: _latin1(beam("latin1.toml")),
+    "kind.toml": lambda beam: beam("kind.toml", {"kind": ["beam"]}),
+    "fine.toml": lambda beam: beam("fine.toml", {"elements_per_span": 100000000}),
+    "mm.toml": lambda beam: beam("mm.toml", {"spans_m": [20000.0]}),
+    "seeds.toml": lambda beam: beam("seeds.toml", seeds=[1, 1]),
+    "smooth_seeds.toml": lambda beam: beam("smooth_seeds.toml", seeds=[0, 1]),
+    "modal.toml": lambda beam: beam("modal.toml", modal_hz=-5.0),
 }
 
 
 @pytest.mark.parametrize("case", list(BAD))
-def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, capsys):
+def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, capsys, beam):
     args, setup, message = BAD[case]
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     if callable(setup):
         setup(tmp_path)
+    elif setup in BAD_SCRIPTS:
+        bridge = BAD_SCRIPTS[setup](tmp_path)
     elif setup in BAD_FILES:
-        bridge = BAD_FILES[setup](tmp_path)
+        bridge = BAD_FILES[setup](beam)
     elif setup is not None:
         bridge = tmp_path / setup
     before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
@@ -369,12 +377,12 @@ def test_bad_input_exits_2_with_one_line_and_writes_nothing(case, tmp_path, caps
     (["--modes", "40"], "unrecognized arguments: --modes 40"),
     ([], "the following arguments are required: --speeds"),
 ], ids=["workers", "resume-overwrite", "cars", "bridge-model", "unknown-option", "missing"])
-def test_usage_errors_exit_2_with_one_line(command, args, message, tmp_path, capsys):
+def test_usage_errors_exit_2_with_one_line(command, args, message, tmp_path, capsys, beam):
     """A bad command line is told as every other bad input: one line naming the argument,
     with where help is (not argparse's usage block), exit status 2, nothing written."""
     if command == "check" and not args:
         args, message = ["--speeds"], "argument --speeds: expected one argument"
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     needed = ["--trains", "A1", "--speeds", "200"] if args else ["--trains", "A1"]
     with pytest.raises(SystemExit) as info:
         main([command, str(bridge), *needed, *args, "--out", str(tmp_path / "out.h5")])
@@ -385,23 +393,21 @@ def test_usage_errors_exit_2_with_one_line(command, args, message, tmp_path, cap
 
 
 # -- the bridge-file loader ------------------------------------------------------------------------
-def test_f1_gives_the_frequency(tmp_path):
-    text = BEAM_TOML.replace(f"I_m4 = {I}", "f1_Hz = 5.0").replace("elements_per_span = 4", "elements_per_span = 20")
-    bridge = load_bridge(write(tmp_path, "f1.toml", text))
+def test_f1_gives_the_frequency(beam):
+    bridge = load_bridge(beam("f1.toml", {"I_m4": None, "f1_Hz": 5.0, "elements_per_span": 20}))
     assert bridge.description["f1_Hz"] == 5.0
     f, _ = vertical_frequencies(bridge.model, 1)
     assert abs(f[0] / 5.0 - 1) < 1e-4
-    both = BEAM_TOML.replace("mu_kg_m", "f1_Hz = 5.0\nmu_kg_m")
     with pytest.raises(ModelError, match="either I_m4 or f1_Hz"):
-        load_bridge(write(tmp_path, "both.toml", both))
+        load_bridge(beam("both.toml", {"f1_Hz": 5.0}))
 
 
-def test_yaml_description_equals_toml(tmp_path):
+def test_yaml_description_equals_toml(tmp_path, beam):
     pytest.importorskip("yaml")
     yaml_text = ("bridge:\n  kind: beam\n  spans_m: [20.0]\n  E_Pa: 3.5e+10\n  I_m4: 1.9\n  mu_kg_m: 15000.0\n"
                  "  elements_per_span: 4\nanalysis:\n  damping: 0.0125\n  dt_s: 0.01\n")
     a = read_bridge_file(write(tmp_path, "b.yaml", yaml_text))
-    b = read_bridge_file(write(tmp_path, "b.toml", BEAM_TOML))
+    b = read_bridge_file(beam("b.toml"))
     assert a.bridge.description == b.bridge.description and a.settings == b.settings == {"damping": 0.0125, "dt": 0.01}
 
 
@@ -453,10 +459,10 @@ def test_a_bridge_script_in_other_units_is_refused(tmp_path):
 
 
 # -- one writer, overwrite, a closed pipe, SIGTERM ---------------------------------------------------
-def test_a_second_run_on_a_results_file_exits_2_naming_the_first(tmp_path, capsys):
+def test_a_second_run_on_a_results_file_exits_2_naming_the_first(tmp_path, capsys, beam):
     """Two runs on one file corrupted it (empty train names, '882 of 570 cases', exit 0)."""
     from vtsi.sweep_results import ResultsFileLock
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     out = tmp_path / "out.h5"
     lock = ResultsFileLock(str(out))                       # as another run writing out.h5 holds it
     try:
@@ -471,11 +477,11 @@ def test_a_second_run_on_a_results_file_exits_2_naming_the_first(tmp_path, capsy
     assert sweep(tmp_path, bridge, *FAST) == 0
 
 
-def test_an_interrupted_overwrite_keeps_the_old_file(tmp_path, capsys, monkeypatch):
+def test_an_interrupted_overwrite_keeps_the_old_file(tmp_path, capsys, monkeypatch, beam):
     """--overwrite deleted the old results before the new sweep had any; the message counted
     the old file's cases as the new sweep's."""
     from vtsi.sweep_results import ResultsWriter
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     out = tmp_path / "out.h5"
     assert sweep(tmp_path, bridge, "--trains", "HSLM-A1", "--speeds", "200,250,300,350", "--workers", "1",
                  "--quiet") == 0
@@ -497,9 +503,9 @@ def test_an_interrupted_overwrite_keeps_the_old_file(tmp_path, capsys, monkeypat
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bridge.toml", "out.h5"]
 
 
-def test_a_closed_standard_output_is_not_an_error(tmp_path):
+def test_a_closed_standard_output_is_not_an_error(tmp_path, beam):
     """'vtsi sweep ... | head -1' printed a BrokenPipeError traceback."""
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     proc = subprocess.Popen([sys.executable, "-m", "vtsi", "sweep", str(bridge), *FAST, "--out", "out.h5"],
                             cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     proc.stdout.close()                          # the reader is gone before the table is printed
@@ -509,10 +515,10 @@ def test_a_closed_standard_output_is_not_an_error(tmp_path):
 
 
 
-def test_a_closed_pipe_of_both_streams_is_not_an_error(tmp_path):
+def test_a_closed_pipe_of_both_streams_is_not_an_error(tmp_path, beam):
     """'vtsi sweep ... 2>&1 | head -1' exited 1 ('a passage failed') now and then: the closing
     line on standard error ('results in ...') met the closed pipe."""
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     proc = subprocess.Popen([sys.executable, "-m", "vtsi", "sweep", str(bridge), *FAST[:-1], "--out", "out.h5"],
                             cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     proc.stdout.close()                          # the reader is gone before anything is printed
@@ -520,12 +526,12 @@ def test_a_closed_pipe_of_both_streams_is_not_an_error(tmp_path):
     assert SweepResults(tmp_path / "out.h5").n_done == 3
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="SIGTERM and /proc")
-def test_sigterm_stops_like_ctrl_c(tmp_path):
+def test_sigterm_stops_like_ctrl_c(tmp_path, beam):
     """SIGTERM (Slurm, systemd) exited 143 without a word, leaving pool workers and out.h5.partial."""
     import signal
     import time
     psutil = pytest.importorskip("psutil")
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     out = tmp_path / "out.h5"
     proc = subprocess.Popen([sys.executable, "-m", "vtsi", "sweep", str(bridge), "--trains", "HSLM-A", "--speeds",
                              "140:420:5", "--dt", "0.0005", "--workers", "2", "--quiet", "--out", str(out)],
@@ -554,11 +560,11 @@ def test_sigterm_stops_like_ctrl_c(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bridge.toml", "out.h5"]
 
 
-def test_the_modal_settings_from_the_command_line(tmp_path):
+def test_the_modal_settings_from_the_command_line(tmp_path, beam):
     """``--bridge-model`` offers every bridge model ('modal-stepped' was reachable only from a
     bridge file) and ``--modal-hz`` sets the basis; both are stored with the sweep's settings."""
     from vtsi.sweep_results import SweepResults
-    bridge = write(tmp_path, "bridge.toml", BEAM_TOML)
+    bridge = beam()
     assert sweep(tmp_path, bridge, *FAST, "--bridge-model", "modal-stepped", "--modal-hz", "40", "--damping", "0.01") == 0
     settings = SweepResults(tmp_path / "out.h5").identity["settings"]
     assert settings["bridge"] == "modal-stepped" and settings["modal_hz"] == 40.0

@@ -6,18 +6,25 @@ stored only where its ratio came from, and nobody was told that the script's dam
 dropped; now ``damping_source`` (stored with the check, printed in the report) names what it
 replaced, a line on standard error says so, and a check without a ratio says that it does not
 take the script's."""
+import math
+
 import pytest
 
 import vtsi.workflow
 from vtsi.__main__ import main
 from vtsi.bridge_file import script_bridge
 from vtsi.check import stored_check
+from vtsi.damping import bridge_frequencies
 from vtsi.errors import SweepError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import Sweep
 
 RAYLEIGH_LINE = "rayleigh 0.1 0.0 0.002 0.0\n"          # the Tcl deck's damping, after deck_tcl's lines
-RAYLEIGH = "the bridge script's rayleigh αM = 0.1 1/s, βK = 0.002 s"
+# the deck's n0 = 5 Hz and EN cut-off 45.02 Hz (its n3), and the ratio ζ(f) = αM / (4π f) + π βK f
+# of the script's rayleigh there: test_the_ratios_named_are_the_rayleigh_factors_at_n0_and_the_cutoff
+N0, CUTOFF = "5", "45.02"
+AT = f"at n0 = {N0} Hz, {{}} at the EN cut-off {CUTOFF} Hz"
+RAYLEIGH = f"the bridge script's rayleigh αM = 0.1 1/s, βK = 0.002 s (ζ = 3.3 % {AT.format('28.3 %')})"
 # EN 1991-2 Table 6.6, lower limits for spans L >= 20 m: prestressed concrete 1.0 %, steel 0.5 %
 PRESTRESSED = "EN 1991-2 Table 6.6, prestressed concrete, longest span L = 20 m: 1 %"
 CHECK = ["--trains", "HSLM-A1", "--speeds", "300", "--dt", "0.005", "--workers", "1"]
@@ -51,6 +58,23 @@ def test_bridge_type_replaces_a_tcl_scripts_rayleigh_stored_and_reported(tmp_pat
     assert f"| damping from | {source} |" in report
 
 
+def test_the_ratios_named_are_the_rayleigh_factors_at_n0_and_the_cutoff(tmp_path, deck_script):
+    """The ζ named beside a script's rayleigh factors is αM / (4π f) + π βK f at the bridge's n0
+    and at its EN cut-off max(30 Hz, 1.5 n0, n3), as a sweep reads them: the deck's n0 is the
+    5 Hz its I was chosen for, its n3 the beam's 9 n0 (to 0.1 %); the ratios of this file's three
+    rayleigh cases to three significant digits."""
+    (tmp_path / "deck.py").write_text(deck_script(0.6948))
+    bridge = script_bridge(tmp_path / "deck.py")
+    f = bridge_frequencies(bridge.model, bridge.track_elements)
+    n0, n3 = f.deck_hz[0, 0], f.deck_hz[0, 2]
+    assert n0 == pytest.approx(5.0, rel=1e-3) and n3 == pytest.approx(9 * n0, rel=1e-3)
+    assert f.cutoff_hz == max(30.0, 1.5 * n0, n3)
+    assert (f"{n0:.4g}", f"{f.cutoff_hz:.4g}") == (N0, CUTOFF)
+    ratio = (lambda alpha, beta, hz: f"{100 * (alpha / (4 * math.pi * hz) + math.pi * beta * hz):.3g} %")
+    assert [(ratio(a, b, n0), ratio(a, b, f.cutoff_hz)) for a, b in ((0.1, 0.002), (0.0, 0.002), (0.1, 0.0))] == [
+        ("3.3 %", "28.3 %"), ("3.14 %", "28.3 %"), ("0.159 %", "0.0177 %")]
+
+
 def test_what_the_damping_replaces_is_true(tmp_path, deck_script):
     """The sweep's damping ratio replaces the script's rayleigh: the passages' model has the same
     Rayleigh factors as the script's model without it."""
@@ -65,14 +89,16 @@ def test_what_the_damping_replaces_is_true(tmp_path, deck_script):
     ("ops.rayleigh(0.1, 0.0, 0.002, 0.0)\n", ["--damping", "0.02"],
      f"--damping 0.02; it replaces {RAYLEIGH} (deck.py)", f"vtsi check: --damping 0.02 replaces {RAYLEIGH} (deck.py) by ζ = 2 %"),
     ("ops.rayleigh(0.0, 0.0, 0.001, 0.001)\n", ["--damping", "0.02"],          # βK: the sum of the three
-     "--damping 0.02; it replaces the bridge script's rayleigh αM = 0 1/s, βK = 0.002 s (deck.py)", "βK = 0.002 s"),
+     f"--damping 0.02; it replaces the bridge script's rayleigh αM = 0 1/s, βK = 0.002 s (ζ = 3.14 % "
+     f"{AT.format('28.3 %')}) (deck.py)", "βK = 0.002 s"),
     ("ops.eigen(4)\nops.modalDamping(0.02)\n", ["--damping", "0.015", "--bridge-model", "modal"],
      "--damping 0.015; it replaces the bridge script's modalDamping 0.02 on modes 1-4 of its eigen (deck.py)",
      "vtsi check: --damping 0.015 replaces the bridge script's modalDamping 0.02 on modes 1-4 of its eigen (deck.py) "
      "by ζ = 1.5 %"),
     ("ops.rayleigh(0.1, 0.0, 0.0, 0.0)\nops.eigen(2)\nops.modalDamping(0.02, 0.01)\n", ["--bridge-type", "steel"],
      "EN 1991-2 Table 6.6, steel, longest span L = 20 m: 0.5 %; it replaces the bridge script's rayleigh αM = 0.1 1/s, "
-     "βK = 0 s and modalDamping 0.02 0.01 on modes 1-2 of its eigen (deck.py)", "by ζ = 0.5 %: EN 1991-2 Table 6.6"),
+     f"βK = 0 s (ζ = 0.159 % {AT.format('0.0177 %')}) and modalDamping 0.02 0.01 on modes 1-2 of its eigen (deck.py)",
+     "by ζ = 0.5 %: EN 1991-2 Table 6.6"),
     ("", ["--bridge-type", "steel"], "EN 1991-2 Table 6.6, steel, longest span L = 20 m: 0.5 %", None),
 ], ids=["--damping over rayleigh", "betaK summed", "--damping over modalDamping",
         "--bridge-type over rayleigh and modalDamping", "no damping of its own"])

@@ -63,6 +63,16 @@ def lm71_hogging(L):
     return -q * L * L / 8 + q * (area(c + 3.2) - area(c - 3.2)) - P * sum(eta(c + o) for o in offsets)
 
 
+def sw0_hogging(L):
+    """SW/0's most unfavourable moment over the middle support of a 2 × L beam (L >= 17.65 m), by
+    hand [N·m]: its pattern (15 m, 5.3 m, 15 m) centred on the support, loading s = L − 17.65 to
+    L − 2.65 m from the outer support of both spans (the optimum: tests/test_sw0.py finds it by
+    quadrature), −2 q ∫ s (L² − s²)/(4 L²) ds, q = 133 kN/m (EN 1991-2 Table 6.1)."""
+    def area(s):
+        return (L * L * s * s / 2 - s ** 4 / 4) / (4 * L * L)
+    return -2 * 133e3 * (area(L - 2.65) - area(L - 17.65))
+
+
 def two_span_lines(L, n):
     model = vtsi.Model()
     beam = continuous_beam(model, [L, L], n, E, I, MU)
@@ -107,7 +117,7 @@ def test_a_slow_axle_reads_the_influence_line_over_the_pier(tmp_path, kind):
     bridge = beam_bridge([L, L], E, I, MU, elements_per_span=10)
     out = [Output("support_moment", "moment", "supports", history=True)]
     sweep = Sweep(bridge, [str(path)], "1", PassageSettings(dt=2e-3, damping=0.02, bridge=kind), outputs=out)
-    static, lm71 = sweep.runner.static_envelopes(out[0], sweep.trains)
+    static, lm71, _ = sweep.runner.static_envelopes(out[0], sweep.trains)
     peak = P * L / (6 * math.sqrt(3))
     assert static[0, MIN, 1] == pytest.approx(-peak, rel=1e-6)          # the scan, refined by a parabola
     assert lm71[MIN, 1] == pytest.approx(lm71_hogging(L), rel=2e-6)
@@ -133,14 +143,15 @@ def continuous(tmp_path_factory):
 
 def test_the_check_of_a_continuous_deck_has_the_pier_rows(continuous):
     """φ'_dyn = max M_dyn / M_stat − 1 over the cases at the pier (node 11, both hogging), and
-    (1 + φ'_dyn + φ''/2) |M_train| / (Φ α |M_LM71|) by hand, Φ and φ'' of the deck's L_Φ =
-    1.2 × 20 m; the rows in the text and in the stored check alike."""
+    (1 + φ'_dyn + φ''/2) |M_train| / (Φ α |M_SW/0|) by hand (SW/0 hogs the pier 23.5 % more than
+    LM71: the static reference on a continuous deck is the more unfavourable of the two), Φ and
+    φ'' of the deck's L_Φ = 1.2 × 20 m; the rows in the text and in the stored check alike."""
     path, result = continuous
     results = SweepResults(path)
     assert [s[:2] for s in intermediate_supports(results.bridge())] == [(0, 20.0)]
     env, columns = results.column_envelopes("support_moment")
     assert list(columns) == [11]                                       # the default output's 'piers'
-    trains, lm71 = results.static("support_moment")
+    trains, lm71, _ = results.static("support_moment")
     c = list(columns).index(11)
     assert trains[:, MIN, c].max() < 0 and lm71[MIN, c] == pytest.approx(lm71_hogging(20.0), rel=2e-6)
     ratio = env[..., MIN, c] / trains[:, MIN, c][:, None, None]
@@ -152,9 +163,12 @@ def test_the_check_of_a_continuous_deck_has_the_pier_rows(continuous):
     L_phi, Phi, phi2, share = _design_factors(results, results.bridge(), CheckSettings())
     assert L_phi[0] == pytest.approx(24.0) and share == 0.5
     per_train = np.nanmax(ratio.reshape(len(results.trains), -1), axis=1) - 1.0
-    by_hand = (1 + per_train + 0.5 * phi2[0]) * np.abs(trains[:, MIN, c]) / (Phi[0] * abs(lm71[MIN, c]))
+    reference = sw0_hogging(20.0)
+    assert reference < 1.2 * lm71[MIN, c]
+    by_hand = (1 + per_train + 0.5 * phi2[0]) * np.abs(trains[:, MIN, c]) / (Phi[0] * abs(reference))
     versus = result.row("dynamic_vs_lm71_support_moment")
-    assert versus.value == pytest.approx(by_hand.max(), rel=1e-12) and versus.limit == 1.0
+    assert versus.value == pytest.approx(by_hand.max(), rel=1e-9) and versus.limit == 1.0
+    assert f"M_SW/0 = {reference / 1e3:.5g} kN m" in versus.note
     assert versus.train == results.trains[int(np.argmax(by_hand))] and versus.where.startswith("node 11 (x = 20 m, support of spans")
     assert "L_Phi = 24 m" in versus.note and "hogging" in versus.note
     ratios = support_ratios(results, "support_moment", results.bridge())

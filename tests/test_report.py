@@ -241,14 +241,13 @@ def test_a_sweep_of_moving_forces_shows_only_what_applies(files, tmp_path):
         assert not rest or "the histories do not hold that quantity" in rest
 
 
-def test_a_continuous_deck_from_a_bridge_file(tmp_path):
+def test_a_continuous_deck_from_a_bridge_file(tmp_path, beam_toml):
     """A three-span deck from a bridge file with f1_Hz: the table says that f1 is the file's input
     (the first span as simply supported), next to the model's frequencies; the history caption
     says each span has its own line style."""
-    (tmp_path / "cont.toml").write_text('[bridge]\nkind = "beam"\nspans_m = [20.0, 25.0, 20.0]\nE_Pa = 3.5e10\n'
-                                        'f1_Hz = 4.5\nmu_kg_m = 20000.0\nelements_per_span = 4\n')
+    bridge = beam_toml(tmp_path / "cont.toml", {"spans_m": [20.0, 25.0, 20.0], "f1_Hz": 4.5, "mu_kg_m": 20000.0})
     path = tmp_path / "cont.h5"
-    sweep = Sweep(load_bridge(tmp_path / "cont.toml"), ["HSLM-A1"], "300", PassageSettings(dt=5e-3, damping=0.02))
+    sweep = Sweep(load_bridge(bridge), ["HSLM-A1"], "300", PassageSettings(dt=5e-3, damping=0.02))
     result = check(sweep.run(path, workers=1, progress=False))
     result.store(path)
     sweep.record_histories(path, [("HSLM-A1", 300.0, -1)])

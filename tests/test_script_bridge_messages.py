@@ -140,7 +140,8 @@ def test_a_bridge_files_time_step_is_named_by_its_key(tmp_path, capsys, beam_tom
 @pytest.mark.parametrize("case", ["none", "--damping", "rayleigh", "rayleigh and --damping", "file"])
 def test_the_summary_says_the_damping_the_sweep_used(tmp_path, capsys, deck_script, beam_toml, case):
     """The summary's bridge line ends with the damping the passages had: none (a script without
-    damping runs undamped), the sweep's ratio and where it came from, or the script's own."""
+    damping runs undamped), the sweep's ratio and where it came from, or the script's own (with
+    the ratios its rayleigh gives at n0 and the EN cut-off: tests/test_damping_source.py)."""
     if case == "file":
         path = beam_toml(tmp_path / "beam.toml", BEAM, damping=0.0125)
     else:
@@ -152,6 +153,7 @@ def test_the_summary_says_the_damping_the_sweep_used(tmp_path, capsys, deck_scri
     assert status == 0 and line.startswith("bridge: 1 deck; span 20 m; n0 ")
     assert line.endswith({"none": "; damping: none (the script defines none; --damping ZETA)",
                           "--damping": "; damping ζ = 1 % (--damping)",
-                          "rayleigh": "; damping: the bridge script's rayleigh αM = 0.1 1/s, βK = 0.002 s (deck.py)",
+                          "rayleigh": "; damping: the bridge script's rayleigh αM = 0.1 1/s, βK = 0.002 s (ζ = 3.3 % "
+                                      "at n0 = 5 Hz, 28.3 % at the EN cut-off 45.02 Hz) (deck.py)",
                           "rayleigh and --damping": "; damping ζ = 1 % (--damping, over the script's own)",
                           "file": "; damping ζ = 1.25 % (the bridge file's [analysis] damping)"}[case])

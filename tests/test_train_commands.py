@@ -300,6 +300,13 @@ def _zero_length_track(session):
     session.train(1, 20.0, "-cars", 1, 0.0)
 
 
+def _missing_element_track(session):
+    _bridge(session)
+    session.track(2, "-ele", 1, 99)
+    session.car(1, "movingForce", 1e5)
+    session.train(1, 20.0, "-cars", 1, 0.0)
+
+
 def _s2(session):
     s2_commands(session)
 
@@ -321,6 +328,8 @@ BAD_TRAIN_INPUTS = [   # (setup, command, args, message)
                                                                 r"got 'a'"),
     (_zero_length_track, "movingLoadConstraint", (1, 1, 2, 0.0),
      r"movingLoadConstraint 1: track 2: elements \[50\] have no length along x"),
+    (_missing_element_track, "movingLoadConstraint", (1, 1, 2, 0.0),      # once 'track 2: track: element 99 ...'
+     r"^movingLoadConstraint 1: track 2: element 99 does not exist$"),
     (_bridge, "irregularity", (1, "file", "/nonexistent.txt"),
      r"^irregularity 1: cannot read /nonexistent.txt: no such file$"),
     (_bridge, "irregularity", (1, "file", "/"), r"^irregularity 1: cannot read /: Is a directory$"),

@@ -473,7 +473,10 @@ def _code_damping(ns, source, values):
     from vtsi.passage import PassageRunner, PassageSettings
 
     in_file = source.settings.get("damping")
-    in_script = _script_damping(source.bridge)          # '' unless a bridge script damps its model
+    runner = None                                       # the bridge's spans and frequencies, read once
+    if ns.bridge_type is not None and ns.damping is None:
+        runner = PassageRunner(source.bridge.model, source.bridge.track_elements, PassageSettings(), outputs=())
+    in_script = _script_damping(source.bridge, runner)  # '' unless a bridge script damps its model
     file_text = None if in_file is None else f"the bridge file's [analysis] damping = {in_file:g}"
     if ns.bridge_type is None:
         if values.get("damping") is None:
@@ -491,7 +494,6 @@ def _code_damping(ns, source, values):
     else:
         if ns.damping is not None:
             raise _UsageError("give either --bridge-type (EN 1991-2 Table 6.6) or --damping, not both")
-        runner = PassageRunner(source.bridge.model, source.bridge.track_elements, PassageSettings(), outputs=())
         span = float(max(runner.span_lengths))
         zeta = base = damping_lower_bound(ns.bridge_type, span)
         how = f"EN 1991-2 Table 6.6, {ns.bridge_type.replace('_', ' ')}, longest span L = {span:g} m: {_percent(base)}"
@@ -513,17 +515,30 @@ def _code_damping(ns, source, values):
     return zeta
 
 
-def _script_damping(bridge):
+def _script_damping(bridge, runner=None):
     """The damping a bridge script gives its model, in words naming the script (a sweep with a
     damping ratio of its own replaces it: :class:`~vtsi.passage.PassageRunner`), or '' (none,
     or a bridge that is not a script): its ``rayleigh`` factors αM [1/s], βK [s] (βK the sum of
-    OpenSees's three) and its ``modalDamping`` ratios on the modes of its latest ``eigen``."""
+    OpenSees's three) with the ratio ζ they give at the bridge's n₀ and at the EN cut-off
+    (:func:`vtsi.damping.rayleigh_ratio`; the frequencies of ``runner``, a
+    :class:`~vtsi.passage.PassageRunner` of the bridge, else of one built here) and its
+    ``modalDamping`` ratios on the modes of its latest ``eigen``."""
+    from vtsi.damping import rayleigh_ratio
+    from vtsi.passage import PassageRunner, PassageSettings
+    from vtsi.sweep_results import significant_text
+
     if bridge.description.get("kind") != "script":
         return ""
     parts = []
     alpha_m, beta_k = bridge.model.rayleigh_factors
     if alpha_m or beta_k:
-        parts.append(f"rayleigh αM = {alpha_m:g} 1/s, βK = {beta_k:g} s")
+        if runner is None:
+            runner = PassageRunner(bridge.model, bridge.track_elements, PassageSettings(), outputs=())
+        n0, cutoff = float(runner.frequencies[0]), float(runner.en_cutoff_hz)
+        at_n0, at_cutoff = rayleigh_ratio([n0, cutoff], alpha_m, beta_k)
+        parts.append(f"rayleigh αM = {alpha_m:g} 1/s, βK = {beta_k:g} s (ζ = {_percent(at_n0)} at n0 = "
+                     f"{significant_text(n0)} Hz, {_percent(at_cutoff)} at the EN cut-off "
+                     f"{significant_text(cutoff)} Hz)")
     if bridge.modal_damping:
         ratios = [z for _, z in bridge.modal_damping]
         n = len(ratios)
@@ -534,16 +549,20 @@ def _script_damping(bridge):
     return f"the bridge script's {' and '.join(parts)} ({os.path.basename(bridge.description['path'])})"
 
 
-def _sweep_damping(sweep, ns, results):
-    """The damping a sweep's passages had, in words for its summary's bridge line: the ratio ζ of
-    the results file's settings and where it came from (--damping, or the bridge file's
-    [analysis] damping), else the bridge script's own (:func:`_script_damping`), else none."""
-    zeta = results.identity["settings"].get("damping")
-    in_script = _script_damping(sweep.bridge)
+def _damping_text(sweep, ns):
+    """The damping a sweep's passages had, in words for the bridge line of ``vtsi sweep``'s
+    summary and of ``vtsi check``'s table: the ratio ζ of its settings and where it came from
+    (``vtsi check``: ``ns.damping_source``, as its report says it; ``vtsi sweep``: --damping or
+    the bridge file's [analysis] damping), else the bridge script's own (:func:`_script_damping`),
+    else none."""
+    zeta = sweep.settings.damping
+    in_script = _script_damping(sweep.bridge, sweep.runner)
     if zeta is not None:
-        where = "--damping" if ns.damping is not None else "the bridge file's [analysis] damping"
-        over = ", over the script's own" if in_script else ""
-        return f"damping ζ = {_percent(zeta)} ({where}{over})"
+        where = getattr(ns, "damping_source", "")
+        if not where:
+            where = ("--damping" if ns.damping is not None else "the bridge file's [analysis] damping") + (
+                ", over the script's own" if in_script else "")
+        return f"damping ζ = {_percent(zeta)} ({where})"
     if in_script:
         return f"damping: {in_script}"
     script = sweep.bridge.description.get("kind") == "script"
@@ -626,7 +645,7 @@ def _check_and_report(sweep, out, report_dir, settings, ns):
 
     result, paths = design_check(sweep, out, settings, report_dir, workers=ns.workers, resume=True,
                                  animation=ns.animation, animation_frames=ns.animation_frames, refuse_first=False)
-    _print_out(result.text())
+    _print_out(dataclasses.replace(result, bridge=f"{result.bridge}; {_damping_text(sweep, ns)}").text())
     if not ns.quiet:
         _print_err(f"vtsi check: results in {out}; report in {paths['html']}" +
                    ("" if paths["scene"] else " (no 3-D scene: off-screen rendering is not available)"))
@@ -711,9 +730,9 @@ def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
         if isinstance(exc, KeyboardInterrupt):
             return _stopped(exc, command, kept + ")" if kept else "")
         return _fail(_message(exc) + (kept + ")" if kept else ""), EXIT_FAILED, command)
-    if summary:
-        note = sweep.resolution_note()              # a dt the check would call unconverged
-        _print_out(results.summary(_sweep_damping(sweep, ns, results)) + (f"\n{note}" if note else ""))
+    if summary:                                     # a dt the check would call unconverged; a free track end
+        notes = [note for note in (sweep.resolution_note(), sweep.free_end_note()) if note]
+        _print_out(results.summary(_damping_text(sweep, ns)) + "".join(f"\n{note}" for note in notes))
         if not ns.quiet:
             _print_err(f"vtsi sweep: results in {out}")
     return 0

@@ -17,14 +17,15 @@ dynamic_increment      φ'_dyn = max |y_dyn / y_stat| − 1 of the deflection of
                        bending moment (sagging); ``_support_moment``: for the
                        hogging moment over a continuous deck's intermediate
                        supports (none on simply supported decks)
-dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71), the    EN 1991-2
-                       largest over trains and spans (or supports): > 1 means the    6.4.6.5(3),
-                       dynamic analysis, not Φ × LM71, governs the design (info);    Annex C
-                       ``_moment``, ``_support_moment`` as above
-deflection             the more unfavourable of Φ α × LM71's static deflection and   EN 1990
-                       (1 + φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| +       A2.4.4.2.3(1),
-                       φ''/2 × |y_stat,train| (φ'' whole for standard maintenance),  EN 1991-2
-                       ≤ L/600 per span (Φ, φ'' of the span's deck's L_Φ and n₀)     6.4.6.5(3)
+dynamic_vs_lm71        (1 + φ'_dyn + φ''/2) y_stat,train / (Φ α y_stat,LM71/SW/0),   EN 1991-2
+                       the largest over trains and spans (or supports): > 1 means    6.4.6.5(3),
+                       the dynamic analysis, not Φ × LM71/SW/0, governs the design   6.3.3,
+                       (info); ``_moment``, ``_support_moment`` as above             Annex C
+deflection             the more unfavourable of Φ α × LM71/SW/0's static             EN 1990
+                       deflection and (1 + φ'_dyn + φ''/2) × each train's, i.e.      A2.4.4.2.3(1),
+                       max |y_dyn| + φ''/2 × |y_stat,train| (φ'' whole for standard  EN 1991-2
+                       maintenance), ≤ L/600 per span (Φ, φ'' of the span's deck's   6.4.6.5(3)
+                       L_Φ and n₀)
 deflection_overhang    the same on a deck's overhang, against L_c/600 of its length  EN 1991-2
                        for reference only (info: EN 1990 gives no cantilever limit)  6.4.6.5(3)
 end_rotation           max |θ| at the decks' end supports under the trains (info)   —
@@ -38,10 +39,16 @@ contact_loss           passages in which a wheel lifts on a deck (the mean λ �
                        = 0
 =====================  ===========================================================  ==========
 
+LM71/SW/0 is the static reference of EN 1991-2 6.4.6.5(3) (:func:`static_reference`): LM71's
+static value, or on a continuous deck the more unfavourable of LM71's and SW/0's (6.3.3(1)P:
+SW/0 loads continuous beams), both × α; the rows name which one they read.
+
 The car rows judge what the bridge does: a sweep's vehicle envelopes count a wheel while it is on
 a deck and a car body while a wheel of it is (:meth:`vtsi.passage.PassageRunner.counted`); where
 the whole run (rigid ground with an irregular rail before and after the bridge) holds a larger
-value, the row's note gives it with its case and place. Each row names the governing train,
+value, the row's note gives it with its case and place; a track end that sags under the trains'
+heaviest wheel, a step for the wheels (:mod:`vtsi.track_ends`), is named in the wheel unloading
+and contact loss rows' notes. Each row names the governing train,
 speed, rail sample and place ('node 26 (x = 62.5 m, span 3)'; 'wheel 3 of 32 (car 1 of 8), x = 6.4 m'; 'car 2 of 8':
 people's counting from 1, where the results file's indices count from 0; :mod:`vtsi.places`), with
 the value, the limit and the utilisation value / limit; ``status`` is 'pass', 'fail' or 'info'
@@ -63,6 +70,7 @@ import math
 import os
 import shutil
 from dataclasses import asdict, dataclass, field
+from typing import NamedTuple
 
 import h5py
 import numpy as np
@@ -77,11 +85,15 @@ from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 span_decks, x_tolerance)
+from vtsi.track_ends import TrackEnd, free_end_text
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
 RENAMED = {"deflection_lm71": "deflection"}   # rows of checks stored by an older vtsi, by today's name
 DIMENSIONLESS = "-"          # the units of a ratio (a row's, an output's): written as none
 WITH_A_VERDICT = ("deck_acceleration", "deflection", "car_body_acceleration", "wheel_unloading", "contact_loss")
+STATIC_LOAD_MODELS = ("LM71", "SW/0")   # a deflection row's 'train' where Φ α × its static value governs
+SW0_MISSING = ("; the static reference is LM71 alone: the results file, of an older vtsi, holds no SW/0, which EN "
+               "1991-2 6.3.3(1)P adds on a continuous deck (sweep again into a new file to read it)")
 
 
 @dataclass(frozen=True)
@@ -481,15 +493,24 @@ def _deck_acceleration(results, outputs, bridge, settings):
         if x_peak is not None and abs(x_peak - a) > tol and min(a, b) - tol <= x_peak <= max(a, b) + tol:
             note += (f"; the peak is on the overhang from x = {min(a, b):g} to {max(a, b):g} m (deck: it carries "
                      "the track)")
-    spans = np.asarray(bridge["span_lengths_m"])
+    spans, of = np.asarray(bridge["span_lengths_m"]), span_decks(bridge)
+    decks = [spans[of == d] for d in sorted(set(of.tolist()))]
     hslm_b_below = en1991_2.HSLM_B_SPAN_RANGE[1]
-    if len(spans) == 1 and spans[0] < hslm_b_below and \
-            not any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains):
+    refusal = en1991_2.hslm_b_refusal(decks)
+    hslm_b = not refusal                                      # every deck one span, all of one length under 7 m
+    short = [d + 1 for d, s in enumerate(decks) if len(s) == 1 and s[0] < hslm_b_below]
+    swept_b = any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains)
+    if swept_b and refusal:                  # a results file of an older vtsi, which built it from the first span
+        note += f"; HSLM-B is not a load model of this bridge: {refusal}"
+    if short and not swept_b:
         note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {hslm_b_below:g} m is checked with "
-                 "HSLM-B, which this sweep does not hold")
+                 "HSLM-B, which this sweep does not hold"
+                 + ("" if hslm_b else f" (a sweep runs one HSLM-B on decks of one span length under {hslm_b_below:g} "
+                    f"m only: check deck{'s' * (len(short) > 1)} {', '.join(map(str, short))} as bridges of their "
+                    "own)"))
     hslm_a = [f"HSLM-A{k}" for k in range(1, 11)]
     held = [n for n in hslm_a if n in {results.train_data(t)["name"] for t in results.trains}]
-    if held and len(held) < len(hslm_a) and (len(spans) > 1 or spans[0] >= hslm_b_below):
+    if held and len(held) < len(hslm_a) and not hslm_b:
         note += (f"; EN 1991-2 6.4.6.1.1: HSLM-A is its ten trains A1 to A10 (a continuous deck, or a span of "
                  f"{hslm_b_below:g} m or more), and this sweep holds {', '.join(t.removeprefix('HSLM-') for t in held)} "
                  "only: enough only if they are the critical ones by Annex E (simply supported spans)")
@@ -512,7 +533,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     top, start = float(np.max(results.speeds_kmh)), en1991_2.SPEED_SERIES_START_KMH
     if top < start:
         note += (f"; the sweep's speeds stop at {top:g} km/h, below {start:g} km/h (40 m/s), where EN 1991-2 "
-                 f"6.4.6.2(1)'s series starts (speeds are km/h: {top:g} m/s would be {3.6 * top:g} km/h)")
+                 f"6.4.6.2(3)'s series starts (speeds are km/h: {top:g} m/s would be {3.6 * top:g} km/h)")
     rings = _rings(sweep)
     if rings:
         note += (f"; not checked: {RINGING}, and the deck's acceleration grows as dt shrinks (an ICE3 on a 20 m span: "
@@ -547,41 +568,103 @@ def _dynamic_increment(results, outputs, bridge, settings):
     return rows
 
 
+class StaticReference(NamedTuple):
+    """EN 1991-2 6.4.6.5(3)'s static reference at some places of an output (:func:`static_reference`)."""
+
+    values: np.ndarray          # (n,) its static value, α = 1, in the output's units (the row's sign)
+    models: np.ndarray          # (n,) which gives it: 'LM71', or 'SW/0' where that is more unfavourable
+    continuous: np.ndarray      # (n,) bool: the place is on a continuous deck (SW/0 counted)
+    sw0_missing: bool           # a continuous deck's place whose SW/0 the file does not hold (LM71 alone)
+
+
+class StaticRatios(NamedTuple):
+    """The dynamic-to-static ratios of an output at some places (:func:`mid_span_ratios`)."""
+
+    ratio: np.ndarray           # (n_train, n_speed, n_seed, n) y_dyn / y_stat under the same train
+    columns: list               # (n,) the output's columns there
+    train_static: np.ndarray    # (n_train, n) the static values under the trains
+    reference: StaticReference  # the static reference there (LM71, or SW/0 on a continuous deck)
+
+
+def _continuous_spans(bridge):
+    """(n_spans,) bool: each span is one of a continuous deck's (its deck has two spans or more),
+    which EN 1991-2 6.3.3(1)P loads with SW/0 as well as LM71 (a simply supported span takes
+    LM71 alone, though SW/0 exceeds it on some: an 18 m span's mid-span moment by 3.3 %, its
+    deflection by 6.1 %)."""
+    decks = span_decks(bridge)
+    return np.bincount(decks)[decks] > 1
+
+
+def static_reference(static, row, columns, continuous):
+    """The static reference of EN 1991-2 6.4.6.5(3) at ``columns`` of an output's static envelopes
+    ``static`` (:class:`~vtsi.influence.StaticEnvelopes`), its envelope row ``row`` (MIN or MAX):
+    LM71's value, or where ``continuous`` ((n,) bool: on a continuous deck) SW/0's when that is
+    more unfavourable (farther on the row's side; EN 1991-2 6.3.3(1)P, Eq. 6.15's Φ × (LM71 "+"
+    SW/0)); a file without SW/0 gives LM71's alone, ``sw0_missing`` saying so where a place is
+    on a continuous deck."""
+    continuous = np.asarray(continuous, dtype=bool)
+    lm71 = static.lm71[row, columns]
+    if static.sw0 is None:
+        return StaticReference(lm71, np.full(len(columns), "LM71"), continuous, bool(continuous.any()))
+    sw0 = static.sw0[row, columns]
+    sign = -1.0 if row == MIN else 1.0
+    by_sw0 = continuous & (sign * sw0 > sign * lm71)
+    return StaticReference(np.where(by_sw0, sw0, lm71), np.where(by_sw0, "SW/0", "LM71"), continuous, False)
+
+
 def mid_span_ratios(results, name, row, bridge):
-    """The dynamic-to-static ratios of output ``name`` at each span's middle: ``(ratio (n_train,
-    n_speed, n_seed, n_spans) = y_dyn / y_stat of the envelope row ``row`` (MIN: the downward
-    deflection, MAX: the sagging moment) over the static value under the same train, the mid-span
-    columns, the static values under the trains (n_train, n_spans) and under LM71 (n_spans))``;
-    None when the sweep kept no static values or no mid-span column of ``name``. A ratio whose
-    static value has not the row's sign (no downward deflection, no sagging moment: a
-    'mid-span' over a support) is NaN. ``bridge``: the results file's bridge record
-    (:meth:`SweepResults.bridge`)."""
+    """The dynamic-to-static ratios of output ``name`` at each span's middle
+    (:class:`StaticRatios`): y_dyn / y_stat of the envelope row ``row`` (MIN: the downward
+    deflection, MAX: the sagging moment) over the static value under the same train, at the
+    mid-span columns, with the static values under the trains and the static reference
+    (:func:`static_reference`); None when the sweep kept no static values or no mid-span column
+    of ``name``. A ratio whose static value has not the row's sign (no downward deflection, no
+    sagging moment: a 'mid-span' over a support) is NaN. ``bridge``: the results file's bridge
+    record (:meth:`SweepResults.bridge`)."""
     columns = results.column_envelopes(name)[1]
-    return _ratios(results, name, row, [c for c in span_columns(columns, bridge) if c >= 0])
+    mid = span_columns(columns, bridge)
+    kept = [k for k, c in enumerate(mid) if c >= 0]
+    return _ratios(results, name, row, [mid[k] for k in kept], _continuous_spans(bridge)[kept])
 
 
 def support_ratios(results, name, bridge):
     """:func:`mid_span_ratios` of the hogging moment (the envelope's minimum, negative) of the
     moment output ``name`` over the intermediate supports of continuous decks (its columns there,
-    :func:`vtsi.deck_record.intermediate_supports`): ``(ratio (n_train, n_speed, n_seed,
-    n_supports) = M_dyn / M_stat, both hogging, the columns, the static moments under the trains
-    (n_train, n_supports) and under LM71 (n_supports), negative)``, or None (no static values, no
-    such column)."""
-    return _ratios(results, name, MIN, [c for c, _, _ in support_columns(results.column_envelopes(name)[1], bridge)])
+    :func:`vtsi.deck_record.intermediate_supports`): M_dyn / M_stat, both hogging, the static
+    reference the more unfavourable of LM71 and SW/0; or None (no static values, no such
+    column)."""
+    places = support_columns(results.column_envelopes(name)[1], bridge)
+    return _ratios(results, name, MIN, [c for c, _, _ in places], np.ones(len(places), dtype=bool))
 
 
-def _ratios(results, name, row, columns):
-    """``(ratio, columns, static under the trains, static under LM71)`` of output ``name``'s
-    envelope row ``row`` at its ``columns`` (see :func:`mid_span_ratios`), or None."""
+def _ratios(results, name, row, columns, continuous):
+    """:class:`StaticRatios` of output ``name``'s envelope row ``row`` at its ``columns``, each on a
+    continuous deck or not (``continuous``; see :func:`mid_span_ratios`), or None."""
     static = results.static(name)
     if static is None or not columns:
         return None
     env = results.column_envelopes(name)[0]
-    stat = static[0][:, row, :][:, columns]                   # the same sign as the envelope row
+    stat = static.trains[:, row, :][:, columns]               # the same sign as the envelope row
     usable = _of_the_sign(stat, row)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = env[..., row, :][..., columns] / np.where(usable, stat, np.nan)[:, None, None, :]
-    return ratio, columns, stat, static[1][row, columns]
+    return StaticRatios(ratio, columns, stat, static_reference(static, row, columns, continuous))
+
+
+def _reference_note(reference, j):
+    """What a row says of the static reference ``reference`` (:class:`StaticReference`) at its
+    place ``j``: that SW/0 was weighed on a continuous deck, or that it could not be."""
+    if reference.sw0_missing:
+        return SW0_MISSING
+    if reference.continuous[j]:
+        return f"; {_weighed(reference.models[j])}"
+    return ""
+
+
+def _weighed(model):
+    """'SW/0 exceeds LM71 there, ...': which of the two a continuous deck's place reads."""
+    other = "LM71" if model == "SW/0" else "SW/0"
+    return f"{model} exceeds {other} there, and a continuous deck takes the more unfavourable: EN 1991-2 6.3.3(1)P"
 
 
 def _nanmax(values, axis):
@@ -603,7 +686,9 @@ def _of_the_sign(values, row):
 def _increment_rows(results, name, row, suffix, what, bridge, settings, supports=False):
     """The ``dynamic_increment<suffix>`` and ``dynamic_vs_lm71<suffix>`` rows of output ``name``'s
     envelope row ``row`` at the spans' middles, or with ``supports`` (a moment output, row MIN)
-    over the intermediate supports of continuous decks (Φ and φ'' of the support's deck)."""
+    over the intermediate supports of continuous decks (Φ and φ'' of the support's deck); the
+    second against Φ α × the static reference, LM71 or on a continuous deck the more
+    unfavourable of LM71 and SW/0 (:func:`static_reference`), the note naming which."""
     columns = results.column_envelopes(name)[1]
     if supports:
         places = support_columns(columns, bridge)
@@ -618,7 +703,7 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
         sense, at = "downward" if row == MIN else "sagging", "the spans' middles"
     if ratios is None:
         return []
-    ratio, spans, stat, stat_lm71 = ratios
+    ratio, spans, stat, reference = ratios
     lacking = [labels[j] for j in range(len(kept)) if not np.all(_of_the_sign(stat, row)[:, j])]
     by = "a train" if len(results.trains) > 1 else "the train"
     if not lacking:
@@ -646,26 +731,27 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
     per_train = np.full(ran.shape, np.nan)
     per_train[ran] = _nanmax(ratio.transpose(0, 3, 1, 2)[ran], axis=(1, 2)) - 1.0   # φ'_dyn per train and place
     design = (1.0 + per_train + share * phi2[None, :]) * np.abs(stat)     # (n_train, n_places)
-    lm71 = Phi * settings.alpha * np.abs(stat_lm71)
+    static = Phi * settings.alpha * np.abs(reference.values)
     with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(_of_the_sign(stat_lm71, row)[None, :], design / lm71[None, :], np.nan)
+        r = np.where(_of_the_sign(reference.values, row)[None, :], design / static[None, :], np.nan)
     if np.all(np.isnan(r)):
+        by = "LM71/SW/0" if reference.continuous.any() and not reference.sw0_missing else "LM71"
         rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", np.nan, "-", 1.0,
-                             np.nan, "info", note=f"not evaluated: {what}: LM71 gives no {sense} static value at "
+                             np.nan, "info", note=f"not evaluated: {what}: {by} gives no {sense} static value at "
                                                   f"{at} read{gap}"))
         return rows
     i, j = np.unravel_index(np.nanargmax(r), r.shape)
-    value = float(r[i, j])
-    governs = "the dynamic analysis governs" if value > 1.0 else "Phi x LM71 covers the dynamic effects"
+    value, model = float(r[i, j]), str(reference.models[j])
+    governs = "the dynamic analysis governs" if value > 1.0 else f"Phi x {model} covers the dynamic effects"
     y = "M" if suffix.endswith("moment") else "y"
     rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
                          results.trains[i], np.nan, -1, node_text(bridge, columns[spans[j]]),
-                         f"{what}: (1 + phi'dyn + {share:g} phi'') {y}_train / (Phi alpha {y}_LM71) = {value:.3f}: "
+                         f"{what}: (1 + phi'dyn + {share:g} phi'') {y}_train / (Phi alpha {y}_{model}) = {value:.3f}: "
                          f"{governs} (L_Phi = {L_phi[j]:.3g} m, Phi = {Phi[j]:.3f}, phi'' = {phi2[j]:.3f}, "
                          f"alpha = {settings.alpha:g}"
                          + (f"; {y}_train = {stat[i, j] / 1e3:.5g} kN m static under {results.trains[i]}, "
-                            f"{y}_LM71 = {stat_lm71[j] / 1e3:.5g} kN m" if supports else "")
-                         + f"){_irregular_note(results)}{gap}"))
+                            f"{y}_{model} = {reference.values[j] / 1e3:.5g} kN m" if supports else "")
+                         + f"){_reference_note(reference, j)}{_irregular_note(results)}{gap}"))
     return rows
 
 
@@ -718,7 +804,10 @@ class NodeDeflection:
     node: int                   # its tag
     criterion: str              # 'deflection' (a span's node) or 'deflection_overhang'
     length: float               # [m] of its span or overhang (the limit: length / 600)
-    lm71: float                 # [m] Φ α |y_stat,LM71|, downward
+    reference: float            # [m] Φ α |y_stat| under the static reference, downward
+    model: str                  # which gives it: 'LM71', or 'SW/0' (:func:`static_reference`)
+    continuous: bool            # on a continuous deck: SW/0 weighed (or, sw0_missing, not held)
+    sw0_missing: bool           # on a continuous deck, but the results file holds no SW/0: LM71 alone
     dynamic: np.ndarray         # (n_train, n_speed, n_seed) [m] max |y_dyn|, downward
     checked: np.ndarray         # (n_train, n_speed, n_seed) [m] max |y_dyn| + φ''/2 |y_stat,train|
     Phi: float                  # Φ of its deck's L_Φ
@@ -728,10 +817,12 @@ class NodeDeflection:
 def node_deflections(results, name, bridge, settings):
     """The deflection the check reads at each node of output ``name`` on a span or an overhang
     (:class:`NodeDeflection`, in the output's column order; nodes off the decks left out), or None
-    when the sweep kept no static values of ``name``: Φ α × LM71's static deflection and (1 +
-    φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| + φ''/2 |y_stat,train| (φ'' whole for
-    standard maintenance; EN 1991-2 6.4.6.5(3)), Φ and φ'' of the node's deck. The deflection
-    rows are the largest of these against L/600; the report draws them against speed."""
+    when the sweep kept no static values of ``name``: Φ α × the static reference's deflection
+    (LM71's, or on a continuous deck the more unfavourable of LM71's and SW/0's,
+    :func:`static_reference`) and (1 + φ'_dyn + φ''/2) × each train's, i.e. max |y_dyn| + φ''/2
+    |y_stat,train| (φ'' whole for standard maintenance; EN 1991-2 6.4.6.5(3)), Φ and φ'' of the
+    node's deck. The deflection rows are the largest of these against L/600; the report draws
+    them against speed."""
     static = results.static(name)
     if static is None:
         return None
@@ -740,8 +831,9 @@ def node_deflections(results, name, bridge, settings):
     spans, ends = np.asarray(bridge["span_lengths_m"]), np.asarray(bridge["span_ends_m"]).reshape(-1, 2)
     _, Phi, phi2, share = _design_factors(results, bridge, settings)
     decks, hangs, tol = span_decks(bridge), overhangs(bridge), x_tolerance(bridge)
-    lm71_static, train_static = np.abs(static[1][MIN]), np.abs(static[0][:, MIN])
-    out = []
+    continuous = _continuous_spans(bridge)
+    train_static = np.abs(static.trains[:, MIN])
+    read = []                             # (column, node, criterion, length, span of its deck)
     for c, node in enumerate(columns):
         x = deck_x.get(int(node), np.nan)
         inside = np.flatnonzero((ends[:, 0] - tol <= x) & (x <= ends[:, 1] + tol))
@@ -755,21 +847,31 @@ def node_deflections(results, name, bridge, settings):
             d, a, b = hangs[on[0]]
             f = int(np.flatnonzero(decks == d)[0])
             key, length = "deflection_overhang", abs(b - a)
+        read.append((c, int(node), key, float(length), f))
+    if not read:
+        return []
+    reference = static_reference(static, MIN, [c for c, *_ in read], continuous[[f for *_, f in read]])
+    out = []
+    for j, (c, node, key, length, f) in enumerate(read):
         dynamic = np.abs(env[..., MIN, c])
-        out.append(NodeDeflection(int(node), key, float(length), Phi[f] * settings.alpha * lm71_static[c],
-                                  dynamic, dynamic + share * phi2[f] * train_static[:, c][:, None, None],
+        out.append(NodeDeflection(node, key, length, Phi[f] * settings.alpha * abs(float(reference.values[j])),
+                                  str(reference.models[j]), bool(reference.continuous[j]),
+                                  bool(reference.continuous[j]) and reference.sw0_missing, dynamic,
+                                  dynamic + share * phi2[f] * train_static[:, c][:, None, None],
                                   float(Phi[f]), float(phi2[f])))
     return out
 
 
 def _deflection(results, outputs, bridge, settings):
-    """The deflection of every deck node under the more unfavourable of Φ α × LM71 (static) and
-    (1 + φ'_dyn + φ''/2) × each train of the sweep (EN 1991-2 6.4.6.5(3): the dynamic analysis
-    governs where that is larger), against L/600 of its span (EN 1990 A2.4.4.2.3(1)), Φ and φ''
-    of its deck's L_Φ (:func:`node_deflections`). An overhang's nodes (a cantilever carrying the
-    track) are read the same way in a row of their own, ``deflection_overhang``, against L_c/600
-    of the overhang's length L_c for reference only (info): A2.4.4.2.3(1) gives L/600 for spans,
-    no limit for a cantilever."""
+    """The deflection of every deck node under the more unfavourable of Φ α × the static
+    reference (LM71, or on a continuous deck the more unfavourable of LM71 and SW/0: EN 1990
+    A2.4.4.2.3(1), 'classified LM71 and where required classified SW/0') and (1 + φ'_dyn +
+    φ''/2) × each train of the sweep (EN 1991-2 6.4.6.5(3): the dynamic analysis governs where
+    that is larger), against L/600 of its span (EN 1990 A2.4.4.2.3(1)), Φ and φ'' of its deck's
+    L_Φ (:func:`node_deflections`). An overhang's nodes (a cantilever carrying the track) are
+    read the same way in a row of their own, ``deflection_overhang``, against L_c/600 of the
+    overhang's length L_c for reference only (info): A2.4.4.2.3(1) gives L/600 for spans, no
+    limit for a cantilever."""
     for name in _outputs_of(outputs, "disp", cutoff=False):
         nodes = node_deflections(results, name, bridge, settings)
         if nodes is None:
@@ -780,30 +882,32 @@ def _deflection(results, outputs, bridge, settings):
             limit = n.length / en1990_a2.DEFLECTION_SPAN_RATIO
             at = n.checked
             case = np.unravel_index(np.nanargmax(at), at.shape) if np.any(np.isfinite(at)) else None
-            value = max(n.lm71, at[case] if case is not None else -np.inf)
+            value = max(n.reference, at[case] if case is not None else -np.inf)
             key = n.criterion
             if worst[key] is None or value / limit > worst[key][0] / worst[key][1]:
-                worst[key] = (value, limit, n.node, n.lm71, n.Phi, n.phi2, n.length,
-                              None if value == n.lm71 else case)
+                worst[key] = (value, limit, n, None if value == n.reference else case)
         rows = []
         for key, found in worst.items():
             if found is None:
                 continue
-            value, limit, node, lm71, Phi_f, phi2_f, length, case = found
-            rule = (f"the more unfavourable of Phi x alpha x LM71 ({lm71:.4g} m; Phi = {Phi_f:.3f}, alpha = "
-                    f"{settings.alpha:g}) and (1 + phi'dyn + {share:g} phi'') x each train (phi'' = {phi2_f:.3f}; "
-                    "EN 1991-2 6.4.6.5(3)); limit L/600")
+            value, limit, n, case = found
+            weighed = f"; {_weighed(n.model)}" if n.continuous and not n.sw0_missing else ""
+            rule = (f"the more unfavourable of Phi x alpha x {n.model} ({n.reference:.4g} m{weighed}; Phi = "
+                    f"{n.Phi:.3f}, alpha = {settings.alpha:g}) and (1 + phi'dyn + {share:g} phi'') x each train "
+                    f"(phi'' = {n.phi2:.3f}; EN 1991-2 6.4.6.5(3)); limit L/600")
             status = "pass" if value <= limit else "fail"
             clause = "EN 1990 A2.4.4.2.3(1), EN 1991-2 6.4.6.5(3)"
             if key == "deflection_overhang":
                 status, clause = "info", "EN 1991-2 6.4.6.5(3)"
                 rule = (rule.removesuffix("; limit L/600") + f"; reference L_c/600 of the overhang's length L_c = "
-                        f"{length:g} m, not checked: EN 1990 A2.4.4.2.3(1) gives L/600 for spans, no limit for a "
+                        f"{n.length:g} m, not checked: EN 1990 A2.4.4.2.3(1) gives L/600 for spans, no limit for a "
                         "cantilever")
-            governs = "LM71 governs" if case is None else "the dynamic analysis governs"
-            who = ("LM71", np.nan, -1) if case is None else \
+            if any(m.sw0_missing for m in nodes if m.criterion == key):
+                rule += SW0_MISSING
+            governs = f"{n.model} governs" if case is None else "the dynamic analysis governs"
+            who = (n.model, np.nan, -1) if case is None else \
                 (results.trains[case[0]], float(results.speeds_kmh[case[1]]), results.seeds[case[2]])
-            rows.append(CheckRow(key, clause, value, "m", limit, value / limit, status, *who, node_text(bridge, node),
+            rows.append(CheckRow(key, clause, value, "m", limit, value / limit, status, *who, node_text(bridge, n.node),
                                  f"{governs}: {rule}{'' if case is None else _irregular_note(results)}"))
         return rows
     return []
@@ -858,6 +962,20 @@ def _rail_step_note(results):
             f"period, fewer than {STEPS_PER_CUTOFF_PERIOD} (an ICE3 at 300 km/h over a 20 m span, 'german-high' rail: "
             "Delta Q / Q 0.094 at 10 ms, 0.149 at 1.8 ms, 0.154 at 0.25 ms; on 'fra-1' a wheel lifted at 1.8 ms and "
             f"finer, none at 2 ms); take dt <= {1e3 * dt_resolving(f):g} ms (the default)")
+
+
+def _free_end_note(bridge):
+    """'' unless a track end of the results' bridge record sags more than
+    :data:`~vtsi.track_ends.FREE_END_SAG` under the trains' heaviest static wheel load: then
+    :func:`~vtsi.track_ends.free_end_text` (a step the cars' wheels read as an impact: the wheel
+    unloading and contact loss rows may read it, the car bodies hardly: 0.006 m/s² measured);
+    '' for a file of an older vtsi, which does not hold the ends."""
+    if "track_end_nodes" not in bridge:
+        return ""
+    load = float(bridge["track_end_load_n"])
+    text = free_end_text([TrackEnd(int(n), float(x), float(sag), load) for n, x, sag in
+                          zip(bridge["track_end_nodes"], bridge["track_end_x_m"], bridge["track_end_sag_m"])])
+    return f"; {text}" if text else ""
 
 
 def _car_body(results, outputs, bridge, settings):
@@ -962,10 +1080,11 @@ def _wheel_unloading(results, outputs, bridge, settings):
         if sweep.get("bridge", "fe") != "fe":
             note += ("; on a modal bridge the contact force misses the deck's local flexibility above the modes "
                      "(docs/modal.md: 20 % off the FE bridge on an irregular rail)")
-        coarse = _rail_step_note(results)
+        coarse, free_end = _rail_step_note(results), _free_end_note(bridge)
         rows = [CheckRow("wheel_unloading", "project criterion", value, "-", limit, value / limit,
                          "info" if rings else ("pass" if value <= limit else "fail"), train, speed, seed,
-                         wheel_or_car_place(results, name, idx, MIN, columns, whole_run=False), note + coarse)]
+                         wheel_or_car_place(results, name, idx, MIN, columns, whole_run=False),
+                         note + coarse + free_end)]
         held = ("; bilateral contact held the wheels on the rail: what follows a lift is not physical, take "
                 "contact='lcp'") if lifts and sweep.get("contact", "bilateral") == "bilateral" else ""
         whole, _ = results.column_envelopes(name, whole_run=True)
@@ -981,7 +1100,7 @@ def _wheel_unloading(results, outputs, bridge, settings):
                         "info" if rings else ("pass" if lifts == 0 else "fail"),
                         note=f"passages (of the {done} in the file) in which a wheel's contact force (its 10 ms mean) "
                              f"reaches zero (it lifts) on the bridge, {counted}{off}{held}"
-                             f"{'; ' + unchecked if rings else ''}{coarse}")
+                             f"{'; ' + unchecked if rings else ''}{coarse}{free_end}")
         if lifts:
             t, v, s, i2 = _governing(results, np.where(lifting[..., None], -low, np.nan), np.nanargmax)
             loss.train, loss.speed_kmh, loss.seed = t, v, s

@@ -1,5 +1,5 @@
 """Static responses of a bridge to loads on its track: influence lines, the static envelope of a
-train of axle loads, and of Load Model 71 (EN 1991-2 §6.3.2).
+train of axle loads, of Load Model 71 (EN 1991-2 §6.3.2) and of Load Model SW/0 (§6.3.3).
 
 By Maxwell's reciprocity the static response at dof d to a unit downward force at x on the track
 is IL_d(x) = −N(x) · w_d with w_d = K⁻¹ e_d (one solve per response dof) and N(x) the Hermite row
@@ -17,14 +17,23 @@ the peak), and evaluated at every head position that puts an axle on a kink (a b
 node), where a sagging maximum often is. LM71's scan adds the positions that put one of its four
 axles on a kink alike, and integrates its distributed load by Simpson's rule on a grid through the
 element ends (exact on the cubic pieces of a line; LM71's mid-span moment on a 20 m span:
-6075.2 kN·m within 1e-11 on 8 to 40 elements).
+6075.2 kN·m within 1e-11 on 8 to 40 elements). SW/0's two loaded lengths are one rigid pattern
+(the same either way along the track: it is symmetric); its response r(s) = q [F(s + a) − F(s) +
+F(s + 2a + c) − F(s + a + c)] at the pattern's start s, F the primitive of the influence line
+(Simpson's rule on the same grid, exact: the whole line is loaded, nothing clipped), is C¹ in s,
+so its extreme, bracketed by the scan (which also puts each load end on each kink and on the
+track's ends), is where r'(s) = q Σ ± IL(s + end) vanishes, found by Brent's method: exact to
+rounding (the mid-span moment of a 20 m span 6234.375 kN·m, 133 kN/m × (L²/8 − 2 × 2.5²/4)).
 
 Units: forces N (downward positive), lengths m, responses in the dof's units (m, rad, N·m).
 Signs: the responses are vtsi's (uy positive up), so a downward deflection is negative; a bending
 moment is sagging positive.
 """
+from typing import NamedTuple
+
 import numpy as np
 import scipy.sparse.linalg as spla
+from scipy.optimize import brentq
 
 from vtsi.errors import ModelError, as_number
 from vtsi.recorders.moment import fixed_end_moments, moment_rows
@@ -33,7 +42,21 @@ from vtsi.track import Track
 LM71_AXLE = 250e3        # [N], EN 1991-2 §6.3.2(3), Figure 6.1
 LM71_SPACING = 1.6       # [m] between the four axles
 LM71_UDL = 80e3          # [N/m] on either side, from 0.8 m beyond the outer axles
+SW0_LOAD = 133e3         # [N/m] q_vk of Load Model SW/0, EN 1991-2 §6.3.3, Table 6.1
+SW0_LENGTH = 15.0        # [m] a: each of its two loaded lengths
+SW0_GAP = 5.3            # [m] c: between them
 SCAN_PER_ELEMENT = 20
+
+
+class StaticEnvelopes(NamedTuple):
+    """An output's static min and max (rows 0 and 1) at its columns, in its units, α = 1:
+    ``trains`` (n_train, 2, n_columns) under each train's static axle loads, ``lm71`` and ``sw0``
+    (2, n_columns) under Load Models 71 and SW/0 (:class:`InfluenceLines`); ``sw0`` None: read
+    from a results file of an older vtsi, which kept none."""
+
+    trains: np.ndarray
+    lm71: np.ndarray
+    sw0: np.ndarray = None
 
 
 class InfluenceLines:
@@ -153,17 +176,8 @@ class InfluenceLines:
         beyond the outer axles on both sides, the distributed load only where it adds to the
         extreme sought (its influence of that sign), over every position of the axles.
         ``alpha`` > 0 and finite."""
-        alpha = as_number(alpha, "influence lines", "LM71 alpha")
-        if not (np.isfinite(alpha) and alpha > 0.0):
-            raise ModelError(f"influence lines: LM71 alpha must be > 0 and finite, got {alpha}")
-        # the distributed load's integrals by Simpson's rule on a grid through the element ends (exact
-        # for the cubic pieces of an influence line, up to where the favourable part is clipped)
+        alpha = _classification_factor(alpha, "LM71")
         track = self.track
-        pieces = np.maximum(np.ceil(track.length / self.step - 1e-9), 1).astype(int)
-        x = np.append(np.concatenate([x0 + ell * np.arange(m) / m for x0, ell, m in
-                                      zip(track.x_start, track.length, pieces)]), track.x_end)
-        il, il_mid = self(x), self(0.5 * (x[1:] + x[:-1]))          # (n_x, n_resp), (n_x - 1, n_resp)
-        out = np.zeros((2, self.n_responses))
         axle_offsets = LM71_SPACING * np.array([-1.5, -0.5, 0.5, 1.5])
         centres = np.arange(track.x_begin - 2.4, track.x_end + 2.4 + self.step, self.step)
         kinks = self.kinks()                    # and the centres that put an axle on a kink
@@ -172,20 +186,81 @@ class InfluenceLines:
         axles = centres[:, None] + axle_offsets[None, :]
         point = LM71_AXLE * self(axles.ravel()).reshape(axles.shape + (self.n_responses,)).sum(axis=1)
         reach = 1.5 * LM71_SPACING + 0.8                            # from the centre to the load's start [m]
-        ends = np.clip(np.concatenate([centres - reach, centres + reach]), x[0], x[-1])
-        below = np.clip(np.searchsorted(x, ends, side="right") - 1, 0, len(x) - 2)
-        il_end, il_end_mid = self(ends), self(0.5 * (x[below] + ends))
+        out = np.zeros((2, self.n_responses))
         for k, sign in enumerate((-1.0, 1.0)):
-            def part(values):                                       # the favourable-to-the-extreme part
-                return np.where(sign * values > 0.0, values, 0.0)
-            cumulative = np.concatenate([np.zeros((1, self.n_responses)), np.cumsum(
-                np.diff(x)[:, None] / 6.0 * (part(il[:-1]) + 4.0 * part(il_mid) + part(il[1:])), axis=0)])
-            at_ends = cumulative[below] + (ends - x[below])[:, None] / 6.0 * (
-                part(il[below]) + 4.0 * part(il_end_mid) + part(il_end))
-            left, right = at_ends[: len(centres)], cumulative[-1][None, :] - at_ends[len(centres):]
+            # the distributed load on the favourable-to-the-extreme part of the line only
+            primitive = self._primitive(lambda values: np.where(sign * values > 0.0, values, 0.0))
+            left = primitive(centres - reach)
+            right = primitive(np.array([track.x_end]))[0][None, :] - primitive(centres + reach)
             response = point + LM71_UDL * (left + right)
             out[k] = response.min(axis=0) if sign < 0 else response.max(axis=0)
         return alpha * out
+
+    def sw0_envelope(self, alpha=1.0):
+        """Static min and max (2, n_responses) of Load Model SW/0 × ``alpha`` (EN 1991-2 §6.3.3,
+        α as LM71's, §6.3.2(3)): 133 kN/m on two lengths of 15 m, 5.3 m apart
+        (Table 6.1), one rigid pattern over every position along the track (parts of it beyond
+        the track's ends carry nothing), the whole pattern loaded. ``alpha`` > 0 and finite."""
+        alpha = _classification_factor(alpha, "SW/0")
+        track = self.track
+        ends = np.array([0.0, SW0_LENGTH, SW0_LENGTH + SW0_GAP, 2 * SW0_LENGTH + SW0_GAP])   # behind the start s
+        signs = np.array([-1.0, 1.0, -1.0, 1.0])            # r(s) = q Σ sign F(s + end)
+        starts = np.arange(track.x_begin - ends[-1], track.x_end + self.step, self.step)
+        kinks = self.kinks()
+        where = np.concatenate([kinks[np.isfinite(kinks)], [track.x_begin, track.x_end]])
+        starts = np.union1d(starts, (where[:, None] - ends[None, :]).ravel())
+        primitive = self._primitive()
+
+        def response(s):                                    # (len(s), n_responses)
+            at = primitive((np.asarray(s, dtype=float)[:, None] + ends[None, :]).ravel())
+            return SW0_LOAD * np.einsum("j,ijk->ik", signs, at.reshape(-1, len(ends), self.n_responses))
+
+        def slope(s, column):                               # r'(s) of one response
+            return SW0_LOAD * float(signs @ self(s + ends)[:, column])
+
+        scanned = response(starts)
+        out = np.zeros((2, self.n_responses))
+        for k, pick in enumerate((np.argmin, np.argmax)):
+            for j in range(self.n_responses):
+                i = int(pick(scanned[:, j]))
+                out[k, j] = scanned[i, j]
+                if 0 < i < len(starts) - 1:                 # the stationary point r'(s) = 0 the scan brackets
+                    a, b = starts[i - 1], starts[i + 1]
+                    if slope(a, j) * slope(b, j) < 0.0:
+                        s = brentq(slope, a, b, args=(j,), xtol=1e-12, rtol=4 * np.finfo(float).eps)
+                        value = response(np.array([s]))[0, j]
+                        out[k, j] = min(out[k, j], value) if k == 0 else max(out[k, j], value)
+        return alpha * out
+
+    def _primitive(self, part=None):
+        """F(x) = ∫ part(IL) from the track's start to each of ``x`` (n,) [response units per N/m],
+        ``(n, n_responses)``, as a function of x (clipped to the track): Simpson's rule on a
+        grid through the element ends at most :attr:`step` apart, exact for the cubic pieces of
+        an influence line (``part`` None: the line itself), and for a ``part`` of it (an
+        elementwise function of its values, e.g. its part of one sign) up to where that clips it."""
+        part = part or (lambda values: values)
+        track = self.track
+        pieces = np.maximum(np.ceil(track.length / self.step - 1e-9), 1).astype(int)
+        x = np.append(np.concatenate([x0 + ell * np.arange(m) / m for x0, ell, m in
+                                      zip(track.x_start, track.length, pieces)]), track.x_end)
+        il, il_mid = part(self(x)), part(self(0.5 * (x[1:] + x[:-1])))       # (n_x, n_resp), (n_x - 1, n_resp)
+        cumulative = np.concatenate([np.zeros((1, self.n_responses)), np.cumsum(
+            np.diff(x)[:, None] / 6.0 * (il[:-1] + 4.0 * il_mid + il[1:]), axis=0)])
+
+        def at(ends):
+            ends = np.clip(ends, x[0], x[-1])
+            below = np.clip(np.searchsorted(x, ends, side="right") - 1, 0, len(x) - 2)
+            return cumulative[below] + (ends - x[below])[:, None] / 6.0 * (
+                il[below] + 4.0 * part(self(0.5 * (x[below] + ends))) + part(self(ends)))
+        return at
+
+
+def _classification_factor(alpha, model):
+    """``alpha`` as a float > 0, or a ModelError naming the load ``model`` and the value."""
+    alpha = as_number(alpha, "influence lines", f"{model} alpha")
+    if not (np.isfinite(alpha) and alpha > 0.0):
+        raise ModelError(f"influence lines: {model} alpha must be > 0 and finite, got {alpha}")
+    return alpha
 
 
 def _finite_array(what, values):

@@ -36,16 +36,16 @@ import scipy.linalg
 from scipy.ndimage import convolve1d
 
 from vtsi.analysis import domain_state, modes_up_to
-from vtsi.codes.en1991_2 import frequency_limits
+from vtsi.codes.en1991_2 import frequency_limits, hslm_b_refusal
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import decks_cutoff_hz, deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
 from vtsi.errors import AnalysisError, BridgeModelError, ModelError, SettingError, VtsiError, as_flag, as_positive
-from vtsi.influence import InfluenceLines
+from vtsi.influence import InfluenceLines, StaticEnvelopes
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
-from vtsi.models.catalogue import FIDELITIES, catalogue_train
+from vtsi.models.catalogue import FIDELITIES, catalogue_train, describe
 from vtsi.models.irregularity import WAVELENGTH_BAND, Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.envelope import Envelope
@@ -53,6 +53,7 @@ from vtsi.recorders.modal import ModalNodeRecorder
 from vtsi.recorders.moment import BendingMomentRecorder, add_fixed_end_moments, fixed_end_moments, moment_rows
 from vtsi.subdomain import BridgeStageCache
 from vtsi.track import Track
+from vtsi.track_ends import TrackEnd, end_flexibility
 from vtsi.train import TrainSubdomain
 from vtsi.units import MIN_FIRST_FREQUENCY_HZ
 
@@ -612,6 +613,7 @@ class PassageRunner:
         self._residuals = {}
         self._fixed_ends = {}
         self._runouts = {}
+        self._end_flexibility = None
 
     # -- the bridge -------------------------------------------------------------------------
     def _deck(self):
@@ -627,6 +629,19 @@ class PassageRunner:
         self.ground_nodes = layout.ground_nodes
         self.track_on_a_structure = layout.track_on_a_structure
         return list(layout.track_nodes), list(layout.deck_nodes), list(layout.midspan_nodes), list(layout.span_ends)
+
+    def track_ends(self, train_names):
+        """The track's first and last nodes as :class:`~vtsi.track_ends.TrackEnd`: each one's
+        static sag [m] under the heaviest static wheel load [N] of the trains ``train_names`` (0
+        for a node fixed in uy), from the bridge's stiffness, computed once per runner
+        (:func:`~vtsi.track_ends.end_flexibility`). A car's wheel rolling onto a free end from the
+        rigid ground meets a step (:func:`~vtsi.track_ends.free_end_text`)."""
+        nodes = (self.track_nodes[0], self.track_nodes[-1])
+        if self._end_flexibility is None:
+            self._end_flexibility = end_flexibility(self.model, self.track, nodes)
+        load = max(float(np.max(self.train(name, 1.0).static_wheel_loads)) for name in train_names)
+        return tuple(TrackEnd(int(n), float(self.model.nodes[n][0]), float(f * load), load)
+                     for n, f in zip(nodes, self._end_flexibility))
 
     @property
     def frequency_record(self):
@@ -648,10 +663,10 @@ class PassageRunner:
         return f_max, self._modes[f_max]
 
     def static_envelopes(self, output, train_names):
-        """Static min and max (n_trains, 2, n_columns) of a displacement, rotation or moment output under
-        each train's static axle loads (:mod:`vtsi.influence`), and under Load Model 71 (2,
-        n_columns) (α = 1): what dynamic increments and the LM71 comparison are measured
-        against. None for other outputs."""
+        """The static min and max of a displacement, rotation or moment output under each train's
+        static axle loads and under Load Models 71 and SW/0, α = 1
+        (:class:`~vtsi.influence.StaticEnvelopes`): what dynamic increments and the comparison
+        with Φ × LM71/SW/0 are measured against. None for other outputs."""
         if output.response not in ("disp", "rotation", "moment") or output.cutoff is not None:
             return None
         nodes = self.output_nodes(output.nodes)
@@ -664,17 +679,23 @@ class PassageRunner:
         for name in train_names:
             train = self.train(name, 1.0)
             trains.append(lines.train_envelope(train.wheel_offsets, train.static_wheel_loads))
-        return np.stack(trains), lines.lm71_envelope()
-
-    def first_span(self):
-        return float(self.span_lengths[0])
+        return StaticEnvelopes(np.stack(trains), lines.lm71_envelope(), lines.sw0_envelope())
 
     # -- one passage --------------------------------------------------------------------------
     def train(self, name, speed):
         """The catalogue train ``name`` at ``speed`` [m/s] in this sweep's fidelity (built once
-        per name, then copied at each speed)."""
+        per name, then copied at each speed). HSLM-B is built from the span of a bridge whose
+        decks are each one simply supported span, all of one length under 7 m, and refused
+        (ModelError) on any other (:func:`~vtsi.codes.en1991_2.hslm_b_refusal`: a continuous
+        deck takes HSLM-A1 to A10)."""
         if name not in self._trains:
-            self._trains[name] = catalogue_train(name, speed, fidelity=self.settings.cars, span=self.first_span())
+            decks = [[L for L, d in zip(self.span_lengths, self.span_decks) if d == k]
+                     for k in range(len(self.deck_ends))]                    # each deck's spans [m]
+            refusal = hslm_b_refusal(decks)
+            if refusal and describe(name) == describe("HSLM-B"):     # the catalogue's HSLM-B, by any of its names
+                raise ModelError(refusal)
+            self._trains[name] = catalogue_train(name, speed, fidelity=self.settings.cars,
+                                                 span=None if refusal else float(self.span_lengths[0]))
         return self._trains[name].with_speed(speed)
 
     def approach(self, train):

@@ -62,7 +62,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
-from vtsi.check import ABSMAX, mid_span_ratios, node_deflections, stored_check
+from vtsi.check import ABSMAX, STATIC_LOAD_MODELS, mid_span_ratios, node_deflections, stored_check
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.deck_record import deck_nodes
 from vtsi.errors import SweepError
@@ -378,7 +378,7 @@ class _Report:
 
     def bound_text(self, row):
         """What the row's limit is, in words: 'limit 3.5 m/s²' for a row held to it; for an info
-        row 'reference 1' (a value to compare with, e.g. dynamic vs LM71: above 1 the dynamic
+        row 'reference 1' (a value to compare with, e.g. dynamic vs LM71/SW/0: above 1 the dynamic
         analysis governs) or 'limit 0.6, not checked' (the check cannot hold the value to it);
         '' without one."""
         if math.isnan(row.limit):
@@ -413,8 +413,8 @@ class _Report:
             attrs.append({"data-criterion": r.criterion, "data-status": r.status})
         s = self.checked.settings
         blocks = [Table(head, rows, attrs, "check-table", "checks")]
-        kinds = {"ref.": "a value to compare with (dynamic vs LM71: above 1 the dynamic analysis, not Φ × LM71, "
-                         "governs the design)",
+        kinds = {"ref.": "a value to compare with (dynamic vs LM71/SW/0: above 1 the dynamic analysis, not Φ × "
+                         "LM71/SW/0, governs the design)",
                  "not checked": "a limit the check cannot hold the value to (see the row's note)"}
         shown = [k for k in kinds if any(not self.held(r) and not math.isnan(r.limit)
                                          and (r.criterion in self.checked.unchecked) == (k == "not checked")
@@ -757,8 +757,8 @@ class _Report:
                 "deflection under the same train), the largest over the spans' nodes. Red: L/600.")
         if row is not None and row.train in self.results.trains:
             text += " Dotted, in the governing train's colour: its max |y_dyn| alone. Star: the governing case."
-        elif row is not None and row.train == "LM71":
-            text += " Dotted grey: Φ α × LM71's static deflection, which governs."
+        elif row is not None and row.train in STATIC_LOAD_MODELS:
+            text += f" Dotted grey: Φ α × {row.train}'s static deflection, which governs."
         return text
 
     def deflection_png(self, checked, dynamic):
@@ -778,9 +778,9 @@ class _Report:
                     limit = 1e3 * L / DEFLECTION_SPAN_RATIO
                     label = f"limit L/600 = {_num(limit)} mm" + (f" ({_num(L)} m spans)" if len(spans) > 1 else "")
                     ax.axhline(limit, color=LIMIT_COLOUR, ls=("--", "-.", ":")[k % 3], lw=2, label=label)
-                if row.train == "LM71":                  # the row's value is LM71's, which no curve shows
+                if row.train in STATIC_LOAD_MODELS:      # the row's value is LM71's or SW/0's, which no curve shows
                     ax.axhline(1e3 * row.value, color="0.35", ls=":", lw=1.5,
-                               label=f"Φ α × LM71: {_num(1e3 * row.value)} mm (governs)")
+                               label=f"Φ α × {row.train}: {_num(1e3 * row.value)} mm (governs)")
             if governing:
                 self._governing_star(ax, row, 1e3 * row.value, f"{_num(1e3 * row.value)} mm")
             ax.set_ylim(bottom=0)

@@ -115,7 +115,7 @@ def en_series(results, bridge, line_speed_kmh=None):
 def _series_start(grid, line_speed_kmh=None):
     """Where the EN series a sweep is read against starts [km/h]: the sweep's lowest speed; with
     the line speed known (a design check for it, :attr:`vtsi.check.CheckSettings.line_speed_kmh`)
-    40 m/s, where EN 1991-2 6.4.6.2(1) starts it, unless the sweep starts lower or stops below it."""
+    40 m/s, where EN 1991-2 6.4.6.2(3) starts it, unless the sweep starts lower or stops below it."""
     start = en1991_2.SPEED_SERIES_START_KMH
     return float(min(start, grid[0]) if line_speed_kmh and grid[-1] > start else grid[0])
 

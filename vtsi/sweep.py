@@ -42,6 +42,7 @@ from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PER
                           PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz, resolves)
 from vtsi.sweep_results import (ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index,
                                  train_fingerprint)
+from vtsi.track_ends import free_end_text
 from vtsi.train import TrainSubdomain
 from vtsi.units import MAX_MASS_PER_METRE, MIN_MASS_PER_METRE, deck_mass_per_length
 from vtsi.vehicle import MAX_TRAIN_SPEED
@@ -120,7 +121,7 @@ def en_speed_grid(line_speed_kmh, frequencies_hz, lengths_m, start_kmh=SPEED_SER
                  if 1.2 * 3.6 * line_speed_kmh >= start_kmh else "")
         raise SweepError(f"EN speed grid: line speed {line_speed_kmh:g} km/h: 1.2 x it = {v_max:g} km/h is below "
                          f"{start_kmh:g} km/h, where the series starts"
-                         f"{' (EN 1991-2 6.4.6.2(1): from 40 m/s)' if start_kmh == SPEED_SERIES_START_KMH else ''}{in_ms}")
+                         f"{' (EN 1991-2 6.4.6.2(3): from 40 m/s)' if start_kmh == SPEED_SERIES_START_KMH else ''}{in_ms}")
     if not (step_kmh > 0 and fine_step_kmh > 0 and band >= 0):
         raise SweepError("EN speed grid: steps must be > 0 km/h and band >= 0")
     known = [d for d in lengths_m if d is not None and math.isfinite(d)]
@@ -383,6 +384,17 @@ class Sweep:
                 f"{STEPS_PER_CUTOFF_PERIOD}: {' and '.join(what for _, _, what in coarse)} "
                 f"{'read low between the samples' if exact else 'are not converged in dt'}; take dt <= "
                 f"{1e3 * dt_resolving(max(f for f, _, _ in coarse)):g} ms (a dt left unset resolves them)")
+
+    def free_end_note(self):
+        """'' unless the sweep runs cars (``cars='full'``) and a track end sags more than
+        :data:`~vtsi.track_ends.FREE_END_SAG` under the trains' heaviest static wheel load
+        (:meth:`~vtsi.passage.PassageRunner.track_ends`): then one line naming it, its sag and the
+        fix (:func:`~vtsi.track_ends.free_end_text`), which the check's wheel unloading and contact
+        loss rows carry too. Moving forces read no step: no note for them."""
+        if self.settings.cars == "force":
+            return ""
+        text = free_end_text(self.runner.track_ends(self.trains))
+        return f"note: {text}" if text else ""
 
     def prepare(self):
         """Factor the bridge once (into the runner's cache) before passages are dispatched (a

@@ -14,14 +14,19 @@ Layout (docs/sweeps.md)::
                            midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2: each
                            span's supports' x), deck_ends_m (n_decks, 2: each deck's ends, spans
                            and overhangs), mode_shapes_uy (at deck_nodes), track_on_a_structure
-                           (a rail on pads over the deck: outputs are the rail's)
+                           (a rail on pads over the deck: outputs are the rail's), track_end_nodes,
+                           track_end_x_m and track_end_sag_m (2,: the track's first and last node,
+                           its x and its static sag [m] under track_end_load_n [N], the trains'
+                           heaviest static wheel load; 0 for a node fixed in uy:
+                           vtsi.track_ends)
     /envelopes/<q>         (n_train, n_speed, n_seed) the extreme of quantity q over the output's
                            columns per case (NaN: not run yet, or not produced by that train);
                            <q>_where (the column: node tag, contact wheel or car; attrs kind,
                            holds, missing -1), <q>_time [s]; attrs units, output, statistic, dims
-    /static/<name>         for displacement and rotation outputs: trains (n_train, 2, n_columns)
-                           and lm71 (2, n_columns), static min and max under each train's static
-                           axle loads and under Load Model 71 (α = 1) (vtsi.influence)
+    /static/<name>         for displacement, rotation and bending-moment outputs: trains (n_train,
+                           2, n_columns), lm71 and sw0 (2, n_columns), static min and max under
+                           each train's static axle loads and under Load Models 71 and SW/0 (α =
+                           1) (vtsi.influence; a file of an older vtsi has no sw0)
     /trains/               one row per train, in /train's order: name, n_cars, n_dof, length_m,
                            characteristic_length_m, body_runout_s (n_train,); axle_offsets_m,
                            static_wheel_loads_N [N] and wheel_car (each wheel's car, 0: the
@@ -78,6 +83,7 @@ import numpy as np
 from vtsi.version import __version__
 from vtsi.codes.en1991_2 import determinant_length
 from vtsi.errors import SweepError, as_number
+from vtsi.influence import StaticEnvelopes
 from vtsi.models.catalogue import train_names
 from vtsi.passage import body_runout, en_cutoff_hz
 
@@ -575,6 +581,11 @@ class ResultsWriter:
                 b["span_ends_m"] = np.asarray(runner.span_ends, dtype=float).reshape(-1, 2)
                 b["deck_ends_m"] = np.asarray(runner.deck_ends, dtype=float).reshape(-1, 2)
                 b["track_on_a_structure"] = bool(runner.track_on_a_structure)
+                ends = runner.track_ends(ident["trains"])        # a free end is a step for the cars' wheels
+                b["track_end_nodes"] = np.array([e.node for e in ends], dtype=np.int64)
+                b["track_end_x_m"] = np.array([e.x_m for e in ends])
+                b["track_end_sag_m"] = np.array([e.sag_m for e in ends])
+                b["track_end_load_n"] = float(ends[0].load_n)
                 asm = runner.model.build()
                 b["mode_shapes_uy"] = runner.mode_shapes[[asm.full_dof(n, 2) for n in runner.track_nodes]]
                 modal = getattr(runner, "modal", None)
@@ -601,12 +612,12 @@ class ResultsWriter:
                         if o["response"] in COLUMN_KIND else runner.columns(output, catalogue[0])
                 static = f.create_group("static")
                 static.attrs["note"] = ("static responses (influence lines): per train its static axle loads, "
-                                        "and Load Model 71 (alpha = 1); rows min, max")
+                                        "and Load Models 71 and SW/0 (alpha = 1); rows min, max")
                 for o in runner.outputs:
                     env = runner.static_envelopes(o, ident["trains"])
                     if env is not None:
                         g = static.create_group(o.name)
-                        g["trains"], g["lm71"] = env
+                        g["trains"], g["lm71"], g["sw0"] = env.trains, env.lm71, env.sw0
                         g.attrs["units"] = UNITS[o.response]
                 _train_table(f.create_group("trains"), catalogue)
                 f.create_group("cases")
@@ -1048,15 +1059,17 @@ class SweepResults:
         return out
 
     def static(self, output):
-        """Static envelopes of the sweep's ``output`` (rows min, max): ``(trains (n_train, 2,
-        n_columns), lm71 (2, n_columns))``, or None for an output that has none (vtsi.influence:
-        only displacement, rotation and bending-moment outputs without a cut-off); an output the
-        sweep does not have is a SweepError listing its outputs."""
+        """Static envelopes of the sweep's ``output`` (rows min, max) under the trains, LM71 and
+        SW/0 (:class:`~vtsi.influence.StaticEnvelopes`; ``sw0`` None in a file of an older vtsi,
+        which kept none), or None for an output that has none (only displacement, rotation and
+        bending-moment outputs without a cut-off); an output the sweep does not have is a
+        SweepError listing its outputs."""
         self._output(output)
         with self._open() as f:
             if "static" not in f or output not in f["static"]:
                 return None
-            return f["static"][output]["trains"][()], f["static"][output]["lm71"][()]
+            g = f["static"][output]
+            return StaticEnvelopes(g["trains"][()], g["lm71"][()], g["sw0"][()] if "sw0" in g else None)
 
     def train_data(self, train):
         """The stored axle data of ``train``: dict with axle_offsets_m, static_wheel_loads_N,
@@ -1080,8 +1093,11 @@ class SweepResults:
         and deck_x_m (every node of the track and its x [m], x order; those on a deck:
         :func:`vtsi.deck_record.deck_nodes`), midspan_nodes, span_lengths_m, span_ends_m (n_spans,
         2), deck_ends_m (n_decks, 2; not in a file of an older vtsi), mode_shapes_uy (at
-        deck_nodes), track_on_a_structure, and of a modal sweep modal_frequencies_hz (n_modes,):
-        the frequencies of the modal bridge's modes (not in a file of an older vtsi)."""
+        deck_nodes), track_on_a_structure, track_end_nodes, track_end_x_m, track_end_sag_m and
+        track_end_load_n (the track's two end nodes, their x [m] and static sag [m] under the
+        trains' heaviest static wheel load [N]: :mod:`vtsi.track_ends`; not in a file of an older
+        vtsi), and of a modal sweep modal_frequencies_hz (n_modes,): the frequencies of the modal
+        bridge's modes (not in a file of an older vtsi)."""
         with self._open() as f:
             return {k: f["bridge"][k][()] for k in f["bridge"]}
 

@@ -16,7 +16,39 @@ DAMPING_TABLE_6_6 = {
 }
 ADDITIONAL_DAMPING_SPANS = (0.0, 30.0)   # [m] range of Eq. 6.13 (Figure 6.15)
 HSLM_B_SPAN_RANGE = (1.0, 7.0)          # [m] spans L_min <= L < L_max loaded by HSLM-B (§6.4.6.1.1, Fig. 6.13)
-SPEED_SERIES_START_KMH = 144.0          # [km/h] 40 m/s: the series of speeds starts there (§6.4.6.2(1))
+SPEED_SERIES_START_KMH = 144.0          # [km/h] 40 m/s: the series of speeds starts there (§6.4.6.2(3))
+
+
+def hslm_b_refusal(decks):
+    """Why HSLM-B does not load a bridge of ``decks`` (each deck's span lengths [m], x order),
+    in one line, or '' when it does: EN 1991-2 6.4.6.1.1 and Table 6.4 load a simply supported
+    span of L_min <= L < L_max (:data:`HSLM_B_SPAN_RANGE`) with HSLM-B, its N and d from that L
+    (Figure 6.13), and a continuous deck with HSLM-A1 to A10. A bridge takes HSLM-B when every
+    deck is one span and all are of one length in that range (each deck then takes that L's)."""
+    decks = [[float(L) for L in np.atleast_1d(spans)] for spans in decks]
+    lo, hi = HSLM_B_SPAN_RANGE
+    rule = (f"HSLM-B loads simply supported spans of {lo:g} m <= L < {hi:g} m only, each with the N and d of its "
+            "L (EN 1991-2 6.4.6.1.1, Table 6.4)")
+    if not decks or not all(decks):
+        return f"{rule}: the bridge has a deck without a span"
+
+    def deck(k):
+        return "the deck" if len(decks) == 1 else f"deck {k + 1}"
+    continuous = next((k for k, spans in enumerate(decks) if len(spans) > 1), None)
+    if continuous is not None:
+        return (f"{rule}: {deck(continuous)} is continuous (spans {' + '.join(f'{L:g}' for L in decks[continuous])} "
+                "m); take HSLM-A1 to A10 (--trains HSLM-A), as Table 6.4 asks of a continuous deck")
+    spans = [spans[0] for spans in decks]
+    outside = next((k for k, L in enumerate(spans) if not lo <= L < hi), None)
+    if outside is not None:
+        others = (f"; check the decks under {hi:g} m as bridges of their own with HSLM-B"
+                  if any(lo <= L < hi for L in spans) else "")
+        return (f"{rule}: the span of {deck(outside)} is {spans[outside]:g} m; take HSLM-A1 to A10 (--trains "
+                f"HSLM-A), or the critical ones of Annex E for a simply supported span{others}")
+    if not np.allclose(spans, spans[0], rtol=1e-9, atol=0.0):
+        return (f"{rule}: the decks' spans differ ({', '.join(f'{L:g}' for L in spans)} m) and a sweep runs one "
+                "HSLM-B; check each deck as a bridge of its own")
+    return ""
 
 
 def damping_lower_bound(kind, span):

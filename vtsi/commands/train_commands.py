@@ -259,8 +259,9 @@ class TrainCommands(SessionBase):
         model = self._model("movingLoadConstraint")
         try:
             mass = deck_mass_per_length(model, self._tracks[track_tag])
-        except ModelError as exc:
-            raise CommandError(f"movingLoadConstraint {tag}: track {track_tag}: {exc}") from None
+        except ModelError as exc:     # Track's own messages begin 'track: '; the tag takes its place
+            raise CommandError(f"movingLoadConstraint {tag}: track {track_tag}: "
+                               f"{str(exc).removeprefix('track: ')}") from None
         try:
             self._units.check_deck_mass(mass, f"movingLoadConstraint {tag}")
         except ModelError as exc:
