@@ -326,6 +326,10 @@ BAD_TRAIN_INPUTS = [   # (setup, command, args, message)
      r"recorder Contact: give one output file"),
     (_bridge, "recorder", ("Contact", "-wheel", "a", "force"), r"recorder Contact: -wheel index must be an integer, "
                                                                 r"got 'a'"),
+    (_bridge, "recorder", ("Contact", "-file", "-wheel", 1, "force"),      # once a file named '-wheel'
+     r"^recorder Contact: -file needs a file name, got none \('-wheel' follows\)$"),
+    (_bridge, "recorder", ("Train", "-h5", "t.h5", "-precision", 3, "disp"),     # once silently ignored
+     r"^recorder Train: -precision does nothing with -h5: it sets the digits of a text file"),
     (_zero_length_track, "movingLoadConstraint", (1, 1, 2, 0.0),
      r"movingLoadConstraint 1: track 2: elements \[50\] have no length along x"),
     (_missing_element_track, "movingLoadConstraint", (1, 1, 2, 0.0),      # once 'track 2: track: element 99 ...'

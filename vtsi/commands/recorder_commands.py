@@ -19,7 +19,7 @@ RECORDER_COMMANDS = ("recorder",)
 NODE_RESPONSES = ("disp", "vel", "accel", "reaction", "reactionIncInertia")
 RECORDER_TYPES = ("Node", "EnvelopeNode", "Element", "EnvelopeElement", "Contact", "Train")
 # the options that take values: none of them is a file name (a flag, -time, is: as OpenSeesPy)
-VALUE_OPTIONS = ("-file", "-h5", "-hdf5", "-precision", "-dT", "-node", "-nodeRange", "-dof", "-ele", "-eleRange")
+VALUE_OPTIONS = ("-file", "-h5", "-hdf5", "-precision", "-dT", "-node", "-nodeRange", "-dof", "-ele", "-eleRange", "-wheel")
 # the options that shape a text file only: refused with -h5 (vtsi's own option, so no OpenSees script has both)
 TEXT_ONLY = {"-precision": "it sets the digits of a text file (an HDF5 file stores every value as a float64)",
              "-closeOnWrite": "it reopens a text file for every write (an HDF5 file is flushed after every chunk "
@@ -205,15 +205,7 @@ class RecorderCommands(SessionBase):
                 given.add(opt)
                 after = None
                 if opt in ("-file", "-h5", "-hdf5"):
-                    if "sink" in opts:
-                        raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
-                    follows = a.peek()
-                    if not a.more():
-                        raise CommandError(f"{name}: {opt} needs a file name, got none")
-                    if not isinstance(follows, str) or follows in VALUE_OPTIONS:
-                        got = f"none ({follows!r} follows)" if isinstance(follows, str) else repr(follows)
-                        raise CommandError(f"{name}: {opt} needs a file name, got {got}")
-                    opts["sink"] = (opt, a.take(f"{opt} file name"))
+                    self._file_option(a, name, opt, opts)
                 elif opt in ("-time", "-closeOnWrite"):
                     opts[opt] = True
                 elif opt == "-precision":
@@ -244,9 +236,7 @@ class RecorderCommands(SessionBase):
                 response.append(a.take("response"))
         if not response:
             raise CommandError(f"{name}: no response given (e.g. 'disp' or 'force')")
-        clash = sorted(given & set(TEXT_ONLY)) if opts.get("sink", ("-file",))[0] != "-file" else []
-        if clash:
-            raise CommandError(f"{name}: {clash[0]} does nothing with {opts['sink'][0]}: {TEXT_ONLY[clash[0]]}")
+        self._refuse_text_options(name, opts, given)
         if after is not None:   # a word that is not a tag among the values of -node, -ele or -dof
             what = {"-node": "-node tag", "-ele": "-ele tag", "-dof": "-dof"}[after]
             rest = response[1:]
@@ -309,6 +299,28 @@ class RecorderCommands(SessionBase):
         self.recorders[tag] = recorder
         self._kept[tag] = KeptOpen(recorder)
         return tag
+
+    @staticmethod
+    def _file_option(a, name, opt, opts):
+        """Take the file name after ``opt`` (-file, -h5 or -hdf5) from the arguments ``a`` into
+        ``opts['sink']`` = ``(opt, path)``: one file per recorder, and a name, not an option that
+        takes values, must follow (a flag such as ``-time`` is a name, as in OpenSees)."""
+        if "sink" in opts:
+            raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
+        if not a.more():
+            raise CommandError(f"{name}: {opt} needs a file name, got none")
+        follows = a.peek()
+        if not isinstance(follows, str) or follows in VALUE_OPTIONS:
+            got = f"none ({follows!r} follows)" if isinstance(follows, str) else repr(follows)
+            raise CommandError(f"{name}: {opt} needs a file name, got {got}")
+        opts["sink"] = (opt, a.take(f"{opt} file name"))
+
+    @staticmethod
+    def _refuse_text_options(name, opts, given):
+        """Refuse an option of a text file (:data:`TEXT_ONLY`) among ``given`` with an HDF5 file."""
+        clash = sorted(set(given) & set(TEXT_ONLY)) if opts.get("sink", ("-file",))[0] != "-file" else []
+        if clash:
+            raise CommandError(f"{name}: {clash[0]} does nothing with {opts['sink'][0]}: {TEXT_ONLY[clash[0]]}")
 
     def _recorder_sink(self, name, opts):
         """The sink of ``opts['sink']`` (``(option, path)``; none: memory). ``-precision`` must be

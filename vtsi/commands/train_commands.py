@@ -336,14 +336,14 @@ class TrainCommands(SessionBase):
         response = None
         responses = tuple(CONTACT_RESPONSES) if kind == "Contact" else TRAIN_RESPONSES
         valid = ["-file", "-h5", "-hdf5", "-time", "-precision", "-dT", "-wheel" if kind == "Contact" else "-dof"]
+        given = set()
         while a.more():
             x = a.peek()
             if isinstance(x, str) and x.startswith("-"):
                 opt = a.option(valid)
+                given.add(opt)
                 if opt in ("-file", "-h5", "-hdf5"):
-                    if "sink" in opts:
-                        raise CommandError(f"{name}: give one output file (-file, -h5 or -hdf5)")
-                    opts["sink"] = (opt, a.word(f"{opt} file name"))
+                    self._file_option(a, name, opt, opts)
                 elif opt == "-time":
                     opts["-time"] = True
                 elif opt == "-precision":
@@ -369,6 +369,7 @@ class TrainCommands(SessionBase):
                 response = a.word("response", responses)
         if response is None:
             raise CommandError(f"{name}: no response given")
+        self._refuse_text_options(name, opts, given)
         analysis = self._coupled_analysis(name, dt=None)
         sink = self._recorder_sink(name, opts)
         if kind == "Contact":
