@@ -40,6 +40,7 @@ from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
 from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PERIOD, Output, PassageRunner,
                           PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz, resolves)
+from vtsi.signature import HARMONICS
 from vtsi.sweep_results import (ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index,
                                  train_fingerprint)
 from vtsi.track_ends import free_end_text
@@ -90,9 +91,10 @@ def speeds(spec):
     return np.unique(np.round(values, 9))
 
 
-def resonance_speeds(frequencies_hz, lengths_m, orders=(1, 2, 3, 4)):
+def resonance_speeds(frequencies_hz, lengths_m, orders=tuple(range(1, HARMONICS + 1))):
     """v = n·D/i [km/h] for every frequency n [Hz], characteristic length D [m] and i in ``orders``
-    (EN 1991-2 §6.4.6.2: λ = D/i, v = n₀ λ)."""
+    (EN 1991-2 §6.4.6.2: λ = D/i, v = n₀ λ; by default the orders at which a train's signature
+    reads its D, :data:`vtsi.signature.HARMONICS`)."""
     f = np.atleast_1d(np.asarray(frequencies_hz, dtype=float))
     D = np.atleast_1d(np.asarray([d for d in lengths_m if d], dtype=float))
     if D.size == 0:
