@@ -86,7 +86,7 @@ def ramp_beam(o):
 def test_the_command_layer_stops_where_opensees_was_a_step_before(tmp_path, integrator, first):
     """``first`` sub-steps alone first (TRBDF2 resumes a composite step after an odd number);
     then ``analyze(20)`` diverges: time, state and the recorder's last line are OpenSeesPy's
-    after the same number of steps."""
+    after the same number of steps, and the analysis goes on from there as OpenSees's does."""
     ramp_beam(vops)
     vops.recorder("Node", "-file", str(tmp_path / "mid.out"), "-time", "-node", 3, "-dof", 2, "disp")
     vops.integrator(*integrator)
@@ -107,10 +107,18 @@ def test_the_command_layer_stops_where_opensees_was_a_step_before(tmp_path, inte
     for node in (2, 3, 4):
         assert vops.nodeDisp(node, 2) == pytest.approx(oracle.nodeDisp(node, 2), rel=1e-9)
         assert vops.nodeVel(node, 2) == pytest.approx(oracle.nodeVel(node, 2), rel=1e-9)
+    stopped = (oracle.getTime(), oracle.nodeDisp(3, 2))
+    for o in (vops, oracle):               # and go on as OpenSees (TRBDF2: the BDF2 half after an odd count)
+        o.remove("loadPattern", 1)
+        o.analyze(3, DT)
+    assert vops.getTime() == pytest.approx(oracle.getTime(), rel=1e-14)
+    for node in (2, 3, 4):
+        assert vops.nodeDisp(node, 2) == pytest.approx(oracle.nodeDisp(node, 2), rel=1e-9)
     vops.wipe()                                                    # closes the file
-    last = np.loadtxt(tmp_path / "mid.out", ndmin=2)[-1]
-    assert last[0] == pytest.approx(oracle.getTime(), rel=1e-14)
-    assert last[1] == pytest.approx(oracle.nodeDisp(3, 2), rel=1e-6)
+    rows = np.loadtxt(tmp_path / "mid.out", ndmin=2)
+    assert rows[done - 1, 0] == pytest.approx(stopped[0], rel=1e-14)
+    assert rows[done - 1, 1] == pytest.approx(stopped[1], rel=1e-6)
+    assert np.all(np.diff(rows[:, 0]) > 0)
 
 
 def test_a_diverged_coupled_analysis_refuses_to_go_on():

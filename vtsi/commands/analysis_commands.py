@@ -7,7 +7,7 @@ import numpy as np
 
 from vtsi.analysis import StaticAnalysis, TransientAnalysis, domain_state, pattern_factors
 from vtsi.analysis import eigen as _eigen
-from vtsi.errors import AnalysisError, CommandError, ModelError
+from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError
 from vtsi.integrators import HHT, TRBDF2, Bathe, CentralDifference, GeneralizedAlpha, Newmark, make_integrator
 from vtsi.integrators import INTEGRATORS as REGISTERED
 from vtsi.modal_bridge import ModalBridge
@@ -131,7 +131,12 @@ class OpenSeesTRBDF2:
             table = np.zeros((n_steps, 2, len(plan.patterns)))
             table[g // 2, g % 2] = pattern_factors(plan.patterns, times[1:], analysis._path_tables)
             span = np.array([first, (first + n) - 2 * (n_steps - 1), 1], dtype=np.int64)
-            if not plan.run_rows(state, times, table, span, 1, times[-1]):
+            try:
+                moved = not plan.run_rows(state, times, table, span, 1, times[-1])
+            except DivergenceError as exc:     # the model is at the last good sub-step: go on from it
+                self.resume = plan if (first + exc.step - 1) % 2 == 1 else None
+                raise
+            if moved:
                 raise CommandError("analyze: integrator TRBDF2: a dof at rest was moved between two analyze calls; "
                                    "call wipeAnalysis() and define the analysis again")
             self.resume = plan if (first + n) % 2 == 1 else None
