@@ -311,8 +311,8 @@ BAD = {
     "no cars": (["--trains", "A1", "--speeds", "200", "--cars", "full"], None,
                 "has no fidelity 'full'; it supports ['force']; a sweep takes one fidelity for all its trains"),
     "another sweep with --resume": (["--trains", "A1", "--speeds", "200", "--resume"], _other_sweep,
-                                    "holds a different sweep (it differs in speeds_kmh[0] (200.0 here, 300.0 in the "
-                                    "file)); use another file, or --overwrite"),
+                                    "holds a different sweep (it differs in speeds_kmh (200 km/h is here, not in the "
+                                    "file; 300 km/h is in the file, not here)); use another file, or --overwrite"),
     "an existing file": (["--trains", "A1", "--speeds", "300"], _other_sweep, "exists; --resume continues"),
 }
 

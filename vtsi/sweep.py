@@ -260,10 +260,19 @@ def _fingerprint(runner):
 
 
 # -- the sweep ---------------------------------------------------------------------------------
+_worker_stop = None
+"""In a worker of a sweep's own process pool, the flag by which the sweep asks its workers to
+stop (:func:`_worker_start`); None in any other process."""
+
+
 def _run_task(runner, cases):
-    """A worker's task: the passages of ``cases`` ((train, speed_kmh, seed), ...)."""
+    """A worker's task: the passages of ``cases`` ((train, speed_kmh, seed), ...); in a worker of
+    the sweep's own pool, those that began before the sweep asked its workers to stop (the
+    cases a stopped task finished, in order)."""
     out = []
     for train, speed, seed in cases:
+        if _worker_stop is not None and _worker_stop.value:
+            break
         try:
             out.append(runner.run(train, speed, seed))
         except VtsiError as exc:
@@ -477,9 +486,11 @@ class Sweep:
                             writer.write(results)
                             shown.update(len(results))
                 elif executor is None:
-                    with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=_pool_context(),
-                                             initializer=_worker_start) as pool:
-                        self._dispatch(pool, tasks, writer, bar)
+                    context = _pool_context()
+                    stop = context.RawValue("b", 0)   # no lock: a worker killed holding one would hang the sweep
+                    with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=context,
+                                             initializer=_worker_start, initargs=(stop,)) as pool:
+                        self._dispatch(pool, tasks, writer, bar, stop)
                 else:
                     self._dispatch(executor, tasks, writer, bar)
             writer.commit()                 # complete: an overwritten file is replaced only now
@@ -542,15 +553,22 @@ class Sweep:
             out.append((name, float(self.speeds_kmh[k]), int(seed)))
         return out
 
-    def _dispatch(self, executor, tasks, writer, bar):
+    def _dispatch(self, executor, tasks, writer, bar, stop=None):
         """Submit every task (the pool's processes start now, before the progress bar's thread
-        exists), then write each task's results as it completes."""
-        pending = {executor.submit(_run_task, self.runner, task) for task in tasks}
-        try:
-            with bar() as shown:
-                while pending:
-                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                    for future in finished:
+        exists), then write each task's results as it completes.
+
+        A failure or an interrupt (Ctrl-C; SIGTERM on the command line) stops the sweep: the
+        tasks not begun are cancelled, ``stop`` (the flag of the sweep's own pool,
+        :func:`_worker_start`) is set, so that its workers end their tasks after the case they
+        run, and once the running tasks have ended their cases are written, before the failure
+        or interrupt goes on (a second interrupt stops the waiting). A task that fails meanwhile
+        is not written (its cases run again on resume)."""
+        unwritten = {executor.submit(_run_task, self.runner, task) for task in tasks}
+        with bar() as shown:
+            try:
+                while unwritten:
+                    for future in wait(unwritten, return_when=FIRST_COMPLETED).done:
+                        unwritten.discard(future)          # before writing: a batch is never written twice
                         try:
                             results = future.result()
                         except BrokenExecutor as exc:
@@ -558,10 +576,24 @@ class Sweep:
                                              "or out of memory)") from None
                         writer.write(results)
                         shown.update(len(results))
-        except BaseException:
-            for future in pending:
-                future.cancel()
-            raise
+            except BaseException:
+                # The sweep's own pool cancels the tasks not begun and waits for the others in its
+                # manager thread: a future cancelled here while that thread failed the futures of a
+                # broken pool (its workers killed by a SIGTERM to the whole process group) killed
+                # the thread (Python 3.11: InvalidStateError), and the process hung at exit.
+                if stop is not None:
+                    stop.value = 1
+                    executor.shutdown(wait=True, cancel_futures=True)
+                else:
+                    for future in unwritten:
+                        future.cancel()
+                    wait([future for future in unwritten if not future.cancelled()])
+                for future in unwritten:
+                    if not future.cancelled() and future.exception() is None:
+                        results = future.result()
+                        writer.write(results)
+                        shown.update(len(results))
+                raise
 
 
 def _shown(value):
@@ -571,11 +603,26 @@ def _shown(value):
     return f"{value:g}"
 
 
-def _worker_start():
-    """A pool worker's start: SIGTERM ends it (the default), whatever handler the calling
-    process installed (the ``vtsi`` command's, which a forked worker inherits)."""
+def _worker_start(stop):
+    """A pool worker's start. SIGTERM ends it (the default), whatever handler the calling
+    process installed (the ``vtsi`` command's, which a forked worker inherits). SIGINT is
+    ignored (a Ctrl-C reaches every process of the terminal's group): the sweep stops its
+    workers by ``stop`` (a byte in shared memory, 1: stop; :meth:`Sweep._dispatch`), and they
+    end the case they run. A thread ends the worker as soon as the process that started it has ended
+    (a sweep killed by SIGKILL leaves no worker behind)."""
+    global _worker_stop
     if hasattr(signal, "SIGTERM"):
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _worker_stop = stop
+    threading.Thread(target=_exit_with_parent, name="vtsi-exit-with-parent", daemon=True).start()
+
+
+def _exit_with_parent():
+    """End this process (a pool worker) as soon as the process that started it has ended
+    (multiprocessing's sentinel of the parent: a pipe only the parent holds open)."""
+    multiprocessing.parent_process().join()
+    os._exit(1)
 
 
 def _pool_context():

@@ -56,9 +56,11 @@ Quantities q are ``<output>_<statistic>``: 'min' and 'max' for displacements, ro
 bending moments and contact forces, 'absmax' for velocities and accelerations (``deflection_min`` is the largest downward
 deflection: y is positive up).
 
-Writing is atomic per batch: the file is copied to ``<file>.partial``, the batch written to the
-copy, and the copy renamed over the file (``os.replace``), so the file on disk is always a
-complete, readable results file, whenever the writing process is killed.
+Writing is atomic per batch: the file is read into memory, the batch written there, the whole
+written to ``<file>.partial`` by Python's own writes (HDF5 writes no file on disk: on a full
+disk it lost the error) and renamed over the file (``os.replace``), so the file on disk is
+always a complete, readable results file, whenever the writing process is killed or its disk
+fills up.
 
 One writer at a time: a writer holds ``<file>.lock`` (an OS lock, ``flock`` or ``msvcrt.locking``,
 that dies with its process, so a killed run's lock is taken over; the file holds the pid) and a
@@ -73,9 +75,9 @@ import hashlib
 import json
 import numbers
 import os
-import shutil
 import socket
 import uuid
+import weakref
 
 import h5py
 import numpy as np
@@ -98,10 +100,15 @@ except ImportError:
 
 FORMAT, FORMAT_VERSION = "vtsi-sweep", 6
 PARTIAL, STAGING, LOCK = ".partial", ".new", ".lock"   # suffixes of the files beside a results file
-IDENTITY_ORDER = ("settings", "outputs", "trains", "speeds_kmh", "seeds", "bridge", "train_fingerprints",
+IDENTITY_ORDER = ("bridge", "settings", "outputs", "trains", "speeds_kmh", "seeds", "train_fingerprints",
                   "bridge_fingerprint")
-"""The order in which a resumed sweep's identity is compared with its file's: what a user sets
-first, the hashes last (so that a changed damping is named as such, not as a matrices' hash)."""
+"""The order in which a resumed sweep's identity is compared with its file's: what a user sets,
+the bridge's description before what is derived from it (the default dt, an output's
+cutoff_hz), the hashes last (so that a changed damping is named as such, not as a matrices'
+hash)."""
+RUN_LISTS = {"trains": ("trains", ""), "speeds_kmh": ("speeds", " km/h"), "seeds": ("seeds", ""),
+             "outputs": ("outputs", "")}
+"""The identity's lists of what a sweep runs: the noun and unit a refusal counts their items in."""
 ENVELOPE_ROWS = ("min", "max", "absmax", "time_of_min", "time_of_max", "time_of_absmax")
 WHOLE_RUN = "_whole_run"   # /cases/<vehicle output>_whole_run: its envelope over the whole run, not only the bridge
 STATISTICS = {"disp": ("min", "max"), "vel": ("absmax",), "accel": ("absmax",), "rotation": ("min", "max"),
@@ -301,9 +308,14 @@ class ResultsFileLock:
     """The lock of the results file ``path``: ``<path>.lock``, locked by ``flock`` (POSIX) or
     ``msvcrt.locking`` (Windows). The OS drops such a lock when its process dies, so the lock
     of a killed run is taken over; the file holds the pid and host of the run that holds it,
-    for the message that refuses a second run."""
+    for the message that refuses a second run.
+
+    A ``flock`` belongs to the open file, which a forked process shares: a child forked while
+    the lock is held (a process pool's worker) closes its copy at once (:meth:`_leave_to_parent`),
+    so that the lock dies with the process that took it, not with the last of its children."""
 
     WINDOWS_OFFSET = 4096        # msvcrt locks bytes: a byte past the pid, which stays readable
+    _held = weakref.WeakSet()    # the locks this process holds (a forked child closes their files)
 
     def __init__(self, path):
         self.path, self.fd = path + LOCK, None
@@ -327,6 +339,17 @@ class ResultsFileLock:
         os.lseek(fd, 0, os.SEEK_SET)
         os.write(fd, f"{os.getpid()} {socket.gethostname()}\n".encode())
         self.fd = fd
+        ResultsFileLock._held.add(self)
+
+    @classmethod
+    def _leave_to_parent(cls):
+        """In a child just forked: close the lock files it inherited, without unlocking them
+        (the parent holds the locks; the child neither holds nor releases them)."""
+        for lock in list(cls._held):
+            if lock.fd is not None:
+                os.close(lock.fd)
+                lock.fd = None
+        cls._held.clear()
 
     @classmethod
     def _try_lock(cls, fd):
@@ -368,6 +391,7 @@ class ResultsFileLock:
         if self.fd is None:
             return
         fd, self.fd = self.fd, None
+        ResultsFileLock._held.discard(self)
         if fcntl is not None:
             try:
                 os.remove(self.path)     # while locked: a run waiting on it sees the file gone
@@ -386,6 +410,10 @@ class ResultsFileLock:
             os.remove(self.path)
         except OSError:                  # another run holds it now
             pass
+
+
+if hasattr(os, "register_at_fork"):     # POSIX (Windows does not fork)
+    os.register_at_fork(after_in_child=ResultsFileLock._leave_to_parent)
 
 
 def _header(f, name):
@@ -432,10 +460,13 @@ def train_fingerprint(train, length_m=None):
 
 
 def _first_difference(a, b, path=()):
-    """The first difference between the identities ``a`` (this sweep's) and ``b`` (the file's),
-    keys in IDENTITY_ORDER first: ``(path, value here, value in the file)`` (None: missing), or
-    None when they are equal."""
-    if isinstance(a, dict) and isinstance(b, dict):
+    """The first difference between the identities ``a`` (this sweep's) and ``b`` (the file's):
+    ``(path, value here, value in the file)`` (None: missing), or None when they are equal. Keys
+    in IDENTITY_ORDER first, a dict's others sorted; the bridge's description is one value
+    (:func:`_describe` names each of its keys that differ), and so is each list of what the
+    sweep runs (:data:`RUN_LISTS`) unless both name the same items in the same order; other
+    lists of one length are compared element by element."""
+    if isinstance(a, dict) and isinstance(b, dict) and path != ("bridge",):
         keys = set(a) | set(b)
         first = [k for k in IDENTITY_ORDER if k in keys] if not path else []
         for key in first + sorted(keys - set(first)):
@@ -445,7 +476,8 @@ def _first_difference(a, b, path=()):
             if diff:
                 return diff
         return None
-    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b) \
+            and (len(path) != 1 or path[0] not in RUN_LISTS or _item_names(a) == _item_names(b)):
         for k, (x, y) in enumerate(zip(a, b)):
             diff = _first_difference(x, y, path + (k,))
             if diff:
@@ -454,11 +486,31 @@ def _first_difference(a, b, path=()):
     return None if a == b else (path, a, b)
 
 
+def _item_names(items):
+    """A list's items as :func:`_describe` names them: an output by its name, others as they are."""
+    return [x.get("name") if isinstance(x, dict) else x for x in items]
+
+
+def _listing(items, noun, unit):
+    """Items of a list in words: up to four named ('405, 410 and 415 km/h'), more counted: numbers
+    with their range ('53 speeds from 142 to 418 km/h'), others by the first three ('HSLM-A2,
+    HSLM-A3, HSLM-A4 and 6 more trains')."""
+    numeric = all(isinstance(x, numbers.Real) and not isinstance(x, bool) for x in items)
+    text = [f"{x:.10g}" if numeric else str(x) for x in items]
+    if len(items) > 4 and numeric:
+        return f"{len(items)} {noun} from {min(items):.10g} to {max(items):.10g}{unit}"
+    if len(items) > 4:
+        return f"{', '.join(text[:3])} and {len(items) - 3} more {noun}"
+    return (f"{', '.join(text[:-1])} and {text[-1]}" if len(text) > 1 else text[0]) + unit
+
+
 def _describe(diff, runner):
     """A difference of :func:`_first_difference` in words; ``runner`` (a
     :class:`~vtsi.passage.PassageRunner`) builds a train whose fingerprint differs, to tell a D
     the file's run had not (an axle table's D from its signature, since 2026-11-27) from other
-    changes."""
+    changes. The bridge's description: each key that differs, in this sweep's order (a beam's
+    spans before the I_m4 its f1_Hz gives); a list of what the sweep runs: what is only here
+    and what only in the file, or the first item out of place."""
     path, here, there = diff
     if path[0] == "train_fingerprints" and len(path) == 2:
         train = runner.train(path[1], 1.0)
@@ -475,6 +527,20 @@ def _describe(diff, runner):
     def show(value):
         text = "none" if value is None else json.dumps(value, sort_keys=True)
         return text if len(text) <= 60 else text[:57] + "..."
+    if path == ("bridge",) and isinstance(here, dict) and isinstance(there, dict):
+        keys = [k for k in list(here) + sorted(set(there) - set(here)) if here.get(k) != there.get(k)]
+        return "it differs in " + ", ".join(f"bridge.{k} ({show(here.get(k))} here, {show(there.get(k))} in "
+                                            "the file)" for k in keys)
+    if len(path) == 1 and path[0] in RUN_LISTS and isinstance(here, list) and isinstance(there, list):
+        a, b = _item_names(here), _item_names(there)
+        parts = [f"{_listing(only, *RUN_LISTS[path[0]])} {'is' if len(only) == 1 else 'are'} {side}"
+                 for only, side in (([x for x in a if x not in b], "here, not in the file"),
+                                    ([x for x in b if x not in a], "in the file, not here")) if only]
+        if parts:
+            return f"it differs in {path[0]} ({'; '.join(parts)})"
+        k = next(k for k in range(max(len(a), len(b))) if k >= min(len(a), len(b)) or a[k] != b[k])
+        return (f"it differs in {path[0]}[{k}] ({show(a[k] if k < len(a) else None)} here, "
+                f"{show(b[k] if k < len(b) else None)} in the file: the same {RUN_LISTS[path[0]][0]} in another order)")
     where = "".join(f"[{key}]" if isinstance(key, int) else f".{key}" for key in path).lstrip(".")
     hint = ""
     if path == ("settings", "dt") and there is not None:     # the default dt follows the bridge's cut-off
@@ -623,22 +689,24 @@ class ResultsWriter:
                 f.create_group("cases")
                 if self.path is None:
                     self._memory = f
+                else:
+                    _save_image(f, tmp)
             if tmp is not None:
                 os.replace(tmp, self.path)
-        except BaseException:
+        except BaseException as exc:
             if tmp is not None and os.path.exists(tmp):
                 os.remove(tmp)
+            if isinstance(exc, OSError):         # a full disk: nothing is left behind
+                raise SweepError(f"results file {self.path}: cannot write there ({exc.strerror or exc})") from None
             raise
 
     def _open_new(self):
+        """A new HDF5 file in memory and the path it is written to (:func:`_save_image`): the
+        results file's ``<file>.partial``, or None for a sweep kept in memory."""
+        f = h5py.File(f"vtsi-sweep-{uuid.uuid4().hex}.h5", "w", driver="core", backing_store=False)
         if self.path is None:
-            f = h5py.File(f"vtsi-sweep-{uuid.uuid4().hex}.h5", "w", driver="core", backing_store=False)
             return _KeepOpen(f), None
-        tmp = self.path + PARTIAL
-        try:
-            return h5py.File(tmp, "w"), tmp
-        except OSError as exc:
-            raise SweepError(f"results file {self.path}: cannot write there ({exc.strerror or exc})") from None
+        return f, self.path + PARTIAL
 
     def _check(self, path):
         """A SweepError unless the file ``path`` holds this sweep (the first difference named),
@@ -716,16 +784,18 @@ class ResultsWriter:
                          "resume=True (--resume) continues the sweep")
 
     def _atomic(self, put, what, kept):
-        """``put(f)`` on the file as one step: on a copy (``<file>.partial``) renamed over it; a
-        failure or an interrupt at any moment leaves the file as it was and no copy."""
+        """``put(f)`` on the file as one step: on a copy in memory, written to ``<file>.partial``
+        (:func:`_save_image`) and renamed over the file; a failure (a full disk) or an interrupt
+        at any moment leaves the file as it was and no copy."""
         if self._memory is not None:
             put(self._memory)
             return
         tmp = self.path + PARTIAL
         try:
-            shutil.copyfile(self.path, tmp)
-            with h5py.File(tmp, "a") as f:
+            # in memory (the file on disk is only read); readers may hold it open: no HDF5 file lock
+            with h5py.File(self.path, "r+", driver="core", backing_store=False, locking=False) as f:
                 put(f)
+                _save_image(f, tmp)
             os.replace(tmp, self.path)
         except BaseException as exc:
             if os.path.exists(tmp):
@@ -824,6 +894,16 @@ class ResultsWriter:
 def _response(outputs, name):
     """The response of the output ``name`` of ``outputs`` (the identity's dicts)."""
     return next(o["response"] for o in outputs if o["name"] == name)
+
+
+def _save_image(f, path):
+    """Write ``f``, an HDF5 file held in memory (driver 'core'), to the file ``path`` by Python's
+    own writes: a full disk raises OSError here. (HDF5 writing a file on a full disk loses the
+    error where h5py releases a dataset, leaves the dataset's data out of the file, then crashes
+    the process when the file is closed.)"""
+    f.flush()
+    with open(path, "wb") as out:
+        out.write(f.id.get_file_image())
 
 
 def _put_history(group, name, time, values, description):
