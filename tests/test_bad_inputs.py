@@ -706,7 +706,7 @@ RECORDER_BUILD_CASES = [
     ("node: negative dt", lambda: NodeRecorder([3], [2], dt=-0.1), r"^node recorder: dt must be >= 0 and finite, got -0.1$"),
     ("element: response not a name", lambda: ElementRecorder([1], 3), r"^element recorder: response must be a name, got 3$"),
     ("records nothing", lambda: NodeRecorder([3], [2], history=False), r"^node recorder: records nothing"),
-    ("envelope as text", lambda: NodeRecorder([3], [2], envelope="no"), r"^node recorder: envelope must be True or False, got 'no'$"),
+    ("envelope as text", lambda: NodeRecorder([3], [2], envelope="no"), r"^node recorder: envelope must be True, False or 'concurrent', got 'no'$"),
     ("history as text", lambda: NodeRecorder([3], [2], history="no"), r"^node recorder: history must be True or False, got 'no'$"),
     ("include_inertia as text", lambda: ReactionRecorder([1], [2], include_inertia="no"),
      r"^reaction recorder: include_inertia must be True or False, got 'no'$"),

@@ -67,7 +67,9 @@ class Recorder:
     ----------
     sink : :class:`~vtsi.recorders.sinks.Sink` or None (memory, :class:`MemorySink`).
     dt : record only every ``dt`` seconds (OpenSees ``-dT``); None or 0: every step.
-    envelope : keep the running min / max / absmax of every column (``self.envelope``).
+    envelope : keep the running min / max / absmax of every column (``self.envelope``);
+        ``"concurrent"``: also every column's value at the step of each extreme (M and V
+        together: :class:`~vtsi.recorders.envelope.Envelope`).
     history : keep the time history (False with ``envelope=True``: OpenSees ``EnvelopeNode`` /
         ``EnvelopeElement``: only the envelope goes to the sink).
     tag : optional identifier (the command layer's recorder tag).
@@ -92,12 +94,15 @@ class Recorder:
                 raise ModelError(f"{self.name}: dt must be a number, got {dt!r}") from None
             if not (np.isfinite(dt) and dt >= 0.0):
                 raise ModelError(f"{self.name}: dt must be >= 0 and finite, got {dt}")
-        history, envelope = as_flag(history, self.name, "history"), as_flag(envelope, self.name, "envelope")
+        concurrent = isinstance(envelope, str) and envelope == "concurrent"
+        if not (concurrent or isinstance(envelope, (bool, np.bool_))):
+            raise ModelError(f"{self.name}: envelope must be True, False or 'concurrent', got {envelope!r}")
+        history, envelope = as_flag(history, self.name, "history"), bool(envelope)
         if not (history or envelope):
             raise ModelError(f"{self.name}: records nothing (history=False and envelope=False)")
         self.sink, self.dt, self.tag = sink, dt, tag
         self.history = history
-        self.envelope = Envelope() if envelope else None
+        self.envelope = Envelope(concurrent=concurrent) if envelope else None
         sink.check(self)
         self._next_time = 0.0
         self._layout = None

@@ -120,7 +120,9 @@ class HDF5Sink(Sink):
         /columns/<name>   (n_columns,) per-column labels (node, dof, dof_name or element,
                           component, component_name), dimension scales of values' dim 1
         /envelope/<name>  (n_columns,) min, max, absmax, time_of_min, time_of_max,
-                          time_of_absmax (with ``envelope=True``; attr n_records)
+                          time_of_absmax (with ``envelope=True``; attr n_records);
+                          (n_columns, n_columns) concurrent_min, concurrent_max,
+                          concurrent_absmax (with ``envelope="concurrent"``)
 
     Parameters
     ----------
@@ -220,8 +222,8 @@ class HDF5Sink(Sink):
                 values.dims[1].attach_scale(ds)
         if recorder.envelope is not None:
             env = f.create_group("envelope")
-            for name in recorder.envelope.FIELDS:
-                env.create_dataset(name, data=np.full(n, np.nan))
+            for name in recorder.envelope.fields:       # concurrent_*: (n, n), units per column (axis 1)
+                env.create_dataset(name, data=np.full(getattr(recorder.envelope, name).shape, np.nan))
                 env[name].attrs["units"] = _time_units(layout["run"]) if name.startswith("time") else \
                     np.array(layout["units"], dtype=object)
             env.attrs["n_records"] = 0
@@ -283,7 +285,7 @@ class HDF5Sink(Sink):
             f["values"][n0:] = values
         if envelope is not None:
             env = f["envelope"]
-            for name in envelope.FIELDS:
+            for name in envelope.fields:
                 env[name][...] = getattr(envelope, name)
             env.attrs["n_records"] = envelope.n_records
         self._rows += len(times)
@@ -363,6 +365,9 @@ class TextSink(Sink):
             raise ModelError(f"text recorder {self.path}: a text file holds the history (OpenSees Node/"
                              "Element recorder) or the envelope (EnvelopeNode/EnvelopeElement), not "
                              "both; use two recorders, or an HDF5Sink")
+        if recorder.envelope is not None and recorder.envelope.concurrent:
+            raise ModelError(f"text recorder {self.path}: a text file holds an envelope's three lines (OpenSees "
+                             "EnvelopeNode/EnvelopeElement), not its concurrent values; use an HDF5Sink or memory")
 
     def open(self, layout, recorder):
         self._recorder = recorder
