@@ -1,6 +1,6 @@
 """The main example: the EN 1990 A2 / EN 1991-2 dynamic design check of a 20 m simply supported
-prestressed-concrete railway bridge for HSLM-A1 … A10 and the ICE3, from 140 km/h to 1.2 × the
-300 km/h line speed, with its report.
+prestressed-concrete railway bridge for HSLM-A1 … A10 and the ICE3, from 144 km/h (40 m/s) to
+1.2 × the 300 km/h line speed, with its report.
 
     python examples/design_check.py                # writes design_check.h5 and design_check_report/
 
@@ -40,7 +40,7 @@ def sweep_of(trains=TRAINS, line_speed=LINE_SPEED, elements=10, dt=1e-3):
     settings = PassageSettings(dt=dt, damping=zeta)
     sweep = Sweep(bridge, trains, [200.0], settings)          # the bridge's frequencies for the grid
     lengths = [sweep.runner.train(t, 40.0).characteristic_length for t in trains]
-    speeds = en_speed_grid(line_speed, sweep.runner.deck_frequencies.ravel(), lengths, start_kmh=140.0)
+    speeds = en_speed_grid(line_speed, sweep.runner.deck_frequencies.ravel(), lengths)
     return Sweep(bridge, trains, speeds, settings)
 
 

@@ -302,7 +302,8 @@ BAD = {
     "a bridge file's seeds on a smooth rail": (["--trains", "A1", "--speeds", "200"], "smooth_seeds.toml",
                                                "[analysis] seeds: rail samples need an irregular rail"),
     "a train twice in two spellings": (["--trains", "HSLM-A1,hslm-a1", "--speeds", "200"], None,
-                                       "train HSLM-A1 is listed twice"),
+                                       "train HSLM-A1 is listed twice (names ignore case; 'A1' is 'HSLM-A1'): "
+                                       "'HSLM-A1,hslm-a1'"),                      # the text given, as typed
     "bad seeds": (["--trains", "ICE3", "--speeds", "200", "--cars", "full", "--irregularity", "german-low", "--seeds",
                    "-1"], None, "integers >= 0"),
     "a rough rail under moving forces": (["--trains", "A1", "--speeds", "200", "--irregularity", "german-low"], None,

@@ -75,6 +75,8 @@ def test_design_check_example(tmp_path, capsys):
     result, paths = example.main(str(tmp_path / "dc"), workers=1, trains=["HSLM-A1", "ICE3"], line_speed=200.0,
                                  elements=4, dt=5e-3)
     out = capsys.readouterr().out
+    speeds = example.sweep_of(trains=["HSLM-A1", "ICE3"], line_speed=200.0, elements=4).speeds_kmh
+    assert speeds[0] == 144.0 and speeds[-1] == 240.0     # EN 1991-2 6.4.6.2: from 40 m/s to 1.2 x the line speed
     row = result.row("deck_acceleration")
     assert row.train in ("HSLM-A1", "ICE3") and f"{row.speed_kmh:g} km/h" in out
     assert "compiling or loading" in out and paths["html"].exists() and (tmp_path / "dc.h5").exists()

@@ -433,7 +433,7 @@ def _prepare_sweep(ns, out):
             runner = PassageRunner(source.bridge.model, source.bridge.track_elements, settings, outputs=())
             lengths = [runner.train(t, 40.0).characteristic_length for t in trains]   # None: fine steps throughout
             spec = en_speed_grid(en_line, runner.deck_frequencies.ravel(), lengths)    # every deck's resonances
-        sweep = Sweep(source.bridge, trains, spec, settings, seeds=seeds)
+        sweep = Sweep(source.bridge, ns.trains, spec, settings, seeds=seeds)     # its refusals quote the text given
     except BridgeError as exc:
         # what the analysis found wrong with the bridge (a BridgeError, whatever its words) names the
         # file it came from (a script's model has no other name): 'bridge file b.tcl: bridge (its
