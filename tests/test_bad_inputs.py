@@ -15,7 +15,7 @@ import vtsi
 import vtsi.opensees as ops
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
-from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError, VtsiError
+from vtsi.errors import AnalysisError, CommandError, DivergenceError, ModelError, RecorderError, VtsiError
 from vtsi.integrators import HHT, Bathe, Newmark
 from vtsi.models import Irregularity, Train, car_from_catalogue, four_dof_car, ice3, moving_force, sprung_mass, ten_dof_car
 from vtsi.models.cars import TEN_DOF_PARAMETERS
@@ -555,16 +555,19 @@ def test_a_full_disk_names_the_recorder_its_file_and_the_records_times():
     recorder does not replace that error with a second one)."""
     recorder = NodeRecorder([3], [2], sink=TextSink("/dev/full"))
     analysis = vtsi.TransientAnalysis(loaded_beam(cmass=1), "Newmark", 1e-3, recorders=[recorder], chunk_steps=5)
-    with pytest.raises(OSError, match=r"^text recorder /dev/full: cannot write the records of t = 0\.001 to 0\.005 s: "
-                                      r"No space left on device$"):
+    with pytest.raises(RecorderError, match=r"^node recorder \(text file /dev/full\): cannot write the records of "
+                                            r"t = 0\.001 to 0\.005 s \(No space left on device\); the file holds no "
+                                            r"lines$"):
         analysis.run(20)
 
 
 def test_a_command_recorder_tries_its_file_again_after_a_failed_write(tmp_path):
     """A command-layer recorder stays open from one analyze to the next: after a write that
     failed (its handle dropped, unflushed records reported lost), the next analyze writes to the
-    file again, after the lines written before the failure (the failed analyze did not commit its
-    step, so t = 0.03 s is computed and recorded again)."""
+    file again, after the lines written before the failure. The failed analyze committed its step,
+    as OpenSees commits a step whose recorder fails: the model is at t = 0.03 s, which the error
+    named lost from this file, and the next step is t = 0.04 s (before, the model's displacements
+    were at 0.03 s and its time at 0.02 s, and the step was recorded again)."""
     session = ops.Session()
     session.model("basic", "-ndm", 2, "-ndf", 3)
     session.node(1, 0.0, 0.0)
@@ -587,12 +590,15 @@ def test_a_command_recorder_tries_its_file_again_after_a_failed_write(tmp_path):
             raise OSError(28, "No space left on device")
 
     sink._handle = FullDisk()
-    with pytest.raises(OSError, match=r"^text recorder .*x\.out: cannot write the records of t = 0\.03 to 0\.03 s: "):
+    with pytest.raises(RecorderError, match=r"^recorder 0 \(node, text file .*x\.out\): cannot write the records of "
+                                            r"t = 0\.03 to 0\.03 s \(No space left on device\); the file holds the 2 "
+                                            r"lines up to t = 0\.02 s$"):
         session.analyze(1, 0.01)
+    assert session.getTime() == pytest.approx(0.03)
     session.analyze(1, 0.01)
     session.wipe()
     times = [float(line.split()[0]) for line in path.read_text().splitlines()]
-    assert times == pytest.approx([0.01, 0.02, 0.03])
+    assert times == pytest.approx([0.01, 0.02, 0.04])
 
 
 def test_a_failed_hdf5_write_names_the_file_and_keeps_the_chunks_before(tmp_path, monkeypatch):
@@ -610,8 +616,9 @@ def test_a_failed_hdf5_write_names_the_file_and_keeps_the_chunks_before(tmp_path
     path = tmp_path / "midspan.h5"
     recorder = NodeRecorder([3], [2], sink=HDF5Sink(path))
     analysis = vtsi.TransientAnalysis(loaded_beam(cmass=1), "Newmark", 1e-3, recorders=[recorder], chunk_steps=5)
-    with pytest.raises(OSError, match=r"^HDF5 recorder .*midspan\.h5: cannot write the records of t = 0\.011 to "
-                                      r"0\.015 s: No space left on device$"):
+    with pytest.raises(RecorderError, match=r"^node recorder \(HDF5 file .*midspan\.h5\): cannot write the records "
+                                            r"of t = 0\.011 to 0\.015 s \(No space left on device\); the file holds "
+                                            r"the 10 rows up to t = 0\.01 s$"):
         analysis.run(20)
     with h5py.File(path, "r") as f:
         np.testing.assert_allclose(f["time"][...], 1e-3 * np.arange(1, 11), rtol=1e-12)

@@ -239,7 +239,9 @@ def test_csv_train(tmp_path, capsys, beam):
     assert table_rows(capsys.readouterr().out)["deflection_min"][2] == str(axles)
 
 
-def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypatch, beam):
+def test_a_failing_passage_exits_1_and_keeps_the_cases_finished_before_it(tmp_path, capsys, monkeypatch, beam):
+    """The sweep stops at the failing case with its one line; the case finished before it (in
+    the same task: workers 1) is in the file, and the line says so."""
     bridge = beam()
     run = PassageRunner.run
 
@@ -251,8 +253,12 @@ def test_a_failing_passage_exits_1_and_leaves_nothing(tmp_path, capsys, monkeypa
     monkeypatch.setattr(PassageRunner, "run", failing)
     assert sweep(tmp_path, bridge, *FAST) == 1
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("vtsi sweep: case HSLM-A1/250kmh/smooth: no good at 250")
-    assert sorted(os.listdir(tmp_path)) == ["bridge.toml"]
+    out = tmp_path / "out.h5"
+    assert len(err) == 1 and err[0].startswith("vtsi sweep: case HSLM-A1/250kmh/smooth: no good at 250") and \
+        err[0].endswith(f"(1 of 3 cases are in {out})")
+    assert sorted(os.listdir(tmp_path)) == ["bridge.toml", "out.h5"]
+    kept = SweepResults(out)
+    assert kept.n_done == 1 and not np.isnan(kept.start_positions()[0, 0, 0]) and kept.speeds_kmh[0] == 200.0
 
 
 # -- bad input: exit 2, one line, nothing written ------------------------------------------------

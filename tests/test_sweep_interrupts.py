@@ -15,9 +15,10 @@ import pytest
 
 from vtsi.__main__ import main
 from vtsi.bridge_file import load_bridge
-from vtsi.passage import PassageSettings
+from vtsi.errors import DivergenceError, PassageError
+from vtsi.passage import PassageRunner, PassageSettings
 from vtsi.sweep import Sweep
-from vtsi.sweep_results import ResultsWriter, SweepResults
+from vtsi.sweep_results import ResultsWriter, SweepResults, case_key
 
 CASES = 2 * 29                                     # HSLM-A1 and A2 at 140:420:10
 SWEEP = ["--trains", "HSLM-A1,HSLM-A2", "--speeds", "140:420:10", "--quiet"]
@@ -245,3 +246,36 @@ def test_a_full_disk_stops_the_sweep_with_its_line_and_keeps_the_cases_before(tm
             np.testing.assert_array_equal(a[name]["envelope"], b[name]["envelope"])
     assert main([*args, "--out", str(out), "--resume"]) == 0
     _same_results(out, whole)
+
+
+@pytest.mark.parametrize("failure", [KeyboardInterrupt, "diverged"])
+def test_a_sweep_in_this_process_writes_the_cases_its_cut_task_finished(tmp_path, beam_toml, monkeypatch, failure):
+    """workers=1 ran a whole task before writing it: a Ctrl-C (or a passage that failed) in the
+    5th case of a task threw the task's 4 finished cases away. They are written before the
+    interrupt (the failure) goes on, as the pool's finished cases are: the file holds the first
+    task's 6 cases and the second's 4, in the sweep's order, and a resume equals an
+    uninterrupted run envelope for envelope."""
+    bridge = load_bridge(beam_toml(tmp_path / "bridge.toml"))
+    settings = PassageSettings(dt=0.01, damping=0.0125)
+    sweep = Sweep(bridge, ["HSLM-A1"], "140:420:10", settings)
+    path, whole = tmp_path / "cut.h5", tmp_path / "whole.h5"
+    run, started = PassageRunner.run, []
+
+    def cut(self, train, speed_kmh, seed=-1, *args, **kwargs):
+        started.append((train, speed_kmh, seed))
+        if len(started) == 6 + 5:                                  # the 5th case of the second task
+            if failure is KeyboardInterrupt:
+                raise KeyboardInterrupt
+            raise DivergenceError(f"{train} at {speed_kmh:g} km/h: {failure}", 1, 0.01)
+        return run(self, train, speed_kmh, seed, *args, **kwargs)
+
+    monkeypatch.setattr(PassageRunner, "run", cut)
+    with pytest.raises(KeyboardInterrupt if failure is KeyboardInterrupt else PassageError):
+        sweep.run(path, workers=1, progress=False, cases_per_task=6)
+    assert [case_key(*c) for c in started] == [case_key(*c) for c in sweep.cases[:11]]
+    assert _cases(path) == {(t, float(v), s) for t, v, s in sweep.cases[:10]}
+    assert not (tmp_path / "cut.h5.partial").exists()
+    monkeypatch.setattr(PassageRunner, "run", run)
+    Sweep(bridge, ["HSLM-A1"], "140:420:10", settings).run(path, workers=1, progress=False, resume=True)
+    Sweep(bridge, ["HSLM-A1"], "140:420:10", settings).run(whole, workers=1, progress=False)
+    _same_results(path, whole)

@@ -741,11 +741,11 @@ class _RunPlan:
             self.bank[:] = start_bank
         if bad > 0:
             self.advance(state, *self._rows_before(table, out, span, bad))   # deterministic: the same rows again
-        if feed.recorders:
-            feed.deliver(times[1: good + 1], self.bridge.recorded(out[:good]), self.asm)
         if good > 0:
             state.time = float(times[good])
             settle_dependent_dofs(self.asm, self.prescribed, state, times[good] - (times[n] - settle_time))
+        if feed.recorders:              # after the state: a recorder that raises leaves it at its last row
+            feed.deliver(times[1: good + 1], self.bridge.recorded(out[:good]), self.asm)
         if bad >= 0:
             limit = self.analysis.divergence_limit
             size = "|u|" if self.fe else "a modal coordinate |q| [m·√kg]"      # what the kernel bounds

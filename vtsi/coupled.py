@@ -539,26 +539,27 @@ class CoupledAnalysis:
                     first = k + 1
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
                 times = t0 + self.dt * np.arange(1, good + 1)
-                feed.deliver(times, bridge.recorded(out_b[:good]), asm, train=out_t[:good],
-                             contact_force=out_force[:good][:, force_wheels], gap=out_gap[:good][:, gap_wheels])
                 times_all.append(times)
                 force_all.append(out_force[:good])
                 end_all.append(out_force_end[:good])
                 gap_all.append(out_gap[:good])
-                if bad != -1:
-                    step = done + good + 1
-                    t_bad = t0 + (good + 1) * self.dt
+                if bad == -1:           # the chunk committed before the recorders get it: one that raises
+                    bridge.commit(state, bank_b, asm.full_of_free, t0 + n * self.dt)     # leaves the analysis
+                    for slot, vec in enumerate((train.u, train.v, train.a)):          # at its last row
+                        vec[:] = bank_t[slot, kd_t: kd_t + n_t]
+                    done += n
+                else:
+                    step, t_bad = done + good + 1, t0 + (good + 1) * self.dt
                     self._diverged = f"step {step}, t = {t_bad:.6g} s"
+                feed.deliver(times, bridge.recorded(out_b[:good]), asm, train=out_t[:good],
+                             contact_force=out_force[:good][:, force_wheels], gap=out_gap[:good][:, gap_wheels])
+                if bad != -1:
                     if bad >= 0:
                         raise DivergenceError(f"coupled analysis diverged at step {step}, t = {t_bad:.6g} s "
                                               f"(|u| > {self.divergence_limit:g} m or NaN) with "
                                               f"{self.integrator!r}, dt = {self.dt:g} s", step, t_bad)
                     raise DivergenceError(f"coupled analysis: contact flexibility W is singular at step {step}, "
                                           f"t = {t_bad:.6g} s", step, t_bad)
-                bridge.commit(state, bank_b, asm.full_of_free, t0 + n * self.dt)
-                for slot, vec in enumerate((train.u, train.v, train.a)):
-                    vec[:] = bank_t[slot, kd_t: kd_t + n_t]
-                done += n
         finally:
             feed.close()
             self.time = np.concatenate(times_all)

@@ -8,6 +8,7 @@ The classes, by what is at fault::
     ├── AnalysisError (RuntimeError)     an analysis that cannot run as set up
     │   └── DivergenceError              a run that diverged (.step, .time)
     ├── CommandError (ValueError)        a command of the OpenSees-style layer
+    ├── RecorderError (OSError)          a recorder's file that cannot be written (a full disk)
     ├── SweepError (ValueError)          a sweep that cannot run as asked
     │   ├── SettingError                 a setting that does not suit the bridge or trains (.setting)
     │   ├── PassageError                 a passage that failed while the sweep ran
@@ -57,6 +58,13 @@ class DivergenceError(AnalysisError):
 
 class CommandError(VtsiError, ValueError):
     """A command of the OpenSees-style layer is unknown, unsupported or malformed."""
+
+
+class RecorderError(VtsiError, OSError):
+    """A recorder's file could not be written (a full disk, a file size limit, a lost drive):
+    the message names the recorder, its file, the OS's reason and what the file holds
+    (:meth:`vtsi.recorders.sinks.Sink.failure`). An OSError too, as any file that cannot be
+    written (``vtsi run`` exits 1 on it)."""
 
 
 class SweepError(VtsiError, ValueError):

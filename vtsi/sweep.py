@@ -265,11 +265,13 @@ _worker_stop = None
 stop (:func:`_worker_start`); None in any other process."""
 
 
-def _run_task(runner, cases):
+def _run_task(runner, cases, out=None):
     """A worker's task: the passages of ``cases`` ((train, speed_kmh, seed), ...); in a worker of
     the sweep's own pool, those that began before the sweep asked its workers to stop (the
-    cases a stopped task finished, in order)."""
-    out = []
+    cases a stopped task finished, in order). Each result is appended to ``out`` as its case
+    finishes (a list the caller owns: the sweep in this process writes those of a task a
+    failure or an interrupt cut), a new list by default; returns ``out``."""
+    out = [] if out is None else out
     for train, speed, seed in cases:
         if _worker_stop is not None and _worker_stop.value:
             break
@@ -482,8 +484,11 @@ class Sweep:
                 if executor is None and n_workers == 1:
                     with bar() as shown:
                         for task in tasks:
-                            results = _run_task(self.runner, task)
-                            writer.write(results)
+                            results = []
+                            try:
+                                _run_task(self.runner, task, results)
+                            finally:            # a failure or an interrupt: the cases finished before it
+                                writer.write(results)
                             shown.update(len(results))
                 elif executor is None:
                     context = _pool_context()

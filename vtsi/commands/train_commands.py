@@ -368,6 +368,11 @@ class TrainCommands(SessionBase):
                     raise CommandError(f"{name}: give one response, got {response!r} and {a.peek()!r}")
                 response = a.word("response", responses)
         if response is None:
+            opt, path = opts.get("sink", (None, None))
+            if path in responses:           # the file name left out: the response read as it
+                example = f"{opt} out.{'txt' if opt == '-file' else 'h5'} {path}"
+                raise CommandError(f"{name}: no response given: {opt} took {path!r} for its file name; give the "
+                                   f"file name after {opt}, the response last ({example})")
             raise CommandError(f"{name}: no response given")
         self._refuse_text_options(name, opts, given)
         analysis = self._coupled_analysis(name, dt=None)

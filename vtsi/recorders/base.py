@@ -3,7 +3,9 @@
 A recorder names, once, the dof responses it needs; the analysis records them in compiled
 code and hands each chunk of steps over. Recorders never slow the time loop down and never
 lose what was computed: a chunk is written before the next one starts, and a run that fails
-still delivers every completed step.
+still delivers every completed step. A file that cannot be written (a full disk) stops the run
+with a :class:`~vtsi.errors.RecorderError` naming the recorder, the file and what it
+holds.
 
 A recorder is three separate things (see ``docs/recorders.md``):
 

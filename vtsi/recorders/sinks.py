@@ -13,18 +13,28 @@ Contract of a sink
    response's description and fills in ``n_columns``, ``attrs``, ``run`` and a missing
    ``response``.
 3. ``write(times, values, envelope)``: after every chunk with at least one recorded step;
-   ``values (n, n_columns)`` or None (envelope-only recorder), ``envelope`` or None.
+   ``values (n, n_columns)`` or None (envelope-only recorder), ``envelope`` or None. Storage
+   that cannot be written (a full disk) raises :class:`~vtsi.errors.RecorderError` naming the
+   recorder, its file, the OS's reason and what the file holds (:meth:`Sink.failure`).
 4. ``close(envelope)``: at the end of every run, also a failed one; the storage stays valid.
+   After a :class:`RecorderError` it raises no second one.
 """
 import datetime
+import errno
 import os
 
 import h5py
 import numpy as np
 
-from vtsi.errors import ModelError, as_flag, is_count
+from vtsi.errors import ModelError, RecorderError, as_flag, is_count
 from vtsi.recorders.number_text import format_g_bytes, format_g_rows
 
+try:
+    import fcntl                 # POSIX: an HDF5 sink locks its file while it writes it, as HDF5 does
+except ImportError:              # Windows
+    fcntl = None
+
+NO_LOCKS = (errno.ENOSYS, errno.ENOLCK, errno.EOPNOTSUPP)   # flock's errors where a file system has no locks
 LINE_END = os.linesep.encode()   # text recorders end lines as OpenSees's text streams do here (CRLF on Windows)
 
 
@@ -37,6 +47,17 @@ class Sink:
             raise ModelError(f"{type(self).__name__}: this sink already belongs to {owner!r}; give each "
                              "recorder its own sink")
         self._owner = recorder
+
+    def failure(self, text):
+        """A :class:`RecorderError` ``<recorder> (<KIND> file <path>): <text>`` (``KIND``, a class
+        attribute of a sink with a file: 'HDF5', 'text'), the recorder named by its tag when it has
+        one (the command layer's: ``recorder 2 (node, HDF5 file out.h5)``), else by its name
+        (``node recorder (HDF5 file out.h5)``)."""
+        recorder = getattr(self, "_owner", None)
+        name, tag = getattr(recorder, "name", type(self).__name__), getattr(recorder, "tag", None)
+        who = f"{name} ({self.KIND} file {self.path})" if tag is None else \
+            f"recorder {tag} ({name.removesuffix(' recorder')}, {self.KIND} file {self.path})"
+        return RecorderError(f"{who}: {text}")
 
     def open(self, layout, recorder):
         raise NotImplementedError
@@ -132,19 +153,24 @@ class HDF5Sink(Sink):
     overwrite : True: replace an existing file (a bool: anything else is a ModelError).
     flush_every : None (default): flush after every chunk; k: flush only once at least k
         recorded steps have accumulated since the last flush (fewer flushes when chunks are
-        tiny, e.g. static steps; a killed run may then lose up to k - 1 steps).
+        tiny, e.g. static steps; a killed run, or a full disk, may then lose up to k - 1
+        steps and the chunk that failed).
     compression : h5py compression filter for /values (``'gzip'``, ``'lzf'``, a gzip level 0-9...),
         default none; checked with ``compression_opts`` when the sink is built (ModelError).
     compression_opts : the filter's options (gzip: level 0-9), default h5py's.
 
     A run killed at any moment (even SIGKILL) leaves a readable file holding every step up
-    to the last flush; a run that raises closes the file with every completed step. The file
-    is open, and locked by HDF5, only during a run (from ``open`` to ``close``: a command-layer
-    recorder's lasts until it is removed): another process reads it between runs and after
-    them; during a run only with ``locking=False``, and then not reliably (no SWMR:
+    to the last flush, and so does a full disk: HDF5 writes through a :class:`_StagedFile`,
+    and a flush that cannot be written leaves the file of the flush before, closes it and
+    raises :class:`RecorderError` (the record stops there: a later write or run raises it
+    again, ``close`` does not). A run that raises closes the file with every completed step.
+    The file is open, and locked (``flock``), only during a run (from ``open`` to ``close``: a
+    command-layer recorder's lasts until it is removed): another process reads it between runs
+    and after them; during a run only with ``locking=False``, and then not reliably (no SWMR:
     docs/recorders.md says why and how).
     """
 
+    KIND = "HDF5"
     RUN_FIELDS = ("analysis", "integrator", "dt", "loads")   # of the run's description, in /runs
 
     def __init__(self, path, overwrite=False, flush_every=None, compression=None, compression_opts=None):
@@ -166,29 +192,32 @@ class HDF5Sink(Sink):
         self.compression, self.compression_opts = compression, compression_opts
         _check_compression(self.path, compression, compression_opts)
         self._file = None
+        self._staged = None      # the _StagedFile HDF5 writes through while the file is open
         self._created = False
         self._unflushed = 0
-        self._failed = False
+        self._unflushed_from = None   # [s] the first step not yet committed
+        self._last_time = None   # [s] the last step handed over
+        self._kept = None        # (rows, time [s] of the last) the file holds: its last commit
+        self._stopped = None     # (the OS's reason, what the file holds) of the failed write that stopped the record
         self._shared = None      # the run attributes every run so far shares (the root's)
         self._run = None         # the /runs row of the current run, as a dict
         self._rows = 0           # rows recorded (steps the envelope saw, without a history)
         self._run_first = 0      # the current run's first row
         self._run_rows = None    # (dataset, memory space, file space) of the current run's /runs/rows
+        self._open = None        # the datasets written at every chunk (name -> h5py object), open for the run
 
     def open(self, layout, recorder):
-        self._failed = False
+        if self._stopped is not None:
+            raise self._stopped_error()
         if self._created:
-            self._file = h5py.File(self.path, "r+")
+            self._open_file("continue", "r+")
             run = layout["run"]
             self._file.attrs.update(_h5_attrs({k: v for k, v in layout["attrs"].items() if k not in run}))
             self._begin_run(run)
+            self._hold_open()
             return
-        mode = "w" if self.overwrite else "w-"
-        try:
-            f = h5py.File(self.path, mode)
-        except (OSError, FileExistsError) as exc:
-            raise type(exc)(f"HDF5 recorder: cannot create {self.path}: {exc}") from None
-        self._file, self._created = f, True
+        f = self._open_file("replace" if self.overwrite else "new", "w")
+        self._created = True
         n = layout["n_columns"]
         f.attrs.update(_h5_attrs(layout["attrs"]))
         f.attrs["response"] = layout["response"]
@@ -232,7 +261,33 @@ class HDF5Sink(Sink):
             dtype = "i8" if name in ("first_row", "rows") else "f8" if name == "dt" else h5py.string_dtype()
             runs.create_dataset(name, shape=(0,), maxshape=(None,), chunks=(64,), dtype=dtype)
         self._begin_run(layout["run"])
-        f.flush()
+        self._hold_open()
+        try:
+            f.flush()
+        except Exception as exc:
+            self._stop(exc, "the new file")
+            raise
+        self._kept = (0, None)
+
+    def _open_file(self, how, mode):
+        """Open the file (``how``: a :class:`_StagedFile` mode) and HDF5 on it (h5py ``mode``),
+        writing through that :class:`_StagedFile`; returns the h5py file. An OSError names the
+        file."""
+        staged = None
+        try:
+            staged = _StagedFile(self.path, how)
+            self._file = h5py.File(staged, mode)
+        except BaseException as exc:
+            if staged is not None:
+                staged.close()
+            if not isinstance(exc, OSError):
+                raise
+            reason = "another process has it open (locked)" if isinstance(exc, BlockingIOError) else \
+                exc.strerror or exc
+            raise type(exc)(f"HDF5 recorder: cannot {'open' if mode == 'r+' else 'create'} {self.path}: "
+                            f"{reason}") from None
+        self._staged = staged
+        return self._file
 
     def _begin_run(self, run):
         """Describe the run that starts (``layout['run']``): continue the last row of /runs if the
@@ -269,47 +324,109 @@ class HDF5Sink(Sink):
         self._run_rows = (rows.id, h5py.h5s.create_simple((1,)), space)
 
     def write(self, times, values, envelope):
+        if self._stopped is not None:
+            raise self._stopped_error()
+        if not self._unflushed:
+            self._unflushed_from = float(times[0])
+        self._last_time = float(times[-1])
         try:
             self._write(times, values, envelope)
-        except OSError as exc:
-            self._failed = True                 # close() then closes without flushing again
-            raise _write_error("HDF5 recorder", self.path, times, exc) from None
+        except Exception as exc:
+            self._stop(exc, self._unwritten())
+            raise
+
+    def _hold_open(self):
+        """Keep the datasets written at every chunk open for the run: the chunk being filled stays
+        in HDF5's cache, written once per flush (opened for every chunk, it was read back and
+        written again each time, and the lookups cost more than the writes)."""
+        f = self._file
+        self._open = {name: f[name] for name in ("time", "values", "envelope") if name in f}
+        if "envelope" in f:
+            self._open.update({name: f["envelope"][name] for name in f["envelope"]})
 
     def _write(self, times, values, envelope):
-        f = self._file
+        held = self._open
         if values is not None:
-            n0, n = f["time"].shape[0], len(times)
-            f["time"].resize((n0 + n,))
-            f["time"][n0:] = times
-            f["values"].resize(n0 + n, axis=0)
-            f["values"][n0:] = values
+            n0, n = held["time"].shape[0], len(times)
+            held["time"].resize((n0 + n,))
+            held["time"][n0:] = times
+            held["values"].resize(n0 + n, axis=0)
+            held["values"][n0:] = values
         if envelope is not None:
-            env = f["envelope"]
             for name in envelope.fields:
-                env[name][...] = getattr(envelope, name)
-            env.attrs["n_records"] = envelope.n_records
+                held[name][...] = getattr(envelope, name)
+            held["envelope"].attrs["n_records"] = envelope.n_records
         self._rows += len(times)
         self._unflushed += len(times)
         if self.flush_every is None or self._unflushed >= self.flush_every:
             self._flush()
 
     def _flush(self):
-        """Write the current run's number of rows into /runs, then flush the file (all that a
-        killed run keeps)."""
+        """Write the current run's number of rows into /runs, then flush the file: the commit
+        of :class:`_StagedFile`, all that a killed run keeps."""
         dataset, memory, element = self._run_rows
         dataset.write(memory, element, np.array([self._rows - self._run_first], dtype=np.int64))
         self._file.flush()
         self._unflushed = 0
+        self._kept = (self._rows, self._last_time)
 
     def close(self, envelope):
+        if self._file is None:                  # not open, or closed by a failed write
+            return
+        what = self._unwritten() if self._unflushed else "the file's last changes"
+        try:
+            self._flush()
+            self._file.close()
+        except Exception as exc:
+            self._stop(exc, what)
+            raise
+        finally:
+            self._release()
+
+    def _unwritten(self):
+        """The records since the last commit, in words (a failed write's)."""
+        what = "records" if self._owner.history else "envelope of the steps"
+        return f"the {what} of t = {self._unflushed_from:.6g} to {self._last_time:.6g} s"
+
+    def _held(self):
+        """What the file holds (its last commit), in words."""
+        if self._kept is None:
+            return "the file is empty"
+        rows, time = self._kept
+        history = self._owner.history
+        if not rows:
+            return f"the file holds no {'rows' if history else 'envelope'}"
+        return f"the file holds the {f'{rows} rows' if history else f'envelope of the {rows} steps'} up to " \
+               f"t = {time:.6g} s"
+
+    def _stop(self, exc, what):
+        """After ``exc`` while writing ``what``: if it is a write that failed (the
+        :class:`_StagedFile`'s error, or an OSError), close the file as its last commit left it
+        and raise the :class:`RecorderError` that says so; else return (the caller raises
+        ``exc``)."""
+        error = self._staged.error or (exc if isinstance(exc, OSError) else None)
+        if error is None:
+            return
+        self._staged.discard()                  # HDF5 closes without touching the file again
+        self._release()
+        self._stopped = (error.strerror or str(error), self._held())
+        raise self.failure(f"cannot write {what} ({self._stopped[0]}); {self._stopped[1]}") from None
+
+    def _release(self):
+        """Close HDF5's file, then the file (and its lock), if open."""
         if self._file is not None:
+            file, staged = self._file, self._staged
+            self._file = self._staged = self._run_rows = self._open = None
             try:
-                if not self._failed:
-                    self._flush()
+                file.close()
             finally:
-                self._file.close()
-                self._file, self._run_rows = None, None
-                self._unflushed = 0
+                staged.close()
+
+    def _stopped_error(self):
+        """The RecorderError of a write or a run after a failed write: the record stopped there."""
+        reason, held = self._stopped
+        return self.failure(f"stopped at a write that failed ({reason}); {held}; a new recorder records to a "
+                            "new file")
 
     def _read(self, name, empty):
         if self._file is not None:
@@ -330,6 +447,141 @@ class HDF5Sink(Sink):
         return self._read("values", np.zeros((0, 0)))
 
 
+class _StagedFile:
+    """The file of an :class:`HDF5Sink` as HDF5 sees it (h5py's file-object driver): HDF5's
+    writes are held in memory and reach the file only when HDF5 flushes (:meth:`flush`, the
+    commit), the file's new end first, then the bytes HDF5 rewrote within the old end.
+
+    A commit that fails (a full disk, a file size limit) cuts the file back to its size before
+    the commit and is raised (kept as ``error``); from then on HDF5's writes are dropped
+    (:meth:`discard`), so HDF5 closes without touching the file again: the file on disk is the
+    one its last commit left, a complete HDF5 file. A full disk cannot fail the rewrites of a
+    file system that rewrites in place (ext4, XFS, NTFS: their blocks are the file's already);
+    a copy-on-write one (btrfs, ZFS) can fail one, and the file is then as a kill in the
+    middle of a flush leaves it. (HDF5 writing the file itself lost such an error where h5py
+    released a dataset, left a file whose header claimed bytes never written, unreadable, and
+    could crash the process at close.) The file is locked (``flock``, where the OS has it)
+    while open, as HDF5 locks the files it writes.
+
+    ``mode``: ``'new'`` (a file that must not exist), ``'replace'`` (emptied once locked: a
+    file another process writes is refused, not emptied) or ``'continue'``.
+    """
+
+    FLAGS = {"new": os.O_CREAT | os.O_EXCL, "replace": os.O_CREAT, "continue": 0}
+
+    def __init__(self, path, mode):
+        self._raw = open(os.open(path, os.O_RDWR | getattr(os, "O_BINARY", 0) | self.FLAGS[mode], 0o666), "r+b",
+                         buffering=0)
+        try:
+            if fcntl is not None:
+                try:
+                    fcntl.flock(self._raw.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+                except OSError as exc:          # a file system without locks (some NFS): unlocked, as HDF5
+                    if exc.errno not in NO_LOCKS:
+                        raise
+            self._regular = os.path.isfile(path)      # not a device (/dev/full): one that can be cut back
+            if mode == "replace" and self._regular:
+                self._raw.truncate(0)
+            self.committed = self._raw.seek(0, os.SEEK_END)     # [bytes] the file's size on disk
+        except BaseException:
+            self._raw.close()
+            if mode == "new":
+                os.remove(path)                 # made here, empty
+            raise
+        self._size = self.committed             # [bytes] the size HDF5 sees
+        self._pending = {}                      # (address, length) -> bytes, the last written last
+        self._position = 0
+        self.error = None                       # the OSError of a failed commit
+        self._discard = False
+
+    def seek(self, offset, whence=os.SEEK_SET):
+        base = {os.SEEK_SET: 0, os.SEEK_CUR: self._position, os.SEEK_END: self._size}[whence]
+        self._position = base + offset
+        return self._position
+
+    def tell(self):
+        return self._position
+
+    def read(self, n):
+        """``n`` bytes from the position as HDF5 wrote them: the file's, the pending writes over
+        them, zeros past the end."""
+        start, end = self._position, self._position + n
+        data = bytearray(n)
+        on_disk = min(end, self.committed) - start
+        if on_disk > 0:
+            self._raw.seek(start)
+            view = memoryview(data)[:on_disk]
+            while len(view):
+                got = self._raw.readinto(view)
+                if not got:
+                    break
+                view = view[got:]
+        for (address, length), chunk in self._pending.items():
+            lo, hi = max(address, start), min(address + length, end)
+            if lo < hi:
+                data[lo - start: hi - start] = chunk[lo - address: hi - address]
+        self._position = end
+        return bytes(data)
+
+    def write(self, data):
+        n = len(data)
+        if not self._discard:
+            key = (self._position, n)
+            self._pending.pop(key, None)        # a rewrite of the same bytes: kept once, as the last
+            self._pending[key] = bytes(data)    # a copy: h5py's driver may hand a view of HDF5's buffer
+            self._size = max(self._size, self._position + n)
+        self._position += n
+        return n
+
+    def truncate(self, size):
+        if not self._discard:
+            self._size = size
+        return size
+
+    def flush(self):
+        """Commit: write the file's new end (one write, from its old end), then the rewritten
+        bytes within the old end, then cut it to HDF5's size if that is smaller."""
+        if self._discard or (not self._pending and self._size == self.committed):
+            return
+        old, new = self.committed, self._size
+        try:
+            if new > old:
+                end = bytearray(new - old)
+                for (address, length), chunk in self._pending.items():
+                    lo, hi = max(address, old), min(address + length, new)
+                    if lo < hi:
+                        end[lo - old: hi - old] = memoryview(chunk)[lo - address: hi - address]
+                self._write_at(old, end)
+            for (address, length), chunk in self._pending.items():     # in the order written
+                if address < old:
+                    self._write_at(address, memoryview(chunk)[: old - address])
+            if new < old:
+                self._raw.truncate(new)
+        except OSError as exc:
+            self.error = exc
+            self.discard()
+            if self._regular and new > old:
+                self._raw.truncate(old)         # what the failed write added past the old end
+            raise
+        self._pending.clear()
+        self.committed = new
+
+    def _write_at(self, address, data):
+        view = memoryview(data)
+        self._raw.seek(address)
+        while len(view):
+            view = view[self._raw.write(view):]
+
+    def discard(self):
+        """Drop HDF5's writes from now on (and those not committed)."""
+        self._discard = True
+        self._pending.clear()
+        self._size = self.committed
+
+    def close(self):
+        self._raw.close()                       # and its lock
+
+
 class TextSink(Sink):
     """OpenSees-style text file (``recorder Node/Element ... -file``).
 
@@ -341,8 +593,12 @@ class TextSink(Sink):
 
     The file is created, or truncated, when the sink is built (OpenSees truncates when the
     recorder command runs: scripts are re-run in place). Lines are flushed after every chunk;
-    ``close_on_write`` reopens and closes the file for every chunk instead.
+    ``close_on_write`` reopens and closes the file for every chunk instead. A chunk that cannot
+    be written (a full disk) is cut off the file again, so that it ends with the last whole
+    line written, and raises :class:`RecorderError`; the next chunk tries the file again.
     """
+
+    KIND = "text"
 
     def __init__(self, path, time=False, precision=6, close_on_write=False):
         self.path = _path("text recorder", path)
@@ -358,6 +614,9 @@ class TextSink(Sink):
             raise type(exc)(f"text recorder: cannot create {self.path}: {exc.strerror}") from None
         self._handle = None
         self._recorder = None
+        self._size = 0           # [bytes] the file's whole lines
+        self._rows = 0           # lines of history written
+        self._last_time = None   # [s] the last step written (of the history) or handed over
 
     def check(self, recorder):
         super().check(recorder)
@@ -376,6 +635,7 @@ class TextSink(Sink):
 
     def write(self, times, values, envelope):
         if values is None:
+            self._last_time = float(times[-1])
             return
         text = format_g_bytes(values, self.precision, times if self.echo_time else None)
         if LINE_END != b"\n":
@@ -384,23 +644,42 @@ class TextSink(Sink):
             if self.close_on_write:
                 with open(self.path, "ab") as fh:
                     fh.write(text)
+                    fh.flush()
+                    size = fh.tell()
             else:
                 if self._handle is None:        # after a failed write: try the file again
                     self._handle = open(self.path, "ab")
                 self._handle.write(text)
                 self._handle.flush()
+                size = self._handle.tell()
         except OSError as exc:
-            self._drop_handle()
-            raise _write_error("text recorder", self.path, times, exc) from None
+            raise self._failed(f"the records of t = {times[0]:.6g} to {times[-1]:.6g} s", exc,
+                               self._size) from None
+        self._size, self._rows, self._last_time = size, self._rows + len(times), float(times[-1])
 
-    def _drop_handle(self):
-        """Close the file without flushing what a failed write left in its buffer."""
+    def _failed(self, what, exc, size):
+        """The RecorderError of a failed write of ``what``: the file closed without flushing
+        what the write left in its buffer, and cut back to ``size`` bytes (whole lines)."""
         handle, self._handle = self._handle, None
         if handle is not None:
             try:
                 handle.close()
             except OSError:
-                pass                            # those records were reported lost by write()
+                pass                            # the same failure: its records are the ones reported
+        held = self._held()
+        if os.path.isfile(self.path):           # not a device (/dev/full)
+            try:
+                os.truncate(self.path, size)
+            except OSError as cut:
+                held += f" and part of the next ({cut.strerror or cut} when cutting it off)"
+        return self.failure(f"cannot write {what} ({exc.strerror or exc}); {held}")
+
+    def _held(self):
+        """What the file holds, in words."""
+        if not self._recorder.history:
+            return "the file is empty (the recorder's envelope holds the values)"
+        return f"the file holds the {self._rows} lines up to t = {self._last_time:.6g} s" if self._rows else \
+            "the file holds no lines"
 
     def close(self, envelope):
         if self._handle is not None:
@@ -411,7 +690,9 @@ class TextSink(Sink):
                 with open(self.path, "w") as fh:
                     fh.write(format_envelope(envelope, self.echo_time, self.precision))
             except OSError as exc:
-                raise _write_error("text recorder", self.path, None, exc) from None
+                n = envelope.n_records
+                what = f"the envelope of the {n} steps up to t = {self._last_time:.6g} s" if n else "the envelope"
+                raise self._failed(what, exc, 0) from None
 
     @property
     def time(self):
@@ -481,14 +762,6 @@ def _h5_attrs(attrs):
         else:
             out[key] = str(value)
     return out
-
-
-def _write_error(who, path, times, exc):
-    """``exc`` (an OSError while writing: a full disk, a lost network drive) as the same type
-    naming the recorder, its file and the records' times [s] (None: the envelope)."""
-    what = f"the records of t = {times[0]:.6g} to {times[-1]:.6g} s" if times is not None and len(times) \
-        else "the envelope"
-    return type(exc)(f"{who} {path}: cannot write {what}: {exc.strerror or exc}")
 
 
 def _path(who, path):

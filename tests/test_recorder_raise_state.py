@@ -1,0 +1,84 @@
+"""What a recorder that raises leaves (docs/recorders.md, "A recorder that raises"): the other
+recorders hold the chunk it failed on, and the analysis is at that chunk's last step, so that a
+new run goes on from there. Before, the model's displacements had advanced while its time had
+not (a transient analysis) or the chunk was not committed (a coupled one): the next run
+recorded the same times again (t = 0.01 ... 0.05 twice in a text file of the command layer)."""
+import numpy as np
+import pytest
+
+import vtsi
+from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled import CoupledAnalysis
+from vtsi.models.scenes import s2_model
+from vtsi.recorders import MemorySink, NodeRecorder
+from vtsi.track import Track
+from vtsi.train import TrainSubdomain
+
+CHUNK = 5
+
+
+class FailsOnSecondChunk(MemorySink):
+    """A sink whose second write fails as a full disk does."""
+
+    def __init__(self):
+        super().__init__()
+        self.writes = 0
+
+    def write(self, times, values, envelope):
+        self.writes += 1
+        if self.writes == 2:
+            raise OSError(28, "No space left on device")
+        super().write(times, values, envelope)
+
+
+def beam():
+    """A 10 m simply supported beam of 4 elements under a 100 kN step load at midspan."""
+    m = vtsi.Model()
+    for i in range(5):
+        m.node(i + 1, 2.5 * i, 0.0)
+    m.fix(1, 1, 1, 0)
+    m.fix(5, 0, 1, 0)
+    for e in range(1, 5):
+        m.element("elasticBeamColumn", e, (e, e + 1), A=0.5, E=3e10, I=0.04, rho=1000.0)
+    m.pattern(1, vtsi.Constant())
+    m.load(1, 3, 0.0, -1e5, 0.0)
+    return m
+
+
+def coupled():
+    """Scene S2 (a sprung mass over a 25 m beam, 10 elements), its analysis and a recorder."""
+    model = vtsi.Model()
+    bridge, train = s2_model(model, 10)
+    con = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train, 0.0))
+    return model, CoupledAnalysis(model, con, "Newmark", 1e-3, chunk_steps=CHUNK), bridge.midspan_nodes
+
+
+def test_a_transient_analysis_is_left_at_the_chunk_the_recorders_hold():
+    reference = NodeRecorder([3], [2, 3], "accel")
+    vtsi.TransientAnalysis(beam(), "Newmark", 0.01, recorders=[reference], chunk_steps=CHUNK).run(20)
+    model = beam()
+    kept, failing = NodeRecorder([3], [2, 3], "accel"), NodeRecorder([2], [2], sink=FailsOnSecondChunk())
+    analysis = vtsi.TransientAnalysis(model, "Newmark", 0.01, recorders=[kept, failing], chunk_steps=CHUNK)
+    with pytest.raises(OSError, match="No space left on device"):
+        analysis.run(20)
+    assert len(kept.time) == 2 * CHUNK and vtsi.domain_state(model).time == kept.time[-1]
+    vtsi.TransientAnalysis(model, "Newmark", 0.01, recorders=[kept], chunk_steps=CHUNK).run(20 - 2 * CHUNK)
+    np.testing.assert_allclose(kept.time, reference.time, rtol=1e-14)
+    np.testing.assert_allclose(kept.values, reference.values, rtol=1e-12, atol=1e-12 * np.abs(reference.values).max())
+
+
+def test_a_coupled_analysis_is_left_at_the_chunk_the_recorders_hold():
+    _, whole, mid = coupled()
+    reference = NodeRecorder(mid, [2])
+    whole.recorders = [reference]
+    whole.run(30)
+    model, analysis, mid = coupled()
+    kept, failing = NodeRecorder(mid, [2]), NodeRecorder(mid, [2], sink=FailsOnSecondChunk())
+    analysis.recorders = [kept, failing]
+    with pytest.raises(OSError, match="No space left on device"):
+        analysis.run(30)
+    assert len(kept.time) == 2 * CHUNK and vtsi.domain_state(model).time == pytest.approx(kept.time[-1], rel=1e-14)
+    analysis.recorders = [kept]
+    analysis.run(30 - 2 * CHUNK)
+    np.testing.assert_allclose(kept.time, reference.time, rtol=1e-14)
+    np.testing.assert_allclose(kept.values, reference.values, rtol=1e-12, atol=1e-12 * np.abs(reference.values).max())
