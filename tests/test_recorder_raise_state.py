@@ -3,6 +3,7 @@ recorders hold the chunk it failed on, and the analysis is at that chunk's last 
 new run goes on from there. Before, the model's displacements had advanced while its time had
 not (a transient analysis) or the chunk was not committed (a coupled one): the next run
 recorded the same times again (t = 0.01 ... 0.05 twice in a text file of the command layer)."""
+import h5py
 import numpy as np
 import pytest
 
@@ -10,7 +11,7 @@ import vtsi
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis
 from vtsi.models.scenes import s2_model
-from vtsi.recorders import MemorySink, NodeRecorder
+from vtsi.recorders import HDF5Sink, MemorySink, NodeRecorder
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
@@ -29,6 +30,13 @@ class FailsOnSecondChunk(MemorySink):
         if self.writes == 2:
             raise OSError(28, "No space left on device")
         super().write(times, values, envelope)
+
+
+class FailsToClose(MemorySink):
+    """A sink whose close fails (a text envelope written at the end on a full disk)."""
+
+    def close(self, envelope):
+        raise OSError(28, "No space left on device")
 
 
 def beam():
@@ -82,3 +90,17 @@ def test_a_coupled_analysis_is_left_at_the_chunk_the_recorders_hold():
     analysis.run(30 - 2 * CHUNK)
     np.testing.assert_allclose(kept.time, reference.time, rtol=1e-14)
     np.testing.assert_allclose(kept.values, reference.values, rtol=1e-12, atol=1e-12 * np.abs(reference.values).max())
+
+
+def test_a_recorder_that_fails_to_close_leaves_no_other_open(tmp_path):
+    """The first recorder's close raises: the HDF5 recorder after it is still closed (its file
+    complete and unlocked: another reader opens it) and the error names the one that raised.
+    Before, the others stayed open, and their files locked, until garbage collection."""
+    path = tmp_path / "kept.h5"
+    failing, kept = NodeRecorder([3], [2], sink=FailsToClose()), NodeRecorder([3], [2], sink=HDF5Sink(path))
+    with pytest.raises(OSError, match="No space left on device") as info:
+        vtsi.TransientAnalysis(beam(), "Newmark", 0.01, recorders=[failing, kept]).run(10)
+    assert info.value.__notes__ == [f"raised by recorders[0] {failing!r} when closed; the other recorders are closed"]
+    with h5py.File(path, "r") as f:                           # HDF5's own lock: refused while the sink holds it
+        np.testing.assert_array_equal(f["time"][...], failing.time)
+        assert f["values"].shape == (10, 1)

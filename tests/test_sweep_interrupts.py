@@ -279,3 +279,49 @@ def test_a_sweep_in_this_process_writes_the_cases_its_cut_task_finished(tmp_path
     Sweep(bridge, ["HSLM-A1"], "140:420:10", settings).run(path, workers=1, progress=False, resume=True)
     Sweep(bridge, ["HSLM-A1"], "140:420:10", settings).run(whole, workers=1, progress=False)
     _same_results(path, whole)
+
+
+FAILING = """
+import sys
+from vtsi.bridge_file import load_bridge
+from vtsi.errors import DivergenceError, PassageError
+from vtsi.passage import PassageRunner, PassageSettings
+from vtsi.sweep import Sweep
+
+run = PassageRunner.run
+
+
+def failing(self, train, speed_kmh, seed=-1, *args, **kwargs):
+    if speed_kmh == 230.0:                                     # the 4th case of the second task
+        raise DivergenceError(f"{train} diverged at {speed_kmh:g} km/h", 1, 0.01)
+    result = run(self, train, speed_kmh, seed, *args, **kwargs)
+    with open(sys.argv[3], "a") as out:                        # in the worker: the case is finished
+        out.write(f"{train} {float(speed_kmh):.10g} {seed}\\n")
+    return result
+
+
+PassageRunner.run = failing                                    # forked into the pool's workers
+sweep = Sweep(load_bridge(sys.argv[1]), ["HSLM-A1"], "140:420:10", PassageSettings(dt=0.01, damping=0.0125))
+try:
+    sweep.run(sys.argv[2], workers=2, progress=False, cases_per_task=6)
+except PassageError as exc:
+    print(exc)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork: the workers inherit the failing passage")
+def test_a_pool_writes_the_cases_a_failed_task_finished(tmp_path, beam_toml):
+    """A passage fails in the 4th case of a pool's task: its worker raised the PassageError
+    and the task's 3 finished cases were lost (the workers=1 sweep kept them). The error carries
+    them (``PassageError.finished``) and the sweep writes them, with every case the other worker
+    finished: the file holds exactly the cases the workers finished."""
+    bridge = beam_toml(tmp_path / "bridge.toml")
+    path, log, script = tmp_path / "failed.h5", tmp_path / "finished.txt", tmp_path / "failing.py"
+    script.write_text(textwrap.dedent(FAILING))
+    done = subprocess.run([sys.executable, str(script), str(bridge), str(path), str(log)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.startswith("case HSLM-A1/230kmh/smooth: HSLM-A1 diverged at 230 "
+                                                           "km/h"), done.stdout + done.stderr[-2000:]
+    finished = {(t, float(v), int(s)) for t, v, s in (line.split() for line in log.read_text().splitlines())}
+    assert {("HSLM-A1", v, -1) for v in (200.0, 210.0, 220.0)} <= finished
+    assert _cases(path) == finished and not (tmp_path / "failed.h5.partial").exists()

@@ -324,27 +324,37 @@ class _RecorderFeed:
             full[:, i] += value * pattern.factors(times - self.load_lag)
         for i, sources, coefficients in self.derived:
             full[:, i] = full[:, sources] @ coefficients
-        failed = None
-        for i, (rec, cols) in enumerate(zip(self.recorders, self.columns)):
+
+        def write(k, rec):
             rec.load_lag = self.load_lag
+            rec.write(times, full[:, self.columns[k]], assembly)
+        self._each(write, f"on the steps of t = {times[0]:.6g} to {times[-1]:.6g}; the other recorders hold these "
+                          "steps")
+
+    def close(self):
+        """Close every recorder, also after one raised (the others' files are complete and
+        unlocked); then the first error, as :meth:`deliver`."""
+        self._each(lambda k, rec: rec.close(), "when closed; the other recorders are closed")
+
+    def _each(self, call, what):
+        """``call(k, rec)`` for every recorder (``k`` its index), also after one raised; then the
+        first error is raised, with a note naming its recorder (``what``: when, and what the
+        others did) and the others that raised too (with one recorder, its error as it is)."""
+        failed = None
+        for i, rec in enumerate(self.recorders):
             try:
-                rec.write(times, full[:, cols], assembly)
-            except Exception as exc:        # raised below, once every recorder has the chunk
+                call(i, rec)
+            except Exception as exc:        # raised below, once every recorder had its turn
                 if len(self.recorders) == 1:
                     raise
                 if failed is None:
                     failed = exc
-                    note = (f"raised by recorders[{i}] {rec!r} on the steps of t = {times[0]:.6g} to "
-                            f"{times[-1]:.6g}; the other recorders hold these steps")
+                    note = f"raised by recorders[{i}] {rec!r} {what}"
                 else:
                     note = f"recorders[{i}] {rec!r} raised too: {type(exc).__name__}: {exc}"
                 failed.__notes__ = [*getattr(failed, "__notes__", ()), note]   # add_note (3.11+)
         if failed is not None:
             raise failed
-
-    def close(self):
-        for rec in self.recorders:
-            rec.close()
 
 
 class StaticAnalysis:

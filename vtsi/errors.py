@@ -103,7 +103,8 @@ class SettingError(SweepError):
 
 class PassageError(SweepError):
     """A passage of a sweep failed while the sweep ran (e.g. it diverged): the message names
-    the case (train, speed, seed); the cases finished before it are kept in the results file."""
+    the case (train, speed, seed); the cases finished before it are kept in the results file
+    (``.finished``: those of its task, which the sweep writes)."""
 
 
 def as_number(value, where, name, error=ModelError):

@@ -278,7 +278,9 @@ def _run_task(runner, cases, out=None):
         try:
             out.append(runner.run(train, speed, seed))
         except VtsiError as exc:
-            raise PassageError(f"case {case_key(train, speed, seed)}: {exc}") from None
+            error = PassageError(f"case {case_key(train, speed, seed)}: {exc}")
+            error.finished = list(out)      # to the sweep from a worker too (an exception's __dict__ is pickled)
+            raise error from None
     return out
 
 
@@ -566,8 +568,9 @@ class Sweep:
         tasks not begun are cancelled, ``stop`` (the flag of the sweep's own pool,
         :func:`_worker_start`) is set, so that its workers end their tasks after the case they
         run, and once the running tasks have ended their cases are written, before the failure
-        or interrupt goes on (a second interrupt stops the waiting). A task that fails meanwhile
-        is not written (its cases run again on resume)."""
+        or interrupt goes on (a second interrupt stops the waiting). A task that failed (the
+        first failure, or one meanwhile) has its cases before the failure written
+        (``PassageError.finished``); its failed case and those after run again on resume."""
         unwritten = {executor.submit(_run_task, self.runner, task) for task in tasks}
         with bar() as shown:
             try:
@@ -581,7 +584,7 @@ class Sweep:
                                              "or out of memory)") from None
                         writer.write(results)
                         shown.update(len(results))
-            except BaseException:
+            except BaseException as exc:
                 # The sweep's own pool cancels the tasks not begun and waits for the others in its
                 # manager thread: a future cancelled here while that thread failed the futures of a
                 # broken pool (its workers killed by a SIGTERM to the whole process group) killed
@@ -593,9 +596,15 @@ class Sweep:
                     for future in unwritten:
                         future.cancel()
                     wait([future for future in unwritten if not future.cancelled()])
+                failures = [exc] + [future.exception() for future in unwritten if not future.cancelled()]
                 for future in unwritten:
                     if not future.cancelled() and future.exception() is None:
                         results = future.result()
+                        writer.write(results)
+                        shown.update(len(results))
+                for failure in failures:        # a failed task's cases before its failure (PassageError.finished)
+                    results = getattr(failure, "finished", None)
+                    if results:
                         writer.write(results)
                         shown.update(len(results))
                 raise
