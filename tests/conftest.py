@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import vtsi
 import vtsi.opensees as vops
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "custom_element.py"
@@ -216,6 +217,27 @@ def moving_load_beam():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def _step_load_beam():
+    """A 10 m simply supported beam of 4 elements (nodes 1..5, 2.5 m apart), a 100 kN step load at
+    midspan (node 3, pattern 1 on a Constant series)."""
+    m = vtsi.Model()
+    for i in range(5):
+        m.node(i + 1, 2.5 * i, 0.0)
+    m.fix(1, 1, 1, 0)
+    m.fix(5, 0, 1, 0)
+    for e in range(1, 5):
+        m.element("elasticBeamColumn", e, (e, e + 1), A=0.5, E=3e10, I=0.04, rho=1000.0)
+    m.pattern(1, vtsi.Constant())
+    m.load(1, 3, 0.0, -1e5, 0.0)
+    return m
+
+
+@pytest.fixture(scope="session")
+def step_load_beam():
+    """``step_load_beam()``: a new model of :func:`_step_load_beam` at every call."""
+    return _step_load_beam
 
 
 # In CI (CI=true, as .ci/run sets it) or with VTSI_REQUIRE_ORACLES=1, a test that skips because a

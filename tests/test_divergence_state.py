@@ -21,33 +21,19 @@ import vtsi.opensees as vops  # noqa: E402
 DT = 0.01
 
 
-def beam():
-    """A 10 m simply supported beam of 4 elements, a step load of 100 kN at midspan."""
-    m = vtsi.Model()
-    for i in range(5):
-        m.node(i + 1, 2.5 * i, 0.0)
-    m.fix(1, 1, 1, 0)
-    m.fix(5, 0, 1, 0)
-    for e in range(1, 5):
-        m.element("elasticBeamColumn", e, (e, e + 1), A=0.5, E=3e10, I=0.04, rho=1000.0)
-    m.pattern(1, vtsi.Constant())
-    m.load(1, 3, 0.0, -1e5, 0.0)
-    return m
-
-
 @pytest.mark.parametrize("chunk_steps", [4, 2000])
-def test_a_diverged_run_leaves_the_model_at_the_last_step_recorded(chunk_steps):
+def test_a_diverged_run_leaves_the_model_at_the_last_step_recorded(chunk_steps, step_load_beam):
     free = NodeRecorder([3], [2])
-    vtsi.TransientAnalysis(beam(), "Newmark", DT, recorders=[free]).run(12)
+    vtsi.TransientAnalysis(step_load_beam(), "Newmark", DT, recorders=[free]).run(12)
     limit = 0.999 * np.abs(free.values).max()                 # the run passes it at its largest deflection
-    model, rec = beam(), NodeRecorder([3], [2])
+    model, rec = step_load_beam(), NodeRecorder([3], [2])
     with pytest.raises(DivergenceError) as info:
         vtsi.TransientAnalysis(model, "Newmark", DT, recorders=[rec], chunk_steps=chunk_steps,
                                divergence_limit=limit).run(12)
     done = info.value.step - 1
     assert done >= 5 and len(rec.time) == done              # past two chunks of 4: the third is run again
     np.testing.assert_array_equal(rec.values, free.values[:done])
-    reference = beam()
+    reference = step_load_beam()
     vtsi.TransientAnalysis(reference, "Newmark", DT).run(done)
     state, expected = vtsi.domain_state(model), vtsi.domain_state(reference)
     assert state.time == rec.time[-1] == pytest.approx(expected.time, rel=1e-15)

@@ -39,20 +39,6 @@ class FailsToClose(MemorySink):
         raise OSError(28, "No space left on device")
 
 
-def beam():
-    """A 10 m simply supported beam of 4 elements under a 100 kN step load at midspan."""
-    m = vtsi.Model()
-    for i in range(5):
-        m.node(i + 1, 2.5 * i, 0.0)
-    m.fix(1, 1, 1, 0)
-    m.fix(5, 0, 1, 0)
-    for e in range(1, 5):
-        m.element("elasticBeamColumn", e, (e, e + 1), A=0.5, E=3e10, I=0.04, rho=1000.0)
-    m.pattern(1, vtsi.Constant())
-    m.load(1, 3, 0.0, -1e5, 0.0)
-    return m
-
-
 def coupled():
     """Scene S2 (a sprung mass over a 25 m beam, 10 elements), its analysis and a recorder."""
     model = vtsi.Model()
@@ -61,10 +47,10 @@ def coupled():
     return model, CoupledAnalysis(model, con, "Newmark", 1e-3, chunk_steps=CHUNK), bridge.midspan_nodes
 
 
-def test_a_transient_analysis_is_left_at_the_chunk_the_recorders_hold():
+def test_a_transient_analysis_is_left_at_the_chunk_the_recorders_hold(step_load_beam):
     reference = NodeRecorder([3], [2, 3], "accel")
-    vtsi.TransientAnalysis(beam(), "Newmark", 0.01, recorders=[reference], chunk_steps=CHUNK).run(20)
-    model = beam()
+    vtsi.TransientAnalysis(step_load_beam(), "Newmark", 0.01, recorders=[reference], chunk_steps=CHUNK).run(20)
+    model = step_load_beam()
     kept, failing = NodeRecorder([3], [2, 3], "accel"), NodeRecorder([2], [2], sink=FailsOnSecondChunk())
     analysis = vtsi.TransientAnalysis(model, "Newmark", 0.01, recorders=[kept, failing], chunk_steps=CHUNK)
     with pytest.raises(OSError, match="No space left on device"):
@@ -92,14 +78,14 @@ def test_a_coupled_analysis_is_left_at_the_chunk_the_recorders_hold():
     np.testing.assert_allclose(kept.values, reference.values, rtol=1e-12, atol=1e-12 * np.abs(reference.values).max())
 
 
-def test_a_recorder_that_fails_to_close_leaves_no_other_open(tmp_path):
+def test_a_recorder_that_fails_to_close_leaves_no_other_open(tmp_path, step_load_beam):
     """The first recorder's close raises: the HDF5 recorder after it is still closed (its file
     complete and unlocked: another reader opens it) and the error names the one that raised.
     Before, the others stayed open, and their files locked, until garbage collection."""
     path = tmp_path / "kept.h5"
     failing, kept = NodeRecorder([3], [2], sink=FailsToClose()), NodeRecorder([3], [2], sink=HDF5Sink(path))
     with pytest.raises(OSError, match="No space left on device") as info:
-        vtsi.TransientAnalysis(beam(), "Newmark", 0.01, recorders=[failing, kept]).run(10)
+        vtsi.TransientAnalysis(step_load_beam(), "Newmark", 0.01, recorders=[failing, kept]).run(10)
     assert info.value.__notes__ == [f"raised by recorders[0] {failing!r} when closed; the other recorders are closed"]
     with h5py.File(path, "r") as f:                           # HDF5's own lock: refused while the sink holds it
         np.testing.assert_array_equal(f["time"][...], failing.time)
