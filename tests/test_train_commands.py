@@ -406,3 +406,24 @@ def test_a_rail_profile_in_other_units_is_refused():
     with pytest.raises(CommandError, match=r"a bare number is in mm/s: write km/h as text, e.g. '300km/h'"):
         ops.train(1, 1.08e6, "-HSLM", "A1")
     ops.wipe()
+
+
+def test_get_load_factor_after_a_coupled_analyze():
+    """getLoadFactor reads the factor the domain last applied (0 before any step, as OpenSees):
+    a coupled script applies its patterns in deadLoad (at t = 0) and at every step, the last at
+    the step's end time (Newmark): a Constant series of factor 2 reads 2 from deadLoad on, a Linear
+    one of factor 3 reads 3 t after the steps."""
+    session = ops.Session()
+    s2_commands(session)
+    session.timeSeries("Linear", 7, "-factor", 3.0)
+    session.pattern("Plain", 7, 7)
+    session.load(NE // 2 + 1, 0.0, -1e3, 0.0)
+    session.timeSeries("Constant", 8, "-factor", 2.0)
+    session.pattern("Plain", 8, 8)
+    session.load(NE // 2, 0.0, -1e3, 0.0)
+    assert session.getLoadFactor(7) == session.getLoadFactor(8) == 0.0
+    session.deadLoad()
+    assert session.getLoadFactor(7) == 0.0 and session.getLoadFactor(8) == 2.0
+    session.analyze(5, DT)
+    assert session.getTime() == pytest.approx(5 * DT) and session.getLoadFactor(7) == pytest.approx(3.0 * 5 * DT)
+    assert session.getLoadFactor(8) == 2.0

@@ -111,6 +111,30 @@ class Args:
             out.append(self.float(what))
         return out
 
+    def number_list(self, option):
+        """The numbers after ``option`` (just read), up to the next option or the end, as floats:
+        numbers, and Tcl list words (``{0 1 2}``; :func:`convert_word` leaves one holding a
+        non-number a str). An item that is not a number raises naming ``option`` and the item's
+        1-based position (``'timeSeries Path 1: -values item 3 is 'abc', not a number'``), a
+        NaN or ±inf one likewise (``-values item 3 must be finite, got nan``), and so does a
+        number given as a Python str (``'2'``: a Tcl word arrives converted); none at all raises
+        ``the -values list is empty``."""
+        out = []
+        while self.more() and not is_option(self.peek()):
+            word = self.take(option)
+            if isinstance(word, str) and convert_word(word) is not word:
+                raise CommandError(f"{self.command}: {option} item {len(out) + 1} is {word!r}, not a number")
+            for item in split_list(word) if isinstance(word, str) else [word]:
+                value = _list_item(item)
+                if not is_number(value):
+                    raise CommandError(f"{self.command}: {option} item {len(out) + 1} is {item!r}, not a number")
+                if not math.isfinite(value):
+                    raise CommandError(f"{self.command}: {option} item {len(out) + 1} must be finite, got {value}")
+                out.append(float(value))
+        if not out:
+            raise CommandError(f"{self.command}: the {option} list is empty; give its numbers after {option}")
+        return out
+
     def ints(self, what):
         out = []
         while self.next_is_number():
@@ -160,17 +184,40 @@ def read_numbers(command, path):
 
 
 _INT = re.compile(r"^[+-]?\d+$")
+_PREFIXED_INT = re.compile(r"^[+-]?0([xX][0-9a-fA-F]+|[oO][0-7]+|[bB][01]+)$")
 _FLOAT = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+_NONFINITE = re.compile(r"^[+-]?(inf(inity)?|nan)$", re.IGNORECASE)
+"""The words Tcl's ``Tcl_GetDouble`` reads as ±inf (and ``NaN``, which it refuses): a number list
+names them as not finite rather than as not numbers."""
+
+
+def is_option(x):
+    """Whether ``x`` is an option word (``-factor``), not a number (``-inf``) or a Tcl list
+    (``-1 2``, ``-Inf 0``)."""
+    return (isinstance(x, str) and len(x) > 1 and x[0] == "-" and x[1].isalpha() and not _NONFINITE.match(x)
+            and not any(c.isspace() for c in x))
+
+
+def _list_item(item):
+    """An item of a number list as Tcl's ``Tcl_GetDouble`` reads it (``Inf`` too, and ``NaN``,
+    for the list to name them as not finite); a non-number stays as it is."""
+    if isinstance(item, str) and _NONFINITE.match(item.strip()):
+        return float(item)
+    return convert_word(item)
 
 
 def convert_word(word):
     """A Tcl word as OpenSees reads it: ``int``, ``float``, a list of numbers (a word holding
-    several numbers) or the ``str`` itself."""
+    several numbers) or the ``str`` itself. Integers as ``Tcl_GetInt`` reads them: decimal,
+    ``0x1f``, ``0o17``, ``0b101``; a leading zero is decimal (``010`` is 10, as in Tcl 9; Tcl
+    8.6 reads it as octal 8)."""
     if not isinstance(word, str):
         return word
     w = word.strip()
     if _INT.match(w):
         return int(w)
+    if _PREFIXED_INT.match(w):
+        return int(w, 0)
     if _FLOAT.match(w):
         return float(w)
     if w and any(c.isspace() for c in w):

@@ -25,6 +25,19 @@ SERIES_ALIASES = {"ConstantSeries": "Constant", "LinearSeries": "Linear", "Serie
                   "Sine": "Trig", "SineSeries": "Trig", "TriangleSeries": "Triangle", "PulseSeries": "Pulse"}
 
 
+def _missing_runs(lo, hi, present, shown=5):
+    """The integers of ``lo..hi`` not in ``present`` (sorted, within the range) as text, in runs
+    (``'3, 7-9'``; after ``shown`` runs ``', ... (N in all)'``), and how many they are."""
+    runs, start = [], lo
+    for t in [*present, hi + 1]:
+        if t > start:
+            runs.append(f"{start}" if t - 1 == start else f"{start}-{t - 1}")
+        start = t + 1
+    count = hi - lo + 1 - len(present)
+    text = ", ".join(runs[:shown]) + (f", ... ({count} in all)" if len(runs) > shown else "")
+    return text, count
+
+
 class ModelCommands(SessionBase):
     """The model: nodes, elements and their materials and transformations, loads and damping."""
 
@@ -355,17 +368,25 @@ class ModelCommands(SessionBase):
         if kind not in SERIES_TYPES and kind not in SERIES_ALIASES:
             raise CommandError(f"timeSeries: type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
         tag = a.int("series tag")
-        series = self._make_series(kind, tag, a)
+        series = self._make_series(kind, tag, a, f"timeSeries {kind} {tag}")
         if tag in model.time_series:
             raise CommandError(f"timeSeries {kind} {tag}: series {tag} already exists")
         model.add_time_series(series)
 
-    def _make_series(self, kind, tag, a):
+    def _make_series(self, kind, tag, a, name):
         """The series ``kind`` (a name of :data:`SERIES_TYPES` or :data:`SERIES_ALIASES`) ``tag``
-        from the arguments after its tag."""
-        name = f"timeSeries {kind} {tag}"
+        from the arguments ``a`` after its tag; its errors begin with ``name`` (``timeSeries Path
+        1``, or for an inline series ``pattern Plain 7: series Path``)."""
         a.command = name
         kind = SERIES_ALIASES.get(kind, kind)
+        try:
+            return self._series(kind, tag, a, name)
+        except ModelError as exc:      # the series' own messages begin 'timeSeries <kind> <tag>: '
+            raise CommandError(f"{name}: {str(exc).removeprefix(f'timeSeries {kind} {tag}: ')}") from None
+
+    @staticmethod
+    def _series(kind, tag, a, name):
+        """The series of :meth:`_make_series`, ``kind`` resolved (a ModelError from its class)."""
         if kind in ("Constant", "Linear"):
             f = 1.0
             while a.more():
@@ -380,16 +401,13 @@ class ModelCommands(SessionBase):
             while a.more():
                 opt = a.option(valid)
                 extra[opt] = a.float(opt)
-            try:
-                if kind == "Rectangular":
-                    return Rectangular(t0, t1, extra["-factor"], tag=tag)
-                if kind == "Pulse":
-                    return Pulse(t0, t1, period, extra["-width"], extra["-factor"], extra["-shift"], extra["-zeroShift"],
-                                 tag=tag)
-                return (Trig if kind == "Trig" else Triangle)(t0, t1, period, extra["-factor"], extra["-shift"],
-                                                             extra["-zeroShift"], tag=tag)
-            except ModelError as exc:
-                raise CommandError(str(exc)) from None
+            if kind == "Rectangular":
+                return Rectangular(t0, t1, extra["-factor"], tag=tag)
+            if kind == "Pulse":
+                return Pulse(t0, t1, period, extra["-width"], extra["-factor"], extra["-shift"], extra["-zeroShift"],
+                             tag=tag)
+            return (Trig if kind == "Trig" else Triangle)(t0, t1, period, extra["-factor"], extra["-shift"],
+                                                         extra["-zeroShift"], tag=tag)
         opts = {}
         valid = ("-dt", "-values", "-time", "-filePath", "-fileTime", "-factor", "-useLast", "-prependZero",
                  "-startTime")
@@ -400,9 +418,7 @@ class ModelCommands(SessionBase):
             if opt in ("-dt", "-factor", "-startTime"):
                 opts[opt] = a.float(opt)
             elif opt in ("-values", "-time"):
-                opts[opt] = np.array(a.floats(opt))
-                if not len(opts[opt]):
-                    raise CommandError(f"{name}: the {opt} list is empty; give its numbers after {opt}")
+                opts[opt] = np.array(a.number_list(opt))
             elif opt in ("-filePath", "-fileTime"):
                 opts[opt] = read_numbers(name, os.fspath(a.word(f"{opt} file")))
             else:
@@ -414,24 +430,20 @@ class ModelCommands(SessionBase):
         values = opts.get("-values", opts.get("-filePath"))
         time = opts.get("-time", opts.get("-fileTime"))
         factor_ = opts.get("-factor", 1.0)
-        try:
-            if "-dt" in opts:
-                if time is not None:
-                    raise CommandError(f"{name}: give either -dt or -time/-fileTime, not both")
-                if not opts["-dt"] > 0.0:
-                    raise CommandError(f"{name}: -dt must be > 0, got {opts['-dt']:g}")
-                return Path(values, dt=opts["-dt"], factor=factor_, use_last=opts.get("-useLast", False),
-                            prepend_zero=opts.get("-prependZero", False), start_time=opts.get("-startTime", 0.0),
-                            tag=tag)
-            if time is None:
-                raise CommandError(f"{name}: give the sample times with -dt or -time/-fileTime")
-            for opt in ("-prependZero", "-startTime"):
-                if opt in opts:
-                    raise CommandError(f"{name}: option {opt} applies to the -dt form only (OpenSees ignores it "
-                                       "with -time); shift or extend the -time list instead")
-            return Path(values, time=time, factor=factor_, use_last=opts.get("-useLast", False), tag=tag)
-        except ModelError as exc:
-            raise CommandError(str(exc)) from None
+        if "-dt" in opts:
+            if time is not None:
+                raise CommandError(f"{name}: give either -dt or -time/-fileTime, not both")
+            if not opts["-dt"] > 0.0:
+                raise CommandError(f"{name}: -dt must be > 0, got {opts['-dt']:g}")
+            return Path(values, dt=opts["-dt"], factor=factor_, use_last=opts.get("-useLast", False),
+                        prepend_zero=opts.get("-prependZero", False), start_time=opts.get("-startTime", 0.0), tag=tag)
+        if time is None:
+            raise CommandError(f"{name}: give the sample times with -dt or -time/-fileTime")
+        for opt in ("-prependZero", "-startTime"):
+            if opt in opts:
+                raise CommandError(f"{name}: option {opt} applies to the -dt form only (OpenSees ignores it "
+                                   "with -time); shift or extend the -time list instead")
+        return Path(values, time=time, factor=factor_, use_last=opts.get("-useLast", False), tag=tag)
 
     def pattern(self, *args):
         """``pattern('Plain', tag, tsTag, ['-fact', f])``; following ``load`` commands go to it.
@@ -448,7 +460,7 @@ class ModelCommands(SessionBase):
         a.command = name
         spec = a.take("time series tag")
         if isinstance(spec, str):
-            series = self._inline_series(name, spec)
+            series = self._inline_series(name, spec, "the time series tag")
         elif is_int(spec):
             if int(spec) not in model.time_series:
                 raise CommandError(f"{name}: time series {spec} does not exist")
@@ -477,7 +489,7 @@ class ModelCommands(SessionBase):
             if opt == "-accel":
                 spec = a.take("-accel time series tag")
                 if isinstance(spec, str):
-                    series = self._inline_series(name, spec)
+                    series = self._inline_series(name, spec, "the -accel time series tag")
                 elif is_int(spec) and int(spec) in model.time_series:
                     series = model.time_series[int(spec)]
                 else:
@@ -493,16 +505,22 @@ class ModelCommands(SessionBase):
         model.uniform_excitation(tag, direction, series, fact)
         self._current_pattern = None
 
-    def _inline_series(self, name, spec):
+    def _inline_series(self, name, spec, what):
+        """The series of the inline specification ``spec`` (``'Path -dt 0.1 -values {0 1 0}'``, as
+        Tcl's ``pattern Plain 7 {Path ...}``) of the pattern ``name``; its errors name the pattern
+        (``pattern Plain 7: series Path: missing -factor``). A tag given as a str (``'1'``, which
+        a Tcl word is not: it arrives as an int) is refused naming ``what``, as OpenSeesPy refuses it.
+        The series gets the next negative tag (it is not in the model's table of series)."""
         words = tcl_words(spec)
         if not words:
             raise CommandError(f"{name}: empty time series specification")
-        self._series_count += 1
-        a = Args(f"{name} series", words[1:])
         kind = words[0]
+        if not isinstance(kind, str):
+            raise CommandError(f"{name}: {what} must be an integer, got {spec!r}")
         if kind not in SERIES_TYPES and kind not in SERIES_ALIASES:
             raise CommandError(f"{name}: series type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
-        return self._make_series(kind, -self._series_count, a)
+        self._series_count += 1
+        return self._make_series(kind, -self._series_count, Args(name, words[1:]), f"{name}: series {kind}")
 
     def load(self, *args):
         """``load(node, *values)``: nodal load of the last pattern defined [N, N·m]."""
@@ -541,7 +559,8 @@ class ModelCommands(SessionBase):
         """``eleLoad('-ele', *tags | '-range', first, last, '-type', '-beamUniform', Wy, [Wx])`` or
         ``(..., '-type', '-beamPoint', Py, xL, [Px])``: loads in element axes on beams of the
         last pattern defined (Wy, Py transverse, + along local y; Wx, Px axial, from node i to j;
-        xL the fraction of the length from node i) [N/m, N]."""
+        xL the fraction of the length from node i) [N/m, N]. Every element of ``-ele`` and of
+        ``-range`` must exist (OpenSees warns for a missing one in a range and loads the rest)."""
         model = self._model("eleLoad")
         a = Args("eleLoad", args)
         tags = []
@@ -550,7 +569,14 @@ class ModelCommands(SessionBase):
                 tags += a.ints("element tag")
             else:
                 lo, hi = a.int("-range first"), a.int("-range last")
-                tags += [t for t in model.element_tags() if lo <= t <= hi]
+                if hi < lo:
+                    raise CommandError(f"eleLoad -range {lo} {hi}: the last element is before the first")
+                found = [t for t in model.element_tags() if lo <= t <= hi]
+                if len(found) < hi - lo + 1:     # refused as -ele refuses one (OpenSees warns, loads the rest)
+                    runs, count = _missing_runs(lo, hi, found)
+                    raise CommandError(f"eleLoad -range {lo} {hi}: element{'s' * (count > 1)} {runs} "
+                                       f"do{'es' * (count == 1)} not exist")
+                tags += found
         if not tags:
             more = ("-type", Placeholder("..."))
             by_tag = self._command_text("eleLoad", "-ele", self._tags_word(), *more)

@@ -29,6 +29,32 @@ class QueryCommands(SessionBase):
     def _clear_queries(self):
         self._reactions = None
 
+    @property
+    def _load_time(self):
+        """The time [s] at which the domain last applied its loads (OpenSees's
+        ``Domain::applyLoad``: an analysis step, ``reactions``), None before the first. Setting it
+        (the analyses do) also records the patterns applied then (:meth:`_applied_factor`)."""
+        return self._applied_time
+
+    @_load_time.setter
+    def _load_time(self, t):
+        self._applied_time = t
+        model = self.domain
+        if t is None or model is None:
+            self._applied_version, self._applied_patterns = None, {}
+        elif self._applied_version != (model, model.load_version):     # a pattern added, removed or changed
+            self._applied_version = (model, model.load_version)
+            self._applied_patterns = {id(p): p for p in model.patterns.values()}
+
+    def _applied_factor(self, pattern):
+        """The load factor of ``pattern`` as the domain last applied it, OpenSees's
+        ``LoadPattern::getLoadFactor``: its factor × its series' at :attr:`_load_time` (frozen by
+        ``loadConst``), and 0 before the first application and for a pattern added since, until
+        the next analysis step applies it (``setTime`` applies nothing)."""
+        if self._applied_patterns.get(id(pattern)) is not pattern:
+            return 0.0
+        return float(pattern.factors(np.array([self._applied_time]))[0])
+
     def nodeDisp(self, node, dof=-1):
         """Displacement of ``node`` [m, rad]: a list over its dofs, or one 1-based ``dof``."""
         return dof_value(self._node_values("nodeDisp", node, "u"), dof, f"nodeDisp {node}")
@@ -93,7 +119,8 @@ class QueryCommands(SessionBase):
         return float(domain_state(self.domain).time)
 
     def setTime(self, t):
-        """Set the domain time [s]; the next step goes to ``t + Δt``."""
+        """Set the domain time [s]; the next step goes to ``t + Δt``. The loads are not applied
+        (``getLoadFactor`` reads what the last step applied, as OpenSees)."""
         _, state = self._state("setTime")
         if not is_number(t) or not math.isfinite(t):
             raise CommandError(f"setTime: time must be a finite number, got {t!r}")
@@ -101,7 +128,8 @@ class QueryCommands(SessionBase):
 
     def loadConst(self, *args):
         """``loadConst(['-time', t])``: freeze every existing pattern at its current factor (and
-        set the time)."""
+        set the time); one the loads were never applied with is frozen at its factor at the last
+        load time (or the current time), where OpenSees freezes it at 0 (docs/commands.md)."""
         model = self._model("loadConst")
         a = Args("loadConst", args)
         new_time = None
@@ -117,13 +145,13 @@ class QueryCommands(SessionBase):
             state.time = new_time
 
     def getLoadFactor(self, tag):
-        """The load factor of pattern ``tag`` (its factor × its series' at the time the domain
-        last applied its loads, as OpenSees)."""
+        """The load factor of pattern ``tag`` as OpenSees returns it: its factor × its series' at
+        the time the domain last applied its loads (an analysis step, ``reactions``); 0 before
+        the first step and for a pattern defined since, until the next step (:meth:`_applied_factor`)."""
         model = self._model("getLoadFactor")
         if not is_int(tag) or tag not in model.patterns:
             raise CommandError(f"getLoadFactor: pattern {tag!r} does not exist")
-        at = self._load_time if self._load_time is not None else self.getTime()
-        return float(model.patterns[tag].factors(np.array([at]))[0])
+        return self._applied_factor(model.patterns[tag])
 
     def nodeMass(self, node, dof=-1):
         """The nodal mass of ``node`` (``mass`` command or ``node -mass``; element mass not
@@ -203,13 +231,12 @@ class QueryCommands(SessionBase):
     def _applied_loads(self, asm):
         """Full-dof nodal load vector applied at the last load time (OpenSees's unbalanced load of
         the nodes: their nodal loads and, under a ground acceleration, −m r a_g of their nodal mass,
-        ``Node::addInertiaLoadToUnbalance``; element loads and element mass load the elements)."""
+        ``Node::addInertiaLoadToUnbalance``; element loads and element mass load the elements),
+        each pattern at its :meth:`_applied_factor`."""
         p = np.zeros(asm.n_full)
-        if self._load_time is None:
-            return p
         ndf = asm.ndf
         for pattern in self.domain.patterns.values():
-            f = float(pattern.factors(np.array([self._load_time]))[0])
+            f = self._applied_factor(pattern)
             if f == 0.0:
                 continue
             if pattern.ground_direction is not None:
@@ -225,24 +252,20 @@ class QueryCommands(SessionBase):
 
     def _element_load_now(self, asm, tag):
         """The ``(ndof,)`` global nodal loads equivalent to element ``tag``'s element loads at the
-        last load time (the fixed-end forces, negated, that OpenSees counts in element forces),
-        or None when it has none."""
+        last load time (the fixed-end forces, negated, that OpenSees counts in element forces;
+        each pattern at its :meth:`_applied_factor`), or None when it has none."""
         out = None
-        if self._load_time is None:
-            return out
         for pattern in self.domain.patterns.values():
             if pattern.element_loads:
                 eq = asm.element_equivalent_loads(pattern).get(tag)
                 if eq is not None:
-                    out = (0.0 if out is None else out) + float(pattern.factors(np.array([self._load_time]))[0]) * eq
+                    out = (0.0 if out is None else out) + self._applied_factor(pattern) * eq
         return out
 
     def _ground_accelerations_now(self):
         """``[(direction, a_g)]`` of the ground accelerations (UniformExcitation) at the last load
-        time [m/s²]."""
-        if self._load_time is None:
-            return []
-        return [(p.ground_direction, float(p.factors(np.array([self._load_time]))[0]))
+        time [m/s²] (:meth:`_applied_factor`)."""
+        return [(p.ground_direction, self._applied_factor(p))
                 for p in self.domain.patterns.values() if p.ground_direction is not None]
 
     def _element_response(self, command, tag, kind, u, v):

@@ -10,7 +10,7 @@ from vtsi.errors import CommandError
 from vtsi.recorders import ElementRecorder
 from vtsi.units import Units
 
-from .args import Args
+from .args import Args, is_option
 from .base import SessionBase
 from .responses import (ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, element_response_word,
                         opensees_layout)
@@ -180,9 +180,10 @@ class RecorderCommands(SessionBase):
         Options: ``-file f`` (OpenSees text), vtsi's ``-h5 f``/``-hdf5 f`` (HDF5; an existing file
         is replaced, as ``-file`` replaces its file), ``-time``,
         ``-precision p`` (p >= 0), ``-dT dt``, ``-closeOnWrite``, ``-node``, ``-nodeRange a b``,
-        ``-dof``, ``-ele``, ``-eleRange a b``; then the response. ``-precision`` and
-        ``-closeOnWrite`` with ``-h5`` are refused (they shape a text file); without a file
-        (memory, OpenSees's screen) they are accepted and change nothing."""
+        ``-dof``, ``-ele``, ``-eleRange a b``; then the response, last (an option after it is
+        refused: OpenSees would take it for the response). ``-precision`` and ``-closeOnWrite``
+        with ``-h5`` are refused (they shape a text file); without a file (memory, OpenSees's
+        screen) they are accepted and change nothing."""
         if args and args[0] in ("Contact", "Train"):
             return self._vehicle_recorder(*args)
         model = self._model("recorder")
@@ -197,10 +198,12 @@ class RecorderCommands(SessionBase):
         targets = None            # None: no selection given
         response = []
         after = None              # the list option whose values the response words follow
+        last_option = None        # where the last option before the response is in a.items
         given = set()             # the options given
         while a.more():
             x = a.peek()
             if isinstance(x, str) and x.startswith("-") and not response:
+                last_option = a.pos
                 opt = a.option(valid)
                 given.add(opt)
                 after = None
@@ -235,17 +238,21 @@ class RecorderCommands(SessionBase):
             else:
                 response.append(a.take("response"))
         if not response:
-            raise CommandError(f"{name}: no response given (e.g. 'disp' or 'force')")
+            raise self._no_response(name, opts, NODE_RESPONSES if is_node else self._element_responses(targets))
         self._refuse_text_options(name, opts, given)
+        option_at = next((k for k, w in enumerate(response) if is_option(w)), None)
+        if option_at is not None and response[0] in (NODE_RESPONSES if is_node else self._element_responses(targets)):
+            raise self._response_not_last(name, a.items, last_option, len(response), option_at, after)
         if after is not None:   # a word that is not a tag among the values of -node, -ele or -dof
             what = {"-node": "-node tag", "-ele": "-ele tag", "-dof": "-dof"}[after]
             rest = response[1:]
+            if is_node and (not rest or option_at is not None) and isinstance(response[0], str) \
+                    and response[0] not in NODE_RESPONSES:
+                raise CommandError(f"{name}: {response[0]!r} is neither a {what} (an integer) nor a response "
+                                   f"({', '.join(NODE_RESPONSES)})")
             if not isinstance(response[0], str) or any(isinstance(w, str) and w.startswith("-") for w in rest) or (
                     rest and (response[-1] in NODE_RESPONSES if is_node else len(rest) == 1)):
                 raise CommandError(f"{name}: {what} must be an integer, got {response[0]!r}")
-            if is_node and not rest and response[0] not in NODE_RESPONSES:
-                raise CommandError(f"{name}: {response[0]!r} is neither a {what} (an integer) nor a response "
-                                   f"({', '.join(NODE_RESPONSES)})")
         if not is_node:
             response = element_response_word(name, response)
         elif len(response) > 1 or not isinstance(response[0], str):
@@ -314,6 +321,45 @@ class RecorderCommands(SessionBase):
             got = f"none ({follows!r} follows)" if isinstance(follows, str) else repr(follows)
             raise CommandError(f"{name}: {opt} needs a file name, got {got}")
         opts["sink"] = (opt, a.take(f"{opt} file name"))
+
+    @staticmethod
+    def _no_response(name, opts, responses):
+        """The CommandError of a recorder given no response (``responses``: the names it takes),
+        naming the file option that took one for its file name (``-file disp``: the name left out)."""
+        opt, path = opts.get("sink", (None, None))
+        if path in responses:
+            example = f"{opt} out.{'txt' if opt == '-file' else 'h5'} {path}"
+            return CommandError(f"{name}: no response given: {opt} took {path!r} for its file name; give the "
+                                f"file name after {opt}, the response last ({example})")
+        return CommandError(f"{name}: no response given" + (f" (one of {', '.join(responses)})" if responses else ""))
+
+    @staticmethod
+    def _response_not_last(name, items, last_option, n_response, option_at, after):
+        """The CommandError of a Node or Element recorder whose response (``n_response`` words at the
+        end of ``items``, the command's arguments) is followed by an option at ``option_at``: the
+        response comes last, as OpenSees takes every word after it for the response. The example
+        moves it there, from the last option before it (at ``last_option``, None: none) on; a file option
+        left last without its name is named instead, as :meth:`_file_option` names it."""
+        if items[-1] in ("-file", "-h5", "-hdf5"):
+            return CommandError(f"{name}: {items[-1]} needs a file name, got none")
+        start = len(items) - n_response
+        first = 1 if last_option is None else last_option        # items[0] is the recorder type
+        words = items[first: start] + items[start + option_at:] + items[start: start + option_at]
+        example = ("... " if first > 1 else "") + " ".join(map(str, words))
+        prefix = f"{after}: " if after is not None else ""
+        return CommandError(f"{name}: {prefix}{items[start]!r} is a response; the response comes last, after every "
+                            f"option ({example})")
+
+    def _element_responses(self, tags):
+        """The response names the elements ``tags`` answer (None: every element of the model), for
+        a message; tags that are not elements are left out."""
+        model = self.domain
+        tags = model.element_tags() if tags is None else [t for t in tags if t in model._element_owner]
+        names = {}
+        for t in tags:
+            etype = model._element_owner[t]
+            names.update(dict.fromkeys(accepted_responses(etype, model.ndf, self._zero_length.get(t))))
+        return tuple(names)
 
     @staticmethod
     def _refuse_text_options(name, opts, given):

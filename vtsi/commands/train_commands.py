@@ -287,7 +287,7 @@ class TrainCommands(SessionBase):
         a.done()
         if self_weight != self._self_weight:
             self._self_weight, self._coupled = self_weight, None
-        self._coupled_analysis("deadLoad", dt=None).static()
+        self._load_time = self._coupled_analysis("deadLoad", dt=None).static()["time"]   # the loads applied now
         self._dead_load_done = True
 
     # -- the analysis ----------------------------------------------------------------------------
@@ -322,7 +322,7 @@ class TrainCommands(SessionBase):
             analysis.static()
             self._dead_load_done = True
         analysis.recorders = self._recorder_list()
-        analysis.run(n)
+        self._load_time = analysis.run(n).time         # the loads applied at the last step's time
         return 0
 
     def _vehicle_recorder(self, *args):
@@ -368,12 +368,7 @@ class TrainCommands(SessionBase):
                     raise CommandError(f"{name}: give one response, got {response!r} and {a.peek()!r}")
                 response = a.word("response", responses)
         if response is None:
-            opt, path = opts.get("sink", (None, None))
-            if path in responses:           # the file name left out: the response read as it
-                example = f"{opt} out.{'txt' if opt == '-file' else 'h5'} {path}"
-                raise CommandError(f"{name}: no response given: {opt} took {path!r} for its file name; give the "
-                                   f"file name after {opt}, the response last ({example})")
-            raise CommandError(f"{name}: no response given")
+            raise self._no_response(name, opts, responses)
         self._refuse_text_options(name, opts, given)
         analysis = self._coupled_analysis(name, dt=None)
         sink = self._recorder_sink(name, opts)
