@@ -342,6 +342,8 @@ BAD_TRAIN_INPUTS = [   # (setup, command, args, message)
     (_bridge, "irregularity", (1, "german", "low", 0.0, 100.0, "-seed", -1),
      r"^irregularity 1: -seed must be a non-negative integer, got -1"),
     (_bridge, "irregularity", (1, "profile", "-x", 0.0, 1.0), r"^irregularity 1: missing option -r$"),
+    (_bridge, "irregularity", (1, "profile", "-x", "0 1 abc", "-r", 0.0, 0.0, 0.0),     # Tcl's -x {0 1 abc}
+     r"^irregularity 1: -x item 3 is 'abc', not a number$"),
     (_s2, "analyze", (1,), r"analyze: a Static analysis would ignore the train .* deadLoad\(\)"),
 ]
 

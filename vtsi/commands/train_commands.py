@@ -178,9 +178,9 @@ class TrainCommands(SessionBase):
         try:
             if kind == "profile":
                 a.option(("-x",))
-                x = a.floats("x")
+                x = a.number_list("-x")
                 a.option(("-r",))
-                r = a.floats("r")
+                r = a.number_list("-r")
                 if len(x) != len(r) or len(x) < 2:
                     raise CommandError(f"irregularity {tag}: -x and -r need the same number (>= 2) of values, "
                                        f"got {len(x)} and {len(r)}")
