@@ -9,7 +9,7 @@ from vtsi.errors import ModelError, SweepError
 from vtsi.passage import DEFAULT_OUTPUTS, Output, PassageRunner, PassageSettings
 from vtsi.places import node_text
 from vtsi.reference.fryba import daf
-from vtsi.sweep import Sweep, beam_bridge
+from vtsi.sweep import Sweep, beam_bridge, resonance_speeds
 from vtsi.workflow import design_check
 
 L, F1, MU = 20.0, 5.0, 15000.0
@@ -416,3 +416,50 @@ def test_speeds_below_the_en_series_are_noted():
     note = check(sweep.run(None, workers=1, progress=False)).row("deck_acceleration").note
     assert ("; the sweep's speeds stop at 83 km/h, below 144 km/h (40 m/s), where EN 1991-2 6.4.6.2(3)'s "
                          "series starts (speeds are km/h: 83 m/s would be 298.8 km/h)") in note
+
+
+def test_car_rows_on_a_speed_grid_that_misses_a_resonance_are_not_checked():
+    """The probe's case (a 15 m steel deck of 6 Hz, ICE3 cars, swept at 250 km/h for a 200 km/h
+    line): the deck rows were 'not checked' (ICE3 D/3 = n0 D / 3 = 178.4 km/h lies below the
+    speed swept), yet the car body read 0.363 m/s² PASS with no note, and at the resonance it
+    reaches 0.444 (+22 %). The car rows peak at resonance as the deck does: a PASS there is not
+    checked (info), its note says why, and a FAIL stays FAIL."""
+    span, f1, mu = 15.0, 6.0, 9000.0
+    bridge = beam_bridge([span], mu * (2 * np.pi * f1 * (span / np.pi) ** 2) ** 2, 1.0, mu, elements_per_span=10)
+    settings = PassageSettings(cars="full", bridge="modal", damping=0.01125)      # EN Table 6.6, steel, 15 m
+    res = Sweep(bridge, ["ICE3"], "250", settings).run(None, workers=1, progress=False)
+    n0 = float(res.bridge()["deck_frequencies_hz"][0][0])
+    v = float(resonance_speeds([n0], [24.775], orders=(3,))[0])                   # ICE3's D = 24.775 m
+    assert v == pytest.approx(3.6 * f1 * 24.775 / 3, rel=1e-4)                     # 178.4 km/h
+    result = check(res, CheckSettings(comfort="very_good", line_speed_kmh=200.0))
+    said = f"ICE3 D/3 at {v:.4g} km/h (n0 {n0:.4g} Hz): below the speeds swept"
+    assert said in result.row("deck_acceleration").note and said in result.verdict()
+    for criterion in ("car_body_acceleration", "wheel_unloading", "contact_loss"):
+        row = result.row(criterion)
+        assert row.value <= row.limit and row.status == "info", criterion              # it read PASS
+        assert "; not checked: the sweep's speeds step across 1 resonance speed more coarsely than the EN series " \
+               "(see the deck_acceleration note): the peak may lie between them" in row.note, criterion
+    assert {"car_body_acceleration", "wheel_unloading", "contact_loss"} <= set(result.unchecked)
+    assert not result.passed and result.verdict().startswith("NO VERDICT")
+    # what the grid missed: the car body at the resonance itself reads more than at 250 km/h
+    at_v = Sweep(bridge, ["ICE3"], [round(v, 2)], settings).run(None, workers=1, progress=False)
+    body = check(at_v, CheckSettings(comfort="very_good")).row("car_body_acceleration")
+    assert body.value > 1.15 * result.row("car_body_acceleration").value                 # 0.444 against 0.363
+    # a FAIL stays FAIL: the same sweep held to a limit below its value
+    strict = check(res, CheckSettings(comfort="very_good", unloading_limit=0.05, line_speed_kmh=200.0))
+    assert strict.row("wheel_unloading").status == "fail" and strict.verdict().startswith("FAIL")
+
+
+def test_the_settings_line_keeps_the_comfort_level_and_says_what_was_not_checked(hslm):
+    """A sweep of moving forces checked with comfort 'very good' read PASS and its settings left
+    the level out: nothing said that neither route of EN 1990 A2.4.4.3 was checked (no car bodies
+    for Table A2.9's b_v; A2.4.4.3.2's deflection limits, Figure A2.3, not implemented). The
+    level stays, said not checked; a PASS stands for the criteria checked and names those not
+    evaluated (docs/check.md)."""
+    _, res = hslm
+    result = check(res, CheckSettings(comfort="very_good", maintenance="standard", alpha=1.21))
+    line = ("check settings: ballasted track, comfort level 'very good' (not checked: the sweep kept no car body "
+            "(moving forces have none) for Table A2.9's b_v; the deflection limits of EN 1990 A2.4.4.3.2, Figure "
+            "A2.3, are not checked), standard maintenance, α = 1.21")
+    assert result.text().splitlines()[1] == line and "wheel unloading" not in line
+    assert result.not_evaluated == ["car_body_acceleration", "wheel_unloading", "contact_loss"]

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import vtsi
+from vtsi.bridge_file import load_bridge
 from vtsi.influence import InfluenceLines
 from vtsi.models import hslm_a
 from vtsi.models.bridges import simply_supported_beam
@@ -118,3 +119,45 @@ BAD_INFLUENCE = [
 def test_bad_influence_input_is_named(bridge, bad, match):
     with pytest.raises(vtsi.ModelError, match=match):
         bad(*bridge)
+
+
+OVERHANG = """import vtsi.opensees as ops
+ops.wipe()
+ops.model('basic', '-ndm', 2, '-ndf', 3)
+xs = [-4.0 + 1.0*i for i in range(4)] + [0.0 + 2.0*i for i in range(11)]
+for k, x in enumerate(xs, start=1):
+    ops.node(k, x, 0.0)
+ops.fix(5, 1, 1, 0)
+ops.fix(15, 0, 1, 0)
+ops.geomTransf('Linear', 1)
+for k in range(1, len(xs)):
+    ops.element('elasticBeamColumn', k, k, k+1, 5.0, 3.5e10, 1.9, 1, '-mass', 15000.0, '-cMass')
+ops.track(1, '-eleRange', 1, len(xs)-1)
+"""
+
+
+def test_an_axle_on_the_tip_of_an_overhang_loads_it(tmp_path):
+    """A 20 m span with a 4 m overhang carrying the track from its tip (x = -4 m). LM71's scan
+    put its axle on the tip as centre + offset = -4.0000000000000115, off the track, where the
+    line is 0: the tip's deflection read 0.82282 mm. The closed form of a cantilever of length c
+    beyond a span L (a force P at a from the support: P a [a (3c - a)/6 + L c/3] / EI downward at
+    the tip) under the axles at 4, 2.4 and 0.8 m from the support (the fourth 1.6 m beyond the
+    tip, the 80 kN/m beyond the axles both off the track or on the span, which lifts the tip)
+    gives 0.84114 mm, as OpenSeesPy does. A train's scan alike: two axles 1.23 m apart, the rear
+    one on the tip."""
+    (tmp_path / "overhang.py").write_text(OVERHANG)
+    b = load_bridge(tmp_path / "overhang.py")
+    lines = InfluenceLines(b.model, Track(b.model, b.track_elements), dofs=[(1, 2)])
+    c, span, ei = 4.0, 20.0, 3.5e10 * 1.9
+
+    def tip(a):                          # downward tip deflection [m/N] of a force a from the support
+        return a * (a * (3 * c - a) / 6 + span * c / 3) / ei
+
+    lm71 = 250e3 * sum(tip(a) for a in (4.0, 2.4, 0.8))
+    assert lm71 == pytest.approx(0.84114e-3, abs=1e-8)
+    assert -lines.lm71_envelope()[0, 0] == pytest.approx(lm71, rel=1e-9)
+    pair = lines.train_envelope([0.0, 1.23], [200e3, 200e3])
+    assert -pair[0, 0] == pytest.approx(200e3 * (tip(4.0) + tip(4.0 - 1.23)), rel=1e-9)     # it read 0.68199 mm
+    # SW/0 integrates the line (no axle to lose): its second length over the overhang alone, q ∫ tip(a) da
+    sw0 = 133e3 * (c ** 4 / 8 + span * c ** 3 / 6) / ei                                                     # 0.49067 mm
+    assert -lines.sw0_envelope()[0, 0] == pytest.approx(sw0, rel=1e-9)

@@ -4,6 +4,7 @@ view, and every bad input."""
 import gc
 import math
 import json
+import os
 import re
 import signal
 import subprocess
@@ -931,6 +932,22 @@ def test_seeds_and_train_spellings_are_checked():
         with pytest.raises(SweepError, match="train HSLM-A1 is listed twice"):
             Sweep(small_bridge(), trains, "200", FAST)
     assert Sweep(small_bridge(), "hslm-a1,a2", "200", FAST).trains == ["HSLM-A1", "HSLM-A2"]
+
+
+def test_one_axle_table_under_two_paths_is_listed_twice(tmp_path, monkeypatch):
+    """'emu.csv,./emu.csv' ran the same table twice, as two trains; the paths are resolved
+    (os.path.realpath) before the test, the names stay as given and the refusal quotes them."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "emu.csv").write_text("position_m,load_kN\n0,150\n2.5,150\n17.5,150\n20,150\n")
+    (tmp_path / "other.csv").write_text("position_m,load_kN\n0,150\n2.5,150\n")
+    (tmp_path / "sub").mkdir()
+    words = (f"sweep: train ./emu.csv is listed twice (emu.csv and ./emu.csv are one file, "
+             f"{os.path.realpath(tmp_path / 'emu.csv')}): 'emu.csv,./emu.csv'")
+    with pytest.raises(SweepError, match=f"^{re.escape(words)}$"):
+        Sweep(small_bridge(), "emu.csv,./emu.csv", "200", FAST)
+    with pytest.raises(SweepError, match=r"^sweep: train \S+emu\.csv is listed twice \(emu\.csv and "):
+        Sweep(small_bridge(), ["emu.csv", str(tmp_path / "sub" / ".." / "emu.csv")], "200", FAST)
+    assert Sweep(small_bridge(), "emu.csv,other.csv", "200", FAST).trains == ["emu.csv", "other.csv"]
 
 
 @pytest.mark.parametrize("damage, words", [

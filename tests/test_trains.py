@@ -97,14 +97,21 @@ def test_axle_table_errors_name_the_row():
                      r"\(17 t = 166\.8 kN\)$"),
     ("0,200\n3,170000\n", r"line 3: load_kN 170000 is not a railway axle load \(30 to 500 kN\); is the table in N\? "
                           r"\(170000 N = 170 kN\)$"),
+    ("0,17000\n3,17000\n", r"line 2: load_kN 17000 is not a railway axle load \(30 to 500 kN\); is the table in kg or "
+                           r"daN\? \(17000 kg = 166\.8 kN; 17000 daN = 170 kN\)$"),
+    ("0,1000\n", r"line 2: load_kN 1000 is not a railway axle load \(30 to 500 kN\)$"),
     ("0,200\n2500,200\n", r"line 3: the axle is 2500 m behind the previous one \(0\.5 to 100 m between axles\); "
-                          r"is position_m in cm or mm\?$"),
+                          r"is position_m in cm or mm\? \(2500 cm = 25 m; 2500 mm = 2\.5 m\)$"),
     ("0,200\n0.0025,200\n", r"line 3: the axle is 0\.0025 m behind the previous one \(0\.5 to 100 m between axles\); "
-                            r"is position_m in km\?$"),
+                            r"is position_m in km\? \(0\.0025 km = 2\.5 m\)$"),
+    ("0,200\n0.3,200\n", r"line 3: the axle is 0\.3 m behind the previous one \(0\.5 to 100 m between axles\)$"),
 ])
 def test_a_csv_table_in_other_units_is_refused(tmp_path, table, message):
-    """A CSV table in tonnes or N (loads 10× or 1000× off) or in mm or km (spacings) is refused,
-    naming the line and the unit it is probably in; the bounds themselves are accepted."""
+    """A CSV table in tonnes, kg, daN or N (loads 10× or 1000× off) or in cm, mm or km (spacings)
+    is refused, naming the line and the units that would read the value as an axle load or a
+    spacing (g = 9.81 m/s²: 17000 kg = 166.77 kN), and no unit where none does (1000 was 'in N?
+    (1000 N = 1 kN)', 17000 kg 'in N? (17000 N = 17 kN)', a 0.3 m typo 'in km?'); the bounds
+    themselves are accepted."""
     path = tmp_path / 'axles.csv'
     path.write_text('position_m,load_kN\n' + table)
     with pytest.raises(ModelError, match=r"^.*axles\.csv " + message):

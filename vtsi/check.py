@@ -58,7 +58,8 @@ whose outputs the sweep did not keep are left out. Speeds that step across a res
 i more coarsely than the EN series (:func:`vtsi.speed_grid.coarse_resonances`), or that start
 above the series' 144 km/h, or that step more coarsely than its 2 km/h over a train without D
 (its resonances unknown), are named in the rows read against speed and in the verdict, and a
-deck acceleration or deflection that passes on them is not checked (info).
+criterion with a limit that passes on them (deck acceleration, deflection, car-body acceleration,
+wheel unloading, contact loss: each peaks at resonance) is not checked (info).
 
 The verdict (:meth:`CheckResult.verdict`) is FAIL when a criterion fails; else NO VERDICT when
 the sweep is incomplete, when a criterion with a limit could not be held to it (an 'info' row
@@ -91,6 +92,8 @@ MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
 RENAMED = {"deflection_lm71": "deflection"}   # rows of checks stored by an older vtsi, by today's name
 DIMENSIONLESS = "-"          # the units of a ratio (a row's, an output's): written as none
 WITH_A_VERDICT = ("deck_acceleration", "deflection", "car_body_acceleration", "wheel_unloading", "contact_loss")
+PEAK_AT_RESONANCE = ("deck_acceleration", "deflection", "dynamic_increment", "dynamic_vs_lm71", "car_body_acceleration",
+                     "wheel_unloading", "contact_loss")   # the rows read against speed (prefixes): a speed grid's notes
 STATIC_LOAD_MODELS = ("LM71", "SW/0")   # a deflection row's 'train' where Φ α × its static value governs
 SW0_MISSING = ("; the static reference is LM71 alone: the results file, of an older vtsi, holds no SW/0, which EN "
                "1991-2 6.3.3(1)P adds on a continuous deck (sweep again into a new file to read it)")
@@ -111,8 +114,9 @@ class CheckSettings:
     line_speed_kmh : the line's maximum speed [km/h] (EN 1991-2 6.4.6.2: the speeds up to 1.2 ×
         it); None not recorded.
 
-    The last two are provenance only: no criterion reads them, and they are not part of the
-    sweep's identity (a sweep resumes whatever they are).
+    The last two are provenance only: no criterion's value reads them (the line speed sets where
+    the speed grid is read from, :func:`vtsi.speed_grid.coarse_resonances`), and they are not part
+    of the sweep's identity (a sweep resumes whatever they are).
     """
 
     track: str = "ballasted"
@@ -234,6 +238,20 @@ class CheckResult:
             text += f"; {self.speed_grid}"
         return text
 
+    def settings_text(self):
+        """The settings in one line, as the text table and the report state them: track, level of
+        comfort and what of EN 1990 A2.4.4.3 was read against it (the car bodies' b_v, Table A2.9,
+        where the check has their row; the deflection limits of A2.4.4.3.2, Figure A2.3, never),
+        maintenance, α and, where the check read contact forces, the wheel unloading limit."""
+        s, criteria = self.settings, {r.criterion for r in self.rows}
+        body = ("the car bodies' b_v, Table A2.9" if "car_body_acceleration" in criteria else
+                "not checked: the sweep kept no car body (moving forces have none) for Table A2.9's b_v")
+        unloading = (f", wheel unloading limit ΔQ/Q = {s.unloading_limit:g} (a project criterion)"
+                     if "wheel_unloading" in criteria else "")
+        return (f"{s.track.replace('_', ' ')} track, comfort level '{s.comfort.replace('_', ' ')}' ({body}; the "
+                f"deflection limits of EN 1990 A2.4.4.3.2, Figure A2.3, are not checked), {s.maintenance} maintenance, "
+                f"α = {s.alpha:g}{unloading}")
+
     def row(self, criterion):
         """The row of ``criterion`` (SweepError naming the rows there are when it has none)."""
         for r in self.rows:
@@ -242,8 +260,9 @@ class CheckResult:
         raise SweepError(f"check: no row {criterion!r}; the rows are {', '.join(r.criterion for r in self.rows)}")
 
     def text(self):
-        """The bridge as the check read it (one line: its decks, spans, n₀, EN cut-off, L_Φ), then
-        the table (one line per criterion), the verdict and the rows' notes."""
+        """The bridge as the check read it (one line: its decks, spans, n₀, EN cut-off, L_Φ), the
+        settings (one line, :meth:`settings_text`), then the table (one line per criterion), the
+        verdict and the rows' notes."""
         head = ("criterion", "value", "limit", "util.", "status", "governing case", "where", "clause")
         lines = [head]
         for r in self.rows:
@@ -260,7 +279,8 @@ class CheckResult:
         out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
         out.insert(1, "  ".join("-" * w for w in widths))
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
-        return "\n".join(([self.bridge] if self.bridge else []) + out + ["", self.verdict()]
+        return "\n".join(([self.bridge] if self.bridge else []) + [f"check settings: {self.settings_text()}"] + out
+                         + ["", self.verdict()]
                          + (["notes:"] + notes if notes else []))
 
     def value_text(self, row, number, units=str):
@@ -385,10 +405,10 @@ def _coarse_speeds(out, coarse):
     (:func:`vtsi.speed_grid.coarse_resonances`) more coarsely than the EN series, or over the
     speeds of a train without D (its resonances unknown, :class:`vtsi.speed_grid.UnknownResonances`)
     more coarsely than the series' fine step: in the notes of the rows read from envelopes against
-    speed on the deck (deck acceleration, deflection, the dynamic increments); the deck
-    acceleration and the deflection, both peaking at resonance, are then not checked (info)
-    unless they fail (a peak the grid misses only adds to a FAIL); the verdict names them
-    (``out.speed_grid``)."""
+    speed (:data:`PEAK_AT_RESONANCE`: the deck's rows, the car bodies and the contact forces);
+    those with a limit (deck acceleration, deflection, car-body acceleration, wheel unloading,
+    contact loss), all peaking at resonance, are then not checked (info) unless they fail (a
+    peak the grid misses only adds to a FAIL); the verdict names them (``out.speed_grid``)."""
     if not coarse:
         return
     unknown = [c for c in coarse if isinstance(c, UnknownResonances)]
@@ -412,11 +432,10 @@ def _coarse_speeds(out, coarse):
             f"(--speeds en:LINE_SPEED) or finer speeds{' across them' if not unknown else ''}")
     short = " and ".join(([f"{across} more coarsely than the EN series"] if coarse else [])
                          + ([f"step more coarsely than the EN series for {without}"] if unknown else []))
-    affected = [r for r in out.rows if r.criterion.startswith(("deck_acceleration", "deflection", "dynamic_increment",
-                                                                "dynamic_vs_lm71"))]
+    affected = [r for r in out.rows if r.criterion.startswith(PEAK_AT_RESONANCE)]
     first = next((r for r in affected if r.criterion == "deck_acceleration"), affected[0] if affected else None)
     for row in affected:
-        unchecked = row.status == "pass" and row.criterion in ("deck_acceleration", "deflection")
+        unchecked = row.status == "pass" and row.criterion in WITH_A_VERDICT
         if unchecked:                   # a peak between the speeds swept may exceed the limit
             row.status = "info"
         if row is first:
@@ -926,7 +945,8 @@ def _end_rotation(results, outputs, bridge, settings):
                   if n in deck_x and min(abs(deck_x[n] - e) for e in ends) <= tol]
         supports = " and ".join(f"{e:g}" for e in ends)
         hangs = overhangs(bridge)
-        beyond = (f"; the overhang{'s' * (len(hangs) > 1)}' free end{'s' * (len(hangs) > 1)} (x = "
+        whose = "the overhangs' free ends" if len(hangs) > 1 else "the overhang's free end"
+        beyond = (f"; {whose} (x = "
                   f"{' and '.join(f'{b:g}' for _, _, b in hangs)} m) beyond {'them' if len(hangs) > 1 else 'it'} "
                   "not read") if hangs else ""
         where = (f"at the decks' end supports (x = {supports} m{beyond})" if at_end else

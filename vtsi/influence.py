@@ -14,8 +14,10 @@ static response is r_d(h) = Σ_i P_i IL_d(x_i(h)); its envelope is scanned over 
 1/20 of the shortest track element and refined by a parabola through the best three samples (the
 response is C¹ and piecewise cubic in h between the kinks, so the scan's error is below 1e-4 of
 the peak), and evaluated at every head position that puts an axle on a kink (a bending moment's
-node), where a sagging maximum often is. LM71's scan adds the positions that put one of its four
-axles on a kink alike, and integrates its distributed load by Simpson's rule on a grid through the
+node), where a sagging maximum often is, or on a track end, beyond which the line drops to 0 (an
+overhang's tip: a scan's axle 1e-14 m off the end lost its load; positions within round-off of
+an end are put on it). LM71's scan adds the positions that put one of its four axles on a kink or
+a track end alike, and integrates its distributed load by Simpson's rule on a grid through the
 element ends (exact on the cubic pieces of a line; LM71's mid-span moment on a 20 m span:
 6075.2 kN·m within 1e-11 on 8 to 40 elements). SW/0's two loaded lengths are one rigid pattern
 (the same either way along the track: it is symmetric); its response r(s) = q [F(s + a) − F(s) +
@@ -149,9 +151,10 @@ class InfluenceLines:
         lo, hi = self.track.x_begin + offsets.min(), self.track.x_end + offsets.max()
         heads = np.arange(lo, hi + self.step, self.step)
         response = self._train_response(heads, offsets, loads)
-        # the head positions that put an axle on a kink of a response (each axle on each kink)
-        kinks = self.kinks()                                            # (n_kinks, n_resp)
-        kink_heads = kinks[:, None, :] + offsets[None, :, None]         # (n_kinks, n_axles, n_resp)
+        # the head positions that put an axle on a kink of a response or on a track end (each axle on
+        # each): where the line kinks, or where it drops to 0 beyond an end that moves (an overhang's tip)
+        kinks = np.concatenate([self.kinks(), np.repeat(self._ends()[:, None], self.n_responses, axis=1)])
+        kink_heads = kinks[:, None, :] + offsets[None, :, None]         # (n_kinks + 2, n_axles, n_resp)
         on = np.unique(kink_heads[np.isfinite(kink_heads)])
         at_kinks = self._train_response(on, offsets, loads) if on.size else np.zeros((0, self.n_responses))
         out = np.stack([_refined(response, heads, np.argmin, kink_heads), _refined(response, heads, np.argmax, kink_heads)])
@@ -165,7 +168,7 @@ class InfluenceLines:
         response = np.zeros((heads.size, self.n_responses))
         for block in range(0, heads.size, 2048):
             h = heads[block: block + 2048]
-            x = h[:, None] - offsets[None, :]
+            x = self._on_the_ends(h[:, None] - offsets[None, :])
             il = self(x.ravel()).reshape(x.shape + (self.n_responses,))
             response[block: block + 2048] = np.einsum("j,ijk->ik", loads, il)
         return response
@@ -180,10 +183,10 @@ class InfluenceLines:
         track = self.track
         axle_offsets = LM71_SPACING * np.array([-1.5, -0.5, 0.5, 1.5])
         centres = np.arange(track.x_begin - 2.4, track.x_end + 2.4 + self.step, self.step)
-        kinks = self.kinks()                    # and the centres that put an axle on a kink
-        kinks = kinks[np.isfinite(kinks)]
-        centres = np.union1d(centres, (kinks[:, None] - axle_offsets[None, :]).ravel())
-        axles = centres[:, None] + axle_offsets[None, :]
+        kinks = self.kinks()                    # and the centres that put an axle on a kink or a track end
+        where = np.concatenate([kinks[np.isfinite(kinks)], self._ends()])
+        centres = np.union1d(centres, (where[:, None] - axle_offsets[None, :]).ravel())
+        axles = self._on_the_ends(centres[:, None] + axle_offsets[None, :])
         point = LM71_AXLE * self(axles.ravel()).reshape(axles.shape + (self.n_responses,)).sum(axis=1)
         reach = 1.5 * LM71_SPACING + 0.8                            # from the centre to the load's start [m]
         out = np.zeros((2, self.n_responses))
@@ -207,7 +210,7 @@ class InfluenceLines:
         signs = np.array([-1.0, 1.0, -1.0, 1.0])            # r(s) = q Σ sign F(s + end)
         starts = np.arange(track.x_begin - ends[-1], track.x_end + self.step, self.step)
         kinks = self.kinks()
-        where = np.concatenate([kinks[np.isfinite(kinks)], [track.x_begin, track.x_end]])
+        where = np.concatenate([kinks[np.isfinite(kinks)], self._ends()])
         starts = np.union1d(starts, (where[:, None] - ends[None, :]).ravel())
         primitive = self._primitive()
 
@@ -231,6 +234,19 @@ class InfluenceLines:
                         value = response(np.array([s]))[0, j]
                         out[k, j] = min(out[k, j], value) if k == 0 else max(out[k, j], value)
         return alpha * out
+
+    def _ends(self):
+        """The track's ends [m], ``(2,)``."""
+        return np.array([self.track.x_begin, self.track.x_end])
+
+    def _on_the_ends(self, x):
+        """Positions ``x`` [m] with those within round-off (1e-6 of :attr:`step`) of a track end put
+        on it: a scan places a load on an end as a sum (centre + offset), which may fall 1e-14 m
+        off the track, where the line is 0 (an overhang's tip then lost LM71's axle on it: 0.823
+        mm for 0.841)."""
+        ends = self._ends()
+        near = np.abs(x[..., None] - ends) <= 1e-6 * self.step
+        return np.where(near.any(axis=-1), ends[np.argmax(near, axis=-1)], x)
 
     def _primitive(self, part=None):
         """F(x) = ∫ part(IL) from the track's start to each of ``x`` (n,) [response units per N/m],

@@ -6,8 +6,9 @@ each resonance v = n D / i; ``vtsi sweep --speeds en:V`` runs that series
 own range (:func:`en_series`): the resonances it steps across more coarsely than the series
 (:func:`coarse_resonances`), and the trains without a characteristic length D, whose resonances
 are unknown and for which the series steps finely throughout, over whose speeds it steps more
-coarsely (:class:`UnknownResonances`); the check names them, and they leave a passing deck
-acceleration or deflection not checked. Speeds in km/h, frequencies in Hz, lengths in m.
+coarsely (:class:`UnknownResonances`); the check names them, and they leave a passing criterion
+that peaks at resonance (deck acceleration, deflection, car-body acceleration, wheel unloading,
+contact loss) not checked. Speeds in km/h, frequencies in Hz, lengths in m.
 """
 from dataclasses import dataclass
 

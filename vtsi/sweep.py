@@ -156,6 +156,12 @@ def train_list(trains):
     return out
 
 
+def _train_key(name):
+    """What makes two of :func:`train_list`'s names one train: a file's real path (an axle table
+    named 'emu.csv' and './emu.csv' is one), else the name."""
+    return os.path.realpath(name) if os.path.isfile(name) else name
+
+
 def _count(value, name):
     """``value`` unless it is neither None nor an integer >= 1 (a SweepError naming it)."""
     if value is not None and not (is_int(value) and value >= 1):
@@ -304,7 +310,8 @@ class Sweep:
         where seeds are refused (they would select nothing).
 
     Train names are read by :func:`train_list` ('hslm-a1' and 'A1' are 'HSLM-A1'); a train
-    named twice in any spelling is refused.
+    named twice in any spelling is refused, an axle table named by two paths to one file too
+    ('emu.csv' and './emu.csv'); the names stay as given.
 
     Every input is checked here, before anything runs or any file is written: a
     :class:`~vtsi.errors.SweepError` naming it, a :class:`~vtsi.errors.BridgeSweepError` (also a
@@ -326,10 +333,13 @@ class Sweep:
         self.trains = train_list(trains)
         if not self.trains:
             raise SweepError("sweep: no train")
-        twice = next((t for k, t in enumerate(self.trains) if t in self.trains[:k]), None)
+        keys = [_train_key(t) for t in self.trains]
+        twice = next((k for k in range(len(keys)) if keys[k] in keys[:k]), None)
         if twice is not None:
-            raise SweepError(f"sweep: train {twice} is listed twice (names ignore case; 'A1' is 'HSLM-A1'): "
-                             f"{trains!r}")
+            first = self.trains[keys.index(keys[twice])]
+            why = ("names ignore case; 'A1' is 'HSLM-A1'" if first == self.trains[twice] else
+                   f"{first} and {self.trains[twice]} are one file, {keys[twice]}")
+            raise SweepError(f"sweep: train {self.trains[twice]} is listed twice ({why}): {trains!r}")
         self.speeds_kmh = speeds(speeds_kmh)
         if settings.irregularity is None:
             if seeds is not None:

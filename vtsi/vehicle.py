@@ -35,10 +35,13 @@ SIGNATURE = 'signature'
 """``characteristic_length=SIGNATURE``: D from the train's dynamic signature (:mod:`vtsi.signature`)."""
 
 
-# What a CSV axle table may hold (Train.from_csv): outside these a table is taken to be in other
-# units (tonnes or N for kN, mm or km for m) rather than run with loads 10× or 1000× off.
+# What a CSV axle table may hold (Train.from_csv): outside these it is refused rather than run
+# with loads 10× or 1000× off, naming the units (name, symbol, factor to kN or m) that would read
+# the value at fault within them.
 CSV_AXLE_LOAD_KN = (30.0, 500.0)     # [kN]: 3 t to 51 t per axle
 CSV_AXLE_SPACING_M = (0.5, 100.0)    # [m] between consecutive axles
+CSV_LOAD_UNITS = (("tonnes", "t", GRAVITY), ("kg", "kg", GRAVITY / 1e3), ("daN", "daN", 1e-2), ("N", "N", 1e-3))
+CSV_LENGTH_UNITS = (("cm", "cm", 1e-2), ("mm", "mm", 1e-3), ("km", "km", 1e3))
 
 
 
@@ -462,19 +465,30 @@ def _check_axle_table(positions, loads, labels, where, load_unit='N'):
 
 def _check_csv_units(positions, loads_kn, labels):
     """A ModelError at the first axle load [kN] or spacing [m] outside CSV_AXLE_LOAD_KN or
-    CSV_AXLE_SPACING_M, suggesting the unit the table is probably in."""
+    CSV_AXLE_SPACING_M, naming the units (CSV_LOAD_UNITS, CSV_LENGTH_UNITS) that would read it
+    within that range, or none when no unit does."""
     (p_lo, p_hi), (d_lo, d_hi) = CSV_AXLE_LOAD_KN, CSV_AXLE_SPACING_M
     for i, P in enumerate(loads_kn):
         if not p_lo <= P <= p_hi:
-            hint = f"in tonnes? ({P:g} t = {GRAVITY * P:.4g} kN)" if P < p_lo else f"in N? ({P:g} N = {P / 1e3:.4g} kN)"
-            raise ModelError(f"{labels[i]}: load_kN {P:g} is not a railway axle load ({p_lo:g} to {p_hi:g} kN); "
-                             f"is the table {hint}")
-    for i in range(1, len(positions)):
-        d = positions[i] - positions[i - 1]
+            raise ModelError(f"{labels[i]}: load_kN {P:g} is not a railway axle load ({p_lo:g} to {p_hi:g} kN)"
+                             + _unit_hint("the table", P, CSV_LOAD_UNITS, "kN", CSV_AXLE_LOAD_KN))
+    spacings = np.diff(positions)
+    for i, d in enumerate(spacings, start=1):
         if not d_lo <= d <= d_hi:
-            hint = "in cm or mm" if d > d_hi else "in km"
             raise ModelError(f"{labels[i]}: the axle is {d:g} m behind the previous one ({d_lo:g} to {d_hi:g} m "
-                             f"between axles); is position_m {hint}?")
+                             "between axles)"
+                             + _unit_hint("position_m", d, CSV_LENGTH_UNITS, "m", CSV_AXLE_SPACING_M))
+
+
+def _unit_hint(what, value, units, si, bounds):
+    """'; is {what} in kg or daN? (17000 kg = 166.8 kN; 17000 daN = 170 kN)': the ``units``
+    ``(name, symbol, factor to si)`` under which ``value`` lies within ``bounds`` [si]; '' when
+    none does (a typo, or a load per bogie: no unit to guess)."""
+    fits = [(name, symbol, factor) for name, symbol, factor in units if bounds[0] <= factor * value <= bounds[1]]
+    if not fits:
+        return ""
+    return (f"; is {what} in {' or '.join(name for name, _, _ in fits)}? ("
+            + "; ".join(f"{value:g} {symbol} = {factor * value:.4g} {si}" for _, symbol, factor in fits) + ")")
 
 
 def _check_characteristic_length(value, where):
