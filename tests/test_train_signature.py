@@ -155,8 +155,15 @@ def test_hslm_b_gets_its_spacing_in_its_own_range_and_none_among_coaches(span):
         d, abs=MM)
     among_coaches = principal_wavelength(train.wheel_offsets, train.static_wheel_loads)
     assert among_coaches.wavelength_m is None and among_coaches.length_m is None
-    assert among_coaches.text() == ("no characteristic length D from its dynamic signature "
-                                    "(it has no peak between 12 and 30 m)")
+    if among_coaches.below_m is None:
+        assert among_coaches.text() == ("no characteristic length D from its dynamic signature "
+                                        "(it has no peak between 12 and 30 m)")
+    else:       # d = 3.5 m: the grid below the range ends a lobe past 12 / 3 m, on the main lobe of d
+        assert d < among_coaches.below_m < N * d / (N - 1) < WAVELENGTH_RANGE_M[0] / 3     # its first zero
+        assert among_coaches.text() == (
+            "no characteristic length D from its dynamic signature (its signature peaks at "
+            f"{among_coaches.below_m:.4g} m or below, below the 12-30 m of coaches, more than 2 times higher than "
+            "within them: wagons shorter than 12 m, whose D is not read)")
 
 
 @pytest.mark.parametrize("name", sorted(built_trains()))

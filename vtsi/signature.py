@@ -20,7 +20,9 @@ between 12 and 30 m (:data:`WAVELENGTH_RANGE_M`) and, as D, the axle spacing s t
 the most axles with s / i inside that peak, i = 1 … 4: the peak is D or one of its harmonics
 (D/2 for coaches whose bogie centres, a third to two thirds of their length apart, weaken their
 own phasor at D), and the train's period recurs most often; a table without a recurring spacing
-there gets none.
+there gets none. A peak below the range more than :data:`DOMINANCE` times higher is read the same
+way, at orders up to 12 (two-axle wagons of 12-20 m peak at L/3), unless a spacing shorter than
+the range recurs there as often (wagons shorter than the range: no D).
 
 References
 ----------
@@ -62,7 +64,8 @@ identical coaches give (N_c − 1) / N_c of their axles, fewer with locomotives 
 HSLM-A10 0.61, 13 Talgo axles between two locomotives 0.57; 2518 sampled trains of 4-14 coaches
 of 24-27.5 m with 0-2 locomotives at least 0.43, three coaches between two six-axle locomotives
 0.33); 18000 seeded irregular random tables of 24-200 axles reached at most 0.33, 30000 of 24-40
-axles in random bogies at most 0.385 (docs/trains.md; tests/test_train_signature.py runs 120)."""
+axles in random bogies at most 0.385 (0.31 and 0.382 with D also read below the range, :data:`DOMINANCE`;
+docs/trains.md; tests/test_train_signature.py runs 120)."""
 BELOW_RANGE = 3
 """The signature is also read between low / BELOW_RANGE and low (4 to 12 m), where only the
 harmonics D/i of coaches in the range peak, at most 0.96 of their peak in it (ICE3; HSLM-A
@@ -71,10 +74,15 @@ cancel their own phasor at D (2160 trains of 24-27.5 m coaches on bogies 15-19 m
 regional train of tests/test_no_d_grid.py 1.42), while a train of wagons shorter than low peaks
 there 6 to 34 times higher than anywhere in the range (40 two-axle wagons of 7-11 m): then every
 spacing recurs, multiples of the wagon length inside the range too, and the range's peak (a
-sidelobe) would give a false D."""
+sidelobe) would give a false D. So do two-axle wagons of the range whose wheelbase, about 2/3 of
+their length L, makes their own phasor weaker at L than at L/3 (or L/5). The grid runs a peak
+half-width 1/L past low / BELOW_RANGE, so that a peak at its end is interior."""
 DOMINANCE = 2.0
-"""A peak below the range this many times the range's highest is the train's own: no D in the
-range (see BELOW_RANGE)."""
+"""A peak below the range this many times the range's highest is the train's own, and D is read
+there instead: the spacing of at least low that recurs most at an order i ≤ HARMONICS ×
+BELOW_RANGE of it (D ≤ 4 low at a peak down to low / 3), none when a spacing shorter than low
+recurs for as many axles (wagons shorter than the range, every multiple of whose length recurs
+too) or when the signature still rises at the grid's end (see BELOW_RANGE)."""
 MIN_REPEATS = 4
 """... and at least this many axles (two identical four-axle coaches), so that a spacing met by
 chance in a short table (a single coach's bogie spacing: 2 axles) is not a D."""
@@ -94,8 +102,10 @@ class SignaturePeak:
     Attributes
     ----------
     wavelength_m : float or None
-        λ* [m], where the signature's highest interior peak in ``wavelength_range_m`` is; None
-        when the signature has no peak there (it rises or falls across the whole range).
+        λ* [m], the peak D is read at: the signature's highest interior peak in
+        ``wavelength_range_m``, or the highest below it when the signature below the range
+        dominates (``below_m``); None when the signature has no peak there (it rises or falls
+        across the whole range, or, dominated, below it).
     signature : float
         G(λ*), in the units of the loads; NaN without a peak.
     length_m : float or None
@@ -103,7 +113,8 @@ class SignaturePeak:
         recur most often with s / i inside the peak's main lobe (|i/s − 1/λ*| ≤ 1/L for an order
         i = 1 … :data:`HARMONICS`: :func:`principal_wavelength`); None when fewer than
         :data:`MIN_SHARE` of the axles, or fewer than :data:`MIN_REPEATS`, have another axle
-        that far behind them (no regular spacing), or without a peak.
+        that far behind them (no regular spacing), when a peak below the range gives a spacing
+        shorter than the range (wagons shorter than it), or without a peak.
     repeats : int
         How many axles have another axle the recurring spacing behind them.
     share : float
@@ -112,8 +123,8 @@ class SignaturePeak:
         The range searched [m].
     below_m : float or None
         Where the signature's highest peak lies [m] when it lies below the range and is more
-        than :data:`DOMINANCE` times the range's (a train of wagons shorter than the range): D is
-        then None; else None.
+        than :data:`DOMINANCE` times the range's (wagons shorter than the range, or two-axle
+        wagons in it peaking at a harmonic D/i: :data:`DOMINANCE`), λ* then; else None.
     length_unit : str
         The unit of the lengths above: 'm', unless :meth:`vtsi.units.Units.train` converted the
         peak into a model's units (then 'cm' or 'mm').
@@ -135,10 +146,12 @@ class SignaturePeak:
         if self.length_m is not None:
             return f"D = {self.length_m:g} {u} from its dynamic signature"
         lo, hi = self.wavelength_range_m
-        if self.below_m is not None:
-            why = (f"its signature peaks at {self.below_m:.4g} {u}, below the {lo:g}-{hi:g} {u} of coaches, more "
-                   f"than {DOMINANCE:g} times higher than within them: wagons shorter than {lo:g} {u}, whose D is "
-                   "not read")
+        if self.below_m is not None and (self.wavelength_m is None or
+                                         (self.share >= MIN_SHARE and self.repeats >= MIN_REPEATS)):
+            where = "" if self.wavelength_m is not None else " or below"       # G rising to the grid's end
+            why = (f"its signature peaks at {self.below_m:.4g} {u}{where}, below the {lo:g}-{hi:g} {u} of coaches, "
+                   f"more than {DOMINANCE:g} times higher than within them: wagons shorter than {lo:g} {u}, whose D "
+                   "is not read")
         elif self.wavelength_m is None:
             why = f"it has no peak between {lo:g} and {hi:g} {u}"
         elif self.share < MIN_SHARE:
@@ -197,7 +210,11 @@ def principal_wavelength(positions, loads, wavelength_range=WAVELENGTH_RANGE_M) 
     behind it; 2D, those of N − 2; a bogie spacing, some of each coach's axles (as many as D
     with two coaches: ties go to the longer spacing, and no spacing inside a coach is longer
     than D). Spacings within :data:`SPACING_BAND_M` count as one, their median rounded to 1 mm;
-    D is kept if it is regular (:data:`MIN_SHARE`, :data:`MIN_REPEATS`).
+    D is kept if it is regular (:data:`MIN_SHARE`, :data:`MIN_REPEATS`). When the signature
+    between low / :data:`BELOW_RANGE` and low is more than :data:`DOMINANCE` times the range's, its
+    highest peak there is λ* instead, read at orders up to HARMONICS × BELOW_RANGE (two-axle
+    wagons of 15.5 m on a 10 m wheelbase peak at 5.17 m = D/3), and D is None when a spacing
+    shorter than low recurs there for as many axles (wagons shorter than the range).
 
     Parameters
     ----------
@@ -222,33 +239,54 @@ def principal_wavelength(positions, loads, wavelength_range=WAVELENGTH_RANGE_M) 
     none = SignaturePeak(None, math.nan, None, 0, 0.0, (lo, hi))
     if span == 0.0:
         return none
-    k = np.linspace(1 / hi, 1 / lo, max(16, math.ceil(SAMPLES_PER_LOBE * span * (1 / lo - 1 / hi)) + 1))
+    in_range = max(16, math.ceil(SAMPLES_PER_LOBE * span * (1 / lo - 1 / hi)) + 1)
+    step = (1 / lo - 1 / hi) / (in_range - 1)
+    k = np.concatenate([np.linspace(1 / hi, 1 / lo, in_range),           # the same grid on, to a lobe
+                        np.arange(1 / lo + step, BELOW_RANGE / lo + 1 / span + step, step)])   # beyond lo / 3
     G = _signature(x, F, 1 / k)
-    below = np.arange(1 / lo + (k[1] - k[0]), BELOW_RANGE / lo, k[1] - k[0])      # the same grid on, to lo / 3
-    G_below = _signature(x, F, 1 / below) if below.size else np.zeros(1)
-    if G_below.max() > DOMINANCE * G.max():         # wagons shorter than lo: the range holds sidelobes only
-        return SignaturePeak(None, math.nan, None, 0, 0.0, (lo, hi), below_m=float(1 / below[np.argmax(G_below)]))
     interior = np.flatnonzero((G[1:-1] > G[:-2]) & (G[1:-1] >= G[2:])) + 1
-    if interior.size == 0:
-        return none
-    m = int(interior[np.argmax(G[interior])])
-    found = minimize_scalar(lambda q: -_signature(x, F, np.array([1 / q]))[0], bounds=(k[m - 1], k[m + 1]),
-                            method="bounded", options={"xatol": 1e-9 * k[m]})
-    k_peak, G_peak = (found.x, -found.fun) if -found.fun >= G[m] else (k[m], G[m])
-    D, repeats = _recurring_spacing(x, k_peak, span)
+    if G[in_range:].max(initial=0.0) > DOMINANCE * G[:in_range].max():   # the range holds sidelobes only
+        m = in_range + int(np.argmax(G[in_range:]))
+        if m == k.size - 1:                         # its peak lies below lo / 3: wagons shorter than lo
+            return SignaturePeak(None, math.nan, None, 0, 0.0, (lo, hi), below_m=float(1 / k[m]))
+        k_peak, G_peak = _refined_peak(x, F, k, G, m)
+    else:
+        interior = interior[interior < in_range - 1]
+        if interior.size == 0:
+            return none
+        k_peak, G_peak = _refined_peak(x, F, k, G, int(interior[np.argmax(G[interior])]))
+    below_m = float(1 / k_peak) if k_peak > 1 / lo else None
+    orders = HARMONICS if below_m is None else HARMONICS * BELOW_RANGE
+    D, repeats = _recurring_spacing(x, k_peak, span, orders)
+    if below_m is not None:
+        short = _recurring_spacing(x, k_peak, span, orders, shorter_than=lo)[1]
+        if short >= repeats:                # a spacing shorter than lo recurs most: wagons shorter than lo
+            D, repeats = None, short
     share = repeats / x.size
     regular = share >= MIN_SHARE and repeats >= MIN_REPEATS
-    return SignaturePeak(float(1 / k_peak), float(G_peak), D if regular else None, repeats, share, (lo, hi))
+    return SignaturePeak(float(1 / k_peak), float(G_peak), D if regular else None, repeats, share, (lo, hi), below_m)
 
 
-def _recurring_spacing(x, k_peak, span):
-    """(D [m] to 1 mm, repeats): the axle spacing s with |i/s − k_peak| ≤ 1/span for an order
-    i = 1 … HARMONICS that most axles have another axle behind them at (within SPACING_BAND_M),
-    the longest of those tied, and how many axles do; (None, 0) when no spacing lies there."""
+def _refined_peak(x, F, k, G, m):
+    """(1/λ* [1/m], G(λ*)): the local maximum ``G[m]`` of the signature sampled at wavenumbers ``k``,
+    refined by a bounded Brent search between its neighbours to 1e-9 of 1/λ (the sample if that
+    is higher)."""
+    found = minimize_scalar(lambda q: -_signature(x, F, np.array([1 / q]))[0], bounds=(k[m - 1], k[m + 1]),
+                            method="bounded", options={"xatol": 1e-9 * k[m]})
+    return (found.x, -found.fun) if -found.fun >= G[m] else (k[m], G[m])
+
+
+def _recurring_spacing(x, k_peak, span, orders, shorter_than=math.inf):
+    """(D [m] to 1 mm, repeats): the axle spacing s < ``shorter_than`` [m] with |i/s − k_peak| ≤
+    1/span for an order i = 1 … ``orders`` that most axles have another axle behind them at
+    (within SPACING_BAND_M), the longest of those tied, and how many axles do; (None, 0) when no
+    spacing lies there."""
     first, second = np.triu_indices(x.size, 1)
     s = x[second] - x[first]
+    keep = s < shorter_than
+    s, first = s[keep], first[keep]
     lowest = np.maximum(np.ceil(s * (k_peak - 1 / span)), 1)            # the orders i in the lobe:
-    highest = np.minimum(np.floor(s * (k_peak + 1 / span)), HARMONICS)    # s (k − 1/L) ≤ i ≤ s (k + 1/L)
+    highest = np.minimum(np.floor(s * (k_peak + 1 / span)), orders)       # s (k − 1/L) ≤ i ≤ s (k + 1/L)
     inside = lowest <= highest
     s, first = s[inside], first[inside]
     if s.size == 0:
