@@ -13,11 +13,14 @@ import pytest
 
 import vtsi.report
 from vtsi.check import check, stored_check
-from vtsi.errors import SweepError
+from vtsi.errors import ModelError, SweepError
 from vtsi.passage import PassageSettings
 from vtsi.bridge_file import load_bridge
-from vtsi.report import (PALETTE, PNG_MAGIC, SECTIONS, SPAN_STYLES, _drawn_mode_shape, _figure,
-                         _legend, _resonance_labels, _resonance_marks, write_report)
+from vtsi.report import (PALETTE, PNG_MAGIC, RESONANCE_ORDERS, SECTIONS, SPAN_STYLES, _drawn_mode_shape, _figure,
+                         _legend, _Report, _resonance_labels, _resonance_marks, write_report)
+from vtsi.scene3d import RenderedAnimation, nodes_by_deck, render_case
+from vtsi.signature import HARMONICS
+from vtsi.sweep_results import SweepResults
 from vtsi.sweep import Sweep, beam_bridge
 from vtsi.workflow import design_check
 
@@ -215,7 +218,9 @@ def test_info_rows_show_a_reference_without_a_utilisation_and_the_verdict_counts
 
 def test_a_sweep_of_moving_forces_shows_only_what_applies(files, tmp_path):
     """No cars ran: the settings list no car outputs and no contact model, the check's settings
-    no comfort level or wheel unloading limit; a sweep of cars shows them. ICE3's D = 24.775 m
+    no wheel unloading limit and the comfort level as not checked (it was left out, and nothing
+    said that neither route of EN 1990 A2.4.4.3 was checked); a sweep of cars shows them, the
+    comfort read from the car bodies. ICE3's D = 24.775 m
     in full; the history caption names only what is drawn (no contact forces without cars, no
     moment or end rotation ever)."""
     forces = write_report(files / "sweep.h5", tmp_path / "f")["markdown"].read_text(encoding="utf-8")
@@ -223,9 +228,11 @@ def test_a_sweep_of_moving_forces_shows_only_what_applies(files, tmp_path):
     settings = _markdown_rows(forces)
     assert "contact_force" not in settings["outputs"] and "car_body" not in settings["outputs"]
     assert settings["contact"] == "not used (no cars in the sweep)"
-    assert "comfort level" not in forces and "wheel unloading limit" not in forces
+    assert "wheel unloading limit" not in forces
+    assert ("comfort level 'good' (not checked: the sweep kept no car body (moving forces have none) for Table "
+            "A2.9's b_v; the deflection limits of EN 1990 A2.4.4.3.2, Figure A2.3, are not checked)") in forces
     assert "contact_force (contact_force)" in _markdown_rows(cars)["outputs"]
-    assert "comfort level 'good'" in cars and "wheel unloading limit ΔQ/Q = 0.6" in cars
+    assert "comfort level 'good' (the car bodies' b_v, Table A2.9;" in cars and "wheel unloading limit ΔQ/Q = 0.6" in cars
     assert re.search(r"^\| ICE3 \| \d+ \| [\d.]+ \| [\d.]+ \| 24\.775 \|", cars, flags=re.M)
 
     def captions(text):
@@ -300,12 +307,62 @@ def test_the_mode_shapes_drawn_reach_one():
     """A coarse mesh (4 elements): the spline through the nodes is scaled to a largest value of 1,
     not the nodes (the caption says so)."""
     x = np.linspace(0.0, 20.0, 5)
-    fine = np.linspace(0.0, 20.0, 400)
     for k in (1, 2, 3):
-        nodes, curve = _drawn_mode_shape(x, -7.0 * np.sin(k * np.pi * x / 20.0), fine)
-        assert np.max(np.abs(curve)) == pytest.approx(1.0, abs=1e-3)
-        assert curve[np.argmax(np.abs(curve))] > 0 and np.max(np.abs(curve)) <= 1.0 + 1e-12
+        nodes, _, curve = _drawn_mode_shape(x, -7.0 * np.sin(k * np.pi * x / 20.0), [np.arange(5)])
+        assert np.nanmax(np.abs(curve)) == pytest.approx(1.0, abs=1e-3)
+        assert curve[np.nanargmax(np.abs(curve))] > 0 and np.nanmax(np.abs(curve)) <= 1.0 + 1e-12
         assert np.max(np.abs(nodes)) <= 1.0 + 1e-12
+
+
+def _two_decks(x_joint=15.0, lengths=(15.0, 20.0), n=10):
+    """Two simply supported decks of ``n`` elements each, ending on one pier at x = 15 m with a
+    node each there (the ending deck's first, as the track runs), as a results file's /bridge:
+    deck_x_m, deck_ends_m, span_ends_m; and the x of every node."""
+    first = np.linspace(0.0, lengths[0], n + 1)
+    second = np.linspace(x_joint, x_joint + lengths[1], n + 1)
+    ends = np.array([[0.0, lengths[0]], [x_joint, x_joint + lengths[1]]])
+    return {"deck_x_m": np.concatenate([first, second]), "deck_ends_m": ends, "span_ends_m": ends}
+
+
+def test_two_decks_count_their_own_nodes_and_draw_a_spline_each():
+    """Two 10-element decks on one pier, a node of each at x = 15 m: the Bridge table counted both
+    end nodes for each deck (12 + 12 of 22); now 11 each, summing to the track's. Their mode
+    shapes were drawn straight between the nodes (two nodes at one x); now each deck's own
+    spline: deck 2's second mode, sin(2π (x − 15) / 20), drawn within 1 % of the closed form,
+    its peak 1 at x = 20 m between the nodes at 19 and 21 m (sin 72° = 0.951 there), where a
+    straight line would stop at the nodes."""
+    bridge = _two_decks()
+    x = bridge["deck_x_m"]
+    decks = nodes_by_deck(x, bridge["deck_ends_m"], 1e-9)
+    assert [d.tolist() for d in decks] == [list(range(11)), list(range(11, 22))]
+    assert sum(len(d) for d in decks) == len(x)
+    on_two = np.where(x < 15.0, 0.0, np.sin(2 * np.pi * (x - 15.0) / 20.0))
+    on_two[10] = 0.0                                     # deck 1's end node: deck 1 at rest in this mode
+    nodes, xs, curve = _drawn_mode_shape(x, -3.0 * on_two, decks)
+    assert np.max(np.abs(nodes)) == pytest.approx(np.sin(0.4 * np.pi), rel=2e-3)     # 0.951, scaled by the curve's 1
+    second = np.isfinite(xs) & (xs > 15.0)
+    sign = np.sign(curve[np.flatnonzero(np.isclose(xs, 20.0))[0]])     # the peaks at 20 and 30 m tie: either is +1
+    exact = sign * np.sin(2 * np.pi * (xs[second] - 15.0) / 20.0)
+    assert np.max(np.abs(curve[second] - exact)) < 0.01
+    assert np.nanmax(curve) == 1.0 and np.nanmin(curve) == pytest.approx(-1.0, abs=1e-3)
+    assert abs(curve[np.flatnonzero(np.isclose(xs, 20.0))[0]]) == pytest.approx(1.0, abs=2e-3)
+    assert np.all(curve[np.isfinite(xs) & (xs < 15.0)] == 0.0)
+
+
+def test_the_bridge_table_counts_each_decks_own_nodes(files, tmp_path, monkeypatch):
+    """The Bridge table of a results file of two decks meeting on one pier (its bridge record
+    replaced): 11 nodes per deck and 22 on the track."""
+    report = _Report(SweepResults(str(files / "sweep.h5")), stored_check(files / "sweep.h5"), files / "sweep.h5")
+    two = _two_decks()
+    report.bridge = dict(report.bridge, **two, deck_nodes=np.arange(1, 23),
+                         span_lengths_m=np.array([15.0, 20.0]), midspan_nodes=np.array([6, 17]),
+                         deck_frequencies_hz=np.array([[13.06, 52.25, 117.6], [9.485, 37.94, 85.41]]),
+                         mode_shapes_uy=np.zeros((22, 3)))
+    monkeypatch.setattr(vtsi.report, "_png", lambda fig: b"")
+    rows = dict(report.bridge_section().blocks[0].rows)
+    counts = [int(re.search(r"(\d+) nodes", rows[f"deck {d}"]).group(1)) for d in (1, 2)]
+    assert counts == [11, 11]
+    assert sum(counts) == int(re.search(r"(\d+) nodes", rows["track nodes"]).group(1)) == 22
 
 
 def test_a_file_without_a_check_is_refused(files, tmp_path):
@@ -339,3 +396,219 @@ def test_bad_report_and_design_check_arguments_are_named_before_anything_runs(fi
         with pytest.raises(SweepError, match=message):
             design_check(*args, **kwargs)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+# -- from a visual review: what the report draws and says --------------------------------------------
+def _governing_recorded(path):
+    """(train, speed, seed) of the stored deck acceleration row (its histories are recorded) and
+    the times of its recorded deck displacement."""
+    row = stored_check(path).row("deck_acceleration")
+    times = SweepResults(str(path)).history(row.train, row.speed_kmh, row.seed)["deck_displacement"][0]
+    return (row.train, row.speed_kmh, row.seed), times
+
+
+def test_a_scene_case_the_sweep_does_not_have_is_refused_in_render_cases_words(files, tmp_path, one_line):
+    """write_report(scene_case=...) printed any dict in the caption ('TGV at 999 km/h, rail sample
+    7 at t = -3 s', '× -5', '× nan'); now each value is checked before anything is written, by
+    render_case's own checks: one line each, the same type and words as render_case for the same
+    mistake. A scene image that does not exist is 'not found', not 'not a PNG file'."""
+    path = files / "sweep.h5"
+    png = write_report(path, tmp_path / "a")["images"][0]
+    (train, speed, seed), times = _governing_recorded(path)
+    other = "HSLM-A4" if train == "HSLM-A1" else "HSLM-A1"           # a case without histories: its n_steps Δt
+    record = SweepResults(str(path)).case(other, 250.0, -1)["attrs"]["n_steps"] * 5e-3
+    case = {"train": train, "speed_kmh": speed}
+    refused = [
+        ({"train": "TGV", "speed_kmh": 250}, SweepError,
+         f"scene: train 'TGV' is not in the sweep of {path} (trains: HSLM-A1, HSLM-A4)"),
+        ({"speed_kmh": 300}, SweepError,
+         "scene: speed_kmh = 300 km/h without a train: name the train too (or neither, for the governing case)"),
+        ({"train": train}, SweepError, f"scene: a case of train '{train}' needs its speed_kmh"),
+        ({**case, "speed_kmh": 999}, SweepError, "sweep results: 999 km/h is not one of the sweep's 3 speeds (250 to "
+                                                 "350 km/h: 250, 330, 350)"),
+        ({**case, "speed_kmh": "fast"}, SweepError, "sweep results: speed [km/h] must be a number, got 'fast'"),
+        ({**case, "seed": 7}, SweepError, "sweep results: seed 7 is not one of the sweep's: -1 (a smooth rail)"),
+        ({**case, "seed": "x"}, SweepError,
+         "sweep results: a case's seed must be an integer (-1: smooth rail), got 'x'"),
+        ({**case, "time_s": -3.0}, ModelError, f"report: the scene's case: time -3 s is outside the recorded passage "
+                                               f"({times[0]:g} to {times[-1]:g} s)"),
+        ({**case, "time_s": float("nan")}, ModelError, f"report: the scene's case: time nan s is outside the recorded "
+                                                       f"passage ({times[0]:g} to {times[-1]:g} s)"),
+        ({**case, "time_s": "noon"}, ModelError, "report: the scene's case: time [s] must be a number, got 'noon'"),
+        ({"train": other, "speed_kmh": 250, "time_s": 99.0}, ModelError,
+         f"report: the scene's case: time 99 s is outside the recorded passage (0.005 to {record:g} s)"),
+        ({"time_s": 1.0}, SweepError, "report: the scene's case: time_s = 1.0 without its case: name its train and "
+                                      "speed_kmh too"),
+        ({"scale": 0}, ModelError, "report: the scene's case: scale: expected a positive number, got 0"),
+        ({"scale": -5}, ModelError, "report: the scene's case: scale: expected a positive number, got -5"),
+        ({"scale": float("nan")}, ModelError, "report: the scene's case: scale: expected a positive number, got nan"),
+        ({"speeed_kmh": 300}, SweepError,
+         "report: the scene's case: unknown key 'speeed_kmh'; valid: train, speed_kmh, seed, time_s, scale"),
+    ]
+    for scene_case, error, message in refused:
+        with pytest.raises(error) as info:
+            write_report(path, tmp_path / "r", scene_png=png, scene_case=scene_case)
+        assert one_line(info) == message, scene_case
+    words = {repr(scene_case): (error, message) for scene_case, error, message in refused}
+    for kwargs, scene_case in (({"train": "TGV", "speed_kmh": 250},) * 2, ({"speed_kmh": 300},) * 2,
+                               ({**case, "seed": 7},) * 2, ({**case, "time": -3.0}, {**case, "time_s": -3.0})):
+        error, message = words[repr(scene_case)]
+        with pytest.raises(error) as info:             # render_case: the same type and words (its own prefix)
+            render_case(path, tmp_path / "t.png", **kwargs)
+        assert str(info.value).replace("render_case:", "report: the scene's case:") == message
+    with pytest.raises(SweepError) as info:
+        write_report(path, tmp_path / "r", scene_png=tmp_path / "missing.png")
+    assert one_line(info) == f"report: scene image {tmp_path / 'missing.png'} not found"
+    assert not (tmp_path / "r").exists() and not (tmp_path / "t.png").exists()
+    text = write_report(path, tmp_path / "r", scene_png=png, scene_case={"train": other, "speed_kmh": 250,
+                                                                        "time_s": record, "scale": 40})["markdown"]
+    assert (f"The passage of {other} at 250 km/h, smooth rail at t = {record:.4g} s as a 3-D scene (mode_shapes.png): "
+            "the deck's vertical displacements, drawn through a cubic spline between its nodes, exaggerated × 40; the "
+            "axles where they are at that time.*") in text.read_text(encoding="utf-8")
+
+
+def test_the_scene_caption_says_car_bodies_are_rigid_and_when_the_gif_aliases(files, tmp_path):
+    """A train of cars: the caption says the bodies are drawn rigid on their wheels (the file holds
+    their accelerations only); moving forces say nothing of bodies. An animation whose frames
+    alias the deck's vibration: the caption repeats animate_case's warning; a plain path (no
+    frame data) or frames that resolve n₀ add nothing."""
+    png = write_report(files / "cars.h5", tmp_path / "a")["images"][0]
+    cars = write_report(files / "cars.h5", tmp_path / "c", scene_png=png,
+                        scene_case={"train": "ICE3", "speed_kmh": 300})["markdown"].read_text(encoding="utf-8")
+    assert ("the axles where they are at that time, the car bodies drawn rigid on their wheels (the results file "
+            "holds their accelerations, not their motion).") in cars
+    (train, speed, _), times = _governing_recorded(files / "sweep.h5")
+    gif = tmp_path / "scene.gif"
+    gif.write_bytes(b"GIF89a")
+    n0 = float(SweepResults(str(files / "sweep.h5")).bridge()["frequencies_hz"][0])
+    needed = math.ceil(4 * n0 * (times[-1] - times[0])) + 1
+    spacing = (times[-1] - times[0]) / 6
+    aliased = RenderedAnimation(gif, 7, spacing, n0, needed, vtsi.scene3d._aliasing_text(spacing, [n0], n0, needed))
+    resolved = RenderedAnimation(gif, needed, 0.25 / n0, n0, needed, "")
+    for movie, said in ((aliased, f" In it, frames {spacing:.3g} s apart, more than a quarter period "
+                                  f"({0.25 / n0:.3g} s) of the deck's first vertical frequency (n0 = {n0:.4g} Hz); the "
+                                  f"deck's vibration is aliased; max_frames >= {needed} resolves it (vtsi check: "
+                                  f"--animation-frames {needed})."), (resolved, ""), (gif, "")):
+        text = write_report(files / "sweep.h5", tmp_path, scene_png=png, scene_animation=movie,
+                            scene_case={"train": train, "speed_kmh": speed})["markdown"].read_text(encoding="utf-8")
+        caption = re.search(r"\*(The passage of [^*]*)\*", text).group(1)
+        assert "car bodies" not in caption
+        assert caption.endswith("The whole passage as an animation: scene.gif (not embedded)." + said)
+
+
+def _run_row(text):
+    return next((label, value) for label, value in _markdown_rows(text).items() if label.startswith("free vibration"))
+
+
+def test_the_run_after_the_train_is_the_records_whole_length(files, tmp_path):
+    """A sweep of cars runs on past the free vibration until its last car body stops counting:
+    the row said '0.214 s free vibration' where the record ran 0.62 s past the last axle. Now it
+    gives each record's n_steps × Δt past the last axle leaving the track (computed here from the
+    stored n_steps, x_head0 and offsets), the free vibration and the run-out with their values;
+    that the record runs exactly to the run-out is the closed form of a track ending at the deck
+    (the last car's last wheel is the train's last axle: t = n_steps Δt within one Δt)."""
+    for name, cars in (("cars.h5", True), ("sweep.h5", False)):
+        results = SweepResults(str(files / name))
+        dt, f1 = 5e-3, float(results.bridge()["frequencies_hz"][0])
+        x_end = float(np.max(results.bridge()["deck_x_m"]))
+        after = []
+        for train in results.trains:
+            data = results.train_data(train)
+            for speed in results.speeds_kmh:
+                attrs = results.case(train, speed, -1)["attrs"]
+                leave = (x_end - attrs["x_head0"] + float(np.max(data["axle_offsets_m"]))) / (speed / 3.6)
+                after.append(attrs["n_steps"] * dt - leave)
+        label, value = _run_row(write_report(files / name, tmp_path / name)["markdown"].read_text(encoding="utf-8"))
+        free = 1.5 / f1
+        if cars:
+            runout = float(results.train_data("ICE3")["body_runout_s"])
+            assert after[0] > free + dt and abs(after[0] - runout) <= dt          # the run-out, not the free vibration
+            assert label == "free vibration and car-body run-out"
+            assert value == (f"{after[0]:.4g} s after the last axle leaves the track (each record's end, n_steps × "
+                             f"Δt): the free vibration, {free:.3g} s (the default, 1.5 periods of the model's first "
+                             f"vertical mode, {f1:.4g} Hz), run on until the last car body stops counting, its run-out after "
+                             f"the train's last wheel leaves the decks (ICE3 {runout:.3g} s: half a period of the "
+                             "car's lowest mode, wheels held, how long the check counts a car body's acceleration "
+                             "after it leaves)")
+        else:
+            assert all(free <= a <= free + dt for a in after)                   # moving forces: the free vibration
+            assert (label, value) == ("free vibration", f"{free:.3g} s (the default, 1.5 periods of the model's first "
+                                                        f"vertical mode, {f1:.4g} Hz) after the last axle leaves the "
+                                                        "track")
+
+
+class _Headings(HTMLParser):
+    """Per table id: its headings' classes and, per column, its cells' classes."""
+
+    def __init__(self, text):
+        super().__init__()
+        self.tables, self._table, self._column = {}, None, 0
+        self.feed(text)
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "table":
+            self._table = self.tables.setdefault(a.get("id") or f"table {len(self.tables)}", {"head": [], "cells": {}})
+        elif tag == "tr":
+            self._column = 0
+        elif tag in ("th", "td") and self._table is not None:
+            classes = set((a.get("class") or "").split())
+            if tag == "th":
+                self._table["head"].append(classes)
+            else:
+                self._table["cells"].setdefault(self._column, []).append(classes)
+                self._column += 1
+
+
+def test_numeric_headings_sit_over_their_numbers(files, tmp_path):
+    """Headings were left-aligned over right-aligned numbers (the trains table's 'total static load
+    kN' over the length): a column whose every cell is a number has its heading right-aligned
+    (class num, th.num in the style sheet), '---:' in the Markdown; every table of the report."""
+    out = write_report(files / "cars.h5", tmp_path / "r")
+    html_text, markdown = out["html"].read_text(encoding="utf-8"), out["markdown"].read_text(encoding="utf-8")
+    assert re.search(r"th\.num \{ text-align: right; \}", html_text)
+    tables = _Headings(html_text).tables
+    for name, table in tables.items():
+        for j, head in enumerate(table["head"]):
+            cells = table["cells"].get(j, [])
+            assert ("num" in head) == (bool(cells) and all("num" in c for c in cells)), (name, j)
+    numeric = {name: [j for j, head in enumerate(t["head"]) if "num" in head] for name, t in tables.items()}
+    assert numeric["train-table"] == [2, 3, 4, 5] and numeric["check-table"] == [1, 2, 3, 6]
+    rules = re.findall(r"^\|(?:-{3}:?\|)+$", markdown, flags=re.M)
+    assert "|---|---:|---:|---:|---:|---|" in rules                    # trains (the colour swatch not in Markdown)
+    assert "|---|---:|---:|---:|---|---|---:|---|---|" in rules          # checks
+    assert rules.count("|---|---|") == sum(1 for t in tables.values() if not any("num" in h for h in t["head"]))
+
+
+def _lab(colour):
+    """CIELAB (D65) of an sRGB colour '#rrggbb' (IEC 61966-2-1 and CIE 15)."""
+    rgb = np.array([int(colour[i: i + 2], 16) for i in (1, 3, 5)]) / 255.0
+    linear = np.where(rgb > 0.04045, ((rgb + 0.055) / 1.055) ** 2.4, rgb / 12.92)
+    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ linear
+    t = xyz / np.array([0.95047, 1.0, 1.08883])
+    f = np.where(t > (6 / 29) ** 3, np.cbrt(t), t / (3 * (6 / 29) ** 2) + 4 / 29)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+def test_the_other_spans_colours_cannot_be_taken_for_a_train():
+    """The other spans' gold (#d4a017) was 11.7 ΔE76 from a train's dark goldenrod and near the
+    orange of the governing train: every span colour is now at least 27 ΔE76 from every train
+    colour and the limit's, 24 from one another, each with its own dashes."""
+    spans = [_lab(c) for c, _ in SPAN_STYLES]
+    others = [_lab(c) for c in PALETTE + (vtsi.report.LIMIT_COLOUR,)]
+    assert min(np.linalg.norm(s - o) for s in spans for o in others) >= 27.0
+    assert min(np.linalg.norm(a - b) for i, a in enumerate(spans) for b in spans[:i]) >= 24.0
+    assert np.linalg.norm(_lab("#d4a017") - _lab("#b8860b")) < 12.0          # what it was
+    assert len({str(style) for _, style in SPAN_STYLES}) == len(SPAN_STYLES) and "-" not in dict(SPAN_STYLES).values()
+
+
+def test_resonances_are_marked_for_every_order_of_the_en_series(files, tmp_path):
+    """The chart marked i = 1, 2, 3 where the EN series refines i = 1 … HARMONICS (4): ICE3's D/4
+    at n₀ = 9.485 Hz, 3.6 × 9.485 × 24.775 / 4 = 211.5 km/h, in a 200-250 km/h sweep (two decks'
+    check names it as stepped across), is marked; the caption lists the orders."""
+    assert RESONANCE_ORDERS == tuple(range(1, HARMONICS + 1)) == (1, 2, 3, 4)
+    marks = _resonance_marks(np.array([9.485, 13.06]), {"ICE3": 24.775}, np.array([200.0, 250.0]))
+    assert [(t, i) for _, t, i in marks] == [("ICE3", 4)]
+    assert marks[0][0] == pytest.approx(3.6 * 9.485 * 24.775 / 4)
+    text = write_report(files / "sweep.h5", tmp_path / "r")["markdown"].read_text(encoding="utf-8")
+    assert "the resonance speeds v = n₀ D / i (i = 1, 2, 3, 4) of each train" in text

@@ -107,8 +107,10 @@ def test_b_frequencies_have_no_trailing_dot(checked, monkeypatch):
 def test_c_the_deflection_chart_draws_what_the_row_checks(checked, monkeypatch):
     """The chart's curves are max |y_dyn| + φ''/2 |y_stat,train| over the spans' nodes: the
     governing train's curve at the governing speed is the row's value (33.81 mm in
-    examples/design_check.py, where the raw |y_dyn| read ≈ 33.7); its max |y_dyn| alone is drawn
-    dotted, and the star sits at the row's value with the value in its label."""
+    examples/design_check.py, where the raw |y_dyn| read ≈ 33.7); the star sits at the row's
+    value with the value in its label. Its max |y_dyn| alone, φ''/2 |y_stat| = 0.11 mm under its
+    curve on a 35 mm axis, would hide under it: it is not drawn, and the train's legend entry and
+    the caption say what φ''/2 |y_stat| adds; drawn dotted where the gap can be seen."""
     path, _ = checked
     report = _report(path)
     row = report.row("deflection")
@@ -129,12 +131,28 @@ def test_c_the_deflection_chart_draws_what_the_row_checks(checked, monkeypatch):
     ax = drawn["fig"].axes[0]
     legend = [t.get_text().replace("\n", " ") for t in ax.get_legend().get_texts()]
     assert f"governing: {1e3 * row.value:.4g} mm, HSLM-A1 at {row.speed_kmh:g} km/h" in legend
-    assert "HSLM-A1: max |y_dyn| alone" in legend
     star = next(line for line in ax.lines if line.get_marker() == "*")
     assert star.get_ydata()[0] == pytest.approx(1e3 * row.value)
     assert "φ''/2" in ax.get_ylabel()
-    caption = report.deflection_caption("deflection", True)
+    gap = values - raw                                        # what φ''/2 |y_stat| adds, over the speeds
+    assert gap.max() < vtsi.report.DISTINCT_SHARE * ax.get_ylim()[1]        # too close to the curve to be seen
+    added = "–".join(dict.fromkeys(f"{g:.2g}" for g in (gap.min(), gap.max())))
+    assert f"HSLM-A1 (φ''/2 |y_stat| adds {added} mm)" in legend and "HSLM-A1: max |y_dyn| alone" not in legend
+    assert not [line for line in ax.lines if line.get_linestyle() == ":"]
+    caption = report.deflection_caption("deflection", checked_mm, dynamic_mm)
     assert "max |y_dyn| + φ''/2 |y_stat,train|" in caption
+    assert f"The governing train's max |y_dyn| alone lies {added} mm under its curve" in caption
+    assert "Dotted" not in caption
+    monkeypatch.setattr(vtsi.report, "DISTINCT_SHARE", 0.5 * gap.max() / ax.get_ylim()[1])   # a gap one can see
+    drawn.clear()
+    report.deflection_png(checked_mm, dynamic_mm)
+    ax = drawn["fig"].axes[0]
+    legend = [t.get_text().replace("\n", " ") for t in ax.get_legend().get_texts()]
+    assert "HSLM-A1: max |y_dyn| alone" in legend and "HSLM-A1" in legend
+    dotted = [line for line in ax.lines if line.get_linestyle() == ":"]
+    assert len(dotted) == 1 and np.array_equal(dotted[0].get_ydata(), raw)
+    assert "Dotted, in the governing train's colour: its max |y_dyn| alone." in \
+        report.deflection_caption("deflection", checked_mm, dynamic_mm)
 
 
 def test_c_without_static_values_the_chart_draws_the_raw_deflection(checked, monkeypatch):
@@ -149,7 +167,7 @@ def test_c_without_static_values_the_chart_draws_the_raw_deflection(checked, mon
     monkeypatch.setattr(vtsi.report, "_png", lambda fig: drawn.setdefault("fig", fig) and b"")
     report.deflection_png(checked_mm, dynamic_mm)
     assert drawn["fig"].axes[0].get_title() == "Largest deck deflection"
-    assert "cannot be drawn" in report.deflection_caption("deflection", False)
+    assert "cannot be drawn" in report.deflection_caption("deflection", checked_mm, dynamic_mm)
 
 
 def test_c_where_lm71_governs_the_caption_says_so(checked):
@@ -158,7 +176,7 @@ def test_c_where_lm71_governs_the_caption_says_so(checked):
     path, _ = checked
     report = _report(path)
     report.row("deflection").train = "LM71"
-    caption = report.deflection_caption("deflection", True)
+    caption = report.deflection_caption("deflection", *report.deflection_curves("deflection"))
     assert caption.endswith("Dotted grey: Φ α × LM71's static deflection, which governs.")
     assert "Star" not in caption
 
@@ -173,7 +191,8 @@ def test_c_standard_maintenance_counts_the_whole_phi2(checked):
     extra = {t: standard[t][1] - careful[t][1] for t in careful}
     _, raw = report.deflection_curves("deflection")[1]["HSLM-A1"]
     assert np.allclose(extra["HSLM-A1"], careful["HSLM-A1"][1] - raw)       # φ''/2 |y_stat| once more
-    assert report.share_text() == "φ''" and "max |y_dyn| + φ'' |y_stat,train|" in report.deflection_caption("d", True)
+    assert report.share_text() == "φ''"
+    assert "max |y_dyn| + φ'' |y_stat,train|" in report.deflection_caption("d", standard, {})
 
 
 # -- d. the damping ------------------------------------------------------------------------------

@@ -179,8 +179,9 @@ def test_scene_and_animation_of_a_recorded_case(tmp_path, caplog):
     png = render_case(path, tmp_path / "s.png", window_size=(400, 180))
     assert iio.imread(png.path).shape[:2] == (180, 400)          # a RenderedScene: os.PathLike, imageio wants a Path
     gif = animate_case(path, tmp_path / "s.gif", max_frames=3, window_size=(400, 176))
-    assert iio.imread(gif, index=None).shape[0] == 3
+    assert iio.imread(gif.path, index=None).shape[0] == 3 == gif.frames      # a RenderedAnimation, as above
     assert "the deck's vibration is aliased; max_frames >= " in caplog.text
+    assert gif.aliasing and gif.aliasing in caplog.text
     with pytest.raises(ModelError, match=r"render_case: time 1e\+06 s is outside the recorded passage"):
         render_case(path, tmp_path / "t.png", time=1e6)
     with pytest.raises(ModelError, match=r"render_case: time \[s\] must be a number, got 'x'"):

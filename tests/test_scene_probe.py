@@ -17,6 +17,7 @@ off-screen rendering works (as tests/test_scene3d.py).
 import logging
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -230,8 +231,12 @@ def test_the_default_animation_resolves_the_first_mode(cars, tmp_path, monkeypat
         scene3d.animate_case(path, tmp_path / "a.gif", train="ICE3", speed_kmh=300, seed=1)
         assert calls[-1][2]["max_frames"] == needed and needed > 60
         assert "aliased" not in caplog.text
-        scene3d.animate_case(path, tmp_path / "a.gif", train="ICE3", speed_kmh=300, seed=1, max_frames=7)
+        drawn = scene3d.animate_case(path, tmp_path / "a.gif", train="ICE3", speed_kmh=300, seed=1, max_frames=7)
         assert calls[-1][2]["max_frames"] == 7 and f"max_frames >= {needed} resolves it" in caplog.text
+        assert os.fspath(drawn) == os.fspath(tmp_path / "a.gif")
+        assert (drawn.frames, drawn.resolving_frames) == (7, needed)
+        assert drawn.spacing_s == pytest.approx((times[-1] - times[0]) / 6) and drawn.n0_hz == n0
+        assert drawn.aliasing and drawn.aliasing in caplog.text        # the report's caption repeats the warning
         caplog.clear()
         monkeypatch.setattr(scene3d, "MAX_ANIMATION_FRAMES", 20)
         scene3d.animate_case(path, tmp_path / "a.gif", train="ICE3", speed_kmh=300, seed=1)
@@ -297,6 +302,34 @@ def test_a_car_history_is_one_point_and_the_envelopes_are_unchanged(cars, monkey
 
 # --------------------------------------------------------------------------------------------
 # C1: labels
+
+
+def test_the_aliasing_warning_names_the_frequency_it_reads_and_why():
+    """The warning called 13.1 Hz, the highest of two decks' n0, 'the first mode' when the model's
+    first mode was 9.485 Hz: it names the stiffest deck's n0 and says why that one; one deck's,
+    its n0. 40 frames over 3.44 s: 3.44 / 39 = 0.0882 s apart; a quarter period of 13.06 Hz is 0.0191 s."""
+    text = scene3d._aliasing_text(3.44 / 39, np.array([13.06, 9.485]), 9.485, 182)
+    assert text == ("frames 0.0882 s apart, more than a quarter period (0.0191 s) of the stiffest deck's first "
+                    "vertical frequency (13.1 Hz, the highest of the decks' n0): each deck vibrates at its own n0, so "
+                    "the frames must resolve the highest, not the model's first mode (9.485 Hz); the deck's vibration "
+                    "is aliased; max_frames >= 182 resolves it (vtsi check: --animation-frames 182)")
+    one = scene3d._aliasing_text(0.1, np.array([5.0]), 5.0, 91)
+    assert "of the deck's first vertical frequency (n0 = 5 Hz); " in one and "first mode" not in one
+
+
+def test_the_length_bar_is_the_round_length_the_docs_state():
+    """docs/scene3d.md said 'about 0.3 × the bridge'; _nice rounds down: the largest 1, 2 or 5 ×
+    10^k m not longer than 0.3 × the bridge, so 0.12 to 0.3 × it (5 m for 20 m, 10 m for 35 m)."""
+    docs = (Path(__file__).parents[1] / "docs" / "scene3d.md").read_text(encoding="utf-8")
+    assert "the largest 1, 2 or 5 × 10ᵏ m not longer than 0.3 × the bridge" in docs
+    for length, bar in ((20.0, 5.0), (35.0, 10.0)):
+        assert "5 m for a 20 m bridge, 10 m for 35 m" in docs
+        assert PassageScene(np.linspace(0.0, length, 11), [0.0, length])._scale_bar_place()[2] == bar
+    for length in np.geomspace(3.0, 3000.0, 57):
+        bar = PassageScene(np.linspace(0.0, length, 11), [0.0, length])._scale_bar_place()[2]
+        mantissa = bar / 10.0 ** math.floor(math.log10(bar))
+        assert 0.12 * length < bar <= 0.3 * length * (1 + 1e-12)
+        assert min(abs(mantissa - m) for m in (1.0, 2.0, 5.0)) < 1e-9
 
 
 def test_the_length_bar_stands_clear_of_the_footings_and_labels_are_larger(tmp_path):

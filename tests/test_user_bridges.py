@@ -404,7 +404,7 @@ def test_decks_of_15_and_30_m_get_their_own_n0(tmp_path):
                                   track_irregularity_increment(30.0, 2.666, 100.0)], abs=1e-4)
     assert phi2[0] == pytest.approx(0.344, abs=1e-3)
     marks = _resonance_marks(record["deck_frequencies_hz"][:, 0], {"HSLM-A1": 18.0}, np.array([140.0, 400.0]))
-    assert [round(v) for v, *_ in marks] == [173, 230, 346]   # 2.666 x 18 x 3.6; 10.66 x 18 x 3.6 / 3 and / 2
+    assert [round(v) for v, *_ in marks] == [173, 173, 230, 346]   # 2.666 x 18 x 3.6; 10.66 x 18 x 3.6 / 4, 3, 2
 
 
 def test_the_check_and_the_sweep_summary_say_what_bridge_they_read(tmp_path):

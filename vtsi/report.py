@@ -12,9 +12,11 @@ derives are plotting quantities from stored values: the peak over rail samples o
 envelope, DAF = y_dyn / y_stat (the stored dynamic mid-span deflection over the stored static one
 under the same train), the deflection as the check reads it at each speed (max |y_dyn| +
 φ''/2 |y_stat|, :func:`~vtsi.check.node_deflections`), the resonance speeds v = n₀ D / i (EN
-1991-2 §6.4.6.2) marked on the acceleration chart (n₀ each deck's, and n₂ of each continuous deck),
-the approach and free vibration the passages ran, and the times at which an axle
-is on a deck in a history chart (not on the approaches).
+1991-2 §6.4.6.2, i = 1 … :data:`~vtsi.signature.HARMONICS`) marked on the acceleration chart (n₀
+each deck's, and n₂ of each continuous deck), the approach the passages started from and how long
+they ran after the last axle left the track (the stored n_steps × Δt: the free vibration, or a
+car body's run-out), and the times at which an axle is on a deck in a history chart (not on the
+approaches).
 
 Sections, in this order (each an HTML ``<section id=...>`` and a Markdown ``##`` heading):
 
@@ -26,9 +28,9 @@ checks       the check's table: criterion, value, limit, utilisation, status, go
              stored float exactly) in the HTML; an info row has no utilisation and shows its
              limit as a reference ('ref.', data-field ``reference``) or as not checked; the
              rows' notes and the check's settings (those about cars only if cars ran)
-bridge       its description, spans, deck, first vertical frequencies [Hz] (of several decks
-             each deck's too), the EN cut-off [Hz], damping, a chart of the first mode shapes
-             along the deck
+bridge       its description, spans, deck (of several decks each deck's own nodes), first
+             vertical frequencies [Hz] (of several decks each deck's too), the EN cut-off [Hz],
+             damping, a chart of the first mode shapes along the deck (a spline per deck)
 trains       name, axles, total static load [kN], length [m], characteristic length D [m] (to
              the mm), fidelity
 settings     the passages' settings, the acceleration cut-off, the vtsi version, the results
@@ -59,7 +61,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from vtsi.version import __version__
 from vtsi.check import ABSMAX, STATIC_LOAD_MODELS, mid_span_ratios, node_deflections, stored_check
@@ -68,16 +69,21 @@ from vtsi.deck_record import deck_nodes
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz, modal_basis_hz
 from vtsi.places import car_label, wheel_label
+from vtsi.scene3d import car_body_offsets, check_scene_case, deck_spline, nodes_by_deck
+from vtsi.signature import HARMONICS
 from vtsi.speed_grid import en_series
 from vtsi.sweep import resonance_speeds
 from vtsi.sweep_results import (ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges,
-                                significant_text, span_decks, x_tolerance)
+                                open_results, significant_text, span_decks, x_tolerance)
 
 SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
-RESONANCE_ORDERS = (1, 2, 3)          # v = n0 D / i marked on the acceleration chart
+RESONANCE_ORDERS = tuple(range(1, HARMONICS + 1))   # v = n0 D / i marked: the orders of the EN series' resonances
 RESONANCE_RANGE_TOLERANCE = 0.005     # a resonance this fraction of the speed range past its end is marked
 RESONANCE_LABEL_BAND = 0.6            # resonance labels stay in this upper fraction of the chart
 MODES_SHOWN = 3
+# Two lines of the deflection chart closer than this share of its axis cannot be told apart: a
+# 2 px gap between a 1.6 pt and a 1.4 pt line on its 3.5 in axis at 110 dpi needs 1.1 % of it.
+DISTINCT_SHARE = 0.012
 CAR_RESPONSES = ("contact_force", "car_body_accel")   # outputs a sweep of moving forces does not fill
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 MIN = ENVELOPE_ROWS.index("min")
@@ -89,9 +95,10 @@ PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e
            "#8b0000", "#4682b4", "#a0522d", "#708090")
 LIMIT_COLOUR = "#c0392b"
 # A history chart's spans other than the governing one (drawn in the train's colour): one style
-# each, colours outside PALETTE.
-SPAN_STYLES = (("#555555", "--"), ("#d4a017", "-."), ("#8e6bbf", (0, (1, 1.2))), ("#3a9b8f", (0, (6, 2, 1, 2))),
-               ("#a0a0a0", (0, (3, 1))), ("#c46a8a", (0, (8, 2))))
+# each, colours at least 27 CIELAB ΔE76 units from every colour of PALETTE (a train's) and from
+# LIMIT_COLOUR, and 24 from one another, so that no span reads as a train or a limit.
+SPAN_STYLES = (("#992255", "-."), ("#ccaa77", "--"), ("#99aaff", (0, (1, 1.2))), ("#77bb77", (0, (6, 2, 1, 2))),
+               ("#ccaadd", (0, (3, 1))), ("#ff9999", (0, (8, 2))))
 HISTORY_PANELS = ("accel", "disp", "contact_force", "car_body_accel")
 # The rows read at a node whose quantity a history panel draws: {panel: criteria}.
 HISTORY_CRITERIA = {"accel": ("deck_acceleration",),
@@ -172,10 +179,13 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_cas
     scene_case : optional mapping of what ``scene_png`` draws, for its caption: ``train``,
         ``speed_kmh``, ``seed`` (-1: smooth rail), ``time_s`` (the time drawn) and ``scale`` (the
         displacements' exaggeration); any key may be left out. Default: ``scene_png.case`` where
-        it has one; without either the caption says the image alone names them.
+        it has one; without either the caption says the image alone names them. Checked against
+        the sweep as :func:`~vtsi.scene3d.render_case` checks its arguments
+        (:func:`~vtsi.scene3d.check_scene_case`).
     scene_animation : optional path of an animation of the scene's passage (GIF or MP4, e.g.
         :func:`~vtsi.scene3d.animate_case`'s); the caption names it (by its name when it lies in
-        ``out_dir``, else by its path). It is not copied or embedded.
+        ``out_dir``, else by its path) and, for a :class:`~vtsi.scene3d.RenderedAnimation`
+        whose frames alias the deck's vibration, says so. It is not copied or embedded.
 
     Returns
     -------
@@ -183,7 +193,10 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_cas
 
     Raises
     ------
-    SweepError : the file is missing, not a results file, or holds no check.
+    SweepError : the file is missing, not a results file, or holds no check; an argument of the
+        wrong kind; a scene image not found or not a PNG; a scene case the sweep does not have.
+    ModelError : the scene case's time outside its record, or its scale not a number > 0 (as
+        :func:`~vtsi.scene3d.render_case`).
     """
     if not isinstance(results_path, (str, os.PathLike)):
         raise SweepError(f"report: the results file must be a path, got {results_path!r}")
@@ -216,15 +229,18 @@ def write_report(results_path, out_dir, *, title=None, scene_png=None, scene_cas
     scene = None
     if scene_png is not None:
         scene = Path(scene_png)
-        if not scene.is_file() or scene.read_bytes()[:8] != PNG_MAGIC:
+        if not scene.is_file():
+            raise SweepError(f"report: scene image {scene} not found")
+        if scene.read_bytes()[:8] != PNG_MAGIC:
             raise SweepError(f"report: scene image {scene} is not a PNG file")
     title = title or f"Dynamic analysis: {path.name}"
     report = _Report(results, checked, path.resolve())
-    report.scene_case = dict(scene_case or {})
+    report.scene_case = check_scene_case(results, scene_case or {})
     if scene_animation is not None:
         movie = Path(scene_animation).resolve()
         beside = isinstance(out_dir, (str, os.PathLike)) and movie.parent == Path(out_dir).resolve()
         report.scene_animation = movie.name if beside else str(movie)
+        report.scene_aliasing = getattr(scene_animation, "aliasing", "")
     sections = report.sections(scene)
 
     out = report_folder(out_dir)
@@ -281,6 +297,7 @@ class _Report:
 
     scene_case = {}
     scene_animation = None      # the animation's name (in the report's directory) or path, for the caption
+    scene_aliasing = ""         # how the animation's frames alias the deck's vibration ('' when they do not)
 
     def scene_section(self, scene):
         return Section("scene", "3-D scene", [
@@ -288,27 +305,31 @@ class _Report:
 
     def scene_caption(self, name):
         """What the scene image ``name`` draws: the case, the time and the exaggeration as far as
-        :attr:`scene_case` gives them, and how the deck is drawn (:mod:`vtsi.scene3d`)."""
+        :attr:`scene_case` gives them (checked: :func:`~vtsi.scene3d.check_scene_case`), how the
+        deck and a train of cars are drawn (:mod:`vtsi.scene3d`), and the animation, with how its
+        frames alias the deck's vibration when they do (:attr:`scene_aliasing`)."""
         c = self.scene_case
         what = []
         if "train" in c:
-            speed = float(c.get("speed_kmh", np.nan))
-            seed = int(c.get("seed", -1))
-            what.append(f"{c['train']}" + (f" at {_fmt_speed(speed)} km/h" if not math.isnan(speed) else "")
-                        + (f", rail sample {seed}" if seed >= 0 else
-                           ", smooth rail" if self.settings.get("irregularity") is None else ""))
+            seed = c["seed"]
+            what.append(f"{c['train']} at {_fmt_speed(c['speed_kmh'])} km/h"
+                        + (f", rail sample {seed}" if seed >= 0 else ", smooth rail"))
         if "time_s" in c:
-            what.append(f"at t = {float(c['time_s']):.4g} s")
+            what.append(f"at t = {c['time_s']:.4g} s")
         text = f"The passage{' of ' + ' '.join(what) if what else ''} as a 3-D scene ({name})"
         drawn = "the deck's vertical displacements, drawn through a cubic spline between its nodes"
-        movie = (f" The whole passage as an animation: {self.scene_animation} (not embedded)."
-                 if self.scene_animation else "")
-        if "scale" in c:
-            return (f"{text}: {drawn}, exaggerated × {float(c['scale']):g}; the axles where they are at that time."
-                    + movie)
-        return (f"{text}: {drawn}, exaggerated (the factor is written in the image); the axles where they are at "
-                "that time" + ("" if what else "; the case and time are written in the image's title and legend")
-                + "." + movie)
+        drawn += (f", exaggerated × {c['scale']:g}" if "scale" in c else
+                  ", exaggerated (the factor is written in the image)")
+        cars = "train" in c and car_body_offsets(self.trains[c["train"]]) is not None
+        train = ("the axles where they are at that time, the car bodies drawn rigid on their wheels (the results file "
+                 "holds their accelerations, not their motion)" if cars else "the axles where they are at that time")
+        unnamed = "" if what else "; the case and time are written in the image's title and legend"
+        movie = ""
+        if self.scene_animation:
+            movie = f" The whole passage as an animation: {self.scene_animation} (not embedded)."
+            if self.scene_aliasing:
+                movie += f" In it, {self.scene_aliasing}."
+        return f"{text}: {drawn}; {train}{unnamed}.{movie}"
 
     # -- helpers ------------------------------------------------------------------------------
     def row(self, criterion):
@@ -411,7 +432,6 @@ class _Report:
                 Cell(r.clause, {"data-field": "clause"}),
             ])
             attrs.append({"data-criterion": r.criterion, "data-status": r.status})
-        s = self.checked.settings
         blocks = [Table(head, rows, attrs, "check-table", "checks")]
         kinds = {"ref.": "a value to compare with (dynamic vs LM71/SW/0: above 1 the dynamic analysis, not Φ × "
                          "LM71/SW/0, governs the design)",
@@ -422,12 +442,7 @@ class _Report:
         if shown:
             blocks.append(Paragraph("INFO rows are not held to a limit and have no utilisation; "
                                     + "; ".join(f"'{k}': {kinds[k]}" for k in shown) + "."))
-        cars = self.settings.get("cars") != "force"
-        blocks.append(Paragraph(f"Check settings: {s.track.replace('_', ' ')} track, "
-                                + (f"comfort level '{s.comfort.replace('_', ' ')}', " if cars else "")
-                                + f"{s.maintenance} maintenance, α = {s.alpha:g}"
-                                + (f", wheel unloading limit ΔQ/Q = {s.unloading_limit:g} (a project criterion)"
-                                   if cars else "") + "."))
+        blocks.append(Paragraph(f"Check settings: {self.checked.settings_text()}."))
         notes = [f"{_label(r.criterion)}: {r.note}" for r in self.rows if r.note]
         if notes:
             blocks += [Heading("Notes"), Items(notes, "notes")]
@@ -455,10 +470,9 @@ class _Report:
                 else [_key_text(k), _value_text(desc[k])] for k in keys if k != "spans_m"]
         x = np.asarray(b["deck_x_m"], dtype=float)     # every node of the track, the approaches' too
         rows += [["spans", " + ".join(f"{s:g}" for s in spans) + f" m ({len(spans)} span{'s' * (len(spans) > 1)})"]]
-        tol = x_tolerance(b)                            # each deck: its extent and its nodes
-        rows += [[f"deck {d + 1}" if several else "deck",
-                  f"{e - a:.4g} m, {int(np.sum((x >= a - tol) & (x <= e + tol)))} nodes (x = {a:g} … {e:g} m)"]
-                 for d, (a, e) in enumerate(deck_ranges(b))]
+        decks = nodes_by_deck(x, deck_ranges(b), x_tolerance(b))     # each deck: its extent and its own nodes
+        rows += [[f"deck {d + 1}" if several else "deck", f"{e - a:.4g} m, {len(mine)} nodes (x = {a:g} … {e:g} m)"]
+                 for d, ((a, e), mine) in enumerate(zip(deck_ranges(b), decks))]
         if several or len(deck_nodes(b)) < len(x):      # the track runs beyond the decks: on the approaches
             rows += [["track nodes", f"{x.max() - x.min():.4g} m, {len(x)} nodes (x = {x.min():g} … "
                                      f"{x.max():g} m)"]]
@@ -475,9 +489,14 @@ class _Report:
                  ["damping", _damping_text(self.settings)]]
         blocks = [Table(["property", "value"], rows, cls="properties")]
         if "mode_shapes_uy" in b and np.size(b["mode_shapes_uy"]):
+            line = ("on each deck a cubic spline through its own nodes" if several else
+                    "a cubic spline through the deck's nodes")
+            off = len(_off_deck_steps(x, decks)) > 0            # approaches, joints
             blocks.append(Chart("mode_shapes", _mode_shapes_png(b), "The first vertical mode shapes along the deck: "
-                                "dots the nodal values, lines a cubic spline between them, each mode scaled so that "
-                                "its line's largest value is 1; triangles: the supports.", "mode shapes"))
+                                f"dots the nodal values, lines {line}"
+                                + (" (straight between the nodes off the decks)" if off else "")
+                                + ", each mode scaled so that its line's largest value is 1; triangles: the supports.",
+                                "mode shapes"))
         else:
             blocks.append(Paragraph("The results file holds no mode shapes."))
         return Section("bridge", "Bridge", blocks)
@@ -518,11 +537,7 @@ class _Report:
                 ["rail", "smooth" if irregularity is None else
                  f"irregular, {irregularity}, samples {', '.join(str(k) for k in res.seeds)}"],
                 ["approach", self.approach_text()],
-                ["free vibration", f"{FREE_VIBRATION_PERIODS / float(np.ravel(self.bridge['frequencies_hz'])[0]):.3g} s "
-                                   f"(the default, {FREE_VIBRATION_PERIODS:g} periods of the model's first vertical mode, "
-                                   f"{significant_text(float(np.ravel(self.bridge['frequencies_hz'])[0]))} Hz) after "
-                                   "the last axle leaves the track"
-                 if s.get("free_vibration") is None else f"{s['free_vibration']:g} s after the last axle leaves the track"],
+                list(self.run_end_text()),
                 ["bridge self weight", "included" if s.get("bridge_self_weight") else "not included"],
                 ["acceleration cut-off", "; ".join(cutoffs) if cutoffs else "none (the FE model's full response)"],
                 ["outputs", ", ".join(f"{n} ({o['response']})" for n, o in self.outputs.items()
@@ -565,6 +580,55 @@ class _Report:
         value = " to ".join(f"{g:g}" for g in sorted(gaps)[:: max(len(gaps) - 1, 1)])
         return f"{value} m ({how}): the first axle's distance before the track's first node at t = 0"
 
+    def run_end_text(self):
+        """``(label, text)`` of the settings row saying how long each passage ran after its last
+        axle left the track [s]: each case's stored record, n_steps × Δt, past that time (the
+        stored x_head0, axle offsets and speed); the free vibration (the setting, or its default
+        FREE_VIBRATION_PERIODS periods of the model's first mode) and, where the records run
+        longer (a sweep reading car bodies runs until the last one stops counting:
+        :meth:`vtsi.passage.PassageRunner.n_steps`), the car bodies' run-out they run on to (the
+        trains' stored body_runout_s)."""
+        s = self.settings
+        f1 = float(np.ravel(self.bridge["frequencies_hz"])[0])
+        if s.get("free_vibration") is None:
+            free = FREE_VIBRATION_PERIODS / f1
+            free_text = (f"{free:.3g} s (the default, {FREE_VIBRATION_PERIODS:g} periods of the model's first vertical "
+                         f"mode, {significant_text(f1)} Hz)")
+        else:
+            free = float(s["free_vibration"])
+            free_text = f"{free:g} s"
+        after = self.run_after_track()
+        runouts = {t: float(self.trains[t].get("body_runout_s", np.nan)) for t in after}
+        longer = [t for t, a in after.items() if np.max(a) > free + float(s["dt"]) and np.isfinite(runouts[t])]
+        if not longer:
+            return "free vibration", f"{free_text} after the last axle leaves the track"
+        values = np.concatenate(list(after.values()))
+        span = " to ".join(sorted({_num(values.min()), _num(values.max())}, key=float))
+        each = ", ".join(f"{t} {_num(runouts[t], 3)} s" for t in longer)
+        return ("free vibration and car-body run-out",
+                f"{span} s after the last axle leaves the track (each record's end, n_steps × Δt): the free vibration, "
+                f"{free_text}, run on until the last car body stops counting, its run-out after the train's last "
+                f"wheel leaves the decks ({each}: half a period of the car's lowest mode, wheels held, how long the "
+                "check counts a car body's acceleration after it leaves)")
+
+    def run_after_track(self):
+        """``{train: (n_case,) [s]}``: how long each stored passage of the train ran after its last
+        axle left the track, n_steps × Δt − (x_end − x_head0 + its last axle's offset) / V, x_end
+        the track's last node."""
+        dt, x_end = float(self.settings["dt"]), float(np.max(self.bridge["deck_x_m"]))
+        with open_results(self.path) as f:
+            g = f["cases"]
+            if "train" not in g:
+                return {}
+            trains, speeds, steps, heads = (g[k][()] for k in ("train", "speed_kmh", "n_steps", "x_head0"))
+        out = {}
+        for i, t in enumerate(self.results.trains):
+            mine = trains == i
+            if np.any(mine):
+                last = float(np.max(self.trains[t]["axle_offsets_m"]))
+                out[t] = steps[mine] * dt - (x_end - heads[mine] + last) / (speeds[mine] / 3.6)
+        return out
+
     def speeds_text(self):
         """The sweep's speeds: how many, their range and steps, or that they are the EN 1991-2
         6.4.6.2 series (:func:`~vtsi.speed_grid.en_series`), and where the check found them coarser
@@ -598,7 +662,7 @@ class _Report:
         if disp is not None:
             checked, dynamic = self.deflection_curves(disp)
             blocks.append(Chart("deflection", self.deflection_png(checked, dynamic),
-                                self.deflection_caption(disp, checked is not None),
+                                self.deflection_caption(disp, checked, dynamic),
                                 "largest deflection against speed"))
             daf = self.daf_png(disp)
             if daf is not None:
@@ -718,8 +782,9 @@ class _Report:
         n0, n2 = self.marked_frequencies()
         return (f"Peak deck acceleration ({name}, the largest over its nodes on the deck, spans and overhangs"
                 f"{' and rail samples' if len(self.results.seeds) > 1 else ''}) against speed. Dashed red: the "
-                "check's limit. Dotted verticals: the resonance speeds v = n₀ D / i (i = 1, 2, 3) of each train, "
-                "n₀ each deck's first vertical frequency, labelled 'train D/i'"
+                "check's limit. Dotted verticals: the resonance speeds v = n₀ D / i (i = "
+                f"{', '.join(str(i) for i in RESONANCE_ORDERS)}) of each train, n₀ each deck's first vertical "
+                "frequency, labelled 'train D/i'"
                 + ("; dashed verticals, labelled 'train D/i (n₂)': the same for n₂, the second vertical frequency of "
                    "each continuous deck" if len(n2) else "")
                 + " (n₃'s are not marked). Star: the governing case.")
@@ -745,10 +810,11 @@ class _Report:
         """φ''/2 (careful maintenance) or φ'' (standard): the share of φ'' the check counts."""
         return "φ''/2" if self.checked.settings.maintenance == "careful" else "φ''"
 
-    def deflection_caption(self, name, checked):
-        """The deflection chart's caption: what its curves are (``checked``: the check's quantity,
-        else the raw deflection) and what else it draws (:meth:`deflection_png`)."""
-        if not checked:
+    def deflection_caption(self, name, checked, dynamic):
+        """The deflection chart's caption: what its curves are (``checked``, ``dynamic``:
+        :meth:`deflection_curves` of output ``name``; ``checked`` None: the raw deflection) and
+        what else it draws (:meth:`deflection_png`)."""
+        if checked is None:
             return (f"Largest downward deflection of the deck ({name}) against speed (the sweep kept no static "
                     f"deflections: the check's max |y_dyn| + {self.share_text()} |y_stat| cannot be drawn).")
         row = self.row("deflection")
@@ -756,7 +822,12 @@ class _Report:
                 f"max |y_dyn| + {self.share_text()} |y_stat,train| (EN 1991-2 6.4.6.5(3), y_stat the static "
                 "deflection under the same train), the largest over the spans' nodes. Red: L/600.")
         if row is not None and row.train in self.results.trains:
-            text += " Dotted, in the governing train's colour: its max |y_dyn| alone. Star: the governing case."
+            gap = self.static_share(checked, dynamic)
+            text += (" Dotted, in the governing train's colour: its max |y_dyn| alone." if gap is None else
+                     f" The governing train's max |y_dyn| alone lies {gap} mm under its curve ({self.share_text()} "
+                     f"|y_stat| adds that, as its legend says), less than {100 * DISTINCT_SHARE:g} % of the axis: "
+                     "too close to draw apart, so not drawn.")
+            text += " Star: the governing case."
         elif row is not None and row.train in STATIC_LOAD_MODELS:
             text += f" Dotted grey: Φ α × {row.train}'s static deflection, which governs."
         return text
@@ -768,10 +839,14 @@ class _Report:
         with _figure((11, 4.6)) as (fig, ax):
             self._lines(ax, dynamic if checked is None else checked)
             governing = row is not None and row.train in (checked or {})
-            if governing:
+            gap = self.static_share(checked, dynamic) if governing else None
+            if governing and gap is None:
                 v, y = dynamic[row.train]
                 ax.plot(v, y, ":", color=self.colours[row.train], lw=1.4,
                         label=f"{row.train}: max |y_dyn| alone")
+            elif governing:                         # the dotted line would hide under the curve: said instead
+                line = next(line for line in ax.get_lines() if line.get_label() == row.train)
+                line.set_label(f"{row.train} ({self.share_text()} |y_stat| adds {gap} mm)")
             if row is not None and not math.isnan(row.limit):      # the check's L/600, one line per span length
                 spans = sorted({round(float(L), 6) for L in self.bridge["span_lengths_m"]})
                 for k, L in enumerate(spans):
@@ -783,7 +858,7 @@ class _Report:
                                label=f"Φ α × {row.train}: {_num(1e3 * row.value)} mm (governs)")
             if governing:
                 self._governing_star(ax, row, 1e3 * row.value, f"{_num(1e3 * row.value)} mm")
-            ax.set_ylim(bottom=0)
+            ax.set_ylim(0, self.deflection_top(checked, dynamic))
             self._speed_axis(ax)
             ax.set_ylabel("largest downward deflection [mm]" if checked is None else
                           f"max |y_dyn| + {self.share_text()} |y_stat| [mm]")
@@ -791,6 +866,36 @@ class _Report:
                          "Largest span deflection, as the check reads it")
             _legend(ax)
             return _png(fig)
+
+    def deflection_top(self, checked, dynamic):
+        """The top [mm] of the deflection chart's axis (its bottom is 0): 1.05 × the largest value
+        it draws (the curves, the limits L/600, Φ α × LM71 where it governs, the star)."""
+        curves = dynamic if checked is None else checked
+        values = [float(np.nanmax(y)) for _, y in curves.values()] + [0.0]
+        if checked is not None:
+            values += [float(np.nanmax(y)) for _, y in dynamic.values()]
+        row = self.row("deflection")
+        if row is not None and not math.isnan(row.limit):
+            values += [1e3 * float(L) / DEFLECTION_SPAN_RATIO for L in self.bridge["span_lengths_m"]]
+            values.append(1e3 * float(row.value))
+        top = 1.05 * max(values)
+        return top if top > 0 else 1.0
+
+    def static_share(self, checked, dynamic):
+        """How much φ''/2 |y_stat| (or φ'') adds to the governing train's max |y_dyn| [mm], as text
+        ('0.12' or '0.11–0.12'), when the most it adds is less than DISTINCT_SHARE of the
+        deflection chart's axis (:meth:`deflection_top`): the dotted max |y_dyn| would lie under
+        the curve; None when it is drawn apart (or there is no such curve)."""
+        row = self.row("deflection")
+        if checked is None or row is None or row.train not in checked or row.train not in dynamic:
+            return None
+        (v, total), (w, alone) = checked[row.train], dynamic[row.train]
+        both, i, j = np.intersect1d(v, w, return_indices=True)
+        added = total[i] - alone[j]
+        added = added[np.isfinite(added)]
+        if not both.size or not added.size or added.max() >= DISTINCT_SHARE * self.deflection_top(checked, dynamic):
+            return None
+        return "–".join(dict.fromkeys((_num(added.min(), 2), _num(added.max(), 2))))
 
     def daf_png(self, name):
         ratios = mid_span_ratios(self.results, name, MIN, self.bridge)
@@ -988,7 +1093,7 @@ class _Report:
                         if c.size:
                             other, ls = SPAN_STYLES[j % len(SPAN_STYLES)]
                             ax.plot(time, scale * values[:, c[0]], color=colour if governing else other,
-                                    lw=1.3 if governing else 1.0, ls="-" if governing else ls, label=label,
+                                    lw=1.3 if governing else 1.2, ls="-" if governing else ls, label=label,
                                     zorder=3 if governing else 2)
                     if kind == "accel":
                         self._limit_lines(ax, "deck_acceleration")
@@ -1037,30 +1142,53 @@ def _axles_on_decks(deck_ends, offsets, x_head0, speed):
     return merged
 
 
-def _drawn_mode_shape(x, phi, fine):
-    """A mode shape as drawn: ``(nodal values, curve at x = fine)``, the curve a cubic spline
-    through the nodes (linear if two nodes share an x), both scaled so that the curve's largest
-    absolute value (at ``fine`` and the nodes) is +1: the nodes stay within ±1."""
-    phi = np.asarray(phi, dtype=float)
-    smooth = CubicSpline(x, phi)(fine) if len(x) > 2 and np.all(np.diff(x) > 0) else np.interp(fine, x, phi)
-    drawn = np.concatenate([smooth, phi])
+def _drawn_mode_shape(x, phi, decks, points=400):
+    """A mode shape as drawn: ``(nodal values, xs, curve)`` [-], ``x`` [m] the nodes (x order),
+    ``phi`` their values, ``decks`` each deck's node indices (:func:`~vtsi.scene3d.nodes_by_deck`).
+    On each deck the curve is the deck's line through its own nodes
+    (:func:`~vtsi.scene3d.deck_spline`: a cubic spline, as the 3-D scene draws it), at about
+    ``points`` x over the whole length; between consecutive nodes not on one deck (an approach, a
+    joint) a straight line; a NaN between pieces. Both are scaled so that the curve's largest
+    absolute value (at ``xs`` and the nodes) is +1: the nodes stay within ±1."""
+    x, phi = np.asarray(x, dtype=float), np.asarray(phi, dtype=float)
+    length = max(float(x[-1] - x[0]), 1e-300)
+    pieces = []
+    for mine in (m for m in decks if len(m)):
+        a, b = float(x[mine].min()), float(x[mine].max())
+        at = np.unique(np.concatenate([np.linspace(a, b, max(24, int(round(points * (b - a) / length)))), x[mine]]))
+        pieces.append((at, deck_spline(x[mine], phi[mine])(at)))
+    pieces += [(x[i: i + 2], phi[i: i + 2]) for i in _off_deck_steps(x, decks)]
+    pieces.sort(key=lambda piece: piece[0][0])
+    xs = np.concatenate([np.append(at, np.nan) for at, _ in pieces])[:-1]
+    curve = np.concatenate([np.append(y, np.nan) for _, y in pieces])[:-1]
+    drawn = np.concatenate([curve[np.isfinite(curve)], phi])
     peak = drawn[np.argmax(np.abs(drawn))]
-    return (phi / peak, smooth / peak) if peak else (phi, smooth)
+    return (phi / peak, xs, curve / peak) if peak else (phi, xs, curve)
+
+
+def _off_deck_steps(x, decks):
+    """The indices i of the nodes ``x`` [m] (x order) from which a drawn mode shape runs straight
+    to node i + 1: the two not on one deck (``decks``: each deck's node indices; an approach, a
+    joint) and apart in x."""
+    deck_of = np.full(len(x), -1)
+    for d, mine in enumerate(decks):
+        deck_of[mine] = d
+    return [i for i in range(len(x) - 1) if (deck_of[i] < 0 or deck_of[i] != deck_of[i + 1]) and x[i + 1] > x[i]]
 
 
 def _mode_shapes_png(bridge):
     x = np.asarray(bridge["deck_x_m"], dtype=float)
     shapes = np.asarray(bridge["mode_shapes_uy"], dtype=float)
     freqs = np.asarray(bridge["frequencies_hz"], dtype=float)
-    order = np.argsort(x)
+    order = np.argsort(x, kind="stable")            # nodes at one x keep the track's order
     x, shapes = x[order], shapes[order]
-    fine = np.linspace(x[0], x[-1], 400)
+    decks = nodes_by_deck(x, deck_ranges(bridge), x_tolerance(bridge))
     supports = np.unique(bridge["span_ends_m"])
     with _figure((11, 3.8)) as (fig, ax):
         for k in range(min(MODES_SHOWN, shapes.shape[1])):
-            phi, smooth = _drawn_mode_shape(x, shapes[:, k], fine)
+            phi, xs, curve = _drawn_mode_shape(x, shapes[:, k], decks)
             colour = ("#1f3b73", "#c0392b", "#27ae60")[k % 3]
-            ax.plot(fine, smooth, color=colour, lw=1.8,
+            ax.plot(xs, curve, color=colour, lw=1.8,
                     label=f"mode {k + 1}: {significant_text(freqs[k])} Hz" if k < len(freqs) else f"mode {k + 1}")
             ax.plot(x, phi, "o", color=colour, ms=3)
         ax.axhline(0, color="black", lw=0.8)
@@ -1288,6 +1416,7 @@ table { border-collapse: collapse; width: 100%; font-size: 14px; margin: 6px 0 1
 th, td { border-bottom: 1px solid var(--line); padding: 5px 8px; text-align: left; vertical-align: top; }
 th { background: #eef1f6; font-weight: 600; white-space: nowrap; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+th.num { text-align: right; }
 table.properties { width: auto; min-width: 50%; }
 table.properties td:first-child { color: var(--muted); white-space: nowrap; padding-right: 24px; }
 td.swatch { width: 18px; padding: 0; border: 3px solid #fff; }
@@ -1307,6 +1436,13 @@ figcaption { color: var(--muted); font-size: 13.5px; margin-top: 4px; }
 @media print { body { background: #fff; } section { break-inside: avoid; border: none; }
                header { color: #000; background: none; } }
 """
+
+
+def _numeric_columns(table):
+    """The columns of ``table`` whose every cell is a number (class 'num'): their headings are
+    aligned as their numbers, right."""
+    return {j for j in range(len(table.head)) if table.rows and all(
+        isinstance(row[j], Cell) and "num" in row[j].cls.split() for row in table.rows)}
 
 
 def _attrs(attrs):
@@ -1332,7 +1468,9 @@ def _html_block(block):
             attrs["id"] = block.table_id
         if block.cls:
             attrs["class"] = block.cls
-        head = "".join(f"<th>{html.escape(h)}</th>" for h in block.head)
+        numeric = _numeric_columns(block)
+        head = "".join(f"<th{_attrs({'class': 'num'} if j in numeric else None)}>{html.escape(h)}</th>"
+                       for j, h in enumerate(block.head))
         body = []
         for i, row in enumerate(block.rows):
             cells = []
@@ -1377,7 +1515,9 @@ def _md_block(block):
         keep = [j for j, h in enumerate(block.head) if h or not all(
             (c.text if isinstance(c, Cell) else str(c)) == "" for c in (row[j] for row in block.rows))]
         head = [block.head[j] for j in keep]
-        lines = ["| " + " | ".join(_md_escape(h) for h in head) + " |", "|" + "---|" * len(head)]
+        numeric = _numeric_columns(block)
+        lines = ["| " + " | ".join(_md_escape(h) for h in head) + " |",
+                 "|" + "".join("---:|" if j in numeric else "---|" for j in keep)]
         for row in block.rows:
             cells = [row[j].text if isinstance(row[j], Cell) else str(row[j]) for j in keep]
             lines.append("| " + " | ".join(_md_escape(c) for c in cells) + " |")

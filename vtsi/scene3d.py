@@ -43,7 +43,7 @@ from scipy.interpolate import CubicSpline
 
 from vtsi.check import stored_check
 from vtsi.errors import ModelError, SweepError, as_number
-from vtsi.sweep_results import SweepResults, deck_first_frequencies, deck_ranges
+from vtsi.sweep_results import SweepResults, case_key, deck_first_frequencies, deck_ranges
 
 logger = logging.getLogger(__name__)
 
@@ -69,6 +69,7 @@ BEARING = 0.15              # bearing height under the deck
 TARGET_DEPTHS = 0.5         # default scale: the largest |uy| shows as this many deck depths
 BEARING_LENGTH = 0.6        # a bearing's length along x [m], under its deck
 MAX_ANIMATION_FRAMES = 400  # animate_case's cap on the frames it chooses (4 n0 T + 1) by default
+SCENE_CASE_KEYS = ("train", "speed_kmh", "seed", "time_s", "scale")   # what a scene draws: RenderedScene.case
 
 # Colours (sRGB hex).
 CONCRETE = "#b5b2aa"
@@ -239,6 +240,34 @@ def _window(window_size):
     return w, h
 
 
+def nodes_by_deck(deck_x, deck_ends, tol):
+    """Per deck (a row of ``deck_ends`` (n_decks, 2) [m], in x order), the indices of the nodes of
+    ``deck_x`` [m] on it: those within its ends ± ``tol`` [m]. ``deck_x`` is non-decreasing, nodes
+    at one x in the track's order (as /bridge/deck_x_m of a results file); where two decks meet at
+    one x (each on its own bearing on one pier) the first node there is the ending deck's, the
+    last the starting deck's. Nodes on no deck (an approach, a joint's inner nodes) are in none."""
+    x = np.asarray(deck_x, dtype=float)
+    ends = np.asarray(deck_ends, dtype=float).reshape(-1, 2)
+    decks = [np.flatnonzero((x >= a - tol) & (x <= b + tol)) for a, b in ends]
+    for k in range(len(ends) - 1):
+        if abs(ends[k + 1, 0] - ends[k, 1]) <= tol:               # two decks meet at one x
+            at = np.flatnonzero(np.abs(x - ends[k, 1]) <= tol)
+            if at.size >= 2:
+                decks[k] = np.setdiff1d(decks[k], at[1:])
+                decks[k + 1] = np.setdiff1d(decks[k + 1], at[:-1])
+    return decks
+
+
+def deck_spline(x, uy):
+    """A deck's line through its nodes: a callable giving the value at any x [m] of the cubic
+    spline (not-a-knot) through the node values ``uy`` at ``x`` [m] (non-decreasing; of nodes at
+    one x, within 1e-9 of the deck's length, the first), a straight line through two nodes."""
+    x, uy = np.asarray(x, dtype=float), np.asarray(uy, dtype=float)
+    first = np.concatenate([[True], np.diff(x) > 1e-9 * max(1.0, float(x[-1] - x[0]))])
+    x, uy = x[first], uy[first]
+    return CubicSpline(x, uy) if x.size >= 3 else (lambda t: np.interp(t, x, uy))
+
+
 def _nice(value, down=True, steps=(1, 2, 5, 10)):
     """The number ``step × 10^k`` at or below (``down``) / at or above ``value`` > 0."""
     exponent = math.floor(math.log10(value))
@@ -367,20 +396,12 @@ class PassageScene:
         return ends
 
     def _deck_nodes(self):
-        """Per deck, the indices of the nodes of ``deck_x`` on it that its line runs through (one
-        per x: the first; of two nodes at the x where two decks meet, the first is the ending
-        deck's, the last the starting deck's)."""
+        """Per deck, the indices of the nodes of ``deck_x`` on it that its line runs through
+        (:func:`nodes_by_deck`, then one per x: the first)."""
         x, ends = self.deck_x, self.deck_ends
         tol = 1e-6 * max(1.0, x[-1] - x[0])
-        decks = [np.flatnonzero((x >= a - tol) & (x <= b + tol)) for a, b in ends]
-        for k in range(len(ends) - 1):
-            if abs(ends[k + 1, 0] - ends[k, 1]) <= tol:               # two decks meet at one x
-                at = np.flatnonzero(np.abs(x - ends[k, 1]) <= tol)
-                if at.size >= 2:
-                    decks[k] = np.setdiff1d(decks[k], at[1:])
-                    decks[k + 1] = np.setdiff1d(decks[k + 1], at[:-1])
         out = []
-        for k, nodes in enumerate(decks):
+        for k, nodes in enumerate(nodes_by_deck(x, ends, tol)):
             nodes = nodes[np.concatenate([[True], np.diff(x[nodes]) > tol])] if nodes.size else nodes
             if nodes.size < 2:
                 raise ModelError(f"deck_ends: deck {k + 1} ({ends[k, 0]:g} to {ends[k, 1]:g} m) holds "
@@ -529,8 +550,7 @@ class PassageScene:
         the bridge's ends the end decks' splines."""
         x, uy = np.asarray(x, dtype=float), np.asarray(uy, dtype=float)
         ends = self.deck_ends
-        lines = [CubicSpline(self.deck_x[n], uy[n]) if n.size >= 3
-                 else (lambda t, n=n: np.interp(t, self.deck_x[n], uy[n])) for n in self._decks]
+        lines = [deck_spline(self.deck_x[n], uy[n]) for n in self._decks]
         deck = np.clip(np.searchsorted(ends[:, 0], x, side="right") - 1, 0, len(ends) - 1)
         out = np.empty(x.shape)
         for k, line in enumerate(lines):
@@ -946,14 +966,82 @@ def _sheared(mesh, lift):
     return mesh
 
 
+def _named_case(results, train, speed_kmh, seed):
+    """``(train, speed [km/h], seed)`` of a case named by its train and speed (``seed`` -1: the
+    smooth rail) as the sweep of ``results`` (a SweepResults) has them, or a SweepError: a speed
+    without its train, a train not in the sweep or without its speed, a speed or a seed the
+    sweep does not have (:meth:`~vtsi.sweep_results.SweepResults.speed`, ``.seed``)."""
+    if train is None:
+        number = isinstance(speed_kmh, (int, float, np.integer, np.floating)) and not isinstance(speed_kmh, bool)
+        shown = f"{speed_kmh:g} km/h" if number else repr(speed_kmh)
+        raise SweepError(f"scene: speed_kmh = {shown} without a train: name the train too (or neither, for the "
+                         "governing case)")
+    if train not in results.trains:
+        raise SweepError(f"scene: train {train!r} is not in the sweep of {results.path} "
+                         f"(trains: {', '.join(results.trains)})")
+    if speed_kmh is None:
+        raise SweepError(f"scene: a case of train {train!r} needs its speed_kmh")
+    return train, results.speed(speed_kmh), results.seed(seed)
+
+
+def _checked_time(time, first, last, who):
+    """``time`` [s] as a float within a case's record, ``first`` to ``last`` [s], or a ModelError
+    naming ``who`` and the record."""
+    value = as_number(time, who, "time [s]")
+    if not first - 1e-9 <= value <= last + 1e-9:
+        raise ModelError(f"{who}: time {value:g} s is outside the recorded passage ({first:g} to {last:g} s)")
+    return value
+
+
+def _record(results, train, speed_kmh, seed):
+    """``(first, last)`` [s] of a case's record: the times of its recorded deck displacement (what
+    :func:`render_case` draws from), else those of its passage in the results file (Δt to
+    n_steps × Δt)."""
+    if case_key(train, speed_kmh, seed) in results.histories():
+        history = results.history(train, speed_kmh, seed)
+        if "deck_displacement" in history:
+            times = history["deck_displacement"][0]
+            return float(times[0]), float(times[-1])
+    dt = float(results.identity["settings"]["dt"])
+    return dt, results.case(train, speed_kmh, seed)["attrs"]["n_steps"] * dt
+
+
+def check_scene_case(results, case, who="report: the scene's case"):
+    """``case``, what a scene image draws (keys :data:`SCENE_CASE_KEYS`, any left out or None:
+    :attr:`RenderedScene.case`), checked against the sweep of ``results`` (a SweepResults) with
+    :func:`render_case`'s own checks: the train, speed and seed one of the sweep's cases
+    (``seed`` -1, the smooth rail, when left out), ``time_s`` [s] within that case's record
+    (:func:`_record`), ``scale`` a finite number > 0. Returns the keys given, their values as the
+    sweep has them (plus the seed of a case named). Raises a SweepError (an unknown key, a case
+    the sweep does not have, a seed or time without its case) or a ModelError (a time outside the
+    record, a scale not > 0), each naming ``who`` or the sweep and the value at fault."""
+    unknown = [k for k in case if k not in SCENE_CASE_KEYS]
+    if unknown:
+        raise SweepError(f"{who}: unknown key{'s' * (len(unknown) > 1)} {', '.join(repr(k) for k in unknown)}; "
+                         f"valid: {', '.join(SCENE_CASE_KEYS)}")
+    given = {k: v for k, v in case.items() if v is not None}
+    out = {}
+    if "train" in given or "speed_kmh" in given:
+        out["train"], out["speed_kmh"], out["seed"] = _named_case(results, given.get("train"), given.get("speed_kmh"),
+                                                                  given.get("seed", -1))
+    else:
+        alone = [k for k in ("seed", "time_s") if k in given]
+        if alone:
+            raise SweepError(f"{who}: {alone[0]} = {given[alone[0]]!r} without its case: name its train and "
+                             "speed_kmh too")
+    if "time_s" in given:
+        out["time_s"] = _checked_time(given["time_s"], *_record(results, out["train"], out["speed_kmh"], out["seed"]),
+                                      who)
+    if "scale" in given:
+        out["scale"] = _positive(f"{who}: scale", given["scale"])
+    return out
+
+
 def _recorded_case(results_path, train, speed_kmh, seed):
     """(results, train, speed, seed, history, scene) of a case with recorded histories: by default
     the governing case of the stored check's deck acceleration (else of the envelope)."""
     results = SweepResults(results_path)
-    if train is None and speed_kmh is not None:
-        raise SweepError(f"scene: speed_kmh = {speed_kmh:g} km/h without a train: name the train too (or neither, "
-                         "for the governing case)")
-    if train is None:
+    if train is None and speed_kmh is None:
         stored = stored_check(results_path)
         rows = [r for r in (stored.rows if stored else []) if r.criterion == "deck_acceleration"]
         if rows:
@@ -964,11 +1052,8 @@ def _recorded_case(results_path, train, speed_kmh, seed):
             if worst is None:
                 raise SweepError(f"scene: {results_path} holds no case to draw")
             train, speed_kmh, seed = worst["train"], worst["speed_kmh"], worst["seed"]
-    elif train not in results.trains:
-        raise SweepError(f"scene: train {train!r} is not in the sweep of {results_path} "
-                         f"(trains: {', '.join(results.trains)})")
-    elif speed_kmh is None:
-        raise SweepError(f"scene: a case of train {train!r} needs its speed_kmh")
+    else:
+        train, speed_kmh, seed = _named_case(results, train, speed_kmh, seed)
     history = results.history(train, speed_kmh, seed)
     if "deck_displacement" not in history:
         raise SweepError(f"scene: case {train} at {speed_kmh:g} km/h has no deck displacement history")
@@ -1010,8 +1095,19 @@ def _case_title(results, train, speed_kmh, seed):
     return f"{train} at {speed_kmh:g} km/h" + (f", rail sample {seed}" if seed is not None and seed >= 0 else "")
 
 
+class _Written(os.PathLike):
+    """A file written, with what it holds: os.PathLike as its ``path`` (``open``, ``os.fspath``
+    and ``Path`` take it as that path; ``str`` gives it)."""
+
+    def __fspath__(self):
+        return os.fspath(self.path)
+
+    def __str__(self):
+        return os.fspath(self.path)
+
+
 @dataclass(frozen=True)
-class RenderedScene(os.PathLike):
+class RenderedScene(_Written):
     """What :func:`render_case` drew: the PNG's ``path`` (the object is os.PathLike: ``open``,
     ``os.fspath`` and ``Path`` take it as that path; ``str`` gives it), the case (``train``,
     ``speed_kmh`` [km/h], ``seed``: -1 a smooth rail, else the rail sample), the time drawn
@@ -1023,12 +1119,6 @@ class RenderedScene(os.PathLike):
     seed: int
     time_s: float
     scale: float
-
-    def __fspath__(self):
-        return os.fspath(self.path)
-
-    def __str__(self):
-        return os.fspath(self.path)
 
     @property
     def case(self):
@@ -1049,10 +1139,7 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
     if time is None:
         _, accel, _ = history.get("deck_acceleration", history["deck_displacement"])
         time = float(times[int(np.argmax(np.max(np.abs(accel), axis=1)))])
-    time = as_number(time, "render_case", "time [s]")
-    if not times[0] - 1e-9 <= time <= times[-1] + 1e-9:
-        raise ModelError(f"render_case: time {time:g} s is outside the recorded passage "
-                         f"({times[0]:g} to {times[-1]:g} s)")
+    time = _checked_time(time, times[0], times[-1], "render_case")
     k = int(np.argmin(np.abs(times - time)))
     data = results.train_data(train)
     head = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times[k]
@@ -1065,14 +1152,45 @@ def render_case(results_path, path, train=None, speed_kmh=None, seed=-1, time=No
     return RenderedScene(Path(written), str(train), float(speed_kmh), seed, float(times[k]), float(scale))
 
 
+@dataclass(frozen=True)
+class RenderedAnimation(_Written):
+    """What :func:`animate_case` drew: the animation's ``path`` (os.PathLike, as
+    :class:`RenderedScene`), its number of ``frames`` and their spacing ``spacing_s`` [s], the
+    frequency ``n0_hz`` [Hz] the frames must resolve (the deck's n₀; of several decks the highest
+    of theirs), the ``resolving_frames`` 4 n₀ T + 1 that do over the record's T seconds, and
+    ``aliasing``: '' when the frames are at most a quarter period of n₀ apart, else what the
+    warning says (:func:`vtsi.report.write_report` puts it in the scene's caption)."""
+
+    path: Path
+    frames: int
+    spacing_s: float
+    n0_hz: float
+    resolving_frames: int
+    aliasing: str
+
+
+def _aliasing_text(spacing, n0s, first_hz, needed):
+    """Why frames ``spacing`` [s] apart alias the deck's vibration: more than a quarter period of
+    the highest n₀ of ``n0s`` [Hz] (each deck's), which is named, and why that one (of several
+    decks, not the model's first frequency ``first_hz`` [Hz]), and the ``needed`` frames that
+    resolve it."""
+    n0 = float(np.max(n0s))
+    which = (f"the stiffest deck's first vertical frequency ({n0:.3g} Hz, the highest of the decks' n0): each deck "
+             f"vibrates at its own n0, so the frames must resolve the highest, not the model's first mode "
+             f"({first_hz:.4g} Hz)" if len(n0s) > 1 else f"the deck's first vertical frequency (n0 = {n0:.4g} Hz)")
+    return (f"frames {spacing:.3g} s apart, more than a quarter period ({0.25 / n0:.3g} s) of {which}; the deck's "
+            f"vibration is aliased; max_frames >= {needed} resolves it (vtsi check: --animation-frames {needed})")
+
+
 def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_frames=None, **kwargs):
     """A GIF (or MP4) of a recorded case's passage (the case chosen as :func:`render_case`
-    chooses it) over the whole record. Returns the path written.
+    chooses it) over the whole record. Returns a :class:`RenderedAnimation`: the path written
+    (os.PathLike), with its frames and whether they alias the deck's vibration.
 
-    Frames further apart than a quarter period of the first mode alias the deck's vibration
-    (it appears slower, its peaks are missed). By default (``max_frames=None``) there are
-    ceil(4 n₀ T) + 1 frames over the record's duration T (every recorded sample if fewer), at
-    most MAX_ANIMATION_FRAMES; an explicit ``max_frames`` takes at most that many. Either way a
+    Frames further apart than a quarter period of n₀ alias the deck's vibration (it appears
+    slower, its peaks are missed). By default (``max_frames=None``) there are ceil(4 n₀ T) + 1
+    frames over the record's duration T (every recorded sample if fewer), at most
+    MAX_ANIMATION_FRAMES; an explicit ``max_frames`` takes at most that many. Either way a
     warning names the ``max_frames`` that resolves the vibration when the frames are further
     apart. Of several decks n₀ is the highest of the decks' own
     (:func:`~vtsi.sweep_results.deck_first_frequencies`: a 15 m deck beside a 30 m one, 10.66 Hz,
@@ -1080,21 +1198,23 @@ def animate_case(results_path, path, train=None, speed_kmh=None, seed=-1, max_fr
     A train of cars is drawn with its car bodies (:func:`car_body_offsets`)."""
     results, train, speed_kmh, seed, history, scene = _recorded_case(results_path, train, speed_kmh, seed)
     times, uy, _ = history["deck_displacement"]
-    n0s = deck_first_frequencies(results.bridge())
+    bridge = results.bridge()
+    n0s = deck_first_frequencies(bridge)
     n0 = float(np.max(n0s))
     needed = int(np.ceil(4 * n0 * (times[-1] - times[0]) * (1 - 1e-12))) + 1
     if max_frames is None:
         max_frames = min(needed, MAX_ANIMATION_FRAMES)
-    spacing = (times[-1] - times[0]) / max(min(len(times), int(max_frames)) - 1, 1)
-    if spacing > 0.25 / n0 * (1 + 1e-9):
-        logger.warning("animation of %s at %g km/h: frames %.3g s apart, more than a quarter period of the first "
-                       "mode (%.3g Hz%s): the deck's vibration is aliased; max_frames >= %d resolves it (vtsi check: "
-                       "--animation-frames %d)", train, speed_kmh, spacing, n0,
-                       ", the highest of the decks' n0" if len(n0s) > 1 else "", needed, needed)
+    frames = min(len(times), int(max_frames))
+    spacing = (times[-1] - times[0]) / max(frames - 1, 1)
+    aliasing = (_aliasing_text(spacing, n0s, float(np.ravel(bridge["frequencies_hz"])[0]), needed)
+                if spacing > 0.25 / n0 * (1 + 1e-9) else "")
+    if aliasing:
+        logger.warning("animation of %s at %g km/h: %s", train, speed_kmh, aliasing)
     data = results.train_data(train)
     heads = history["attrs"]["x_head0"] + speed_kmh / 3.6 * times
     wheels = heads[:, None] - data["axle_offsets_m"][None, :]
     bodies = car_body_offsets(data)
     title = kwargs.pop("title", _case_title(results, train, speed_kmh, history["attrs"].get("seed", seed)))
-    return scene.animate(path, times, uy, wheels, None if bodies is None else heads[:, None, None] - bodies[None],
-                         max_frames=max_frames, title=title, **kwargs)
+    written = scene.animate(path, times, uy, wheels, None if bodies is None else heads[:, None, None] - bodies[None],
+                            max_frames=max_frames, title=title, **kwargs)
+    return RenderedAnimation(Path(written), frames, float(spacing), n0, needed, aliasing)
