@@ -23,6 +23,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from functools import partial
@@ -50,6 +51,7 @@ from vtsi.vehicle import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
 MAX_SEEDS = 10_000          # rail samples of a sweep at most
+WORKER_GRACE_S = 5.0        # [s] a stopped pool's workers have to exit once their tasks ended, then are ended
 CAR_STEP_COST = 8.0         # a coupled step of cars in steps of moving forces (measured: ICE3's 32 wheels 20-31 µs,
                             # HSLM-A1's 50 axles 4 µs, on a 20 m span of 10 elements): tasks of cars last as long
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
@@ -601,7 +603,12 @@ class Sweep:
                 # the thread (Python 3.11: InvalidStateError), and the process hung at exit.
                 if stop is not None:
                     stop.value = 1
-                    executor.shutdown(wait=True, cancel_futures=True)
+                    workers = (list((executor._processes or {}).values()),     # before shutdown lets go of them
+                               executor._executor_manager_thread)
+                    executor.shutdown(wait=False, cancel_futures=True)
+                    while not all(future.done() for future in unwritten):    # the running tasks end after
+                        wait(unwritten, timeout=0.1)        # their case; cancelled ones, which wait() misses
+                    _end_workers(*workers)
                 else:
                     for future in unwritten:
                         future.cancel()
@@ -640,6 +647,25 @@ def _worker_start(stop):
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _worker_stop = stop
     threading.Thread(target=_exit_with_parent, name="vtsi-exit-with-parent", daemon=True).start()
+
+
+def _end_workers(processes, manager, grace_s=WORKER_GRACE_S):
+    """End a stopped pool of the sweep: wait up to ``grace_s`` [s] for its worker ``processes``
+    (multiprocessing.Process, their tasks ended) to exit, end those still alive (SIGTERM, which a
+    worker takes by default, :func:`_worker_start`), then join the pool's ``manager`` thread. A
+    worker killed while it held a lock of the pool's call queue (a SIGTERM to the whole process
+    group, an out-of-memory kill) leaves the others unable to read the sentinel that stops them,
+    and Python's pool joined them forever (1 in 18 such stops under load; docs/sweeps.md).
+    ``processes`` and ``manager`` are ProcessPoolExecutor's ``_processes`` and
+    ``_executor_manager_thread`` (private, as in Python 3.9 to 3.13)."""
+    deadline = time.monotonic() + grace_s
+    for process in processes:
+        process.join(max(0.0, deadline - time.monotonic()))
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    if manager is not None:
+        manager.join()
 
 
 def _exit_with_parent():
