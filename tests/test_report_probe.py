@@ -3,15 +3,14 @@
 speeds' steps (N2), places as bare node numbers (N4), history charts colouring a node that does
 not govern (M4), n₂ resonances of a continuous deck (M6), what the end rotation reads (M7), default
 values not shown (N5), the scene's caption (N6) and a modal model's cut-off (N8)."""
-import math
 import shutil
 
 import numpy as np
 import pytest
 
-from vtsi.check import CheckResult, CheckRow, CheckSettings, _coarse_speeds, check, stored_check
+from vtsi.check import CheckResult, CheckRow, CheckSettings, _coarse_speeds, bridge_model_text, check, stored_check
 from vtsi.passage import PassageSettings
-from vtsi.report import _bridge_model_text, _Report, write_report
+from vtsi.report import _Report, write_report
 from vtsi.speed_grid import CoarseResonance
 from vtsi.sweep import Sweep, beam_bridge, en_speed_grid, resonance_speeds
 from vtsi.sweep_results import SweepResults
@@ -175,6 +174,6 @@ def test_scene_caption_and_modal_cutoff(coarse, tmp_path):
     assert ("The passage of ICE3 at 224 km/h, smooth rail at t = 1.25 s as a 3-D scene (scene.png): the deck's "
             "vertical displacements, drawn through a cubic spline between its nodes, exaggerated × 200") in text
     bridge = results.bridge()
-    assert "(1.1 × the EN cut-off 45.82 Hz, the default;" in _bridge_model_text({"bridge": "modal"}, bridge)
+    assert "(1.1 × the EN cut-off 45.82 Hz, the default;" in bridge_model_text({"bridge": "modal"}, bridge)
     assert "modes up to 20 Hz (below the EN cut-off 45.82 Hz;" in \
-        _bridge_model_text({"bridge": "modal", "modal_hz": 20.0}, bridge)
+        bridge_model_text({"bridge": "modal", "modal_hz": 20.0}, bridge)

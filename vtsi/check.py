@@ -80,12 +80,13 @@ from vtsi.codes import en1990_a2, en1991_2
 from vtsi.deck_record import deck_nodes, intermediate_supports, overhangs, span_columns, support_columns
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.integrators import make_integrator
+from vtsi.modal_bridge import SUPPORT_MOMENT_HZ
 from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
                           resolves)
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
-                                span_decks, x_tolerance)
+                                significant_text, span_decks, x_tolerance)
 from vtsi.track_ends import TrackEnd, free_end_text
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
@@ -180,6 +181,8 @@ class CheckResult:
     speed_grid: str = ""        # the resonances the sweep's speeds step across more coarsely than the EN
                                 # series, and the trains without D they step too coarsely for
                                 # (:func:`vtsi.speed_grid.coarse_resonances`), one line; '' when none
+    bridge_model: str = ""      # the sweep's bridge model, FE or modal and its basis (:func:`bridge_model_text`),
+                                # one line; '' not known
 
     @property
     def complete(self):
@@ -261,8 +264,9 @@ class CheckResult:
 
     def text(self):
         """The bridge as the check read it (one line: its decks, spans, n₀, EN cut-off, L_Φ), the
-        settings (one line, :meth:`settings_text`), then the table (one line per criterion), the
-        verdict and the rows' notes."""
+        settings (one line, :meth:`settings_text`), the sweep's bridge model (one line, as the
+        report's settings give it: :func:`bridge_model_text`), then the table (one line per
+        criterion), the verdict and the rows' notes."""
         head = ("criterion", "value", "limit", "util.", "status", "governing case", "where", "clause")
         lines = [head]
         for r in self.rows:
@@ -279,7 +283,8 @@ class CheckResult:
         out = ["  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip() for line in lines]
         out.insert(1, "  ".join("-" * w for w in widths))
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
-        return "\n".join(([self.bridge] if self.bridge else []) + [f"check settings: {self.settings_text()}"] + out
+        return "\n".join(([self.bridge] if self.bridge else []) + [f"check settings: {self.settings_text()}"]
+                         + ([f"bridge model: {self.bridge_model}"] if self.bridge_model else []) + out
                          + ["", self.verdict()]
                          + (["notes:"] + notes if notes else []))
 
@@ -349,7 +354,30 @@ def stored_check(path):
         cases = (int(g.attrs["cases_done"]), int(g.attrs["cases_total"])) if "cases_total" in g.attrs \
             else (results.n_done, results.n_cases)
         speed_grid = str(g.attrs.get("speed_grid", ""))      # '' in a check stored by an older vtsi
-    return CheckResult(settings, rows, *cases, bridge=bridge_text(results.bridge()), speed_grid=speed_grid)
+    return CheckResult(settings, rows, *cases, bridge=bridge_text(results.bridge()), speed_grid=speed_grid,
+                       bridge_model=bridge_model_text(results.identity["settings"], results.bridge()))
+
+
+def bridge_model_text(settings, bridge):
+    """The sweep's bridge model in words, as the check's text and the report's settings give it:
+    FE, or modal with the frequency of its basis [Hz] against the EN cut-off and, where the
+    results file holds them (``modal_frequencies_hz``), how many modes and the highest one's
+    frequency (``settings`` the sweep's settings as stored, ``bridge`` the results file's bridge
+    record)."""
+    kind = settings.get("bridge", "fe")
+    if kind == "fe":
+        return "FE model, time-stepped"
+    f_max = modal_basis_hz(kind, settings.get("modal_hz"), bridge)
+    how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
+    en = en_cutoff_hz(bridge)
+    relation = (f"{f_max / en:.3g} × the EN cut-off {significant_text(en)} Hz" + ("" if settings.get("modal_hz") else
+                ", the default") if f_max >= en * (1 - 1e-9) else f"below the EN cut-off {significant_text(en)} Hz")
+    modes = np.ravel(np.asarray(bridge.get("modal_frequencies_hz", []), dtype=float))
+    if not modes.size:                                  # a file of an older vtsi
+        return (f"modal: its modes up to {significant_text(f_max)} Hz ({relation}; the results file does not hold "
+                f"how many modes), {how}")
+    return (f"modal: {_plural_of(modes.size, 'mode')} up to {significant_text(f_max)} Hz ({relation}; the highest at "
+            f"{significant_text(modes.max())} Hz), {how}")
 
 
 SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments include the bridge's self weight "
@@ -375,7 +403,8 @@ def check(results, settings=None):
         raise SweepError(SELF_WEIGHT_REFUSED)
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
-    out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases, bridge=bridge_text(bridge))
+    out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases, bridge=bridge_text(bridge),
+                      bridge_model=bridge_model_text(results.identity["settings"], bridge))
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
@@ -575,8 +604,11 @@ def _dynamic_increment(results, outputs, bridge, settings):
     moments = _outputs_of(outputs, "moment", cutoff=False)
     held = [n for n in moments if support_columns(results.column_envelopes(n)[1], bridge)]
     if held:                                           # the first moment output holding them (the default's)
-        rows.extend(_increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
-                                    "intermediate supports", bridge, settings, supports=True))
+        support_rows = _increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
+                                       "intermediate supports", bridge, settings, supports=True)
+        for r in support_rows:
+            r.note += _support_basis_note(results, bridge)
+        rows.extend(support_rows)
     piers = [n for _, _, nodes in intermediate_supports(bridge) for n in nodes[:1]]
     if moments and piers and not held:                 # a continuous deck whose sweep kept no moment over its piers
         for r in rows:
@@ -814,6 +846,19 @@ def _truncation_note(results, bridge):
     if basis is None or corrected:
         return ""
     return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"
+
+
+def _support_basis_note(results, bridge):
+    """'' unless the sweep ran a modal bridge whose basis stops below SUPPORT_MOMENT_HZ, the basis
+    docs/modal.md recommends for support moments (many modes make them): then that it may read
+    them low, and what to take."""
+    sweep = results.identity["settings"]
+    basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge)
+    if basis is None or basis >= SUPPORT_MOMENT_HZ * (1 - 1e-9):
+        return ""
+    return (f"; the modal bridge's modes stop at {basis:.4g} Hz, below the {SUPPORT_MOMENT_HZ:g} Hz docs/modal.md "
+            f"recommends for support moments, which many modes make: the hogging moment may read low; sweep with "
+            f"modal_hz >= {SUPPORT_MOMENT_HZ:g} Hz or the FE bridge")
 
 
 @dataclass

@@ -31,12 +31,14 @@ import scipy.sparse as sp
 from vtsi.analysis import eigen, modes_up_to
 from vtsi.banded import inverse_columns, ldl_band
 from vtsi.damping import bridge_frequencies
-from vtsi.errors import AnalysisError, BridgeModelError, ModelError, as_positive
+from vtsi.errors import AnalysisError, BridgeModelError, ModelError, as_positive, is_count
 from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
 from vtsi.track import Track
 
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
+SUPPORT_MOMENT_HZ = 60.0    # [Hz] the basis docs/modal.md recommends for support moments (many modes make them; its
+                            # measurements there): the check's support-moment rows say when a modal sweep's is lower
 
 
 def _moving(asm, track, shapes):
@@ -48,24 +50,38 @@ def _moving(asm, track, shapes):
     return np.flatnonzero(np.max(on_track, axis=0) > 1e-9 * np.max(on_track))
 
 
-def _lowest_modes(model, asm, track, n_modes):
-    """``(frequencies [Hz], shapes, keep)``: the lowest ``n_modes`` modes that move ``track``
-    (``keep`` their columns), asking :func:`eigen` for twice as many until there are enough;
-    'all': every mode."""
+def _mode_count(n_modes):
+    """``n_modes`` as an int >= 1 (a whole float such as 3.0 too, as vtsi's other counts:
+    :func:`~vtsi.errors.is_count`) or 'all', else a ModelError naming it."""
     if isinstance(n_modes, str) and n_modes == "all":
+        return n_modes
+    if not is_count(n_modes, 1):
+        raise ModelError(f"modal bridge: n_modes must be an integer >= 1 or 'all', got {n_modes!r}")
+    return int(n_modes)
+
+
+def _lowest_modes(model, asm, track, n_modes):
+    """``(frequencies [Hz], shapes, keep)``: the lowest ``n_modes`` (an int >= 1, or 'all':
+    every mode) modes that move ``track`` (``keep`` their columns), asking :func:`eigen` for
+    twice as many until there are enough; a ModelError naming the most there are when the model
+    has fewer."""
+    if n_modes == "all":
         omega2, shapes = eigen(model, n_modes)
         return np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi), shapes, _moving(asm, track, shapes)
     n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))      # dofs with mass: at most that many modes
-    k = n_modes
+    most = min(n_mass, asm.n_free)
+    k = min(n_modes, most)
     while True:
-        omega2, shapes = eigen(model, "all" if isinstance(k, int) and k == n_mass < asm.n_free else k)
+        omega2, shapes = eigen(model, "all" if k == n_mass < asm.n_free else k)
         keep = _moving(asm, track, shapes)
-        if len(keep) >= n_modes or k >= min(n_mass, asm.n_free):
+        if len(keep) >= n_modes or k >= most:
             break
-        k = min(n_mass, asm.n_free, 2 * k)
-    if len(keep) < n_modes:
-        raise ModelError(f"modal bridge: n_modes = {n_modes}, but only {len(keep)} modes of the model move the track "
-                         f"(of {shapes.shape[1]}: the others, a straight beam's axial modes, load no wheel)")
+        k = min(most, 2 * k)
+    if len(keep) < n_modes:                 # every mode computed: len(keep) is the most there are
+        which = (f"only {len(keep)} modes of the model move the track (of {shapes.shape[1]}: the others, a straight "
+                 "beam's axial modes, load no wheel)" if len(keep) < shapes.shape[1] else
+                 f"the model has only {len(keep)} modes (one per dof with mass)")
+        raise ModelError(f"modal bridge: n_modes = {n_modes}, but {which}: n_modes must be at most {len(keep)}")
     return np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi), shapes, keep[:n_modes]
 
 
@@ -88,8 +104,9 @@ class ModalBridge:
         frequency [Hz] -> ratio. None: the model's own damping, ζ_j = φ_jᵀ C φ_j / (2 ω_j), which
         must be classical (ΦᵀCΦ diagonal, e.g. Rayleigh).
     n_modes : keep the lowest ``n_modes`` modes instead of a frequency bound (with a track: the
-        lowest that move it); 'all': every mode of finite frequency (with every dof carrying
-        mass, the FE model's own equations).
+        lowest that move it): an integer >= 1 (a whole float such as 3.0 too), at most the modes
+        the model has (one per dof with mass; with a track, those that move it); 'all': every
+        mode of finite frequency (with every dof carrying mass, the FE model's own equations).
 
     Attributes
     ----------
@@ -109,7 +126,7 @@ class ModalBridge:
         if n_modes is not None:
             if f_max is not None:
                 raise ModelError("modal bridge: give f_max or n_modes, not both")
-            f, shapes, keep = _lowest_modes(model, asm, track, n_modes)
+            f, shapes, keep = _lowest_modes(model, asm, track, _mode_count(n_modes))
         else:
             if f_max is None:
                 f_max = CUTOFF_MARGIN * bridge_frequencies(model, track).cutoff_hz

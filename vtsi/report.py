@@ -63,11 +63,12 @@ from pathlib import Path
 import numpy as np
 
 from vtsi.version import __version__
-from vtsi.check import ABSMAX, STATIC_LOAD_MODELS, mid_span_ratios, node_deflections, stored_check
+from vtsi.check import (ABSMAX, STATIC_LOAD_MODELS, bridge_model_text, mid_span_ratios, node_deflections,
+                        stored_check)
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
 from vtsi.deck_record import deck_nodes
 from vtsi.errors import SweepError
-from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz, modal_basis_hz
+from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz
 from vtsi.places import car_label, wheel_label
 from vtsi.scene3d import car_body_offsets, check_scene_case, deck_spline, nodes_by_deck
 from vtsi.signature import HARMONICS
@@ -526,7 +527,7 @@ class _Report:
                    if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
         cars = s.get("cars") != "force"
-        rows = [["bridge model", _bridge_model_text(s, res.bridge())],
+        rows = [["bridge model", bridge_model_text(s, res.bridge())],
                 ["time step dt", f"{s['dt']:g} s"],
                 ["integrator", str(s["integrator"])],
                 ["cars (fidelity)", "force (moving axle loads)" if not cars else str(s["cars"])],
@@ -1335,26 +1336,6 @@ def _label(criterion):
 
 def _plural(n, word, words=None):
     return f"{n} {word if n == 1 else words or word + 's'}"
-
-
-def _bridge_model_text(settings, bridge):
-    """The sweep's bridge model in words: FE, or modal with the frequency of its basis [Hz] and,
-    where the results file holds them (``modal_frequencies_hz``), how many modes and the highest
-    one's frequency (``bridge`` the results file's bridge record)."""
-    kind = settings.get("bridge", "fe")
-    if kind == "fe":
-        return "FE model, time-stepped"
-    f_max = modal_basis_hz(kind, settings.get("modal_hz"), bridge)
-    how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
-    en = en_cutoff_hz(bridge)
-    relation = (f"{f_max / en:.3g} × the EN cut-off {significant_text(en)} Hz" + ("" if settings.get("modal_hz") else
-                ", the default") if f_max >= en * (1 - 1e-9) else f"below the EN cut-off {significant_text(en)} Hz")
-    modes = np.ravel(np.asarray(bridge.get("modal_frequencies_hz", []), dtype=float))
-    if not modes.size:                                  # a file of an older vtsi
-        return (f"modal: its modes up to {significant_text(f_max)} Hz ({relation}; the results file does not hold "
-                f"how many modes), {how}")
-    return (f"modal: {_plural(modes.size, 'mode')} up to {significant_text(f_max)} Hz ({relation}; the highest at "
-            f"{significant_text(modes.max())} Hz), {how}")
 
 
 def _damping_text(settings):

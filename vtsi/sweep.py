@@ -387,30 +387,40 @@ class Sweep:
                 "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
 
     def resolution_note(self):
-        """'' when Δt takes at least STEPS_PER_CUTOFF_PERIOD steps a period of the highest
-        frequency the sweep's results count: the EN cut-off (or a modal bridge's modes, when they
-        stop below it) and, for cars on an irregular rail, the rail's shortest wavelength at the
-        top speed (:func:`~vtsi.passage.rail_frequency_hz`); else one line saying which is
-        under-resolved and the Δt that resolves it (:func:`~vtsi.passage.dt_resolving`), the rule of
-        the notes of :func:`vtsi.check.check` (its deck acceleration and car rows)."""
+        """'' when the sweep's results count every frequency up to the EN cut-off and Δt takes at
+        least STEPS_PER_CUTOFF_PERIOD steps a period of the highest frequency they count; else a
+        line (two at most, each 'note: …') for each that does not hold:
+
+        - a modal bridge whose modes stop at ``modal_hz`` below the EN cut-off: its deck
+          accelerations count the frequencies up to ``modal_hz`` only (and may read low), which
+          :func:`vtsi.check.check` refuses;
+        - Δt too coarse for the EN cut-off (or the modal bridge's modes, when they stop below it)
+          and, for cars on an irregular rail, for the rail's shortest wavelength at the top speed
+          (:func:`~vtsi.passage.rail_frequency_hz`): which is under-resolved and the Δt that
+          resolves it (:func:`~vtsi.passage.dt_resolving`), the rule of the notes of
+          :func:`vtsi.check.check` (its deck acceleration and car rows)."""
         s, runner = self.settings, self.runner
         basis = modal_basis_hz(s.bridge, s.modal_hz, runner.frequency_record)
         top = float(self.speeds_kmh[-1])
-        deck = (runner.en_cutoff_hz, "the EN cut-off") if not basis or basis >= runner.en_cutoff_hz else \
-            (basis, "the modal bridge's highest frequency")
+        below = basis is not None and basis < runner.en_cutoff_hz * (1 - 1e-9)
+        notes = [f"note: the modal bridge's modes stop at modal_hz = {basis:.4g} Hz, below the EN cut-off "
+                 f"{runner.en_cutoff_hz:.4g} Hz: the deck accelerations count frequencies up to {basis:.4g} Hz only and "
+                 f"may read low (the design check refuses them); take modal_hz >= {runner.en_cutoff_hz:.4g} Hz, or leave it "
+                 "unset (1.1 x the cut-off)"] if below else []
+        deck = (basis, "the modal bridge's highest frequency") if below else (runner.en_cutoff_hz, "the EN cut-off")
         coarse = [(f, where, what) for (f, where), what in (
             (deck, "the deck accelerations"),
             ((rail_frequency_hz(s.irregularity, s.cars, top), f"the rail's shortest wavelength at {top:g} km/h"),
              "the contact forces and car-body accelerations"))
             if f is not None and not resolves(s.dt, f)]
-        if not coarse:
-            return ""
-        steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period" for f, where, _ in coarse)
-        exact = s.bridge == "modal" and s.cars == "force"        # exact passages: dt only samples them
-        return (f"note: dt = {1e3 * s.dt:g} ms {'samples' if exact else 'steps'} {steps}, fewer than "
-                f"{STEPS_PER_CUTOFF_PERIOD}: {' and '.join(what for _, _, what in coarse)} "
-                f"{'read low between the samples' if exact else 'are not converged in dt'}; take dt <= "
-                f"{1e3 * dt_resolving(max(f for f, _, _ in coarse)):g} ms (a dt left unset resolves them)")
+        if coarse:
+            steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period" for f, where, _ in coarse)
+            exact = s.bridge == "modal" and s.cars == "force"        # exact passages: dt only samples them
+            notes.append(f"note: dt = {1e3 * s.dt:g} ms {'samples' if exact else 'steps'} {steps}, fewer than "
+                         f"{STEPS_PER_CUTOFF_PERIOD}: {' and '.join(what for _, _, what in coarse)} "
+                         f"{'read low between the samples' if exact else 'are not converged in dt'}; take dt <= "
+                         f"{1e3 * dt_resolving(max(f for f, _, _ in coarse)):g} ms (a dt left unset resolves them)")
+        return "\n".join(notes)
 
     def free_end_note(self):
         """'' unless the sweep runs cars (``cars='full'``) and a track end sags more than
