@@ -280,7 +280,7 @@ def test_path_errors(tmp_path):
         ops.timeSeries("Ramp", 1, 0.0, 1.0, 0.1)
     with pytest.raises(CommandError, match="timeSeries Trig 3: period must be > 0, got 0"):
         ops.timeSeries("Trig", 3, 0.0, 1.0, 0.0)
-    ops.timeSeries("Path", 1, "-dt", 0.1, "-values", [1.0, 2.0])   # lists are spread, as Tcl lists
+    ops.timeSeries("Path", 1, "-dt", 0.1, "-values", [1.0, 2.0])   # a list option takes a list (one Tcl word)
     with pytest.raises(CommandError, match="series 1 already exists"):
         ops.timeSeries("Linear", 1)
 

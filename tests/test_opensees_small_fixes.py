@@ -267,9 +267,8 @@ def test_zero_length_basic_stiffness_layout():
 @pytest.mark.parametrize("name", ["basicDeformation", "chordRotation", "basicStiffness", "xaxis", "yaxis"])
 def test_element_recorder_of_the_new_responses_equals_opensees(tmp_path, name):
     """``recorder Element`` computes the new kinds vectorised over elements and steps (the type's
-    response kernel) and writes OpenSees's columns. The zeroLength elements (one column per
-    material) go to a recorder of their own: vtsi refuses a recorder whose elements need
-    different source responses."""
+    response kernel) and writes OpenSees's columns; here the zeroLength elements (one column per
+    material) go to a recorder of their own (mixed recorders: tests/test_command_compat.py)."""
     groups = [[e for e in ELEMENTS if name in ANSWERED[e] and (e in (2, 5)) == zero_length]
               for zero_length in (False, True)]
     groups = [g for g in groups if g]

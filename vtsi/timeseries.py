@@ -20,9 +20,23 @@ class TimeSeries:
     stackable), ``values``, ``factor`` and the classmethod ``stack_factors(key, table, times,
     scale, outer)`` -> the factors (len(times), n) ``outer[j] * (scale[j] * f_j(t))`` of the
     stacked values ``table`` (n, n_samples): ``scale`` the series' factors, ``outer`` the
-    patterns' (in OpenSees's order of the products, so that the results are OpenSees's to the bit)."""
+    patterns' (in OpenSees's order of the products, so that the results are OpenSees's to the bit).
+
+    ``label`` (:attr:`label`): how the series' messages name it; the built-in series take it as
+    a keyword (``label=...``, default ``timeSeries <type> <tag>``)."""
 
     tag = None
+    _label = None
+
+    @property
+    def label(self):
+        """The name the series' messages begin with: the ``label`` it was built with (the command
+        layer passes its command: ``timeSeries LinearSeries 1``, or for an inline series ``pattern
+        Plain 7: series Path``), else ``timeSeries <type> <tag>`` (``timeSeries Path 1``; without a
+        tag ``timeSeries Path``)."""
+        if self._label is not None:
+            return self._label
+        return f"timeSeries {type(self).__name__}" + (f" {self.tag}" if self.tag is not None else "")
 
     def __call__(self, t):
         raise NotImplementedError
@@ -33,7 +47,7 @@ class TimeSeries:
     def __repr__(self):
         """``Linear(factor=2.0, tag=1)``: the constructor's parameters held under their own names,
         the required ones, ``factor`` and those not at their default (arrays by their size)."""
-        words, hidden = [], self._hidden_in_repr()
+        words, hidden = [], ("label", *self._hidden_in_repr())
         for name, p in _parameters(self).items():
             if p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD) or not hasattr(self, name) or name in hidden:
                 continue
@@ -68,8 +82,9 @@ class Constant(TimeSeries):
     OpenSees's ``timeSeries Constant 1 -factor 2.0``, and ``Constant(1)`` a factor of 1 without
     a tag (a model that names series by tag asks for one: :meth:`TimeSeries.required_tag`)."""
 
-    def __init__(self, factor=1.0, tag=None):
-        self.factor, self.tag = _finite("Constant", tag, "factor", factor), tag
+    def __init__(self, factor=1.0, tag=None, label=None):
+        self.tag, self._label = tag, label
+        self.factor = _finite(self, "factor", factor)
 
     def __call__(self, t):
         return np.full(np.shape(t), self.factor)
@@ -83,8 +98,9 @@ class Linear(TimeSeries):
     OpenSees's ``timeSeries Linear 1 -factor 2.0``, and ``Linear(1)`` a factor of 1 without a
     tag (a model that names series by tag asks for one: :meth:`TimeSeries.required_tag`)."""
 
-    def __init__(self, factor=1.0, tag=None):
-        self.factor, self.tag = _finite("Linear", tag, "factor", factor), tag
+    def __init__(self, factor=1.0, tag=None, label=None):
+        self.tag, self._label = tag, label
+        self.factor = _finite(self, "factor", factor)
 
     def __call__(self, t):
         return self.factor * _times(self, t)
@@ -95,17 +111,17 @@ class Trig(TimeSeries):
     + φ) + zero_shift`` with φ = shift − period/(2π) asin(zero_shift/factor) (OpenSees's
     definition), 0 outside."""
 
-    def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None):
-        self.tag = tag
-        self.t_start, self.t_end = _finite("Trig", tag, "tStart", t_start), _finite("Trig", tag, "tEnd", t_end)
-        self.period = _finite("Trig", tag, "period", period)
-        self.factor, self.shift = _finite("Trig", tag, "factor", factor), _finite("Trig", tag, "shift", shift)
-        self.zero_shift = _finite("Trig", tag, "zeroShift", zero_shift)
-        _interval("Trig", tag, self.t_start, self.t_end)
+    def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None, label=None):
+        self.tag, self._label = tag, label
+        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
+        self.period = _finite(self, "period", period)
+        self.factor, self.shift = _finite(self, "factor", factor), _finite(self, "shift", shift)
+        self.zero_shift = _finite(self, "zeroShift", zero_shift)
+        _interval(self)
         if not self.period > 0.0:
-            raise ModelError(f"timeSeries Trig {tag}: period must be > 0, got {self.period}")
+            raise ModelError(f"{self.label}: period must be > 0, got {self.period}")
         if self.zero_shift and not abs(self.zero_shift) <= abs(self.factor):
-            raise ModelError(f"timeSeries Trig {tag}: |zeroShift| must not exceed |factor| (asin), got {self.zero_shift}")
+            raise ModelError(f"{self.label}: |zeroShift| must not exceed |factor| (asin), got {self.zero_shift}")
 
     def __call__(self, t):
         t = _times(self, t)
@@ -117,12 +133,11 @@ class Trig(TimeSeries):
 class Rectangular(TimeSeries):
     """OpenSees ``timeSeries Rectangular``: ``factor`` inside [t_start, t_end], 0 outside."""
 
-    def __init__(self, t_start, t_end, factor=1.0, tag=None):
-        self.tag = tag
-        self.t_start = _finite("Rectangular", tag, "tStart", t_start)
-        self.t_end = _finite("Rectangular", tag, "tEnd", t_end)
-        self.factor = _finite("Rectangular", tag, "factor", factor)
-        _interval("Rectangular", tag, self.t_start, self.t_end)
+    def __init__(self, t_start, t_end, factor=1.0, tag=None, label=None):
+        self.tag, self._label = tag, label
+        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
+        self.factor = _finite(self, "factor", factor)
+        _interval(self)
 
     def __call__(self, t):
         t = _times(self, t)
@@ -135,16 +150,15 @@ class Triangle(TimeSeries):
     ``zero_shift`` as OpenSees: φ = shift − zero_shift/s with the slope s = 4 factor/period,
     k = frac((t + φ − t_start)/period); 0 outside."""
 
-    def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None):
-        self.tag = tag
-        self.t_start = _finite("Triangle", tag, "tStart", t_start)
-        self.t_end = _finite("Triangle", tag, "tEnd", t_end)
-        self.period = _finite("Triangle", tag, "period", period)
-        self.factor, self.shift = _finite("Triangle", tag, "factor", factor), _finite("Triangle", tag, "shift", shift)
-        self.zero_shift = _finite("Triangle", tag, "zeroShift", zero_shift)
-        _interval("Triangle", tag, self.t_start, self.t_end)
+    def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None, label=None):
+        self.tag, self._label = tag, label
+        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
+        self.period = _finite(self, "period", period)
+        self.factor, self.shift = _finite(self, "factor", factor), _finite(self, "shift", shift)
+        self.zero_shift = _finite(self, "zeroShift", zero_shift)
+        _interval(self)
         if not self.period > 0.0 or self.factor == 0.0:
-            raise ModelError(f"timeSeries Triangle {tag}: period must be > 0 and factor not 0, got "
+            raise ModelError(f"{self.label}: period must be > 0 and factor not 0, got "
                              f"{self.period}, {self.factor}")
 
     def __call__(self, t):
@@ -163,15 +177,16 @@ class Pulse(TimeSeries):
     t_start)/period), ``factor + zero_shift`` while k < ``width`` (a fraction of the period),
     ``zero_shift`` after it; 0 outside."""
 
-    def __init__(self, t_start, t_end, period, width=0.5, factor=1.0, shift=0.0, zero_shift=0.0, tag=None):
-        self.tag = tag
-        self.t_start, self.t_end = _finite("Pulse", tag, "tStart", t_start), _finite("Pulse", tag, "tEnd", t_end)
-        self.period, self.width = _finite("Pulse", tag, "period", period), _finite("Pulse", tag, "width", width)
-        self.factor, self.shift = _finite("Pulse", tag, "factor", factor), _finite("Pulse", tag, "shift", shift)
-        self.zero_shift = _finite("Pulse", tag, "zeroShift", zero_shift)
-        _interval("Pulse", tag, self.t_start, self.t_end)
+    def __init__(self, t_start, t_end, period, width=0.5, factor=1.0, shift=0.0, zero_shift=0.0, tag=None,
+                 label=None):
+        self.tag, self._label = tag, label
+        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
+        self.period, self.width = _finite(self, "period", period), _finite(self, "width", width)
+        self.factor, self.shift = _finite(self, "factor", factor), _finite(self, "shift", shift)
+        self.zero_shift = _finite(self, "zeroShift", zero_shift)
+        _interval(self)
         if not self.period > 0.0 or not 0.0 < self.width < 1.0:
-            raise ModelError(f"timeSeries Pulse {tag}: period must be > 0 and width in (0, 1), got "
+            raise ModelError(f"{self.label}: period must be > 0 and width in (0, 1), got "
                              f"{self.period}, {self.width}")
 
     def __call__(self, t):
@@ -194,6 +209,7 @@ class Path(TimeSeries):
     prepend_zero : (``dt`` form) a zero sample at ``start_time``, the given values one ``dt``
         later (OpenSees ``-prependZero``).
     start_time : (``dt`` form) time of the first sample [s].
+    tag, label : the series' tag, and how its messages name it (:attr:`TimeSeries.label`).
 
     The ``dt`` form is evaluated as ``PathSeries::getFactor``: ``x = (t - t0)/dt``,
     ``i = floor(x)``; zero before ``t0``; ``factor (v[i] + (v[i+1] - v[i]) (x - i))`` while
@@ -203,20 +219,21 @@ class Path(TimeSeries):
     """
 
     def __init__(self, values, time=None, dt=None, factor=1.0, use_last=False, prepend_zero=False,
-                 start_time=0.0, tag=None):
-        name = f"timeSeries Path {tag}" if tag is not None else "timeSeries Path"
+                 start_time=0.0, tag=None, label=None):
+        self.tag, self._label = tag, label
+        name = self.label
         values = _numbers(name, "values", values)
         if values.size == 0:
             raise ModelError(f"{name}: no values given")
         if not np.all(np.isfinite(values)):
             bad = int(np.flatnonzero(~np.isfinite(values))[0])
             raise ModelError(f"{name}: value {bad} is {values[bad]} (NaN or inf)")
-        start_time = _finite("Path", tag, "start_time", start_time)
+        start_time = _finite(self, "start_time", start_time)
         use_last, prepend_zero = as_flag(use_last, name, "use_last"), as_flag(prepend_zero, name, "prepend_zero")
         if time is None:
             if dt is None:
                 raise ModelError(f"{name}: give the sample times (time=...) or the step dt")
-            dt = _finite("Path", tag, "dt", dt)
+            dt = _finite(self, "dt", dt)
             if not dt > 0.0:
                 raise ModelError(f"{name}: dt must be > 0, got {dt}")
             if prepend_zero:
@@ -242,7 +259,7 @@ class Path(TimeSeries):
         self.time, self.values = time, values
         self.dt = None if dt is None else float(dt)        # the -dt form's step, None for the -time form
         self.start_time = start_time
-        self.factor, self.use_last, self.tag = _finite("Path", tag, "factor", factor), use_last, tag
+        self.factor, self.use_last = _finite(self, "factor", factor), use_last
 
     def _hidden_in_repr(self):
         return ("time",) if self.dt is not None else ("dt",)
@@ -303,18 +320,18 @@ def _times(series, t):
     try:
         return np.asarray(t, dtype=float)
     except (TypeError, ValueError):
-        where = f"timeSeries {type(series).__name__}" + (f" {series.tag}" if series.tag is not None else "")
-        raise ModelError(f"{where}: times must be numbers [s], got {t!r}") from None
+        raise ModelError(f"{series.label}: times must be numbers [s], got {t!r}") from None
 
 
-def _interval(kind, tag, t_start, t_end):
-    """A ModelError naming the series if ``t_end`` < ``t_start`` (it would always give 0)."""
+def _interval(series):
+    """A ModelError naming the series (its label) if its ``t_end`` < ``t_start`` (it would always give 0)."""
+    t_start, t_end, tag, kind = series.t_start, series.t_end, series.tag, type(series).__name__
     if t_end < t_start:
-        where = f"timeSeries {kind} {tag}" if tag is not None else f"timeSeries {kind}"
         hint = (f"; if {t_start:g} was meant as the tag, give it as tag={t_start:g}: {kind}'s first argument is "
                 f"tStart (OpenSees's 'timeSeries {kind} <tag> <tStart> ...')"
                 if tag is None and float(t_start).is_integer() else "")
-        raise ModelError(f"{where}: tEnd = {t_end:g} is before tStart = {t_start:g} (the series would be 0 always){hint}")
+        raise ModelError(f"{series.label}: tEnd = {t_end:g} is before tStart = {t_start:g} (the series would be "
+                         f"0 always){hint}")
 
 
 @njit(cache=True)
@@ -359,12 +376,12 @@ def _time_grid_factors(table, times, grid, use_last, scale, outer, out):
                 out[r, j] = outer[j] * (scale[j] * table[j, n - 1])
 
 
-def _finite(kind, tag, name, value):
-    where = f"timeSeries {kind} {tag}" if tag is not None else f"timeSeries {kind}"
+def _finite(series, name, value):
+    """``value`` as a float, or a ModelError naming the series (its label), ``name`` and the value."""
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise ModelError(f"{where}: {name} must be a number, got {value!r}") from None
+        raise ModelError(f"{series.label}: {name} must be a number, got {value!r}") from None
     if not np.isfinite(value):
-        raise ModelError(f"{where}: {name} must be finite, got {value}")
+        raise ModelError(f"{series.label}: {name} must be finite, got {value}")
     return value

@@ -396,7 +396,8 @@ class AnalysisCommands(SessionBase):
                                        "OpenSees's Linear), or minLambda = maxLambda (a constant increment)")
                 for _ in range(n):
                     StaticAnalysis(model, control.next_increment(1), recorders).run(1)
-            self._load_time = domain_state(model).time
+            if n > 0:       # analyze(0) applies no loads, as OpenSees
+                self._load_time = domain_state(model).time
             return 0
         if not a.more():
             usage = self._command_hint(("analyze", Placeholder("numSteps"), Placeholder("dt")), verb="")
@@ -411,7 +412,9 @@ class AnalysisCommands(SessionBase):
         if kind == "TRBDF2":
             if self._trbdf2 is None or self._trbdf2.analysis.model is not model:
                 self._trbdf2 = OpenSeesTRBDF2(model)
-            self._load_time = self._trbdf2.run(n, dt, self._recorder_list()).time
+            state = self._trbdf2.run(n, dt, self._recorder_list())
+            if n > 0:
+                self._load_time = state.time
             return 0
         bridge = self._modal_bridge("analyze")
         if self._transient is None or self._transient.bridge is not bridge:
@@ -428,17 +431,18 @@ class AnalysisCommands(SessionBase):
         state = analysis.run(n)
         if n > 0:   # when the domain last applied its loads (OpenSees: the nodes' unbalanced load)
             if kind in ("HHT", "GeneralizedAlpha"):
-                self._load_time = analysis.last_step_start + equilibrium_point(integ) * dt
+                t = analysis.last_step_start + equilibrium_point(integ) * dt
             elif kind == "CentralDifference":
-                self._load_time = analysis.last_step_start
+                t = analysis.last_step_start
             else:
-                self._load_time = state.time
+                t = state.time
             # a reaction recorder that recorded the last step had OpenSees apply the loads again at
             # its time first (Domain::calculateNodalReactions), as the reactions command does
             recorders = [getattr(kept, "recorder", kept) for kept in self._recorder_list()]
             if any(getattr(r, "response", None) in REACTIONS and r.last_time is not None
                    and abs(r.last_time - state.time) <= 1e-9 * dt for r in recorders):
-                self._load_time = state.time
+                t = state.time
+            self._load_time = t
         return 0
 
     def eigen(self, *args):

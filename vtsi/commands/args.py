@@ -13,7 +13,6 @@ class UnknownCommand(CommandError, AttributeError):
     """A command (or module attribute) that this layer does not offer."""
 
 
-_SCALARS = (int, float, str)
 _NUMBERS = (int, float)
 
 
@@ -22,27 +21,29 @@ def is_number(x):
                                    and not isinstance(x, (bool, np.bool_)))
 
 
-def flatten(args):
-    """Arguments with lists, tuples and arrays spread out (Tcl lists arrive as Python lists)."""
-    if all(type(a) in _SCALARS for a in args):
-        return list(args)
-    out = []
-    for a in args:
-        if isinstance(a, (list, tuple)):
-            out.extend(flatten(a))
-        elif isinstance(a, np.ndarray):
-            out.extend(flatten(a.ravel().tolist()))
-        else:
-            out.append(a)
-    return out
+def is_list(x):
+    """Whether the argument ``x`` is a list: a Python list, tuple or array of 1 or more dimensions
+    (a Tcl word holding several numbers, ``{4.0 1.0}``, ``$props``, arrives as a list:
+    :func:`convert_word`)."""
+    return isinstance(x, (list, tuple)) or (isinstance(x, np.ndarray) and x.ndim > 0)
+
+
+def list_values(x):
+    """The items of the list ``x`` (:func:`is_list`; an array's flattened)."""
+    return list(np.ravel(x)) if isinstance(x, np.ndarray) else list(x)
 
 
 class Args:
-    """A cursor over one command's arguments; every error names the command and the argument."""
+    """A cursor over one command's arguments; every error names the command and the argument.
+
+    An argument is one value, as OpenSees reads it: a list (:func:`is_list`) is spread only
+    where OpenSees takes a list as one word (:meth:`number_list`: ``-values {0 1 2}``); where
+    one number is expected it is refused naming the argument and the list, as OpenSees's Tcl
+    fails on ``node 3 {4.0 1.0}`` and OpenSeesPy on ``node(3, [4.0, 1.0])``."""
 
     def __init__(self, command, args):
         self.command = command
-        self.items = flatten(args)
+        self.items = list(args)
         self.pos = 0
 
     def more(self):
@@ -71,13 +72,13 @@ class Args:
     def int(self, what):
         x = self.take(what)
         if not is_int(x):
-            raise CommandError(f"{self.command}: {what} must be an integer, got {x!r}")
+            raise self._refused(what, x, "an integer")
         return int(x)
 
     def float(self, what):
         x = self.take(what)
         if not is_number(x):
-            raise CommandError(f"{self.command}: {what} must be a number, got {x!r}")
+            raise self._refused(what, x, "a number")
         x = float(x)
         if not math.isfinite(x):
             raise CommandError(f"{self.command}: {what} must be finite, got {x}")
@@ -99,6 +100,8 @@ class Args:
             got += 1
             self.pos += 1
         if got < count:
+            if self.more() and is_list(self.peek()):
+                raise self._refused(f"{option} ({what})", self.peek(), "a number")
             plural = f"{count} values" if count > 1 else "a value"
             found = f"{got} ({self.peek()!r} follows)" if self.more() else str(got) if got else "none"
             raise CommandError(f"{self.command}: {option} needs {plural} ({what}), got {found}")
@@ -106,26 +109,31 @@ class Args:
         return [self.float(f"{option} {what}") for _ in range(count)]
 
     def floats(self, what):
+        """The numbers that follow, up to the next word (a list there is refused naming ``what``)."""
         out = []
         while self.next_is_number():
             out.append(self.float(what))
+        if self.more() and is_list(self.peek()):
+            raise self._refused(what, self.peek(), "a number")
         return out
 
     def number_list(self, option):
         """The numbers after ``option`` (just read), up to the next option or the end, as floats:
-        numbers, and Tcl list words (``{0 1 2}``; :func:`convert_word` leaves one holding a
-        non-number a str). An item that is not a number raises naming ``option`` and the item's
+        numbers, lists of them (:func:`is_list`: ``{0 1 2}``, ``$values``, a Python list or
+        array), and Tcl list words (:func:`convert_word` leaves one holding a non-number a str),
+        spread out. An item that is not a number raises naming ``option`` and the item's
         1-based position (``'timeSeries Path 1: -values item 3 is 'abc', not a number'``), a
         NaN or ±inf one likewise (``-values item 3 must be finite, got nan``), and so does a
-        number given as a Python str (``'2'``: a Tcl word arrives converted); none at all raises
-        ``the -values list is empty``."""
+        number given as a Python str (``'2'``: a Tcl word arrives converted), also in a list;
+        none at all raises ``the -values list is empty``."""
         out = []
         while self.more() and not is_option(self.peek()):
             word = self.take(option)
-            if isinstance(word, str) and convert_word(word) is not word:
-                raise CommandError(f"{self.command}: {option} item {len(out) + 1} is {word!r}, not a number")
-            for item in split_list(word) if isinstance(word, str) else [word]:
-                value = _list_item(item)
+            if isinstance(word, str) and convert_word(word) is word:     # a Tcl word: its items as Tcl reads them
+                items = [(item, _list_item(item)) for item in split_list(word)]
+            else:                                                       # a number, or a list of numbers
+                items = [(value, value) for value in (list_values(word) if is_list(word) else [word])]
+            for item, value in items:
                 if not is_number(value):
                     raise CommandError(f"{self.command}: {option} item {len(out) + 1} is {item!r}, not a number")
                 if not math.isfinite(value):
@@ -136,9 +144,12 @@ class Args:
         return out
 
     def ints(self, what):
+        """The integers that follow, up to the next word (a list there is refused naming ``what``)."""
         out = []
         while self.next_is_number():
             out.append(self.int(what))
+        if self.more() and is_list(self.peek()):
+            raise self._refused(what, self.peek(), "an integer")
         return out
 
     def option(self, valid):
@@ -153,6 +164,15 @@ class Args:
     def done(self):
         if self.more():
             raise CommandError(f"{self.command}: unexpected argument {self.peek()!r}")
+
+    def _refused(self, what, x, kind):
+        """The CommandError of ``x`` read as ``what``, which must be ``kind`` ('a number', 'an
+        integer'); a list (:func:`is_list`) is named as one, with its items."""
+        if is_list(x):
+            items = list_values(x)
+            return CommandError(f"{self.command}: {what} must be {kind}, got a list of {len(items)} "
+                                f"({' '.join(map(str, items))}); give each value as its own argument")
+        return CommandError(f"{self.command}: {what} must be {kind}, got {x!r}")
 
 
 def dof_value(values, dof, what):

@@ -3,6 +3,8 @@ found by tag with errors that name the command and the tag."""
 from vtsi.analysis import domain_state
 from vtsi.errors import CommandError, is_int
 
+from .responses import accepted_responses
+
 
 class Placeholder(str):
     """A word of :meth:`SessionBase._command_text` that stands for a value the user chooses
@@ -72,6 +74,17 @@ class SessionBase:
             vector = getattr(domain_state(self.domain), vector)
         i *= asm.ndf
         return vector[i: i + asm.ndf]
+
+    def _element_responses(self, tags):
+        """The response names the elements ``tags`` answer (None: every element of the model), for
+        a message (:func:`~.responses.accepted_responses`); tags that are not elements are left out."""
+        model = self.domain
+        tags = model.element_tags() if tags is None else [t for t in tags if is_int(t) and t in model._element_owner]
+        names = {}
+        for t in tags:
+            etype = model._element_owner[t]
+            names.update(dict.fromkeys(accepted_responses(etype, model.ndf, self._zero_length.get(t))))
+        return tuple(names)
 
 
 def _python_word(word):

@@ -231,7 +231,8 @@ class ModelCommands(SessionBase):
 
     def _element_registered(self, model, a, name, tag, cls):
         """A registered type's command: its nodes, then ``cls.command_args`` in order, then the
-        options of ``cls.command_options`` (an option naming a parameter takes one number; one
+        options of ``cls.command_options`` (an option naming a parameter takes one number, its
+        absence named as the shipped types name it: ``-mass needs a value (mu), got none``; one
         mapped to ``(parameter, value)`` is a flag)."""
         a.command = name
         nodes = [a.int(f"node {k + 1}") for k in range(cls.n_nodes)]
@@ -247,7 +248,7 @@ class ModelCommands(SessionBase):
             if isinstance(target, tuple):
                 params[target[0]] = target[1]
             else:
-                params[target] = a.float(opt)
+                params[target] = a.option_floats(opt, 1, target)[0]
         model.element(cls.name, tag, nodes, **params)
 
     def _element_elasticBeamColumn(self, model, a, name, tag, i, j):
@@ -376,23 +377,24 @@ class ModelCommands(SessionBase):
     def _make_series(self, kind, tag, a, name):
         """The series ``kind`` (a name of :data:`SERIES_TYPES` or :data:`SERIES_ALIASES`) ``tag``
         from the arguments ``a`` after its tag; its errors begin with ``name`` (``timeSeries Path
-        1``, or for an inline series ``pattern Plain 7: series Path``)."""
+        1``, or for an inline series ``pattern Plain 7: series Path``), which the series takes as
+        its label (:attr:`vtsi.timeseries.TimeSeries.label`) for its own messages."""
         a.command = name
-        kind = SERIES_ALIASES.get(kind, kind)
         try:
-            return self._series(kind, tag, a, name)
-        except ModelError as exc:      # the series' own messages begin 'timeSeries <kind> <tag>: '
-            raise CommandError(f"{name}: {str(exc).removeprefix(f'timeSeries {kind} {tag}: ')}") from None
+            return self._series(SERIES_ALIASES.get(kind, kind), tag, a, name)
+        except ModelError as exc:      # the series' own message, begun with its label: name
+            raise CommandError(str(exc)) from None
 
     @staticmethod
     def _series(kind, tag, a, name):
-        """The series of :meth:`_make_series`, ``kind`` resolved (a ModelError from its class)."""
+        """The series of :meth:`_make_series`, ``kind`` resolved, labelled ``name`` (a ModelError
+        from its class)."""
         if kind in ("Constant", "Linear"):
             f = 1.0
             while a.more():
                 a.option(("-factor",))
                 f = a.float("-factor")
-            return (Constant if kind == "Constant" else Linear)(f, tag=tag)
+            return (Constant if kind == "Constant" else Linear)(f, tag=tag, label=name)
         if kind in ("Trig", "Triangle", "Rectangular", "Pulse"):
             t0, t1 = a.float("tStart"), a.float("tEnd")
             period = a.float("period") if kind != "Rectangular" else None
@@ -402,12 +404,12 @@ class ModelCommands(SessionBase):
                 opt = a.option(valid)
                 extra[opt] = a.float(opt)
             if kind == "Rectangular":
-                return Rectangular(t0, t1, extra["-factor"], tag=tag)
+                return Rectangular(t0, t1, extra["-factor"], tag=tag, label=name)
             if kind == "Pulse":
                 return Pulse(t0, t1, period, extra["-width"], extra["-factor"], extra["-shift"], extra["-zeroShift"],
-                             tag=tag)
+                             tag=tag, label=name)
             return (Trig if kind == "Trig" else Triangle)(t0, t1, period, extra["-factor"], extra["-shift"],
-                                                         extra["-zeroShift"], tag=tag)
+                                                         extra["-zeroShift"], tag=tag, label=name)
         opts = {}
         valid = ("-dt", "-values", "-time", "-filePath", "-fileTime", "-factor", "-useLast", "-prependZero",
                  "-startTime")
@@ -436,14 +438,15 @@ class ModelCommands(SessionBase):
             if not opts["-dt"] > 0.0:
                 raise CommandError(f"{name}: -dt must be > 0, got {opts['-dt']:g}")
             return Path(values, dt=opts["-dt"], factor=factor_, use_last=opts.get("-useLast", False),
-                        prepend_zero=opts.get("-prependZero", False), start_time=opts.get("-startTime", 0.0), tag=tag)
+                        prepend_zero=opts.get("-prependZero", False), start_time=opts.get("-startTime", 0.0), tag=tag,
+                        label=name)
         if time is None:
             raise CommandError(f"{name}: give the sample times with -dt or -time/-fileTime")
         for opt in ("-prependZero", "-startTime"):
             if opt in opts:
                 raise CommandError(f"{name}: option {opt} applies to the -dt form only (OpenSees ignores it "
                                    "with -time); shift or extend the -time list instead")
-        return Path(values, time=time, factor=factor_, use_last=opts.get("-useLast", False), tag=tag)
+        return Path(values, time=time, factor=factor_, use_last=opts.get("-useLast", False), tag=tag, label=name)
 
     def pattern(self, *args):
         """``pattern('Plain', tag, tsTag, ['-fact', f])``; following ``load`` commands go to it.

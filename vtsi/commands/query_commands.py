@@ -2,6 +2,8 @@
 ``reactions``, ``eleForce``, ``eleResponse``, ``getTime``, ``setTime``, ``loadConst``,
 ``getLoadFactor``, ``nodeMass``, ``nodeBounds``, ``nodeCoord``, ``nodeEigenvector``,
 ``nodeResponse``, ``getNodeTags``, ``getEleTags``, with OpenSees's return values."""
+import copy
+import logging
 import math
 
 import numpy as np
@@ -22,9 +24,62 @@ QUERY_COMMANDS = ("printModel", "nodeDisp", "nodeVel", "nodeAccel", "nodeReactio
                   "getEleTags", "getLoadFactor", "nodeMass", "nodeBounds")
 NODE_RESPONSE_IDS = {1: "disp", 2: "vel", 3: "accel", 6: "reaction", 7: "unbalance"}
 
+log = logging.getLogger(__name__)
+
+
+class LoadsLastApplied:
+    """The loads as the domain last applied them (OpenSees's ``Domain::applyLoad``: an analysis
+    step, ``reactions``), kept as they were then, as OpenSees's nodes (unbalanced load) and
+    elements (load vector) keep them until the next application: a load added to or removed
+    from a pattern, a pattern added or removed, a nodal mass changed since count from the next.
+
+    ``time`` [s] the load time; ``patterns``: ``{id(pattern): (pattern, kept, equivalents)}`` of
+    every pattern in the model then, ``kept`` a copy of it (its factor, freezing, series and nodal
+    loads as they were), ``equivalents`` its element loads' global nodal loads at factor 1
+    (``{element tag: (ndof,)}``, :meth:`vtsi.assembly.Assembly.element_equivalent_loads`);
+    ``nodal_mass`` the nodal masses then (a ground acceleration's load on them). ``previous``: the
+    last application, whose copies are reused while the model, its assembly and its patterns
+    (``Model.load_version``) are unchanged, so that a script's ``analyze(1, dt)`` loop copies nothing."""
+
+    def __init__(self, model, time, previous=None):
+        asm = model.build()
+        self.time = float(time)
+        self.model, self.assembly, self.version = model, asm, model.load_version
+        if (previous is not None and previous.model is model and previous.assembly is asm
+                and previous.version == model.load_version):
+            self.patterns, self.nodal_mass = previous.patterns, previous.nodal_mass
+            return
+        self.patterns = {}
+        for p in model.patterns.values():
+            kept = copy.copy(p)
+            kept.nodal, kept.element_loads, kept.prescribed = dict(p.nodal), list(p.element_loads), dict(p.prescribed)
+            kept.on_change = None
+            self.patterns[id(p)] = (p, kept, asm.element_equivalent_loads(p) if p.element_loads else {})
+        self.nodal_mass = dict(model.nodal_mass)
+
+    def factor(self, pattern):
+        """The load factor the model's ``pattern`` was applied with (OpenSees's
+        ``LoadPattern::getLoadFactor``): its factor × its series' at :attr:`time` (frozen by
+        ``loadConst``), 0 for a pattern not in the model then."""
+        if not self.applied(pattern):
+            return 0.0
+        return float(self.patterns[id(pattern)][1].factors(np.array([self.time]))[0])
+
+    def applied(self, pattern):
+        """Whether the model's ``pattern`` was in the model at the last application."""
+        entry = self.patterns.get(id(pattern))
+        return entry is not None and entry[0] is pattern
+
+    def terms(self):
+        """``[(kept, factor, equivalents)]`` of every pattern applied (one removed since included)."""
+        return [(kept, float(kept.factors(np.array([self.time]))[0]), equivalents)
+                for _, kept, equivalents in self.patterns.values()]
+
 
 class QueryCommands(SessionBase):
     """What a script reads back from the domain."""
+
+    _applied = None     # the LoadsLastApplied of the last load time, None before the first
 
     def _clear_queries(self):
         self._reactions = None
@@ -33,27 +88,19 @@ class QueryCommands(SessionBase):
     def _load_time(self):
         """The time [s] at which the domain last applied its loads (OpenSees's
         ``Domain::applyLoad``: an analysis step, ``reactions``), None before the first. Setting it
-        (the analyses do) also records the patterns applied then (:meth:`_applied_factor`)."""
-        return self._applied_time
+        (the analyses do, after a step) also keeps the loads applied then (:class:`LoadsLastApplied`)."""
+        return None if self._applied is None else self._applied.time
 
     @_load_time.setter
     def _load_time(self, t):
-        self._applied_time = t
         model = self.domain
-        if t is None or model is None:
-            self._applied_version, self._applied_patterns = None, {}
-        elif self._applied_version != (model, model.load_version):     # a pattern added, removed or changed
-            self._applied_version = (model, model.load_version)
-            self._applied_patterns = {id(p): p for p in model.patterns.values()}
+        self._applied = None if t is None or model is None else LoadsLastApplied(model, t, self._applied)
 
     def _applied_factor(self, pattern):
-        """The load factor of ``pattern`` as the domain last applied it, OpenSees's
-        ``LoadPattern::getLoadFactor``: its factor × its series' at :attr:`_load_time` (frozen by
-        ``loadConst``), and 0 before the first application and for a pattern added since, until
-        the next analysis step applies it (``setTime`` applies nothing)."""
-        if self._applied_patterns.get(id(pattern)) is not pattern:
-            return 0.0
-        return float(pattern.factors(np.array([self._applied_time]))[0])
+        """The load factor of ``pattern`` as the domain last applied it (:meth:`LoadsLastApplied.factor`):
+        0 before the first application and for a pattern added since, until the next analysis
+        step applies it (``setTime`` applies nothing)."""
+        return 0.0 if self._applied is None else self._applied.factor(pattern)
 
     def nodeDisp(self, node, dof=-1):
         """Displacement of ``node`` [m, rad]: a list over its dofs, or one 1-based ``dof``."""
@@ -127,9 +174,11 @@ class QueryCommands(SessionBase):
         state.time = float(t)
 
     def loadConst(self, *args):
-        """``loadConst(['-time', t])``: freeze every existing pattern at its current factor (and
-        set the time); one the loads were never applied with is frozen at its factor at the last
-        load time (or the current time), where OpenSees freezes it at 0 (docs/commands.md)."""
+        """``loadConst(['-time', t])``: freeze every existing pattern at the factor the domain
+        last applied it with (OpenSees's ``LoadPattern::setLoadConstant`` keeps ``loadFactor``), its
+        factor at the last load time; then set the time. A pattern never applied (defined before
+        any analysis step, or after the last) is frozen at 0, as in OpenSees: its ``factor`` is
+        set to 0, its loads never act, and a warning (logged, on stderr by default) names it."""
         model = self._model("loadConst")
         a = Args("loadConst", args)
         new_time = None
@@ -137,9 +186,19 @@ class QueryCommands(SessionBase):
             a.option(("-time",))
             new_time = a.option_floats("-time", 1, "the new time [s]")[0]
         at = self._load_time if self._load_time is not None else self.getTime()
-        for p in model.patterns.values():
+        never = []
+        for tag, p in model.patterns.items():
             if p.constant_time is None:
+                if self._applied is None or not self._applied.applied(p):
+                    p.factor = 0.0
+                    never.append(tag)
                 p.constant_time = at
+        if never:
+            one = len(never) == 1
+            log.warning("loadConst: pattern%s %s frozen at load factor 0: no analysis step applied %s since %s "
+                        "defined, so %s loads never act (as in OpenSees)", "" if one else "s",
+                        ", ".join(map(str, never)), "it" if one else "them", "it was" if one else "they were",
+                        "its" if one else "their")
         if new_time is not None:
             _, state = self._state("loadConst")
             state.time = new_time
@@ -228,20 +287,23 @@ class QueryCommands(SessionBase):
                 raise CommandError(f"printModel: cannot write {path}: {exc.strerror}") from None
 
     # -- forces ------------------------------------------------------------------------------------
+    def _applied_terms(self):
+        """:meth:`LoadsLastApplied.terms` of the last application ([] before the first)."""
+        return [] if self._applied is None else self._applied.terms()
+
     def _applied_loads(self, asm):
-        """Full-dof nodal load vector applied at the last load time (OpenSees's unbalanced load of
-        the nodes: their nodal loads and, under a ground acceleration, −m r a_g of their nodal mass,
-        ``Node::addInertiaLoadToUnbalance``; element loads and element mass load the elements),
-        each pattern at its :meth:`_applied_factor`."""
+        """Full-dof nodal load vector (in ``asm``'s numbering) the domain last applied (OpenSees's
+        unbalanced load of the nodes: their nodal loads and, under a ground acceleration, −m r a_g
+        of their nodal mass, ``Node::addInertiaLoadToUnbalance``; element loads and element mass
+        load the elements), the loads and masses as they were then (:class:`LoadsLastApplied`)."""
         p = np.zeros(asm.n_full)
         ndf = asm.ndf
-        for pattern in self.domain.patterns.values():
-            f = self._applied_factor(pattern)
+        for pattern, f, _ in self._applied_terms():
             if f == 0.0:
                 continue
             if pattern.ground_direction is not None:
                 d = pattern.ground_direction - 1
-                for tag, mass in self.domain.nodal_mass.items():
+                for tag, mass in self._applied.nodal_mass.items():
                     if tag in asm.node_index:
                         p[asm.node_index[tag] * ndf + d] -= f * float(mass[d])
             for tag, values in pattern.nodal.items():
@@ -250,23 +312,21 @@ class QueryCommands(SessionBase):
                     p[i: i + ndf] += f * np.asarray(values)[:ndf]
         return p
 
-    def _element_load_now(self, asm, tag):
-        """The ``(ndof,)`` global nodal loads equivalent to element ``tag``'s element loads at the
-        last load time (the fixed-end forces, negated, that OpenSees counts in element forces;
-        each pattern at its :meth:`_applied_factor`), or None when it has none."""
+    def _element_load_now(self, tag):
+        """The ``(ndof,)`` global nodal loads equivalent to element ``tag``'s element loads as the
+        domain last applied them (the fixed-end forces, negated, that OpenSees counts in element
+        forces; :class:`LoadsLastApplied`), or None when it has none."""
         out = None
-        for pattern in self.domain.patterns.values():
-            if pattern.element_loads:
-                eq = asm.element_equivalent_loads(pattern).get(tag)
-                if eq is not None:
-                    out = (0.0 if out is None else out) + self._applied_factor(pattern) * eq
+        for _, f, equivalents in self._applied_terms():
+            eq = equivalents.get(tag)
+            if eq is not None:
+                out = (0.0 if out is None else out) + f * eq
         return out
 
     def _ground_accelerations_now(self):
-        """``[(direction, a_g)]`` of the ground accelerations (UniformExcitation) at the last load
-        time [m/s²] (:meth:`_applied_factor`)."""
-        return [(p.ground_direction, self._applied_factor(p))
-                for p in self.domain.patterns.values() if p.ground_direction is not None]
+        """``[(direction, a_g)]`` of the ground accelerations (UniformExcitation) as the domain last
+        applied them [m/s²] (:class:`LoadsLastApplied`)."""
+        return [(p.ground_direction, f) for p, f, _ in self._applied_terms() if p.ground_direction is not None]
 
     def _element_response(self, command, tag, kind, u, v):
         """One element's response as OpenSees returns it (:func:`~.responses.opensees_layout`), its
@@ -288,7 +348,7 @@ class QueryCommands(SessionBase):
         d = dofs[i]
         rows, u_e, v_e = slice(i, i + 1), u[d][None, :], v[d][None, :]
         values = element_response(asm, b, rows, source, u_e, v_e)
-        loaded = None if source in etype.unloaded_responses else self._element_load_now(asm, tag)
+        loaded = None if source in etype.unloaded_responses else self._element_load_now(tag)
         if loaded is not None:
             try:
                 values = values - np.asarray(etype.end_force_response(source, coords[rows], loaded[None, :]),
@@ -319,7 +379,7 @@ class QueryCommands(SessionBase):
         _, state = self._state("eleResponse")
         a = Args(f"eleResponse {tag}", args)
         a.word("response")      # a name first: a missing one or a number is named
-        kind = element_response_word(a.command, a.items)
+        kind = element_response_word(a.command, a.items, lambda: self._element_responses([tag]))
         if not is_int(tag):
             raise CommandError(f"eleResponse: element tag must be an integer, got {tag!r}")
         return [float(x) for x in self._element_response("eleResponse", int(tag), kind, state.u, state.v)]

@@ -1,13 +1,15 @@
 """Recorder commands: ``recorder Node|EnvelopeNode|Element|EnvelopeElement`` (``Contact`` and
 ``Train`` in :mod:`.train_commands`), kept open across ``analyze`` calls as in OpenSees, their
 sinks (``-file`` OpenSees text, ``-h5``/``-hdf5``) and OpenSees's element-response columns."""
+import logging
 import os
 
 import numpy as np
 
 from vtsi import recorders as rec
 from vtsi.errors import CommandError
-from vtsi.recorders import ElementRecorder
+from vtsi.recorders import ElementRecorder, Recorder
+from vtsi.recorders.element import DESCRIPTION
 from vtsi.units import Units
 
 from .args import Args, is_option
@@ -24,6 +26,8 @@ VALUE_OPTIONS = ("-file", "-h5", "-hdf5", "-precision", "-dT", "-node", "-nodeRa
 TEXT_ONLY = {"-precision": "it sets the digits of a text file (an HDF5 file stores every value as a float64)",
              "-closeOnWrite": "it reopens a text file for every write (an HDF5 file is flushed after every chunk "
                               "of steps)"}
+
+log = logging.getLogger(__name__)
 
 
 class KeptOpen:
@@ -94,67 +98,106 @@ class KeptOpen:
             self.recorder.close()
 
 
-class CommandElementRecorder(ElementRecorder):
-    """Records the vtsi response the layouts need (``deformation`` for a zeroLength's
-    basic quantities, also on the velocities) and rearranges its columns."""
+class CommandElementRecorder(Recorder):
+    """OpenSees's ``recorder Element``: ``response`` of ``elements`` in OpenSees's columns,
+    element after element, whatever their types (a beam's 6 global forces, then a truss's 6).
 
-    def __init__(self, elements, response, layouts, **kw):
-        self.opensees_response = response
-        self._layouts = layouts
-        source = {layout[0] for layout in layouts if layout is not None}
-        if len(source) > 1 or (source and any(layout is None for layout in layouts)):
-            raise CommandError(f"recorder Element {response}: the elements {list(elements)} need different "
-                               "responses; record them with separate recorders")
-        super().__init__(elements, source.pop() if source else response, **kw)
-        self._rate_columns = None
+    ``layouts``: per element, how its columns are built from a vtsi response
+    (:func:`~vtsi.commands.responses.opensees_layout`; None: that response's own columns). The
+    elements that need the same vtsi response (``deformation`` for a zeroLength's basic
+    quantities, also on the velocities) are recorded by one
+    :class:`~vtsi.recorders.ElementRecorder`, whose columns are then rearranged."""
+
+    name = "element recorder"
+
+    def __init__(self, elements, response, layouts, sink=None, dt=None, envelope=False, history=True, tag=None):
+        self.elements, self.response, self._layouts = list(elements), response, list(layouts)
+        by_source = {}
+        for k, layout in enumerate(self._layouts):
+            by_source.setdefault(response if layout is None else layout[0], []).append(k)
+        # (the recorder of one vtsi response, the places of its elements in self.elements, whether a layout
+        # of theirs needs the response's rate)
+        self._parts = [(ElementRecorder([self.elements[k] for k in places], source), places,
+                        any(self._layouts[k] is not None and self._layouts[k][2] for k in places))
+                       for source, places in by_source.items()]
+        super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
+        self._columns = None      # per part: its request columns, and the same with u replaced by v
+        self._blocks = None       # per element: (part, first column in its values, width, layout)
+        self._slices = None       # the output in slices of successive elements (see requests)
+
+    @property
+    def load_lag(self):
+        return self._parts[0][0].load_lag
+
+    @load_lag.setter
+    def load_lag(self, value):
+        for part, _places, _rates in self._parts:
+            part.load_lag = value
 
     def requests(self, assembly):
-        requests = super().requests(assembly)
-        index = {key: k for k, key in enumerate(requests)}
-        # the same columns with every displacement replaced by its velocity
-        self._rate_columns = np.array([index.get(("v", full), k) if q == "u" else k
-                                       for k, (q, full) in enumerate(requests)], dtype=np.int64)
+        keys, requests, self._columns = {}, [], []
+        self._blocks = [None] * len(self.elements)
+        for p, (part, places, _rates) in enumerate(self._parts):
+            own = part.requests(assembly)
+            for key in own:
+                if key not in keys:
+                    keys[key] = len(requests)
+                    requests.append(key)
+            self._columns.append((np.array([keys[key] for key in own], dtype=np.int64),
+                                  np.array([keys[("v", full) if q == "u" else (q, full)] for q, full in own],
+                                           dtype=np.int64)))
+            start = 0
+            for k, width in zip(places, part.widths):
+                self._blocks[k] = (p, start, int(width), self._layouts[k])
+                start += int(width)
+        # the output in slices (part, start, width, count, layout) of successive elements whose columns follow
+        # each other in one part: recorded as they are (one slice of count 1), or all with one layout (count
+        # elements of that width, rearranged together)
+        self._slices = []
+        for p, start, width, layout in self._blocks:
+            last = self._slices[-1] if self._slices else None
+            if last is not None and last[0] == p and last[1] + last[2] * last[3] == start and last[4] == layout:
+                if layout is None:
+                    self._slices[-1] = (p, last[1], last[2] + width, 1, None)
+                    continue
+                if last[2] == width:
+                    self._slices[-1] = (p, last[1], width, last[3] + 1, layout)
+                    continue
+            self._slices.append((p, start, width, 1, layout))
         return requests
 
-    def _spans(self):
-        start, spans = 0, []
-        for k in range(len(self.elements)):
-            width = int(self._widths[k])
-            spans.append((start, width))
-            start += width
-        return spans
-
     def prepare(self, assembly, model):
-        layout = super().prepare(assembly, model)
-        if all(x is None for x in self._layouts):
-            return layout
-        ref, names = [], []
-        for (start, width), lay, tag in zip(self._spans(), self._layouts, self.elements):
-            for j, (src, _cu, _cv) in enumerate(lay[1]):
-                ref.append(start + (src if src >= 0 else 0))
-                names.append(f"{self.opensees_response}_{j + 1}")
-        layout["response"] = self.opensees_response
-        layout["units"] = [layout["units"][r] for r in ref]
-        columns = {name: np.asarray(col)[ref] for name, col in layout["columns"].items()}
-        if "component_name" in columns:
-            columns["component_name"] = np.array(names)
-        if "component" in columns:
-            columns["component"] = np.concatenate([np.arange(1, len(lay[1]) + 1) for lay in self._layouts])
-        layout["columns"] = columns
-        return layout
+        described = [part.prepare(assembly, model) for part, _places, _rates in self._parts]
+        units, element, component, names = [], [], [], []
+        for tag, (p, start, width, layout) in zip(self.elements, self._blocks):
+            part_units = described[p]["units"]
+            if layout is None:
+                units += part_units[start: start + width]
+                names += list(described[p]["columns"]["component_name"][start: start + width])
+            else:
+                units += [part_units[start + max(src, 0)] for src, _cu, _cv in layout[1]]
+                width = len(layout[1])
+                names += [f"{self.response}_{j + 1}" for j in range(width)]
+            element += [tag] * width
+            component += range(1, width + 1)
+        return {"response": self.response, "quantity": DESCRIPTION.get(self.response, f"element {self.response}"),
+                "units": units, "columns": {"element": np.array(element, dtype=np.int64),
+                                            "component": np.array(component, dtype=np.int64),
+                                            "component_name": np.array(names)}}
 
     def compute(self, times, columns, assembly):
-        values = super().compute(times, columns, assembly)
-        if all(x is None for x in self._layouts):
-            return values
-        rates = None
-        if any(lay[2] for lay in self._layouts):
-            rates = super().compute(times, columns[:, self._rate_columns], assembly)
-        parts = []
-        for (start, width), lay in zip(self._spans(), self._layouts):
-            block = values[:, start: start + width]
-            parts.append(apply_layout(lay, block, None if rates is None else rates[:, start: start + width]))
-        return np.hstack(parts)
+        values, rates = [], []
+        for (part, _places, uses_rates), (cols, rate_cols) in zip(self._parts, self._columns):
+            values.append(part.compute(times, columns[:, cols], assembly))
+            rates.append(part.compute(times, columns[:, rate_cols], assembly) if uses_rates else None)
+        n, blocks = len(times), []
+        for p, start, width, count, layout in self._slices:
+            block = values[p][:, start: start + width * count]
+            if layout is not None:          # one element a row
+                rate = None if rates[p] is None else rates[p][:, start: start + width * count].reshape(n * count, width)
+                block = apply_layout(layout, block.reshape(n * count, width), rate).reshape(n, -1)
+            blocks.append(block)
+        return blocks[0] if len(blocks) == 1 else np.hstack(blocks)
 
 
 def command_element_recorder(session, elements, response, **kwargs):
@@ -254,7 +297,7 @@ class RecorderCommands(SessionBase):
                     rest and (response[-1] in NODE_RESPONSES if is_node else len(rest) == 1)):
                 raise CommandError(f"{name}: {what} must be an integer, got {response[0]!r}")
         if not is_node:
-            response = element_response_word(name, response)
+            response = element_response_word(name, response, lambda: self._element_responses(targets))
         elif len(response) > 1 or not isinstance(response[0], str):
             raise CommandError(f"{name}: response {' '.join(map(str, response))!r} is not supported; supported: "
                                + ", ".join(NODE_RESPONSES))
@@ -284,16 +327,32 @@ class RecorderCommands(SessionBase):
             for e in elements:
                 if e not in model._element_owner:
                     raise CommandError(f"{name}: element {e} does not exist")
-            asm = model.build()
-            for e in elements:
-                etype = asm.blocks[asm.element_location[e][0]][0]
-                valid = accepted_responses(etype, asm.ndf, self._zero_length.get(e))
-                if asked not in valid:
-                    raise CommandError(f"{name}: element {e} ({etype.name}) has no response {asked!r}; valid: "
-                                       f"{', '.join(valid)}")
+            elements = self._answering(name, elements, asked)
             make = lambda s: command_element_recorder(self, elements, response, sink=s, dt=opts["-dT"],
                                                        envelope=envelope, history=not envelope)
         return self._register_recorder(make(self._recorder_sink(name, opts)))
+
+    def _answering(self, name, elements, asked):
+        """The ``elements`` (tags) that answer the response ``asked``. As in OpenSees, one that has
+        no such response gets no columns (a warning names it); none answering is a CommandError
+        naming the first and the responses it answers."""
+        asm = self.domain.build()
+        kept, lacking = [], []
+        for e in elements:
+            etype = asm.blocks[asm.element_location[e][0]][0]
+            (kept if asked in accepted_responses(etype, asm.ndf, self._zero_length.get(e)) else lacking).append(e)
+        if not kept:
+            e = elements[0]
+            etype = asm.blocks[asm.element_location[e][0]][0]
+            raise CommandError(f"{name}: element {e} ({etype.name}) has no response {asked!r}; valid: "
+                               f"{', '.join(accepted_responses(etype, asm.ndf, self._zero_length.get(e)))}")
+        if lacking:
+            which = ", ".join(f"{e} ({asm.blocks[asm.element_location[e][0]][0].name})" for e in lacking)
+            log.warning("%s %s: element%s %s %s no response %r and get%s no columns, as in OpenSees; the record "
+                        "holds those of element%s %s", name, asked, "s" if len(lacking) > 1 else "", which,
+                        "have" if len(lacking) > 1 else "has", asked, "" if len(lacking) > 1 else "s",
+                        "s" if len(kept) > 1 else "", ", ".join(map(str, kept)))
+        return kept
 
     def _register_recorder(self, recorder):
         """Give ``recorder`` the next tag (OpenSees: a counter wipe() does not reset), keep it open
@@ -349,17 +408,6 @@ class RecorderCommands(SessionBase):
         prefix = f"{after}: " if after is not None else ""
         return CommandError(f"{name}: {prefix}{items[start]!r} is a response; the response comes last, after every "
                             f"option ({example})")
-
-    def _element_responses(self, tags):
-        """The response names the elements ``tags`` answer (None: every element of the model), for
-        a message; tags that are not elements are left out."""
-        model = self.domain
-        tags = model.element_tags() if tags is None else [t for t in tags if t in model._element_owner]
-        names = {}
-        for t in tags:
-            etype = model._element_owner[t]
-            names.update(dict.fromkeys(accepted_responses(etype, model.ndf, self._zero_length.get(t))))
-        return tuple(names)
 
     @staticmethod
     def _refuse_text_options(name, opts, given):

@@ -11,15 +11,17 @@ ELEMENT_RESPONSE_ALIASES = {
 }
 
 
-def element_response_word(command, words):
+def element_response_word(command, words, answered):
     """The response name of ``words``, what follows the elements in ``eleResponse`` or ``recorder
     Element``: one name; several (OpenSees's ``section 1 force``, ``material 1 stress``: a response
-    of a part of the element) raise a CommandError naming them and ``command``."""
+    of a part of the element) raise a CommandError naming them, ``command`` and the names the
+    elements answer, ``answered()`` (called only then: :func:`accepted_responses`)."""
     if len(words) == 1 and isinstance(words[0], str):
         return words[0]
+    names = answered()
     raise CommandError(f"{command}: response {' '.join(map(str, words))!r} is not supported: vtsi's elements are "
-                       "elastic, with no sections or materials to query; supported: force, globalForce, localForce, "
-                       "basicForce, deformation, axialForce (as the element type offers)")
+                       "elastic, with no sections or materials to query" + (f"; supported: {', '.join(names)}"
+                                                                            if names else ""))
 
 
 def opensees_layout(etype, kind, ndf, materials=None):

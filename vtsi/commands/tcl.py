@@ -5,8 +5,10 @@ so Tcl's ``set``, ``expr``, ``puts``, ``proc``, ``for``/``foreach``/``while``, `
 natively. Each vtsi command is a Tcl procedure that hands its words to the session, converted as
 OpenSees's Tcl interpreter reads them: an integer word becomes an ``int``, a number a ``float``,
 anything else stays a ``str``; a braced or quoted list of numbers (``-values {0 1 2}``) becomes a
-list. Results come back as Tcl values (``eigen 3`` returns the list of ω², ``nodeDisp 2 2`` a
-number, ``recorder ...`` its tag).
+list, which only an option that takes a list reads: where one number is expected it is refused,
+as OpenSees's Tcl refuses ``node 3 {4.0 1.0}`` (:class:`~vtsi.commands.args.Args`). Results
+come back as Tcl values (``eigen 3`` returns the list of ω², ``nodeDisp 2 2`` a number,
+``recorder ...`` its tag).
 
 Tcl-specific forms, as in OpenSees:
 

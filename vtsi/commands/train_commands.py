@@ -29,6 +29,7 @@ at the first ``analyze``, unless ``deadLoad()`` was called).
 import numpy as np
 
 from vtsi import recorders as rec
+from vtsi.analysis import domain_state
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis, coupled_integrator
 from vtsi.errors import CommandError, ModelError, is_int
@@ -38,6 +39,7 @@ from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
 
+from .analysis_commands import equilibrium_point
 from .args import Args
 from .base import SessionBase
 
@@ -317,12 +319,23 @@ class TrainCommands(SessionBase):
         return analysis
 
     def _analyze_coupled(self, n, dt):
+        """``analyze(n, dt)`` with a moving-load constraint. The load time after it (``getLoadFactor``,
+        ``loadConst``, the loads of ``nodeResponse`` id 7 and ``eleForce``) is where the last step
+        applied the loads, as in the transient analysis without a train (:func:`equilibrium_point`):
+        HHT and GeneralizedAlpha ``t_n + αΔt``, the others the step's end."""
         analysis = self._coupled_analysis("analyze", dt)
         if not self._dead_load_done:
-            analysis.static()
+            self._load_time = analysis.static()["time"]
             self._dead_load_done = True
         analysis.recorders = self._recorder_list()
-        self._load_time = analysis.run(n).time         # the loads applied at the last step's time
+        start = domain_state(analysis.model).time
+        state = analysis.run(n)
+        if n > 0:
+            alpha = equilibrium_point(analysis.integrator)
+            # the last step's start as the run computed it: the time before the run, or the end of
+            # the step before (its record), bit for bit
+            last_start = analysis.time[-2] if n > 1 else start
+            self._load_time = state.time if alpha is None else last_start + alpha * dt
         return 0
 
     def _vehicle_recorder(self, *args):

@@ -135,6 +135,12 @@ class ElementRecorder(Recorder):
         self._widths = None
         self._element_loads = []     # [(pattern, [equivalent loads (n_g, ndof) or None per group])]
 
+    @property
+    def widths(self):
+        """Values per element ``(n_elements,)`` int64, in the order of ``elements`` (set by
+        :meth:`requests`)."""
+        return self._widths
+
     def requests(self, assembly):
         keys, requests = {}, []
 
