@@ -42,6 +42,15 @@ CSV_AXLE_LOAD_KN = (30.0, 500.0)     # [kN]: 3 t to 51 t per axle
 CSV_AXLE_SPACING_M = (0.5, 100.0)    # [m] between consecutive axles
 CSV_LOAD_UNITS = (("tonnes", "t", GRAVITY), ("kg", "kg", GRAVITY / 1e3), ("daN", "daN", 1e-2), ("N", "N", 1e-3))
 CSV_LENGTH_UNITS = (("cm", "cm", 1e-2), ("mm", "mm", 1e-3), ("km", "km", 1e3))
+DEFINITE_TOL = 1e-9
+"""How far below 0 (relative to the largest) an eigenvalue of a car's M, C or K scaled to a unit
+diagonal (D^-1/2 A D^-1/2: the signs of A's eigenvalues without its units, which differ by 10⁹
+between a translation and a rotation in mm) may lie and still count as round-off: the catalogue
+cars, in every unit system of :mod:`vtsi.units`, reach -5e-16 (their K and C have zero eigenvalues,
+the car moving rigidly)."""
+_MATRIX_KINDS = {'M': ('mass', 'kinetic energy ½ u̇ᵀMu̇', 'kg', 'kg·m²'),
+                 'C': ('damping', 'dissipation u̇ᵀCu̇', 'N·s/m', 'N·m·s/rad'),
+                 'K': ('stiffness', 'strain energy ½ uᵀKu', 'N/m', 'N·m/rad')}
 
 
 
@@ -65,7 +74,9 @@ class Car:
         The constructor that built it: 'moving_force', 'moving_mass', 'sprung_mass', 'four_dof',
         'ten_dof' (or anything for a user-built car).
     M, C, K : ndarray, shape (n_dof, n_dof), float64
-        Symmetric mass [kg, kg·m²], damping [N·s/m] and stiffness [N/m] matrices.
+        Symmetric mass [kg, kg·m²], damping [N·s/m] and stiffness [N/m] matrices, each positive
+        semidefinite (no negative energy; :data:`DEFINITE_TOL`), M definite on the
+        :attr:`body_dofs` (a wheel's dof may be massless: the rail holds it).
     gravity_load : ndarray, shape (n_dof,)
         −g × mass on translational dofs, 0 on rotations [N].
     wheel_dofs : ndarray, shape (n_wheels,), int64
@@ -126,6 +137,9 @@ class Car:
                                  f"indices in [0, {n}), got {wd}")
             if self.static_wheel_loads is not None:
                 raise ModelError(f"{where}: static_wheel_loads are computed from the statics, do not pass them")
+            for attr in ('M', 'C', 'K'):
+                _check_semidefinite(where, attr, getattr(self, attr), self.dof_names,
+                                    self.body_dofs if attr == 'M' else ())
             loads = _frozen(self._solve_statics(), np.float64)
         if loads.shape != self.wheel_offsets.shape or not np.all(loads > 0):
             raise ModelError(f"{where}: static wheel loads must be > 0 for every wheel, got {loads}")
@@ -164,6 +178,38 @@ class Car:
         f = self.body_dofs
         lam = scipy.linalg.eigh(self.K[np.ix_(f, f)], self.M[np.ix_(f, f)], eigvals_only=True)
         return np.sqrt(lam) / (2.0 * np.pi)
+
+
+def _check_semidefinite(where, attr, a, dof_names, massive=()):
+    """A ModelError unless the symmetric matrix ``a`` (a car's ``attr``: 'M', 'C' or 'K') is
+    positive semidefinite and, on the dofs ``massive`` (M's body dofs), definite. It names the
+    first negative diagonal entry (on ``massive``: or zero) and its dof, else the eigenvalue at
+    fault and the dof its mode moves most. Eigenvalues are judged on ``a`` scaled to a unit
+    diagonal, within :data:`DEFINITE_TOL`."""
+    what, energy, unit, rotation_unit = _MATRIX_KINDS[attr]
+    massive = np.asarray(massive, dtype=np.int64)
+    diagonal = np.diag(a)
+    for i, value in enumerate(diagonal):
+        if value < 0 or (value == 0 and i in massive):
+            why = ("every dof but a wheel's needs mass (only a wheel, held by the rail, may be massless)"
+                   if value == 0 else f"a {what} matrix has no negative diagonal entry (its {energy} >= 0)")
+            raise ModelError(f"{where}: {attr}[{i}, {i}] ({dof_names[i]}) is {value:g} "
+                             f"{rotation_unit if dof_names[i].endswith('_rz') else unit}; {why}")
+    scale = 1.0 / np.sqrt(np.where(diagonal > 0, diagonal, diagonal.max(initial=0.0) or 1.0))
+    scaled = scale[:, None] * a * scale
+
+    def lowest_mode(dofs):          # a's lowest eigenvalue on ``dofs``, its largest, the dof its mode moves most
+        lam, modes = np.linalg.eigh(a[np.ix_(dofs, dofs)])
+        dof = dof_names[dofs[np.argmax(np.abs(modes[:, 0]))]]
+        return f"eigenvalue {lam[0]:.4g} (largest {lam[-1]:.4g}), its mode mostly {dof}"
+
+    mu = np.linalg.eigvalsh(scaled)
+    if mu[0] < -DEFINITE_TOL * max(mu[-1], 1.0):
+        raise ModelError(f"{where}: {attr} is not positive semidefinite (its {energy} must be >= 0): "
+                         f"{lowest_mode(np.arange(len(dof_names)))}")
+    if massive.size and np.linalg.eigvalsh(scaled[np.ix_(massive, massive)])[0] <= DEFINITE_TOL:
+        raise ModelError(f"{where}: M is singular on the body dofs ({', '.join(dof_names[d] for d in massive)}): "
+                         f"{lowest_mode(massive)}; only a wheel dof may be massless")
 
 
 def moving_force(P, name='moving force'):

@@ -24,7 +24,11 @@ Contract of a recorder (what an analysis relies on)
    times, as OpenSees's ``analyze`` in a loop, calls it every time: the record continues, it is
    not restarted). ``info`` (optional dict) describes the analysis: ``'analysis'``
    (``'static'``/``'transient'``/``'coupled'``), ``'integrator'`` (name), ``'dt'`` [s] (static:
-   the load step dλ), ``'loads'``; sinks store it as metadata, the HDF5 sink per run.
+   the load step dλ), ``'loads'``; sinks store it as metadata, the HDF5 sink per run. A coupled
+   analysis adds ``'coupled_loads'`` (:class:`~vtsi.coupled.CoupledLoads`, not metadata): the
+   loads it applies besides the patterns (the train's forces, the contact forces, the bridge's
+   own weight), which a recorder whose values contain the applied loads (reactions, bending
+   moments) takes from there.
 3. ``write(times, columns, assembly)``: ``times (n,)`` [s] increasing, ``columns (n,
    len(requests))`` in the order requested; called after every chunk of steps.
 4. ``close()``: flush and release; called when the run ends, also when it fails (files stay
@@ -60,6 +64,7 @@ from .envelope import Envelope
 from .sinks import MemorySink, Sink
 
 DT_TOLERANCE = 1e-5   # OpenSees relDeltaTTol
+NOT_METADATA = ("coupled_loads",)   # entries of an analysis's ``info`` that are objects for the recorders
 
 
 class Recorder:
@@ -127,7 +132,8 @@ class Recorder:
         layout["n_columns"] = n_columns
         if self.unit_label is not None:
             layout["units"] = [self.unit_label(u) for u in layout["units"]]
-        layout["run"] = {key: value for key, value in (info or {}).items() if value is not None}
+        layout["run"] = {key: value for key, value in (info or {}).items()
+                         if value is not None and key not in NOT_METADATA}
         layout.setdefault("attrs", {}).update(_model_metadata(assembly, layout["run"]))
         layout["attrs"].update(recorder=type(self).__name__, record_dt=float(self.dt or 0.0))
         self._layout = layout

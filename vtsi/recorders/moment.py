@@ -26,7 +26,10 @@ exact (statically). Two parts, one for each term:
   at x₀ + V t), the contact forces λ of a coupled analysis at the contact wheels (spread by the
   B-spline rows as the constraint spreads them) and the element loads of the load patterns
   (``eleLoad``) are corrected; a numba kernel, O(axles on the elements next to the nodes) per
-  sample.
+  sample (:func:`add_train_loads` for a train's forces and contact forces, which a coupled
+  analysis hands its recorders: :class:`~vtsi.coupled.CoupledLoads`). The same table and
+  kernel give a support reaction the share −f_eq of the loads in the elements at its dof
+  (:func:`fixed_end_forces`, the reaction recorders of :mod:`vtsi.recorders.node`).
 
 Without the correction (K_e u_e alone, as earlier versions took it) a load inside an element
 gave the end moments O(ℓ) wrong, halved by the averaging. On the 20 m simply supported span of
@@ -65,30 +68,39 @@ from vtsi.recorders.node import _int_list
 from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel, hermite, host_element
 
 
-def _node_ends(asm, track, node):
-    """The track elements meeting at ``node``: ``[(track element index e, sign)]`` with sign −1
-    where the node is the element's start (in x), +1 where it is its end."""
-    if node not in asm.node_index:
-        raise ModelError(f"bending moment: node {node} does not exist")
+def _track_ends(asm, track, node):
+    """The track elements meeting at ``node`` (an existing node): ``[(track element index e,
+    sign)]`` with sign −1 where the node is the element's start (in x), +1 where it is its end;
+    empty off the track."""
     x = float(asm.coords[asm.node_index[node], 0])
     ends = []
     for e, tag in enumerate(track.elements):
         b, i = asm.element_location[tag]
         if node in asm.blocks[b][0].nodes[i]:
             ends.append((e, -1.0 if abs(x - track.x_start[e]) <= 0.5 * track.length[e] else 1.0))
+    return ends
+
+
+def _node_ends(asm, track, node):
+    """:func:`_track_ends` of a node of the track (a ModelError for any other node)."""
+    if node not in asm.node_index:
+        raise ModelError(f"bending moment: node {node} does not exist")
+    ends = _track_ends(asm, track, node)
     if not ends:
+        x = float(asm.coords[asm.node_index[node], 0])
         raise ModelError(f"bending moment: node {node} (x = {x:g} m) is not a node of the track")
     return ends
 
 
-def _rz_index(asm, track, e, node):
-    """Index of ``node``'s rz in the dof vector of track element ``e`` (its own node order)."""
+def _dof_index(asm, track, e, node, dof=2):
+    """Index of ``node``'s dof ``dof`` (0-based: 1 uy, 2 rz) in the dof vector of track element
+    ``e`` (its own node order)."""
     tag = track.elements[e]
     b, i = asm.element_location[tag]
     etype = asm.blocks[b][0]
-    if 2 not in etype.node_dofs:
-        raise ModelError(f"bending moment: element {tag} ({etype.name}) has no rotation dofs")
-    return list(etype.nodes[i]).index(node) * len(etype.node_dofs) + etype.node_dofs.index(2)
+    if dof not in etype.node_dofs:
+        raise ModelError(f"bending moment: element {tag} ({etype.name}) has no {('uy', 'rz')[dof - 1]} dofs")
+    return list(etype.nodes[i]).index(node) * len(etype.node_dofs) + etype.node_dofs.index(dof)
 
 
 def moment_rows(asm, track, nodes):
@@ -100,7 +112,7 @@ def moment_rows(asm, track, nodes):
     for j, node in enumerate(nodes):
         ends = _node_ends(asm, track, node)
         for e, sign in ends:
-            where = _rz_index(asm, track, e, node)
+            where = _dof_index(asm, track, e, node)
             b, i = asm.element_location[track.elements[e]]
             etype, _, coords, params, dofs = asm.blocks[b]
             row = sign * etype.stiffness(coords[i:i + 1], params[i:i + 1])[0, where] / len(ends)
@@ -116,22 +128,23 @@ def moment_rows(asm, track, nodes):
 @dataclass(frozen=True)
 class FixedEndMoments:
     """Where loads standing inside the track's elements change the bending moments at ``nodes``
-    (the −f_eq term of the module docstring), built by :func:`fixed_end_moments`.
+    (the −f_eq term of the module docstring), built by :func:`fixed_end_moments`, or the
+    reactions at some dofs (:func:`fixed_end_forces`).
 
     A downward load P at x inside track element e adds ``weight[k] · P · h[slot[k]](x)`` to
     column ``column[k]`` for each entry k in ``ptr[e]:ptr[e + 1]``, h = [H₁, ℓH₂, H₃, ℓH₄] the
-    track's Hermite row in e: −(sign × f_eq,rz)/n with f_eq = −P h, sign and slot −1 and 1 for
-    the node at e's start, +1 and 3 for the node at its end, weight = sign/n, n the elements at
-    the node.
+    track's Hermite row in e. Moments: −(sign × f_eq,rz)/n with f_eq = −P h, sign and slot −1
+    and 1 for the node at e's start, +1 and 3 for the node at its end, weight = sign/n, n the
+    elements at the node. Reactions: −f_eq at the dof, weight 1, slot 0 to 3.
 
     Attributes
     ----------
-    n_columns : the nodes' count.
+    n_columns : the nodes' (or dofs') count.
     x_start, length : (n_el,) the track's elements [m].
     ptr : (n_el + 1,) int64; column, slot (n_entries,) int64; weight (n_entries,) float64.
     runs : (n_runs, 2) [m] the stretches of consecutive elements with entries.
-    rz_index : (n_entries,) int64 the node's rz in the element's own dof vector (for element
-        loads given in the element's dofs, :meth:`element_load_columns`).
+    dof_index : (n_entries,) int64 the entry's dof (the node's rz for a moment) in the element's
+        own dof vector (for element loads given in the element's dofs, :meth:`element_load_columns`).
     node_x : (n_columns,) [m] each node's x: where a moving load's influence line kinks.
     """
 
@@ -143,13 +156,14 @@ class FixedEndMoments:
     slot: np.ndarray
     weight: np.ndarray
     runs: np.ndarray
-    rz_index: np.ndarray
+    dof_index: np.ndarray
     elements: tuple
     node_x: np.ndarray
 
     def at(self, x):
-        """The share ``(len(x), n_columns)`` [N·m per N] of a unit downward load at each of the
-        positions ``x`` [m] (0 off the track and on the nodes): an influence line's local part."""
+        """The share ``(len(x), n_columns)`` [N·m per N; N per N at a uy dof] of a unit downward
+        load at each of the positions ``x`` [m] (0 off the track; a moment's 0 on the nodes): an
+        influence line's local part."""
         x = np.ascontiguousarray(x, dtype=np.float64).ravel()
         out = np.zeros((x.size, self.n_columns))
         # a unit load at x is an axle at x0 = 0 moving at 1 m/s, sampled at t = x
@@ -165,7 +179,7 @@ class FixedEndMoments:
             if f is None:
                 continue
             for k in range(self.ptr[e], self.ptr[e + 1]):
-                out[self.column[k]] -= self.weight[k] * f[self.rz_index[k]]
+                out[self.column[k]] -= self.weight[k] * f[self.dof_index[k]]
         return out
 
 
@@ -177,15 +191,39 @@ def fixed_end_moments(asm, track, nodes):
         ends = _node_ends(asm, track, node)
         node_x[j] = float(asm.coords[asm.node_index[node], 0])
         for e, sign in ends:
-            entries.append((e, j, 1 if sign < 0 else 3, sign / len(ends), _rz_index(asm, track, e, node)))
+            entries.append((e, j, 1 if sign < 0 else 3, sign / len(ends), _dof_index(asm, track, e, node)))
+    return _shares_table(track, entries, node_x)
+
+
+def fixed_end_forces(asm, track, rows):
+    """The :class:`FixedEndMoments` table of the fixed-end forces at the full dofs ``rows``
+    (:meth:`~vtsi.assembly.Assembly.full_dof`) of ``track``'s elements: a downward load P at x in
+    track element e enters the model as the nodal loads f = −P h on e's [uy₁, rz₁, uy₂, rz₂]
+    (h the track's Hermite row, :mod:`vtsi.track`), so a reaction R = F_resisting − f at one of
+    those dofs takes +P h there (weight 1, slot its place in h). Rows off the track's uy and rz
+    dofs (ux, nodes of no track element) take nothing."""
+    entries = []
+    node_x = np.empty(len(rows))
+    for j, row in enumerate(rows):
+        node, dof = int(asm.node_tags[row // asm.ndf]), int(row % asm.ndf)
+        node_x[j] = float(asm.coords[asm.node_index[node], 0])
+        if dof in (1, 2):
+            for e, sign in _track_ends(asm, track, node):
+                entries.append((e, j, dof - 1 + (0 if sign < 0 else 2), 1.0, _dof_index(asm, track, e, node, dof)))
+    return _shares_table(track, entries, node_x)
+
+
+def _shares_table(track, entries, node_x):
+    """The :class:`FixedEndMoments` of ``entries`` ``[(track element e, column, slot, weight, dof
+    index)]`` on ``track``, ``node_x (n_columns,)`` [m]."""
     entries.sort(key=lambda entry: entry[0])
     n_el = len(track.elements)
     ptr = np.zeros(n_el + 1, dtype=np.int64)
     for e, *_ in entries:
         ptr[e + 1] += 1
     ptr = np.cumsum(ptr).astype(np.int64)
-    column, slot, weight, rz = (np.array([entry[k] for entry in entries], dtype=dtype).reshape(len(entries))
-                                for k, dtype in ((1, np.int64), (2, np.int64), (3, np.float64), (4, np.int64)))
+    column, slot, weight, dof = (np.array([entry[k] for entry in entries], dtype=dtype).reshape(len(entries))
+                                 for k, dtype in ((1, np.int64), (2, np.int64), (3, np.float64), (4, np.int64)))
     loaded = ptr[1:] > ptr[:-1]
     runs = []
     for e in np.flatnonzero(loaded):
@@ -194,9 +232,9 @@ def fixed_end_moments(asm, track, nodes):
             runs[-1][1] = hi
         else:
             runs.append([lo, hi])
-    return FixedEndMoments(len(nodes), np.ascontiguousarray(track.x_start, dtype=np.float64),
+    return FixedEndMoments(len(node_x), np.ascontiguousarray(track.x_start, dtype=np.float64),
                            np.ascontiguousarray(track.length, dtype=np.float64), ptr, column, slot, weight,
-                           np.array(runs, dtype=np.float64).reshape(len(runs), 2), rz, tuple(track.elements), node_x)
+                           np.array(runs, dtype=np.float64).reshape(len(runs), 2), dof, tuple(track.elements), node_x)
 
 
 def add_fixed_end_moments(fixed, x0, loads, speed, times, out, knot=0.0):
@@ -219,6 +257,20 @@ def add_fixed_end_moments(fixed, x0, loads, speed, times, out, knot=0.0):
     _add_fixed_end(np.ascontiguousarray(x0), np.ascontiguousarray(loads), float(speed),
                    np.ascontiguousarray(times, dtype=np.float64), float(knot), fixed.x_start, fixed.length,
                    fixed.ptr, fixed.column, fixed.slot, fixed.weight, fixed.runs, out)
+    return out
+
+
+def add_train_loads(fixed, constraint, times, contact_force, knot, out):
+    """Add to ``out (len(times), n_columns)`` the fixed-end share (:class:`FixedEndMoments`
+    ``fixed``) of what the train of ``constraint`` (a :class:`~vtsi.constraint.MovingLoadConstraint`)
+    puts on the track at ``times`` [s]: its moving forces (Hermite rows) and the contact forces
+    ``contact_force (len(times), n_contact)`` [N, compression positive] at its contact wheels,
+    spread as rows of knot spacing ``knot`` [m] spread them (:meth:`MovingLoadConstraint.knot`)."""
+    speed = constraint.train.speed
+    if len(constraint.x0_force):
+        add_fixed_end_moments(fixed, constraint.x0_force, constraint.train.wheel_forces, speed, times, out)
+    if constraint.n_contact:
+        add_fixed_end_moments(fixed, constraint.x0, contact_force, speed, times, out, knot)
     return out
 
 
@@ -284,10 +336,14 @@ def _add_fixed_end(x0, loads, speed, times, knot, x_start, length, ptr, column, 
 class BendingMomentRecorder(Recorder):
     """Bending moment M [N·m] (sagging positive) at ``nodes`` of ``track`` (see the module
     docstring), one column per node, with the fixed-end share of the element loads of the load
-    patterns and, given ``constraint`` (the :class:`~vtsi.constraint.MovingLoadConstraint` of a
-    :class:`~vtsi.coupled.CoupledAnalysis`), of its train's moving forces and its contact forces
-    (the recorder then reads the contact forces: it records in coupled analyses only). ``sink``,
-    ``dt``, ``envelope``, ``history``, ``tag``: see :class:`~vtsi.recorders.base.Recorder`."""
+    patterns and, in a :class:`~vtsi.coupled.CoupledAnalysis`, of its train's moving forces and
+    contact forces as recorded (:class:`~vtsi.coupled.CoupledLoads`, handed over when the analysis
+    starts the recorder; none where the track is not the wheels' or a stretch of it, a
+    ModelError where it is partly). ``constraint``: the analysis's
+    :class:`~vtsi.constraint.MovingLoadConstraint` (another is a ModelError when the analysis
+    starts); the recorder then reads the contact forces as its own columns (it records in
+    coupled analyses only). ``sink``, ``dt``, ``envelope``, ``history``, ``tag``: see
+    :class:`~vtsi.recorders.base.Recorder`."""
 
     name = "bending moment recorder"
 
@@ -308,6 +364,7 @@ class BendingMomentRecorder(Recorder):
         self._n_u = 0
         self._knot = 0.0
         self._pattern_loads = []
+        self._coupled = None        # the CoupledLoads of the analysis running, without constraint=
 
     def requests(self, assembly):
         free, self._projection = moment_rows(assembly, self.track, self.nodes)
@@ -317,11 +374,28 @@ class BendingMomentRecorder(Recorder):
         return [("u", int(f)) for f in assembly.full_of_free[free]] + [("contact_force", i) for i in range(n_c)]
 
     def start(self, assembly, model, info=None):
-        if self.constraint is not None and self.constraint.n_contact:
-            dt = (info or {}).get("dt")
-            if dt is None and self.constraint.interpolation != "hermite":
-                raise ModelError(f"{self.name}: 'bspline' rows need the analysis's time step")
-            self._knot = self.constraint.knot(dt) if dt is not None else 0.0
+        coupled = (info or {}).get("coupled_loads")
+        self._coupled = None
+        if self.constraint is not None:
+            if coupled is not None and coupled.constraint is not self.constraint:
+                raise ModelError(f"{self.name}: its constraint= is another MovingLoadConstraint than the one of "
+                                 "the coupled analysis that records it; give the analysis's own constraint or none "
+                                 "(the recorder then takes the analysis's)")
+            if self.constraint.n_contact:
+                dt = (info or {}).get("dt")
+                if dt is None and self.constraint.interpolation != "hermite":
+                    raise ModelError(f"{self.name}: 'bspline' rows need the analysis's time step")
+                self._knot = self.constraint.knot(dt) if dt is not None else 0.0
+        elif coupled is not None:
+            wheels = set(coupled.constraint.track.elements)
+            shared = [tag for tag in self.track.elements if tag in wheels]
+            if len(shared) == len(self.track.elements):
+                self._coupled = coupled
+            elif shared:
+                other = next(tag for tag in self.track.elements if tag not in wheels)
+                raise ModelError(f"{self.name}: its track runs partly on the wheels' track ({len(shared)} of its "
+                                 f"{len(self.track.elements)} elements; element {other} is not on it); record the "
+                                 "moments on the wheels' track or a stretch of it")
         super().start(assembly, model, info)
 
     def prepare(self, assembly, model):
@@ -338,11 +412,8 @@ class BendingMomentRecorder(Recorder):
         out = columns[:, :self._n_u] @ self._projection
         for pattern, share in self._pattern_loads:      # element loads: at the time the steps applied them
             out += pattern.factors(times - self.load_lag)[:, None] * share[None, :]
-        con = self.constraint
-        if con is not None:
-            speed = con.train.speed
-            if len(con.x0_force):
-                add_fixed_end_moments(self._fixed, con.x0_force, con.train.wheel_forces, speed, times, out)
-            if con.n_contact:
-                add_fixed_end_moments(self._fixed, con.x0, columns[:, self._n_u:], speed, times, out, self._knot)
+        if self.constraint is not None:
+            add_train_loads(self._fixed, self.constraint, times, columns[:, self._n_u:], self._knot, out)
+        elif self._coupled is not None:
+            self._coupled.add(self._fixed, times, out, end=False)
         return out
