@@ -5,9 +5,10 @@
     python benchmarks/run.py S1 --baseline        # + the 'python loop + scipy splu' column
     python benchmarks/run.py S1 --json            # one JSON object on stdout, nothing else
     python benchmarks/run.py S1 --json --quick    # reduced size (what the tests run)
-    python benchmarks/run.py S3 --chart DIR       # + PNG charts in DIR (implies --json)
+    python benchmarks/run.py S3 --chart DIR       # + PNG charts in DIR, created if missing (implies --json)
 
-Exit status: 0 on success, 2 on a usage error (unknown scene), 3 when a module the scene needs
+Exit status: 0 on success, 2 on a usage error (unknown scene, a --chart folder that cannot be
+created: refused before the run), 3 when a module the scene needs
 (e.g. openseespy, its peer) cannot be imported.
 """
 import argparse
@@ -88,7 +89,8 @@ def main(argv=None):
                         help="also time a plain Python loop with scipy splu (factored once)")
     parser.add_argument("--repeats", type=int, default=3, help="best of this many repetitions (default 3)")
     parser.add_argument("--chart", metavar="DIR",
-                        help="write the scene's PNG charts to DIR (scenes that draw charts, e.g. S3); implies --json")
+                        help="write the scene's PNG charts to DIR, created if missing (scenes that draw charts: S3, S8); "
+                             "implies --json")
     args = parser.parse_args(argv)
 
     if args.list:
@@ -107,6 +109,12 @@ def main(argv=None):
     if args.chart is not None:
         if "chart" not in inspect.signature(scene.run).parameters:
             parser.error(f"scene {name} draws no charts (--chart)")
+        try:       # now, not after a run of minutes: the scene writes its PNGs into an existing folder
+            os.makedirs(args.chart, exist_ok=True)
+        except OSError as exc:
+            what = "is a file, not a folder" if os.path.isfile(args.chart) else \
+                f"cannot be created ({exc.strerror or exc})"
+            parser.error(f"--chart {args.chart!r} {what}")
         options["chart"] = args.chart
         args.json = True
     check_requirements(scene)

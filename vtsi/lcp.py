@@ -86,37 +86,50 @@ def cholesky_substitute(a, b, m):
 
 @njit(cache=True)
 def _solve_free(W, q, lam_free, free, n, fac):
-    """``lam_free[F] = -W_FF⁻¹ q_F`` (0 elsewhere), regularised if W_FF is singular."""
-    idx = np.empty(n, dtype=np.int64)
+    """``lam_free[F] = -W_FF⁻¹ q_F`` (0 elsewhere), regularised if W_FF is singular.
+
+    Allocates nothing (it runs several times a step): W_FF is gathered into ``fac`` by walking
+    the free flags, and the solution is computed packed at the front of ``lam_free``, then
+    spread to the free positions from the last one down (the a-th free position is >= a, so
+    every entry is read before it is overwritten)."""
     m = 0
+    dmax = 0.0
     for i in range(n):
         if free[i] > 0.5:
-            idx[m] = i
+            dmax = max(dmax, W[i, i])
             m += 1
-    dmax = 0.0
-    for a in range(m):
-        dmax = max(dmax, W[idx[a], idx[a]])
     eps = 0.0
     ok = False
     for attempt in range(12):
-        for a in range(m):
-            for b in range(a + 1):
-                fac[a, b] = W[idx[a], idx[b]]
-            fac[a, a] += eps
+        a = 0
+        for i in range(n):
+            if free[i] > 0.5:
+                b = 0
+                for j in range(i + 1):
+                    if free[j] > 0.5:
+                        fac[a, b] = W[i, j]
+                        b += 1
+                fac[a, a] += eps
+                a += 1
         ok = cholesky_in_place(fac, m)
         if ok:
             break
         eps = 1e-12 * dmax if eps == 0.0 else eps * 100.0
     if not ok:
         return False
-    z = np.empty(m)
-    for a in range(m):
-        z[a] = -q[idx[a]]
-    cholesky_substitute(fac, z, m)
+    a = 0
     for i in range(n):
-        lam_free[i] = 0.0
-    for a in range(m):
-        lam_free[idx[a]] = z[a]
+        if free[i] > 0.5:
+            lam_free[a] = -q[i]
+            a += 1
+    cholesky_substitute(fac, lam_free, m)
+    a = m - 1
+    for i in range(n - 1, -1, -1):
+        if free[i] > 0.5:
+            lam_free[i] = lam_free[a]
+            a -= 1
+        else:
+            lam_free[i] = 0.0
     return True
 
 

@@ -13,6 +13,8 @@ Contract of a scene (a subclass of :class:`Scene`, decorated with :func:`registe
    minutes); ``baseline`` adds the ``baseline_*`` fields; ``repeats`` = best of how many.
    Nothing may be printed to stdout (``run.py --json`` prints one JSON object there).
 4. ``columns``: ``(field, header, format)`` triples of the case table that ``run.py`` prints.
+5. A scene that draws charts takes ``chart=None`` in ``run``: the path of a folder that exists
+   (``run.py --chart DIR`` creates it before the run), where it writes its PNGs.
 
 A new scene is a new module here; nothing else changes.
 """

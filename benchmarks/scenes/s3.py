@@ -439,7 +439,6 @@ class S3(Scene):
         }
         charts = {}
         if chart is not None:
-            os.makedirs(chart, exist_ok=True)
             charts["work_precision"] = os.path.abspath(os.path.join(chart, "s3_work_precision.png"))
             charts["stability_map"] = os.path.abspath(os.path.join(chart, "s3_stability_map.png"))
             chart_work_precision(rows, ref, charts["work_precision"], repeats)

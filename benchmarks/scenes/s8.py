@@ -14,6 +14,7 @@ Reference: the modal bridge's exact passages on a fine mesh (40 elements per spa
 0.1 ms. Cost: wall clock of ``Sweep.run(None, workers=1)`` per passage, after a warm-up (best of
 ``repeats``). Error: |max − reference| / reference.
 """
+import os
 import time
 
 import numpy as np
@@ -109,7 +110,6 @@ class S8(Scene):
         out["peer"], out["peer_s"], out["peer_us_per_step"] = "exact modal reference (40 el/span, 0.1 ms)", None, None
         out["speedup"] = None
         out["max_rel_diff"] = min(r["rel_err"] for r in fe_rows)
-        if chart:
-            import os
+        if chart is not None:
             out["chart"] = chart_work_precision(out, os.path.join(chart, "s8_work_precision.png"))
         return out

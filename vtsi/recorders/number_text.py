@@ -3,7 +3,7 @@
 ``format_g_rows(values, p)`` (``format_g_bytes``: the same as bytes; ``times``: a first column)
 gives the same text as ``"".join(" ".join("%.{p}g" % v for v in row) + "\\n" for row in values)``
 — Python's (and C's) correctly rounded ``%g`` — for every
-double, at 20-40 times the speed.
+double, 9-22 times faster than that expression (blocks of 20 and of 2 columns at p = 16).
 
 How it stays exact: a value v ≠ 0 with decimal exponent X (10^X ≤ |v| < 10^(X+1)) is scaled
 (from frexp's binary exponent and one comparison with 10^(X+1))
@@ -15,7 +15,9 @@ rounded half to even gives the p significant digits, unless the fraction lies wi
 is outside the table's range (|X| > 280) or not finite: those few values are formatted by Python
 instead, as is everything when p > 17. Then C's ``%g`` rules: fixed notation when −4 ≤ X < p (X after rounding),
 exponential otherwise (``e±XX``, at least two exponent digits), trailing zeros and a trailing
-point removed, ``-0`` for negative zero. The per-value helpers are inlined into the row loop (numba's ``inline='always'``).
+point removed, ``-0`` for negative zero. The per-value helpers are inlined into the row loop (numba's ``inline='always'``),
+and the digits are written right to left straight into place (no scratch copy: 1400 rows of a
+time and a value at p = 16 went from 150 to 125 µs).
 """
 import math
 from fractions import Fraction
@@ -85,9 +87,32 @@ def _scaled_digits(v, k, pow_hi, pow_lo):
 
 
 @njit(cache=True, inline="always")
-def _format_value(v, precision, top, pow_hi, pow_lo, digits, out, pos):
+def _put_digits(u, used, point, out, pos):
+    """The ``used`` decimal digits of ``u`` (uint64, no more digits than that) into ``out`` from
+    ``pos``, a '.' after the first ``point`` (<= ``used``) of them if any follow; returns the
+    position after the last. Written right to left, straight into place (no scratch copy)."""
+    end = pos + used + (1 if point < used else 0)
+    k = end - 1
+    for _ in range(used - point):
+        q = u // np.uint64(10)
+        out[k] = np.uint8(48 + (u - q * np.uint64(10)))
+        u = q
+        k -= 1
+    if point < used:
+        out[k] = 46                         # '.'
+        k -= 1
+    for _ in range(point):
+        q = u // np.uint64(10)
+        out[k] = np.uint8(48 + (u - q * np.uint64(10)))
+        u = q
+        k -= 1
+    return end
+
+
+@njit(cache=True, inline="always")
+def _format_value(v, precision, top, pow_hi, pow_lo, out, pos):
     """``%.{precision}g`` of ``v`` written into ``out`` from ``pos``; returns the position after
-    it, or −1 where Python must format it (``top`` = 10^precision, ``digits`` scratch)."""
+    it, or −1 where Python must format it (``top`` = 10^precision)."""
     if v != v or v == np.inf or v == -np.inf:
         return -1
     if math.copysign(1.0, v) < 0.0:
@@ -109,54 +134,40 @@ def _format_value(v, precision, top, pow_hi, pow_lo, digits, out, pos):
         n //= 10
         x += 1
     u = np.uint64(n)                        # unsigned: a division by 10 without Python's sign rules
-    for d in range(precision - 1, -1, -1):
+    used = precision                        # the significant digits once trailing zeros are dropped
+    while used > 1:
         q = u // np.uint64(10)
-        digits[d] = np.uint8(48 + (u - q * np.uint64(10)))
+        if u != q * np.uint64(10):
+            break
         u = q
-    used = precision
-    while used > 1 and digits[used - 1] == 48:
         used -= 1
     if -4 <= x < precision:                 # fixed notation
-        if x >= 0:
-            for d in range(x + 1):
-                out[pos] = digits[d] if d < used else 48
-                pos += 1
-            if used > x + 1:
-                out[pos] = 46               # '.'
-                pos += 1
-                for d in range(x + 1, used):
-                    out[pos] = digits[d]
-                    pos += 1
-        else:
+        if x < 0:                           # 0.000ddd
             out[pos] = 48
             out[pos + 1] = 46
             pos += 2
             for _ in range(-x - 1):
                 out[pos] = 48
                 pos += 1
-            for d in range(used):
-                out[pos] = digits[d]
-                pos += 1
-    else:                                   # exponential notation
-        out[pos] = digits[0]
+            return _put_digits(u, used, used, out, pos)
+        if used > x + 1:                    # ddd.ddd
+            return _put_digits(u, used, x + 1, out, pos)
+        pos = _put_digits(u, used, used, out, pos)      # an integer: its digits, then zeros
+        for _ in range(x + 1 - used):
+            out[pos] = 48
+            pos += 1
+        return pos
+    pos = _put_digits(u, used, 1, out, pos)             # exponential notation: d.ddde±XX
+    out[pos] = 101                          # 'e'
+    out[pos + 1] = 45 if x < 0 else 43
+    pos += 2
+    ax = -x if x < 0 else x
+    if ax >= 100:
+        out[pos] = 48 + ax // 100
         pos += 1
-        if used > 1:
-            out[pos] = 46
-            pos += 1
-            for d in range(1, used):
-                out[pos] = digits[d]
-                pos += 1
-        out[pos] = 101                      # 'e'
-        out[pos + 1] = 45 if x < 0 else 43
-        pos += 2
-        ax = -x if x < 0 else x
-        if ax >= 100:
-            out[pos] = 48 + ax // 100
-            pos += 1
-        out[pos] = 48 + (ax // 10) % 10
-        out[pos + 1] = 48 + ax % 10
-        pos += 2
-    return pos
+    out[pos] = 48 + (ax // 10) % 10
+    out[pos + 1] = 48 + ax % 10
+    return pos + 2
 
 
 @njit(cache=True)
@@ -165,7 +176,6 @@ def _format_rows(times, values, precision, pow_hi, pow_lo, out, gaps):
     is empty: numbers separated by a space, a newline after each row. A value Python must format
     leaves a gap: ``gaps[g] = (position in out, row, column)``, column -1 for the time. Returns
     (length used, number of gaps)."""
-    digits = np.empty(MAX_PRECISION, dtype=np.uint8)
     top = np.int64(1)                       # 10^precision
     for _ in range(precision):
         top *= 10
@@ -175,7 +185,7 @@ def _format_rows(times, values, precision, pow_hi, pow_lo, out, gaps):
     for r in range(values.shape[0]):
         for c in range(first, last + 1):
             v = times[r] if c < 0 else values[r, c]
-            end = _format_value(v, precision, top, pow_hi, pow_lo, digits, out, pos)
+            end = _format_value(v, precision, top, pow_hi, pow_lo, out, pos)
             if end < 0:
                 gaps[n_gaps, 0], gaps[n_gaps, 1], gaps[n_gaps, 2] = pos, r, c
                 n_gaps += 1
