@@ -12,7 +12,8 @@ import pytest
 import vtsi
 from vtsi.analysis import domain_state
 from vtsi.constraint import MovingLoadConstraint
-from vtsi.coupled import MAX_GAP_TOL, CoupledAnalysis
+from vtsi.contact import MAX_GAP_TOL
+from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import AnalysisError, ModelError
 from vtsi.integrators import HHT
 from vtsi.models import Irregularity, Train, car_catalogue, car_from_catalogue, four_dof_car, moving_mass, sprung_mass

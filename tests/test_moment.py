@@ -7,6 +7,7 @@ import scipy.sparse.linalg as spla
 
 import vtsi
 from vtsi.constraint import MovingLoadConstraint
+from vtsi.coupled import CoupledLoads
 from vtsi.influence import InfluenceLines
 from vtsi.models import Train, moving_force, sprung_mass
 from vtsi.models.bridges import simply_supported_beam
@@ -125,8 +126,8 @@ def test_a_slow_passage_reads_the_static_moment(tmp_path):
 
 @pytest.mark.parametrize("interpolation", ["hermite", "bspline"])
 def test_a_coupled_analysis_s_contact_forces_inside_elements_are_corrected(interpolation):
-    """The recorder in a coupled analysis reads the contact forces λ and places them at the
-    wheels (spread by the B-spline rows as the constraint spreads them) with the train's moving
+    """The recorder in a coupled analysis takes the contact forces λ (the analysis's
+    CoupledLoads) and places them at the wheels (spread by the B-spline rows as the constraint spreads them) with the train's moving
     forces: fed the static state of the forces it records, it gives the moment of statics at
     mid-span and at x = 6 m, to 1e-9 (the end moments alone read 0.5–0.8 % more)."""
     model, b, track = beam(10)
@@ -149,8 +150,11 @@ def test_a_coupled_analysis_s_contact_forces_inside_elements_are_corrected(inter
     free = np.zeros(asm.n_free)
     free[track.free_index] = load
     u[asm.full_of_free] = spla.spsolve(asm.K.tocsc(), free)
-    columns = np.array([[u[k] if q == "u" else lam[k] for q, k in requests]])
-    rec.start(asm, model, {"dt": dt})
+    columns = np.array([[u[k] for q, k in requests]])
+    loads = CoupledLoads(con)                               # what the analysis hands its recorders
+    loads.begin(con.knot(dt), None, False)
+    loads.deliver(np.array([t]), lam[None, :])
+    rec.start(asm, model, {"analysis": "coupled", "dt": dt, "coupled_loads": loads})
     rec.write(np.array([t]), columns, asm)
 
     def line(x, a):                                          # the moment at a of a unit force at x

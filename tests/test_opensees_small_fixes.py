@@ -383,3 +383,25 @@ def test_element_loads_are_computed_once_per_version_of_their_pattern(monkeypatc
         vops.reactions()
     assert len(calls) == 8                        # each element's load once, whatever the queries
     assert shears == pytest.approx([1000.0 * (5 - e) for e in range(1, 9)], rel=1e-9, abs=1e-6)   # q (L/2 - x)
+
+
+def test_reactions_under_modal_damping_are_opensees_s(tmp_path):
+    """A script's ``modalDamping`` steps every mode of the model (lumped masses: one per dof with
+    mass, the massless rotation following statically), so its reactions are the FE model's and
+    are recorded: the Node recorder's ``reaction`` file equals OpenSeesPy's running the same
+    script (the beam of tests/test_opensees_small_fixes.py, a Trig load at node 3)."""
+    files = {}
+    for o, name in ((oracle, "ops"), (vops, "vtsi")):
+        modal_beam(o, (0.02,))
+        files[name] = tmp_path / f"{name}.out"
+        o.recorder("Node", "-file", str(files[name]), "-time", "-precision", 12, "-node", 1, 7, "-dof", 1, 2,
+                   "reaction")
+        o.integrator("Newmark", 0.5, 0.25)
+        o.analysis("Transient")
+        for _ in range(40):
+            o.analyze(1, 0.005)
+        o.wipe()
+    ref, got = (np.loadtxt(files[name]) for name in ("ops", "vtsi"))
+    assert ref.shape == got.shape == (40, 5) and np.abs(ref[:, 1:]).max() > 1e4
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-9 * np.abs(ref).max())
+

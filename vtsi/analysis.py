@@ -22,6 +22,7 @@ from vtsi.timeloop import run_from_state, run_linear_steps
 
 log = logging.getLogger(__name__)
 QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
+BLOCK_STEPS = 512         # steps of a run's tables (load factors...) evaluated ahead for the runs that follow
 ALL_MODES_MAX = 3000      # free dofs up to which eigen(model, 'all') solves the dense problem
 
 
@@ -100,13 +101,57 @@ def moving_dofs(assembly, model, seeds=None, loaded=None):
     state = domain_state(model)
     if loaded is None:
         loaded = _pattern_loads(assembly, list(model.patterns.values()))[1]
-    if seeds is None and not (state.u.any() or state.v.any() or state.a.any()):
-        return dofs_with(labels, loaded)
-    moving = np.zeros(assembly.n_free, dtype=bool) if seeds is None else np.array(seeds, dtype=bool)
-    moving[loaded] = True
-    for vec in (state.u, state.v, state.a):
-        moving |= vec[assembly.full_of_free] != 0.0
-    return dofs_with(labels, moving)
+    seeds = NO_SEEDS if seeds is None else np.asarray(seeds, dtype=np.bool_)
+    return moving_components(labels, loaded, seeds, state.u, state.v, state.a, assembly.full_of_free)
+
+
+NO_SEEDS = np.zeros(0, dtype=np.bool_)
+
+
+@njit(cache=True)
+def same_entries(a, b):
+    """Whether the 1-d arrays ``a`` and ``b`` have the same length and entries."""
+    if a.shape[0] != b.shape[0]:
+        return False
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def any_nonzero(u, v, a, dofs):
+    """Whether ``u``, ``v`` or ``a`` is not 0 (or NaN) at one of ``dofs`` (a dof at rest has moved)."""
+    for d in dofs:
+        if u[d] != 0.0 or v[d] != 0.0 or a[d] != 0.0:
+            return True
+    return False
+
+
+@njit(cache=True)
+def moving_components(labels, loaded, seeds, u, v, a, full_of_free):
+    """The free dofs (int64, ascending) whose component (``labels``, one per free dof) holds a
+    ``loaded`` free dof, a ``seeds`` dof (boolean per free dof, or empty) or a free dof whose
+    full-dof ``u``, ``v`` or ``a`` (``full_of_free`` maps them) is not 0."""
+    n = labels.shape[0]
+    hit = np.zeros(n, dtype=np.bool_)
+    for d in loaded:
+        hit[labels[d]] = True
+    for i in range(n):
+        f = full_of_free[i]
+        if (seeds.shape[0] > 0 and seeds[i]) or u[f] != 0.0 or v[f] != 0.0 or a[f] != 0.0:
+            hit[labels[i]] = True
+    count = 0
+    for i in range(n):
+        if hit[labels[i]]:
+            count += 1
+    out = np.empty(count, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        if hit[labels[i]]:
+            out[k] = i
+            k += 1
+    return out
 
 
 def _integer(who, what, value, low=None):
@@ -247,6 +292,9 @@ class _RecorderFeed:
                         raise ModelError(f"recorder: {label} {index} out of range 0..{size - 1}")
                 cols.append(keys.setdefault((quantity, int(index)), len(keys)))
             self.columns.append(np.array(cols, dtype=np.int64))
+        # every recorder's columns side by side, gathered by one index per chunk (deliver)
+        self.gather = np.concatenate(self.columns) if self.columns else np.zeros(0, dtype=np.int64)
+        self.bounds = np.cumsum([0] + [len(c) for c in self.columns]).tolist()
         # a constrained dof (equalDOF / rigidLink) is recorded as its row of T over free dofs
         self.derived = []
         if assembly.constrained_rows is not None:
@@ -325,21 +373,24 @@ class _RecorderFeed:
         for i, sources, coefficients in self.derived:
             full[:, i] = full[:, sources] @ coefficients
 
+        gathered = full[:, self.gather]     # one index for all: each recorder gets a copy of its part
+
         def write(k, rec):
             rec.load_lag = self.load_lag
-            rec.write(times, full[:, self.columns[k]], assembly)
-        self._each(write, f"on the steps of t = {times[0]:.6g} to {times[-1]:.6g}; the other recorders hold these "
-                          "steps")
+            rec.write(times, gathered[:, self.bounds[k]: self.bounds[k + 1]].copy(), assembly)
+        self._each(write, lambda: f"on the steps of t = {times[0]:.6g} to {times[-1]:.6g}; the other recorders "
+                                  "hold these steps")
 
     def close(self):
         """Close every recorder, also after one raised (the others' files are complete and
         unlocked); then the first error, as :meth:`deliver`."""
-        self._each(lambda k, rec: rec.close(), "when closed; the other recorders are closed")
+        self._each(lambda k, rec: rec.close(), lambda: "when closed; the other recorders are closed")
 
     def _each(self, call, what):
         """``call(k, rec)`` for every recorder (``k`` its index), also after one raised; then the
-        first error is raised, with a note naming its recorder (``what``: when, and what the
-        others did) and the others that raised too (with one recorder, its error as it is)."""
+        first error is raised, with a note naming its recorder (``what()``: when, and what the
+        others did; formatted only then) and the others that raised too (with one recorder, its
+        error as it is)."""
         failed = None
         for i, rec in enumerate(self.recorders):
             try:
@@ -349,7 +400,7 @@ class _RecorderFeed:
                     raise
                 if failed is None:
                     failed = exc
-                    note = f"raised by recorders[{i}] {rec!r} {what}"
+                    note = f"raised by recorders[{i}] {rec!r} {what()}"
                 else:
                     note = f"recorders[{i}] {rec!r} raised too: {type(exc).__name__}: {exc}"
                 failed.__notes__ = [*getattr(failed, "__notes__", ()), note]   # add_note (3.11+)
@@ -575,15 +626,15 @@ class TransientAnalysis:
         stages = self.stages
         if stages is not None and stages.assembly is asm and loaded is self._loaded_for:
             state = domain_state(self.model)       # the same stages unless a dof at rest has moved
-            rest = self._rest_full
-            if not (np.any(state.u[rest]) or np.any(state.v[rest]) or np.any(state.a[rest])):
+            if not any_nonzero(state.u, state.v, state.a, self._rest_full):
                 return asm
         active = moving_dofs(asm, self.model, loaded=loaded)
-        if stages is None or stages.assembly is not asm or not np.array_equal(active, stages.active):
+        if stages is None or stages.assembly is not asm or not same_entries(active, stages.active):
             self.stages = FEStages(asm, active, self.integrator, self.dt)
-        at_rest = np.ones(asm.n_free, dtype=bool)
-        at_rest[self.stages.active] = False
-        self._rest_full, self._loaded_for = asm.full_of_free[at_rest], loaded
+            at_rest = np.ones(asm.n_free, dtype=bool)
+            at_rest[active] = False
+            self._rest_full = asm.full_of_free[at_rest]
+        self._loaded_for = loaded
         return asm
 
     @property
@@ -594,27 +645,35 @@ class TransientAnalysis:
                                 "started; call run() first")
         return self.stages.active
 
+    accumulated_times = False
+    """Whether :meth:`step_times` adds the steps up (t += Δt, OpenSees's bookkeeping): then the
+    times of steps from any time of a block of them are the block's own, and the block of the
+    coming steps' load factors is kept across a change of the patterns that leaves their series,
+    factors and freezing as they were (:meth:`_RunPlan.take_patterns`)."""
+
     def step_times(self, t0, n):
         """``(n + 1,)`` times [s] ``t_0 .. t_n`` of the next ``n`` steps from ``t0`` (the load table
         is evaluated from them); a subclass may keep another time bookkeeping."""
         return t0 + self.dt * np.arange(n + 1, dtype=float)
 
     def _plan(self):
-        """What a run needs, kept from run to run while the assembly, the patterns
-        (``Model.load_version``), dt and the bridge stages stay the same (the recorder feed while
-        the recorders do)."""
+        """What a run needs, kept from run to run while the assembly, dt and the bridge stages
+        stay the same (the recorder feed while the recorders do); a change of the patterns
+        (``Model.load_version``) only gives it their loads (:meth:`_RunPlan.take_patterns`)."""
         asm = self.model.build()
         key = (asm, self.model.load_version, self.dt)
-        recorders = tuple(self.recorders)
         plan = self._kept_plan
-        if plan is not None and plan.key == key and plan.bridge is self.stages:
-            if plan.recorders != recorders:
-                plan.recorders, plan.feed = recorders, None
-            return plan
-        patterns = list(self.model.patterns.values())
-        loads = _pattern_loads(asm, patterns)
-        asm = self._prepare(loads[1])
-        plan = self._kept_plan = _RunPlan(self, key, asm, patterns, loads)
+        if plan is None or plan.key != key or plan.bridge is not self.stages:
+            patterns = list(self.model.patterns.values())
+            loads = _pattern_loads(asm, patterns)
+            asm = self._prepare(loads[1])
+            if plan is not None and plan.key[0] is asm and plan.key[2] == self.dt and plan.bridge is self.stages:
+                plan.take_patterns(key, patterns, loads)
+            else:
+                plan = self._kept_plan = _RunPlan(self, key, asm, patterns, loads)
+        recorders = tuple(self.recorders)
+        if plan.recorders != recorders:
+            plan.recorders, plan.feed = recorders, None
         return plan
 
     def run(self, n_steps):
@@ -622,7 +681,8 @@ class TransientAnalysis:
 
         Repeated short runs (a script's ``analyze(1, dt)`` loop) cost one compiled step and a
         constant: the plan of a run (stages, loads, recorder columns) and the load factors of the
-        coming steps are kept while the model, its patterns, dt and the recorders stay the same."""
+        coming steps are kept while the model, dt and the recorders stay the same; a change of
+        the patterns rebuilds their loads (:meth:`_RunPlan.take_patterns`)."""
         if self.dt is None:
             raise AnalysisError("transient analysis: no time step set")
         if not (type(n_steps) is int and n_steps >= 0):
@@ -652,29 +712,53 @@ class _RunPlan:
     points of the integrator's stages, the recorder columns, a state bank and scratch vectors,
     and a block of the load factors of the coming steps (:meth:`load_rows`)."""
 
-    BLOCK_STEPS = 512    # steps of load factors evaluated ahead for runs shorter than that
-
     def __init__(self, analysis, key, asm, patterns, loads):
-        self.analysis, self.key, self.asm, self.patterns, self.loads = analysis, key, asm, patterns, loads
+        self.analysis, self.asm = analysis, asm
         self.recorders = tuple(analysis.recorders)
         self.bridge = bridge = analysis.stages
-        self.mapped = bridge.loads(*loads)
+        self.feed = self.prescribed = self.factors = None
+        self.take_patterns(key, patterns, loads)
+        self.ahead = BLOCK_STEPS   # a new plan's first block looks ahead: a run from it usually goes on
         self.load_points = bridge.load_points
         self.info = {"analysis": "transient", "integrator": repr(analysis.integrator), "dt": analysis.dt,
-                     "loads": "the load patterns"}
-        self.feed = None
+                     "loads": "the load patterns", "bridge": None if analysis.bridge is None else
+                     "modal, truncated" if analysis.bridge.truncated else "modal, every mode"}
         self.bank = np.zeros((analysis.integrator.n_slots, bridge.n + 2 * bridge.kd))   # run_from_state loads the state
         self.work = np.zeros((3, self.bank.shape[1]))
         self.fe = isinstance(bridge, FEStages)
         if self.fe:
             self.coords_full = asm.full_of_free[bridge.active]
             self.rest_full = analysis._rest_full
-        self.block = None        # (times (B + 1,), table (B, n_stages, n_patterns), position)
         self.no_columns = np.zeros((analysis.chunk_steps, 0))
-        self.prescribed = asm.prescribed_dofs(patterns)
         last = self.load_points[-1]      # where the last stage applies its loads, as a fraction of the step
         self.load_point = last[0][0] if len(last) == 1 else 1.0
         self.span = np.array([0, analysis.integrator.n_stages, 0], dtype=np.int64)   # whole steps
+
+    def take_patterns(self, key, patterns, loads):
+        """Take the load patterns of ``key`` (the analysis' assembly, load version and dt): their
+        loads (``loads``, CSR over the free dofs) on the bridge and their prescribed
+        displacements. With :attr:`TransientAnalysis.accumulated_times` the block of load factors
+        stays while each pattern has the series, factor and freezing (``loadConst``) of the one it
+        replaces (OpenSees's moving load: a new pattern of the same series at every step);
+        otherwise the next one is of only the steps a run asks for, as a script that changes its
+        patterns at every step uses one. The stages, bank, work arrays, info and recorder feed
+        stay (the feed is built again when the patterns prescribe displacements, which it
+        records)."""
+        self.key, self.patterns, self.loads = key, patterns, loads
+        self.mapped = self.bridge.loads(*loads)
+        prescribed = self.asm.prescribed_dofs(patterns)
+        if prescribed or self.prescribed:
+            self.feed = None
+        self.prescribed = prescribed
+        self.settles = bool(prescribed) or self.asm.constrained_rows is not None     # dofs that follow others
+        factors = tuple([(id(p.series), getattr(p.series, "factor", None), p.factor, p.constant_time)
+                         for p in patterns])
+        if factors != self.factors or not self.analysis.accumulated_times:     # a new block
+            self.factors = factors
+            self.block = None    # (times (B + 1,), table (B, n_stages, n_patterns), position)
+            self.ahead = 0       # steps the next block evaluates at least (BLOCK_STEPS after it)
+        if self.feed is not None:
+            self._kernel_args()
 
     def start_feed(self):
         """The recorder feed of a run: built (and its recorders started) once, restarted after."""
@@ -691,12 +775,16 @@ class _RunPlan:
         """Take over the started ``feed`` of a run that this plan continues; returns self."""
         self.feed = feed
         self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
-        if self.fe:        # run_from_state's arguments around (u, v, a), the load table and the output
+        self._kernel_args()
+        return self
+
+    def _kernel_args(self):
+        """run_from_state's arguments around (u, v, a), the load table and the output (FE bridge)."""
+        if self.fe:
             b = self.bridge
             self.kernel_args = ((self.coords_full, self.rest_full, self.bank, b.du, b.dv, b.fac, b.ops, b.weights),
                                 self.mapped + (self.rec_slot, self.rec_index),
                                 (self.analysis.divergence_limit, self.work, b.band))
-        return self
 
     def load_rows(self, t0, n):
         """``(times (n + 1,), table (n, n_stages, n_patterns))`` of the ``n`` steps from ``t0``,
@@ -707,11 +795,11 @@ class _RunPlan:
             if pos + n < len(times) and times[pos] == t0:
                 self.block = (times, table, pos + n)
                 return times[pos: pos + n + 1], table[pos: pos + n]
-        m = n if n >= self.BLOCK_STEPS else self.BLOCK_STEPS
+        m = max(n, self.ahead)
         times = self.analysis.step_times(t0, m)
         table = load_factor_table(self.patterns, times[:-1], self.analysis.dt, self.load_points,
                                   self.analysis._path_tables)
-        self.block = (times, table, n)
+        self.block, self.ahead = (times, table, n), BLOCK_STEPS
         return times[: n + 1], table[:n]
 
     def advance(self, state, table, out, span):
@@ -753,7 +841,8 @@ class _RunPlan:
             self.advance(state, *self._rows_before(table, out, span, bad))   # deterministic: the same rows again
         if good > 0:
             state.time = float(times[good])
-            settle_dependent_dofs(self.asm, self.prescribed, state, times[good] - (times[n] - settle_time))
+            if self.settles:
+                settle_dependent_dofs(self.asm, self.prescribed, state, times[good] - (times[n] - settle_time))
         if feed.recorders:              # after the state: a recorder that raises leaves it at its last row
             feed.deliver(times[1: good + 1], self.bridge.recorded(out[:good]), self.asm)
         if bad >= 0:

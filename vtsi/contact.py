@@ -46,10 +46,26 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vtsi.errors import AnalysisError
+from vtsi.errors import AnalysisError, as_positive
 
 LIFT_OFF = "lift-off"
 LANDING = "landing"
+MAX_GAP_TOL = 1e-6
+"""[m] The largest ``gap_tol`` accepted: a wheel at most gap_tol above the rail is put back on it,
+so the tolerance is a round-off guard and must stay far below the smallest lift-off of interest
+(0.1 mm). Measured (a four-dof car over a 20 mm, 1 m dip at 60 m/s, HHT(0.9), Δt = 0.25 ms): with
+1e-6 m its wheels' flights of 0.067 and 0.090 mm start and peak as with 1e-9 m; with 1e-5 m they
+start a step late and peak 10 % and 8 % lower."""
+
+
+def gap_tolerance(value, where, error):
+    """``value`` as a gap tolerance [m], 0 to :data:`MAX_GAP_TOL`, or ``error`` naming ``where``
+    and the value (the analysis's flight criterion and a recorder's in-contact flag alike)."""
+    gap_tol = as_positive(value, where, "gap_tol [m]", error, allow_zero=True)
+    if gap_tol > MAX_GAP_TOL:
+        raise error(f"{where}: gap_tol [m] must be at most {MAX_GAP_TOL:g} m, got {value!r}: a wheel less than "
+                    "gap_tol above the rail is put back on it, so a larger one hides and delays lift-offs")
+    return gap_tol
 
 
 @dataclass(frozen=True)

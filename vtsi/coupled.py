@@ -16,9 +16,11 @@ import scipy.sparse.linalg as spla
 from scipy.sparse import csgraph
 
 from vtsi.analysis import (
+    BLOCK_STEPS,
     _integer,
     _pattern_loads,
     _RecorderFeed,
+    any_nonzero,
     component_labels,
     domain_state,
     load_factor_table,
@@ -33,7 +35,7 @@ from vtsi.banded import (
     ldl_band,
 )
 from vtsi.constraint import MovingLoadConstraint
-from vtsi.contact import contact_events, contact_summary
+from vtsi.contact import contact_events, contact_summary, gap_tolerance
 from vtsi.coupled_loop import run_coupled_steps
 from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_positive
 from vtsi.integrators import HHT, make_integrator
@@ -47,12 +49,6 @@ from vtsi.vehicle import GRAVITY
 CONTACT_STRATEGIES = ("bilateral", "lcp")
 LCP_DEFAULT_ALPHA = 0.9      # HHT's α when contact='lcp' and no integrator is given
 CURVATURE_STEP = 1e-4        # [m] central-difference step of smoothed rows' curvature under a wheel at the start
-MAX_GAP_TOL = 1e-6
-"""[m] The largest ``gap_tol`` accepted: a wheel at most gap_tol above the rail is put back on it,
-so the tolerance is a round-off guard and must stay far below the smallest lift-off of interest
-(0.1 mm). Measured (a four-dof car over a 20 mm, 1 m dip at 60 m/s, HHT(0.9), Δt = 0.25 ms): with
-1e-6 m its wheels' flights of 0.067 and 0.090 mm start and peak as with 1e-9 m; with 1e-5 m they
-start a step late and peak 10 % and 8 % lower."""
 
 
 def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
@@ -76,6 +72,7 @@ def coupled_integrator(integrator, contact, who="CoupledAnalysis"):
                             "Newmark such as Newmark(0.6, 0.3025)")
     return integ
 TRAIN_QUANTITIES = {"train_u": 0, "train_v": 1, "train_a": 2}
+JOIN_CHUNKS = 512       # chunks of the records joined at a time while they are not read (CoupledAnalysis._keep)
 
 
 class CoupledAnalysis:
@@ -104,7 +101,7 @@ class CoupledAnalysis:
         moments take the train's loads and the bridge's own weight from there.
     divergence_limit : |u| [m] beyond which a step counts as diverged.
     gap_tol : position gap [m] above which a wheel counts as in flight (contact='lcp'); a wheel
-        less high is put back on the rail. A round-off guard: 0 to MAX_GAP_TOL (1e-6 m, far
+        less high is put back on the rail. A round-off guard: 0 to vtsi.contact.MAX_GAP_TOL (1e-6 m, far
         below a lift-off of interest, >= 0.1 mm).
     exact_events : kinks of the rail line ('hermite' rows: a span's end on a support next to rigid
         ground or to another span's end). False (default): a wheel takes the kink at the end of
@@ -116,7 +113,8 @@ class CoupledAnalysis:
         λ no longer rings after a kink (docs/theory/coupled_step.md §6).
     bridge_cache : a :class:`~vtsi.subdomain.BridgeStageCache` shared by analyses of one bridge
         (a sweep's passages): the bridge's factors and track flexibilities are computed once per
-        model version, integrator, Δt, track and set of moving dofs, whatever train crosses.
+        model version, integrator, Δt, track and set of moving dofs, whatever train crosses, and a
+        train's (:class:`TrainStages`) once per integrator and Δt, whatever its speed.
     bridge : None (the FE model) or a :class:`~vtsi.modal_bridge.ModalBridge` of the model: the
         bridge is then stepped in its modal coordinates, the constraint rows become rows of Φ at
         the wheel positions (:mod:`vtsi.subdomain`), the recorders read Φ q.
@@ -163,11 +161,7 @@ class CoupledAnalysis:
         self.static_state = None
         self.reset_records()
         self._lcp_work = lcp_workspace(constraint.n_contact)
-        self.gap_tol = as_positive(gap_tol, "CoupledAnalysis", "gap_tol [m]", AnalysisError, allow_zero=True)
-        if self.gap_tol > MAX_GAP_TOL:
-            raise AnalysisError(f"CoupledAnalysis: gap_tol [m] must be at most {MAX_GAP_TOL:g} m, got {gap_tol!r}: a "
-                                "wheel less than gap_tol above the rail is put back on it, so a larger one hides and "
-                                "delays lift-offs")
+        self.gap_tol = gap_tolerance(gap_tol, "CoupledAnalysis", AnalysisError)
         if not isinstance(exact_events, (bool, np.bool_)):
             raise AnalysisError(f"CoupledAnalysis: exact_events must be True or False, got {exact_events!r}")
         self.exact_events = bool(exact_events)
@@ -182,6 +176,7 @@ class CoupledAnalysis:
         self.bridge = bridge
         self.stages = None
         self.coupled_loads = CoupledLoads(constraint)
+        self._kept_plan = None     # what a run needs, kept for the runs that follow (_plan)
 
     # -- preparation ----------------------------------------------------------------------
     def _bridge_constant_load(self, asm):
@@ -236,36 +231,14 @@ class CoupledAnalysis:
                                            lambda: FEStages(asm, active, integ, dt, track, self_weight))
         self.stages = bridge
         stages = integ.checked_stages(dt)       # contract: force_weight > 0 (the loop divides by it), ...
-        A = integ.n_slots
-        fac_t, tflex, response = [], [], []
-        kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
-        for s, st in enumerate(stages):
-            if train.n_dof:
-                kt_hat = (train.M + st.kv[A] * train.C + st.ku[A] * train.K).tocsr()
-                try:
-                    ft = ldl_band(kt_hat, kd_t)
-                except NotPositiveDefinite as exc:
-                    raise AnalysisError(f"train effective matrix of stage {s + 1} is singular at train dof "
-                                        f"{train.train.dof_names[exc.pivot]}: a dof with neither mass nor "
-                                        "stiffness") from None
-                cols = inverse_columns(ft, train.wheel_dofs)
-                tflex.append(cols[train.wheel_dofs])
-                response.append(cols.T)
-            else:
-                ft = np.zeros((0, 1))
-                tflex.append(np.zeros((0, 0)))
-                response.append(np.zeros((0, 0)))
-            fac_t.append(ft)
-        self.fac_t = np.ascontiguousarray(np.stack(fac_t))
-        self.tflex = np.ascontiguousarray(np.stack(tflex))
-        self.wheel_response, self.response_range = _wheel_responses(response)
-        kd_t = self.fac_t.shape[2] - 1
+        build = lambda: TrainStages(train, stages, integ.n_slots)
+        source = asm if self.bridge is None else self.bridge     # the train's entry goes with the bridge's
+        t = self.bridge_cache.get(source, train_stage_key(integ, dt, train), build) if train.n_dof else build()
+        self.fac_t, self.tflex, self.ops_t, self.weights_t = t.fac, t.flex, t.ops, t.weights
+        self.wheel_response, self.response_range = t.wheel_response, t.response_range
+        self.group_ptr, self.group_wheel, self.ground_inv = t.group_ptr, t.group_wheel, t.ground_inv
         pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
-        self.du, self.dv, ku, kv, km = pack("du"), pack("dv"), pack("ku"), pack("kv"), pack("km")
-        rows = ((band_rows(train.K, kd_t), band_rows(train.C, kd_t), band_rows(train.M, kd_t)) if train.n_dof
-                else (np.zeros((0, 1)),) * 3)
-        self.ops_t, self.weights_t = stage_operators(rows[0], rows[1], ku, kv, rows[2], km)
-        self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.tflex, self.dv[:, A])
+        self.du, self.dv = pack("du"), pack("dv")
         self.stage_theta = np.array([st.theta for st in stages])
         self.force_weight = np.array([st.force_weight for st in stages])
         self.mass_weight = np.array([st.mass_weight for st in stages])     # 1 but for generalized-α (1/αM)
@@ -335,11 +308,14 @@ class CoupledAnalysis:
             train.v[:] = self._quasi_static_rates(train.v[train.wheel_dofs])
             train.a[:] = self._start_accelerations(t, bridge.track_operator @ sol[:n_b])
         contact = sol[n_b + n_t:].copy()
+        self.coupled_loads.begin(con.knot(self.dt), self._self_weight(asm) if self.bridge_self_weight else None,
+                                 self.bridge is not None and self.bridge.truncated)
+        self.coupled_loads.deliver(np.array([t]), contact[None, :])     # the state's loads
         self.static_state = {"time": t, "bridge_u": state.u.copy(), "train_u": train.u.copy(),
                              "train_v": train.v.copy(), "train_a": train.a.copy(), "contact_force": contact,
                              "start_force": contact + (train.M @ train.a + train.C @ train.v)[train.wheel_dofs],
                              "loads": self.load_description}
-        self._prev = None
+        self._new_start()
         return self.static_state
 
     def _start_accelerations(self, t, track_u):
@@ -454,129 +430,144 @@ class CoupledAnalysis:
         state.u[:], state.v[:], state.a[:] = static_state["bridge_u"], 0.0, 0.0
         train.u[:], train.v[:], train.a[:] = static_state["train_u"], static_state["train_v"], static_state["train_a"]
         self.static_state = static_state
+        self._new_start()
+
+    def _new_start(self):
+        """A new start (:meth:`static`, :meth:`start_from`): the next run counts its steps from it
+        and takes its contact forces as those of the step before (:meth:`_previous_forces`)."""
         self._prev = None
+        if self._kept_plan is not None:
+            self._kept_plan.clock = None
 
     # -- time stepping --------------------------------------------------------------------
+    def _plan(self):
+        """What a run needs (:class:`_CoupledPlan`), kept from run to run while the model's
+        assembly and patterns (``Model.load_version``), dt, the integrator, the self weight, the
+        bridge stages and the dofs at rest stay the same (its recorder feed while the recorders do)."""
+        asm = self.model.build()
+        key = (asm, self.model.load_version, self.dt, self.integrator, self.bridge_self_weight, self.gravity)
+        plan = self._kept_plan
+        if plan is not None and plan.rest_full is not None:
+            state = domain_state(self.model)
+            moved = any_nonzero(state.u, state.v, state.a, plan.rest_full)    # a dof at rest has moved
+        else:
+            moved = False
+        if plan is None or plan.key != key or self._prepared is not asm or plan.bridge is not self.stages or moved:
+            patterns = list(self.model.patterns.values())
+            loads = _pattern_loads(asm, patterns)
+            asm = self._prepare(loads[1])
+            plan = self._kept_plan = _CoupledPlan(self, key, asm, patterns, loads)
+        recorders = tuple(self.recorders)
+        if plan.recorders != recorders:
+            plan.recorders, plan.feed = recorders, None
+        return plan
+
     def run(self, n_steps):
         """Advance ``n_steps`` steps from the committed states (call :meth:`static` first for a
         start from the dead-load equilibrium). Returns the domain state. Refused after a run
-        that diverged (its model stays at the start of the diverging chunk)."""
-        n_steps = _integer("CoupledAnalysis", "number of steps", n_steps, 0)
+        that diverged (its model stays at the start of the diverging chunk).
+
+        The steps of a run are counted in chunks of ``chunk_steps`` from its start t_c: stage θ of
+        the chunk's step k is at t_o + (k − o + θ) Δt, t_o = t_c + o Δt, o = 0 or, with
+        ``exact_events``, the step after the chunk's last kink crossing. A run of one step that
+        starts where the last run ended continues that count, so that a script's per-step loop
+        (``analyze(1, dt)``) gives one ``run(n)``'s numbers to the bit (B-spline rows on an
+        irregular rail: to round-off, :meth:`_CoupledPlan.rows_of`); a longer run starts its own.
+        Such a loop costs one compiled step and a constant per call: what a run needs
+        (:meth:`_plan`) and the coming steps' tables (load factors, rail data) are kept."""
+        if not (type(n_steps) is int and n_steps >= 0):
+            n_steps = _integer("CoupledAnalysis", "number of steps", n_steps, 0)
         if self._diverged is not None:
             raise AnalysisError(f"CoupledAnalysis: it diverged ({self._diverged}); a coupled analysis does not go on "
                                 f"from a divergence (the recorders hold the steps before it, the model is at the "
                                 f"start of their chunk): build a new one, e.g. with a smaller dt")
-        patterns = list(self.model.patterns.values())
-        load_ptr, load_dof, load_val = _pattern_loads(self.model.build(), patterns)
-        asm = self._prepare(load_dof)
+        plan = self._plan()
         state = domain_state(self.model)
         train, con, track = self.train, self.constraint, self.constraint.track
         con.check_travel(state.time, state.time + n_steps * self.dt, self.dt)
-        bridge = self.stages
-        constant = self._bridge_constant_load(asm)     # a last pattern of factor 1 (× the stage's mass weight)
-        nz = np.flatnonzero(constant)
-        load_ptr, load_dof, load_val = bridge.loads(np.append(load_ptr, load_ptr[-1] + len(nz)),
-                                                    np.concatenate([load_dof, nz]).astype(np.int64),
-                                                    np.concatenate([load_val, constant[nz]]))
-        n_slots = self.integrator.n_slots
-        kd_b, kd_t = bridge.kd, self.fac_t.shape[2] - 1
-        n_b, n_t, n_c = bridge.n, train.n_dof, con.n_contact
-        bank_b = bridge.bank(state, asm.full_of_free, n_slots)
-        bank_t = np.zeros((n_slots, n_t + 2 * kd_t))
+        asm, bridge, loads = plan.asm, plan.bridge, plan.loads
+        kd_b, kd_t, n_t = bridge.kd, plan.kd_t, train.n_dof
+        bank_b, bank_t = plan.bank_b, plan.bank_t
+        bridge.load_bank(bank_b, state, asm.full_of_free)
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
-        channels = {q: ("train", slot, n_t, "train dof") for q, slot in TRAIN_QUANTITIES.items()}
-        channels.update({q: (q, 0, n_c, "contact wheel") for q in ("contact_force", "gap")})
-        self.coupled_loads.begin(con.knot(self.dt), self._self_weight(asm) if self.bridge_self_weight else None,
-                                 self.bridge is not None)
-        feed = _RecorderFeed(asm, self.model, self.recorders,
-                             {"analysis": "coupled", "integrator": repr(self.integrator), "dt": self.dt,
-                              "loads": self.load_description, "coupled_loads": self.coupled_loads}, channels)
-        t_slot, t_index = feed.group("train")
-        force_wheels, gap_wheels = feed.group("contact_force")[1], feed.group("gap")[1]
-        width = con.width(self.dt)
-        cols = np.empty((n_c, width), dtype=np.int64)
-        vals = np.empty((n_c, width))
-        slopes = np.empty((n_c, width))
-        work_b = np.zeros((3, n_b + 2 * kd_b))
-        work_t = np.zeros((3, n_t + 2 * kd_t))
-        W, q, lam = np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c)
-        times_all, force_all, gap_all = [self.time], [self.contact_force], [self.gap]
-        end_all = [self.contact_force_end]
-        prev = self._previous_forces(width)
-        rec_slot, rec_index = bridge.record_plan(feed.rec_slot, feed.rec_index)
-        load_points = [st.load for st in self.integrator.stages(self.dt)]
+        self.coupled_loads.begin(con.knot(self.dt), plan.self_weight, self.bridge is not None and self.bridge.truncated)
+        feed = plan.start_feed()
+        prev = self._previous_forces(plan.width)
+        knot = con.knot(self.dt)
 
-        def steps(first, last, x0_c, r_part, rate_part):
-            """Run the chunk's steps first..last - 1 with the contact wheels at ``x0_c`` at t = 0 and
-            the rail data ``r_part``, ``rate_part`` of those steps; the loop's status, its step
-            counted in the chunk."""
+        def steps(lo, hi, origin, x0_c, r_part, rate_part):
+            """Run the chunk's steps lo..hi - 1 (counted from the chunk's start, this call's from i)
+            with the contact wheels at ``x0_c`` at t = 0 and the rail data ``r_part``,
+            ``rate_part`` of those steps, their time counted from the chunk's step ``origin``; the
+            loop's status, its step counted in this call."""
+            m = lo - origin
+            theta, load_theta = (self.stage_theta, self.load_theta) if m == 0 else \
+                (self.stage_theta + m, self.load_theta + m)      # m + θ: the loop's step + θ from the origin
+            a, b = lo - i, hi - i
             bad = run_coupled_steps(
                 bank_b, bank_t, self.du, self.dv,
                 bridge.fac, bridge.ops, bridge.weights, self.fac_t, self.ops_t, self.weights_t,
-                table[first:last], load_ptr, load_dof, load_val, train.gravity_load,
+                table[a:b], *loads, train.gravity_load,
                 bridge.flex, self.tflex, track.x_start, track.length, track.dofs, bridge.track_index,
                 bridge.track_basis,
                 x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
-                con.knot(self.dt), r_part, rate_part, t0 + first * self.dt, self.dt, self.stage_theta,
-                self.load_theta, self.load_weight, self.force_weight, self.mass_weight, self.record_weights,
+                knot, r_part, rate_part, t0 + origin * self.dt, self.dt, theta,
+                load_theta, self.load_weight, self.force_weight, self.mass_weight, self.record_weights,
                 self.contact == "lcp",
                 self.gap_tol,
-                self.in_contact, rec_slot, rec_index, out[0][first:last], t_slot, t_index, out[1][first:last],
-                out[2][first:last], out[4][first:last], out[3][first:last], self.divergence_limit, work_b, work_t, cols, vals, slopes,
-                W, q, lam, self._lcp_work, band_type(kd_b), band_type(kd_t), *prev,
+                self.in_contact, plan.rec_slot, plan.rec_index, out_b[a:b], plan.t_slot, plan.t_index, out_t[a:b],
+                out_force[a:b], out_force_end[a:b], out_gap[a:b], self.divergence_limit, plan.work_b, plan.work_t,
+                *plan.rows, *plan.contact, self._lcp_work, plan.band_b, plan.band_t, *prev,
                 self.group_ptr, self.group_wheel, self.ground_inv, self.wheel_response, self.response_range)
-            return bad if bad == -1 else (bad + first if bad >= 0 else bad - first)
+            return bad if bad == -1 else (bad + a if bad >= 0 else bad - a)
 
         done = 0
         try:
             while done < n_steps:
-                n = min(self.chunk_steps, n_steps - done)
-                t0 = state.time
-                starts = t0 + self.dt * np.arange(n, dtype=float)
-                table = np.concatenate([load_factor_table(patterns, starts, self.dt, load_points, self._path_tables),
-                                        np.tile(self.mass_weight[None, :, None], (n, 1, 1))], axis=2)
-                r_table, rate_table = (np.ascontiguousarray(np.stack(
-                    [con.irregularity_at(starts + th * self.dt, self.dt, nu) - self._rail_sag(starts + th * self.dt, nu)
-                     for th in self.stage_theta], axis=1)) for nu in (0, 1))
-                out = (np.zeros((n, len(rec_slot))), np.zeros((n, len(t_index))), np.zeros((n, n_c)),
-                       np.zeros((n, n_c)), np.zeros((n, n_c)))
-                out_b, out_t, out_force, out_gap, out_force_end = out
-                events = self._events(t0, n)
-                first, bad = 0, -1
-                for k in sorted({e[0] for e in events}) + [n]:
-                    if k > first:
-                        bad = steps(first, k, con.x0, r_table[first:k], rate_table[first:k])
-                        if bad != -1 or k == n:
+                t0, i, first = plan.chunk(state.time, n_steps == 1, self.chunk_steps)
+                n = min(self.chunk_steps - i, n_steps - done)
+                table, r_table, rate_table = plan.rows_of(t0, i, n, self.chunk_steps)
+                out_b, out_t = np.zeros((n, len(plan.rec_slot))), np.zeros((n, len(plan.t_index)))
+                out_force, out_gap, out_force_end = np.zeros((n, con.n_contact)), np.zeros((n, con.n_contact)), \
+                    np.zeros((n, con.n_contact))
+                events = [e for e in self._events(t0, i + n) if e[0] >= i]
+                lo, bad = i, -1
+                for k in sorted({e[0] for e in events}) + [i + n]:
+                    if k > lo:
+                        bad = steps(lo, k, first, con.x0, r_table[lo - i: k - i], rate_table[lo - i: k - i])
+                        if bad != -1:
                             break
+                    if k == i + n:
+                        break
                     crossing = [e for e in events if e[0] == k and self.in_contact[e[2]] > 0.5]
-                    x0_c, r_k, rate_k = self._old_line(crossing, t0 + k * self.dt, r_table[k:k + 1],
-                                                       rate_table[k:k + 1])
-                    bad = steps(k, k + 1, x0_c, r_k, rate_k)
+                    x0_c, r_k, rate_k = self._old_line(crossing, t0 + k * self.dt, r_table[k - i: k - i + 1],
+                                                       rate_table[k - i: k - i + 1])
+                    bad = steps(k, k + 1, k, x0_c, r_k, rate_k)
                     if bad != -1:
                         break
-                    for _, theta, i, x in crossing:
+                    for _, theta, w, x in crossing:
                         # recorded as its impulse spread over the step (as a landing, docs/theory/contact.md)
-                        out_force[k, i] += self._cross(bank_b, bank_t, kd_b, kd_t, i, x, (1.0 - theta) * self.dt,
-                                                       prev) / self.dt
-                    first = k + 1
+                        out_force[k - i, w] += self._cross(bank_b, bank_t, kd_b, kd_t, w, x, (1.0 - theta) * self.dt,
+                                                           prev) / self.dt
+                    lo = first = k + 1
                 good = n if bad == -1 else (bad if bad >= 0 else -2 - bad)
-                times = t0 + self.dt * np.arange(1, good + 1)
-                times_all.append(times)
-                force_all.append(out_force[:good])
-                end_all.append(out_force_end[:good])
-                gap_all.append(out_gap[:good])
+                times = t0 + self.dt * np.arange(i + 1, i + good + 1)
+                self._keep((times, out_force[:good], out_force_end[:good], out_gap[:good]))
                 if bad == -1:           # the chunk committed before the recorders get it: one that raises
-                    bridge.commit(state, bank_b, asm.full_of_free, t0 + n * self.dt)     # leaves the analysis
-                    for slot, vec in enumerate((train.u, train.v, train.a)):          # at its last row
+                    bridge.commit(state, bank_b, asm.full_of_free, t0 + (i + n) * self.dt)   # leaves the analysis
+                    for slot, vec in enumerate((train.u, train.v, train.a)):              # at its last row
                         vec[:] = bank_t[slot, kd_t: kd_t + n_t]
+                    plan.clock = (t0, i + n, first, state.time)
                     done += n
                 else:
-                    step, t_bad = done + good + 1, t0 + (good + 1) * self.dt
+                    step, t_bad = done + good + 1, t0 + (i + good + 1) * self.dt
                     self._diverged = f"step {step}, t = {t_bad:.6g} s"
-                self.coupled_loads.deliver(times, out_force[:good], out_force_end[:good])
-                feed.deliver(times, bridge.recorded(out_b[:good]), asm, train=out_t[:good],
-                             contact_force=out_force[:good][:, force_wheels], gap=out_gap[:good][:, gap_wheels])
+                self.coupled_loads.deliver(times, out_force_end[:good])
+                if feed.recorders:
+                    feed.deliver(times, bridge.recorded(out_b[:good]), asm, train=out_t[:good],
+                                 contact_force=out_force[:good][:, plan.force_wheels],
+                                 gap=out_gap[:good][:, plan.gap_wheels])
                 if bad != -1:
                     if bad >= 0:
                         raise DivergenceError(f"coupled analysis diverged at step {step}, t = {t_bad:.6g} s "
@@ -586,10 +577,6 @@ class CoupledAnalysis:
                                           f"t = {t_bad:.6g} s", step, t_bad)
         finally:
             feed.close()
-            self.time = np.concatenate(times_all)
-            self.contact_force = np.concatenate(force_all)
-            self.contact_force_end = np.concatenate(end_all)
-            self.gap = np.concatenate(gap_all)
         return state
 
     # -- kinks of the rail line (span entry and exit), exact_events ------------------------
@@ -709,8 +696,47 @@ class CoupledAnalysis:
         """Forget the recorded steps (``time``, ``contact_force``, ``contact_force_end``, ``gap``),
         e.g. before a run from a new start."""
         n_c = self.constraint.n_contact
-        self.time = np.zeros(0)
-        self.contact_force, self.contact_force_end, self.gap = (np.zeros((0, n_c)) for _ in range(3))
+        self._records = [(np.zeros(0), np.zeros((0, n_c)), np.zeros((0, n_c)), np.zeros((0, n_c)))]
+        self._unjoined = 0
+
+    def _keep(self, chunk):
+        """Keep a chunk's ``(time, contact_force, contact_force_end, gap)``; the chunks are joined
+        when read, and every JOIN_CHUNKS of them before (a per-step loop's chunks of one step
+        would take some 0.5 kB each)."""
+        self._records.append(chunk)
+        self._unjoined += 1
+        if self._unjoined == JOIN_CHUNKS:
+            last = self._records[-JOIN_CHUNKS:]
+            self._records[-JOIN_CHUNKS:] = [tuple(np.concatenate(parts) for parts in zip(*last))]
+            self._unjoined = 0
+
+    def _recorded(self, field):
+        """Field ``field`` (0 time, 1 contact_force, 2 contact_force_end, 3 gap) of the steps run
+        so far (the chunks joined once, when read)."""
+        if len(self._records) > 1:
+            self._records = [tuple(np.concatenate(parts) for parts in zip(*self._records))]
+            self._unjoined = 0
+        return self._records[0][field]
+
+    @property
+    def time(self):
+        """(n_steps,) [s] the end time of every step run so far."""
+        return self._recorded(0)
+
+    @property
+    def contact_force(self):
+        """(n_steps, n_c) [N, compression positive] each step's mean contact force (see the class docstring)."""
+        return self._recorded(1)
+
+    @property
+    def contact_force_end(self):
+        """(n_steps, n_c) [N] the contact force at each step's end, λ_{n+1}."""
+        return self._recorded(2)
+
+    @property
+    def gap(self):
+        """(n_steps, n_c) [m] each wheel's position gap at each step's end (> 0 in flight)."""
+        return self._recorded(3)
 
     # -- contact results ------------------------------------------------------------------
     def contact_events(self, interpolate=True):
@@ -743,6 +769,150 @@ class CoupledAnalysis:
         return prev
 
 
+class _CoupledPlan:
+    """One :class:`CoupledAnalysis`'s prepared run (as :class:`vtsi.analysis._RunPlan` is a
+    transient analysis's): the loads on the bridge (the patterns' and its self weight), the state
+    banks and scratch arrays of the compiled loop, the recorder feed and its columns; the count
+    of the steps, ``clock`` = ``(t_c, i, origin, time)`` (the chunk's start [s], its steps run, its
+    step the loop's time counts from, and the committed time [s] they reached), and a block of
+    the chunk's tables (:meth:`rows_of`)."""
+
+    def __init__(self, analysis, key, asm, patterns, loads):
+        a = self.analysis = analysis
+        self.key, self.asm, self.patterns = key, asm, patterns
+        self.bridge = bridge = a.stages
+        n_t, n_c = a.train.n_dof, a.constraint.n_contact
+        constant = a._bridge_constant_load(asm)     # a last pattern of factor 1 (× the stage's mass weight)
+        nz = np.flatnonzero(constant)
+        ptr, dof, val = loads
+        self.loads = bridge.loads(np.append(ptr, ptr[-1] + len(nz)), np.concatenate([dof, nz]).astype(np.int64),
+                                  np.concatenate([val, constant[nz]]))
+        self.self_weight = a._self_weight(asm) if a.bridge_self_weight else None
+        self.kd_t = a.fac_t.shape[2] - 1
+        size_b, size_t = bridge.n + 2 * bridge.kd, n_t + 2 * self.kd_t
+        self.bank_b = np.zeros((a.integrator.n_slots, size_b))      # slots 0..2 loaded by every run
+        self.bank_t = np.zeros((a.integrator.n_slots, size_t))
+        self.work_b, self.work_t = np.zeros((3, size_b)), np.zeros((3, size_t))
+        self.band_b, self.band_t = band_type(bridge.kd), band_type(self.kd_t)
+        self.width = a.constraint.width(a.dt)
+        self.rows = (np.empty((n_c, self.width), dtype=np.int64), np.empty((n_c, self.width)),
+                     np.empty((n_c, self.width)))       # a stage's constraint rows: cols, vals, slopes
+        self.contact = (np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c))      # W, q, λ
+        self.load_points = [st.load for st in a.integrator.stages(a.dt)]
+        self.rest_full = None           # the full dofs at rest (FE bridge), which a run checks
+        if isinstance(bridge, FEStages):
+            at_rest = np.ones(asm.n_free, dtype=bool)
+            at_rest[bridge.active] = False
+            self.rest_full = asm.full_of_free[at_rest]
+        self.info = {"analysis": "coupled", "integrator": repr(a.integrator), "dt": a.dt,
+                     "loads": a.load_description, "coupled_loads": a.coupled_loads}
+        self.recorders, self.feed = tuple(a.recorders), None
+        self.clock = None
+        self.block = None       # (t_c, first row, table, r_table, rate_table) of chunk rows
+        self.ahead = 1          # rows a step evaluates (the first the step's, BLOCK_STEPS after it)
+
+    def start_feed(self):
+        """The recorder feed of a run: built (and its recorders started) once, restarted after."""
+        if self.feed is not None:
+            self.feed.start(self.info)
+            return self.feed
+        a = self.analysis
+        n_t, n_c = a.train.n_dof, a.constraint.n_contact
+        channels = {q: ("train", slot, n_t, "train dof") for q, slot in TRAIN_QUANTITIES.items()}
+        channels.update({q: (q, 0, n_c, "contact wheel") for q in ("contact_force", "gap")})
+        feed = self.feed = _RecorderFeed(self.asm, a.model, self.recorders, self.info, channels)
+        self.t_slot, self.t_index = feed.group("train")
+        self.force_wheels, self.gap_wheels = feed.group("contact_force")[1], feed.group("gap")[1]
+        self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
+        return feed
+
+    def chunk(self, time, single, chunk_steps):
+        """``(t_c, i, origin)`` of the next step at the committed ``time`` [s]: the chunk of the
+        steps before, when a run of one step (``single``) starts where they ended and the chunk
+        of ``chunk_steps`` has room; else a new chunk from ``time``."""
+        clock = self.clock
+        if single and clock is not None and clock[3] == time and clock[1] < chunk_steps:
+            return clock[:3]
+        return time, 0, 0
+
+    def rows_of(self, t_c, i, n, chunk_steps):
+        """``(table (n, n_stages, n_patterns + 1), r_table, rate_table (n, n_stages, n_c))`` of the
+        steps i..i + n - 1 of the chunk from ``t_c`` [s]: each stage's load factors (the patterns',
+        then the self weight's mass weight), and the rail's position [m] and rate [m/s] under
+        the contact wheels (irregularity less the deck's self-weight sag). From the kept block
+        when it holds them; else a block of the rows asked for, or for a step that continues a
+        per-step loop of BLOCK_STEPS rows (within the chunk). (A longer run evaluates its rows
+        only: B-spline rows tabulate an irregularity over the wheels' range, MovingLoadConstraint.)"""
+        block = self.block
+        if block is not None and block[0] == t_c and block[1] <= i and i + n <= block[1] + len(block[2]):
+            k = i - block[1]
+            return block[2][k: k + n], block[3][k: k + n], block[4][k: k + n]
+        a, con = self.analysis, self.analysis.constraint
+        m = min(self.ahead, chunk_steps - i) if n == 1 else n
+        starts = t_c + a.dt * np.arange(i, i + m, dtype=float)
+        table = np.concatenate([load_factor_table(self.patterns, starts, a.dt, self.load_points, a._path_tables),
+                                np.tile(a.mass_weight[None, :, None], (m, 1, 1))], axis=2)
+        r_table, rate_table = (np.ascontiguousarray(np.stack(
+            [con.irregularity_at(starts + th * a.dt, a.dt, nu) - a._rail_sag(starts + th * a.dt, nu)
+             for th in a.stage_theta], axis=1)) for nu in (0, 1))
+        self.block, self.ahead = (t_c, i, table, r_table, rate_table), BLOCK_STEPS
+        return table[:n], r_table[:n], rate_table[:n]
+
+
+class TrainStages:
+    """The train subdomain's share of a coupled analysis's preparation for one integrator and Δt;
+    it does not depend on the speed, so a sweep computes it once per train (the analyses'
+    ``bridge_cache`` keeps it by :func:`train_stage_key`). Per integrator stage: ``fac``
+    (n_stages, n_t + kd, kd + 1) the banded factor of the train's effective matrix
+    K̂_t = M + kv C + ku K, ``flex`` (n_stages, n_c, n_c) its flexibility on the contact wheels
+    S K̂_t⁻¹ Sᵀ, ``wheel_response`` and ``response_range`` the train's response to a unit wheel
+    force (:func:`_wheel_responses`), ``ops`` and ``weights`` the operators of the stage's known
+    part (:func:`vtsi.timeloop.stage_operators`), and the wheel groups ``group_ptr``,
+    ``group_wheel``, ``ground_inv`` (:func:`_wheel_groups`).
+
+    Parameters: ``train`` a :class:`~vtsi.train.TrainSubdomain`, ``stages`` the integrator's
+    checked stages for Δt, ``n_slots`` its state slots."""
+
+    def __init__(self, train, stages, n_slots):
+        A = n_slots
+        fac_t, tflex, response = [], [], []
+        kd_t = max(half_bandwidth(train.K), half_bandwidth(train.M), half_bandwidth(train.C)) if train.n_dof else 0
+        for s, st in enumerate(stages):
+            if train.n_dof:
+                kt_hat = (train.M + st.kv[A] * train.C + st.ku[A] * train.K).tocsr()
+                try:
+                    ft = ldl_band(kt_hat, kd_t)
+                except NotPositiveDefinite as exc:
+                    raise AnalysisError(f"train effective matrix of stage {s + 1} is singular at train dof "
+                                        f"{train.train.dof_names[exc.pivot]}: a dof with neither mass nor "
+                                        "stiffness") from None
+                cols = inverse_columns(ft, train.wheel_dofs)
+                tflex.append(cols[train.wheel_dofs])
+                response.append(cols.T)
+            else:
+                ft = np.zeros((0, 1))
+                tflex.append(np.zeros((0, 0)))
+                response.append(np.zeros((0, 0)))
+            fac_t.append(ft)
+        self.fac = np.ascontiguousarray(np.stack(fac_t))
+        self.flex = np.ascontiguousarray(np.stack(tflex))
+        self.wheel_response, self.response_range = _wheel_responses(response)
+        kd_t = self.fac.shape[2] - 1
+        pack = lambda name: np.ascontiguousarray(np.stack([getattr(st, name) for st in stages]))
+        rows = ((band_rows(train.K, kd_t), band_rows(train.C, kd_t), band_rows(train.M, kd_t)) if train.n_dof
+                else (np.zeros((0, 1)),) * 3)
+        self.ops, self.weights = stage_operators(rows[0], rows[1], pack("ku"), pack("kv"), rows[2], pack("km"))
+        self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.flex, pack("dv")[:, A])
+
+
+def train_stage_key(integrator, dt, train):
+    """What :class:`TrainStages` depend on (hashable): the integrator, Δt [s], the train's M, C, K
+    (CSR) and its contact wheels' dofs; equal for the trains of one catalogue entry at any speed."""
+    matrices = tuple((m.shape, m.indptr.tobytes(), m.indices.tobytes(), m.data.tobytes())
+                     for m in (train.M, train.C, train.K))
+    return ("train", repr(integrator), float(dt), matrices, train.wheel_dofs.tobytes())
+
+
 class CoupledLoads:
     """The loads a :class:`CoupledAnalysis` puts on its bridge besides the load patterns: the
     train's moving forces and contact forces on the track, and the bridge's own weight. The
@@ -756,45 +926,51 @@ class CoupledLoads:
     constraint : the analysis's :class:`~vtsi.constraint.MovingLoadConstraint`.
     knot : [m] the knot spacing of the run's rows (0: 'hermite').
     self_weight : (n_full,) [N] the bridge's own weight ``-g M 1_y`` (``bridge_self_weight``), or None.
-    modal : whether the bridge is a :class:`~vtsi.modal_bridge.ModalBridge` (recorded u = Φ q).
+    modal : whether the bridge is a :class:`~vtsi.modal_bridge.ModalBridge` of fewer modes than the
+        model has (:attr:`~vtsi.modal_bridge.ModalBridge.truncated`: K Φ q misses the others' share).
     """
 
     def __init__(self, constraint):
         self.constraint = constraint
         self.knot, self.self_weight, self.modal = 0.0, None, False
-        n_c = constraint.n_contact
-        self._times, self._force, self._force_end = np.zeros(0), np.zeros((0, n_c)), np.zeros((0, n_c))
+        self._times, self._force_end = np.zeros(0), np.zeros((0, constraint.n_contact))
 
     def begin(self, knot, self_weight, modal):
         """A run starts: its rows' ``knot`` [m], the bridge's ``self_weight`` (n_full,) [N] or None,
-        ``modal`` or not."""
+        ``modal`` (a truncated modal bridge) or not."""
         self.knot, self.self_weight, self.modal = float(knot), self_weight, bool(modal)
 
-    def deliver(self, times, force, force_end):
-        """The steps a chunk hands its recorders: ``times (n,)`` [s] and the contact forces
-        ``(n, n_contact)`` [N, compression positive] as recorded (``force``: the step's mean,
-        ``CoupledAnalysis.contact_force``) and at the step's end (``force_end``, λ_{n+1})."""
-        self._times, self._force, self._force_end = times, force, force_end
+    def deliver(self, times, force_end):
+        """The steps a chunk hands its recorders: ``times (n,)`` [s] and the contact forces at
+        each step's end, λ_{n+1} ``(n, n_contact)`` [N, compression positive], which the step's
+        displacements balance (Bathe records the step's mean, ``CoupledAnalysis.contact_force``);
+        after :meth:`CoupledAnalysis.static`, its dead-load state as one step."""
+        self._times, self._force_end = times, force_end
+
+    @property
+    def time(self):
+        """[s] The last step delivered (the dead-load state's time after
+        :meth:`CoupledAnalysis.static`), None before any: the committed state's loads are
+        ``add(fixed, [time], out)``."""
+        return float(self._times[-1]) if len(self._times) else None
 
     def shares(self, assembly, rows):
         """The fixed-end forces of loads on the wheels' track at the full dofs ``rows``
         (:func:`~vtsi.recorders.moment.fixed_end_forces`), for :meth:`add`."""
         return fixed_end_forces(assembly, self.constraint.track, rows)
 
-    def add(self, fixed, times, out, end=True):
+    def add(self, fixed, times, out):
         """Add to ``out (len(times), n_columns)`` the fixed-end share (a
         :class:`~vtsi.recorders.moment.FixedEndMoments` ``fixed``) of the train's loads at ``times``
         [s], steps of the last chunk: its moving forces where they stand then and its contact
-        forces at each step's end (``end``: λ_{n+1}, which u_{n+1} balances) or as recorded (the
-        step's mean for Bathe; the same for the Newmark family)."""
+        forces at each step's end, λ_{n+1}, which u_{n+1} balances."""
         if len(times) == 0:
             return out
         k = np.minimum(np.searchsorted(self._times, times), max(len(self._times) - 1, 0))
         if len(self._times) == 0 or not np.array_equal(self._times[k], times):
             raise AnalysisError(f"CoupledLoads: t = {times[0]:.6g} to {times[-1]:.6g} s are not steps of the chunk "
                                 "the analysis last delivered")
-        force = (self._force_end if end else self._force)[k]
-        return add_train_loads(fixed, self.constraint, times, force, self.knot, out)
+        return add_train_loads(fixed, self.constraint, times, self._force_end[k], self.knot, out)
 
 
 def _wheel_responses(response):

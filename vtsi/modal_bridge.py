@@ -113,7 +113,8 @@ class ModalBridge:
     frequencies (n,) [Hz], omega (n,) [rad/s], zeta (n,) (read-only: :meth:`add_ratios`),
     shapes (n_full, n) mass-normalised, assembly (the model version the modes belong to),
     track_modes (n_track, n) and track_shapes (n_el, n, 4)
-    (:func:`~vtsi.modal_passage.shape_polynomials`) with a track.
+    (:func:`~vtsi.modal_passage.shape_polynomials`) with a track; truncated (whether fewer
+    modes are kept than the model has).
     """
 
     def __init__(self, model, track=None, f_max=None, zeta=None, n_modes=None):
@@ -175,6 +176,13 @@ class ModalBridge:
     @property
     def n_modes(self):
         return len(self.frequencies)
+
+    @property
+    def truncated(self):
+        """Whether fewer modes are kept than the model has (one per free dof with mass; a dof
+        without mass follows the others statically): then a response made of the stiffness,
+        K Φ q (a reaction), leaves out the other modes' share."""
+        return self.n_modes < int(np.count_nonzero(self.assembly.M.diagonal() > 0.0))
 
     @property
     def zeta(self):

@@ -8,7 +8,8 @@ part. What a bridge gives the loops for one integrator and Δt is a :class:`Brid
 - ``n``, ``du``, ``dv`` (the integrator's stage coefficients), ``fac`` (n_stages, n + kd, kd + 1), ``ops``, ``weights`` (:func:`vtsi.timeloop.stage_operators`),
   ``band``, ``load_points`` (each stage's ``(θ, weight)`` load evaluations): the stepping data;
 - :meth:`~BridgeStages.loads`: pattern loads (CSR over the free dofs) as loads on the coordinates;
-- :meth:`~BridgeStages.bank` / :meth:`~BridgeStages.commit`: the committed state in and out;
+- :meth:`~BridgeStages.bank` (or :meth:`~BridgeStages.load_bank`, into a kept bank) /
+  :meth:`~BridgeStages.commit`: the committed state in and out;
 - :meth:`~BridgeStages.record_plan` / :meth:`~BridgeStages.recorded`: what the kernel records for the
   recorders' free-dof columns and how those columns follow from it;
 - along a track (coupled analyses): ``track_index`` (n_track,) the coordinate of each track dof and
@@ -155,10 +156,14 @@ class BridgeStages:
 
     def bank(self, state, full_of_free, n_slots):
         """A padded bank ``(n_slots, n + 2 kd)`` holding the committed ``state`` in slots 0..2."""
-        out = np.zeros((n_slots, self.n + 2 * self.kd))
+        return self.load_bank(np.zeros((n_slots, self.n + 2 * self.kd)), state, full_of_free)
+
+    def load_bank(self, bank, state, full_of_free):
+        """Write the committed ``state`` into slots 0..2 of the padded ``bank`` (its other slots and
+        its padding kept); returns the bank."""
         for slot, vec in enumerate((state.u, state.v, state.a)):
-            out[slot, self.kd: self.kd + self.n] = self.coordinates(vec[full_of_free])
-        return out
+            bank[slot, self.kd: self.kd + self.n] = self.coordinates(vec[full_of_free])
+        return bank
 
     def commit(self, state, bank, full_of_free, time):
         """Write the bank's slots 0..2 back to the full-dof ``state`` at ``time`` [s]."""
@@ -187,6 +192,7 @@ class FEStages(BridgeStages):
 
     def __init__(self, assembly, active, integrator, dt, track=None, self_weight_load=None):
         self.assembly, self.active, self.n = assembly, active, len(active)
+        self.active_full = assembly.full_of_free[active]        # the full dof of each coordinate
         self.position = np.full(assembly.n_free, -1, dtype=np.int64)
         self.position[active] = np.arange(len(active))
         A = integrator.n_slots
@@ -238,6 +244,20 @@ class FEStages(BridgeStages):
         out[self.active] = coords
         return out
 
+    def load_bank(self, bank, state, full_of_free):
+        """:meth:`BridgeStages.load_bank`, reading the moving dofs' entries of the full-dof state
+        straight (``full_of_free``: the assembly's)."""
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            bank[slot, self.kd: self.kd + self.n] = vec[self.active_full]
+        return bank
+
+    def commit(self, state, bank, full_of_free, time):
+        """:meth:`BridgeStages.commit`, writing the moving dofs' entries straight (the others 0)."""
+        for slot, vec in enumerate((state.u, state.v, state.a)):
+            vec[:] = 0.0
+            vec[self.active_full] = bank[slot, self.kd: self.kd + self.n]
+        state.time = time
+
     def static_load(self, p_free):
         """A free-dof load as a load on the coordinates of ``stiffness`` (here the free dofs)."""
         return p_free
@@ -264,8 +284,10 @@ class FEStages(BridgeStages):
 class BridgeStageCache:
     """Bridge stages by what they were built for (the bridge — a FE assembly or a modal bridge —
     and a key: integrator, Δt, track, moving dofs, self-weight load). Analyses that share one cache
-    prepare the bridge once (a sweep: once for all its passages). Keeps the entries of the latest
-    bridge only, so a changed model frees the old factors."""
+    prepare the bridge once (a sweep: once for all its passages). A coupled analysis keeps its
+    train's share there too, with the bridge's (:class:`vtsi.coupled.TrainStages`, keyed by the
+    train's matrices: a sweep factors a train with dofs once for all its speeds). Keeps the
+    entries of the latest bridge only, so a changed model frees the old factors."""
 
     def __init__(self):
         self._entries = []

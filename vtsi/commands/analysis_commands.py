@@ -74,6 +74,8 @@ class CommandTransient(TransientAnalysis):
     their equilibrium point αF), so that a Path series evaluated at its last sample gives
     OpenSees's value to the last bit."""
 
+    accumulated_times = True
+
     def _increments(self):
         a = equilibrium_point(self.integrator)
         if a is not None:
@@ -422,12 +424,16 @@ class AnalysisCommands(SessionBase):
         analysis = self._transient
         analysis.set_dt(dt)
         analysis.recorders = self._recorder_list()
-        self._repeat, self._repeat_run = None, (analysis, n, kind, integ, dt)
+        reactions = [r for r in (getattr(kept, "recorder", kept) for kept in analysis.recorders)
+                     if getattr(r, "response", None) in REACTIONS]
+        self._repeat, self._repeat_run = None, (analysis, n, kind, integ, dt, reactions)
         self._run_transient(*self._repeat_run)
         self._repeat = key
         return 0
 
-    def _run_transient(self, analysis, n, kind, integ, dt):
+    def _run_transient(self, analysis, n, kind, integ, dt, reactions):
+        """Run ``n`` steps of the transient ``analysis`` and set the load time; ``reactions``:
+        its recorders of reactions (whose last record has OpenSees apply the loads again)."""
         state = analysis.run(n)
         if n > 0:   # when the domain last applied its loads (OpenSees: the nodes' unbalanced load)
             if kind in ("HHT", "GeneralizedAlpha"):
@@ -438,9 +444,7 @@ class AnalysisCommands(SessionBase):
                 t = state.time
             # a reaction recorder that recorded the last step had OpenSees apply the loads again at
             # its time first (Domain::calculateNodalReactions), as the reactions command does
-            recorders = [getattr(kept, "recorder", kept) for kept in self._recorder_list()]
-            if any(getattr(r, "response", None) in REACTIONS and r.last_time is not None
-                   and abs(r.last_time - state.time) <= 1e-9 * dt for r in recorders):
+            if any(r.last_time is not None and abs(r.last_time - state.time) <= 1e-9 * dt for r in reactions):
                 t = state.time
             self._load_time = t
         return 0

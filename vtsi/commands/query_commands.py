@@ -11,7 +11,8 @@ import numpy as np
 from vtsi.analysis import domain_state
 from vtsi.errors import CommandError, ModelError, is_int
 from vtsi.recorders.element import FORCE_KINDS, element_response
-from vtsi.recorders.node import AppliedLoads, element_ground_loads
+from vtsi.recorders.moment import element_end_forces
+from vtsi.recorders.node import AppliedLoads, element_ground_loads, subtract_coupled_loads
 
 from .args import Args, dof_value, is_number
 from .base import Placeholder, SessionBase
@@ -80,6 +81,7 @@ class QueryCommands(SessionBase):
     """What a script reads back from the domain."""
 
     _applied = None     # the LoadsLastApplied of the last load time, None before the first
+    _coupled_state = None   # (CoupledLoads, DomainState): the coupled analysis that computed the domain's state
 
     def _clear_queries(self):
         self._reactions = None
@@ -312,6 +314,26 @@ class QueryCommands(SessionBase):
                     p[i: i + ndf] += f * np.asarray(values)[:ndf]
         return p
 
+    def _coupled_now(self, command):
+        """The :class:`~vtsi.coupled.CoupledLoads` of the coupled analysis that computed the
+        domain's committed state (``deadLoad``, or ``analyze`` with a moving-load constraint),
+        which holds what it applied besides the patterns at that state (the train's forces and
+        contact forces, the bridge's own weight with ``deadLoad -selfWeight``), or None (no such
+        analysis, or the state made anew since: a node added or removed). A CommandError naming
+        ``command`` when the domain's time is no longer that state's (``setTime``, ``loadConst
+        -time``, a run that diverged): the train's loads are known at the analysis's steps only."""
+        if self._coupled_state is None:
+            return None
+        coupled, state = self._coupled_state
+        if state is not domain_state(self.domain) or coupled.time is None:
+            return None
+        if coupled.time != state.time:
+            raise CommandError(f"{command}: the domain's time is t = {state.time:.9g} s, and the train's loads are "
+                               f"known at the coupled analysis's last step, t = {coupled.time:.9g} s (setTime or "
+                               f"loadConst -time changed it since, or the run diverged); "
+                               f"{self._command_hint(('setTime', coupled.time))} first, or query before")
+        return coupled
+
     def _element_load_now(self, tag):
         """The ``(ndof,)`` global nodal loads equivalent to element ``tag``'s element loads as the
         domain last applied them (the fixed-end forces, negated, that OpenSees counts in element
@@ -330,9 +352,11 @@ class QueryCommands(SessionBase):
 
     def _element_response(self, command, tag, kind, u, v):
         """One element's response as OpenSees returns it (:func:`~.responses.opensees_layout`), its
-        element loads' fixed-end forces included, and in the global end forces (``force``,
-        ``globalForce``) the ground's load on its own mass, ``+M_e r a_g``, as OpenSees's
-        ``getResistingForce`` subtracts the element's load vector."""
+        element loads' fixed-end forces included (after a coupled analysis also those of the
+        wheel loads inside it at the state's time, :meth:`_coupled_now`: the train's moving forces
+        and contact forces λ_{n+1}, spread as the constraint's rows spread them), and in the global
+        end forces (``force``, ``globalForce``) the ground's load on its own mass, ``+M_e r a_g``,
+        as OpenSees's ``getResistingForce`` subtracts the element's load vector."""
         asm = self.domain.build()
         kind = ELEMENT_RESPONSE_ALIASES.get(kind, kind)
         if tag not in asm.element_location:
@@ -349,6 +373,12 @@ class QueryCommands(SessionBase):
         rows, u_e, v_e = slice(i, i + 1), u[d][None, :], v[d][None, :]
         values = element_response(asm, b, rows, source, u_e, v_e)
         loaded = None if source in etype.unloaded_responses else self._element_load_now(tag)
+        coupled = None if source in etype.unloaded_responses else self._coupled_now(command)
+        if coupled is not None and tag in coupled.constraint.track.elements:
+            table = element_end_forces(asm, coupled.constraint.track, [tag])
+            wheels = coupled.add(table, np.array([coupled.time]), np.zeros((1, table.n_columns)))[0]   # −f_eq
+            if wheels.any():
+                loaded = -wheels if loaded is None else loaded - wheels
         if loaded is not None:
             try:
                 values = values - np.asarray(etype.end_force_response(source, coords[rows], loaded[None, :]),
@@ -395,14 +425,25 @@ class QueryCommands(SessionBase):
         element loads in ``eleForce``; HHT and GeneralizedAlpha applied them at ``t_n + αΔt``).
         ``P`` (:class:`~vtsi.recorders.node.AppliedLoads`, as the reaction recorders): nodal loads,
         the element loads' equivalent nodal loads, and under a ground acceleration −M r a_g at every
-        dof, the supports' included (a support's reaction accelerates its own mass)."""
+        dof, the supports' included (a support's reaction accelerates its own mass); after a
+        coupled analysis (``deadLoad``, ``analyze`` with a moving-load constraint) also what it
+        applied at the state's time (:meth:`_coupled_now`, as the reaction recorders take it:
+        :func:`~vtsi.recorders.node.subtract_coupled_loads`): the train's moving forces and
+        contact forces, the share of a wheel in an end element on the support's own dof included,
+        and the bridge's own weight with ``deadLoad -selfWeight``."""
         asm, state = self._state("reactions")
         a = Args("reactions", args)
         flag = "-static"
         while a.more():
             flag = a.option(("-dynamic", "-rayleigh"))
+        coupled = None if flag == "-rayleigh" else self._coupled_now("reactions")
         self._load_time = state.time     # OpenSees applies the loads again at the committed time first
         loads = AppliedLoads(asm, self.domain.patterns.values()).at([state.time])[0]
+        if coupled is not None:
+            rows = np.arange(asm.n_full)
+            minus_p = subtract_coupled_loads(coupled, coupled.shares(asm, rows), rows, np.array([coupled.time]),
+                                             np.zeros((1, asm.n_full)))
+            loads = loads - minus_p[0]
         if flag == "-rayleigh":
             # OpenSees (flag 2): Element::getRayleighDampingForces of *every* element, whether it
             # takes Rayleigh damping in the analysis or not (zeroLength, truss without -doRayleigh),

@@ -166,6 +166,13 @@ class CommandElementRecorder(Recorder):
             self._slices.append((p, start, width, 1, layout))
         return requests
 
+    def start(self, assembly, model, info=None):
+        """Start the record; each part takes the wheel loads of a coupled analysis into its track
+        elements' end forces (:meth:`~vtsi.recorders.element.ElementRecorder.take_coupled_loads`)."""
+        for part, _places, _rates in self._parts:
+            part.take_coupled_loads(assembly, (info or {}).get("coupled_loads"))
+        super().start(assembly, model, info)
+
     def prepare(self, assembly, model):
         described = [part.prepare(assembly, model) for part, _places, _rates in self._parts]
         units, element, component, names = [], [], [], []

@@ -65,6 +65,7 @@ class TrainCommands(SessionBase):
         self._self_weight = False
         self._units = Units()
         self._coupled = None
+        self._coupled_state = None
 
     def _new(self, registry, command, tag):
         if tag in registry:
@@ -289,7 +290,9 @@ class TrainCommands(SessionBase):
         a.done()
         if self_weight != self._self_weight:
             self._self_weight, self._coupled = self_weight, None
-        self._load_time = self._coupled_analysis("deadLoad", dt=None).static()["time"]   # the loads applied now
+        analysis = self._coupled_analysis("deadLoad", dt=None)
+        self._load_time = analysis.static()["time"]   # the loads applied now
+        self._coupled_state = (analysis.coupled_loads, domain_state(analysis.model))    # the queries' train loads
         self._dead_load_done = True
 
     # -- the analysis ----------------------------------------------------------------------------
@@ -329,6 +332,7 @@ class TrainCommands(SessionBase):
             self._dead_load_done = True
         analysis.recorders = self._recorder_list()
         start = domain_state(analysis.model).time
+        self._coupled_state = (analysis.coupled_loads, domain_state(analysis.model))    # the queries' train loads
         state = analysis.run(n)
         if n > 0:
             alpha = equilibrium_point(analysis.integrator)

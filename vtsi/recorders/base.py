@@ -24,7 +24,9 @@ Contract of a recorder (what an analysis relies on)
    times, as OpenSees's ``analyze`` in a loop, calls it every time: the record continues, it is
    not restarted). ``info`` (optional dict) describes the analysis: ``'analysis'``
    (``'static'``/``'transient'``/``'coupled'``), ``'integrator'`` (name), ``'dt'`` [s] (static:
-   the load step dλ), ``'loads'``; sinks store it as metadata, the HDF5 sink per run. A coupled
+   the load step dλ), ``'loads'``, and from a transient analysis ``'bridge'`` (None: the FE
+   bridge; ``'modal, every mode'`` or ``'modal, truncated'``: a modal bridge of all the model's
+   modes or fewer); sinks store it as metadata, the HDF5 sink per run. A coupled
    analysis adds ``'coupled_loads'`` (:class:`~vtsi.coupled.CoupledLoads`, not metadata): the
    loads it applies besides the patterns (the train's forces, the contact forces, the bridge's
    own weight), which a recorder whose values contain the applied loads (reactions, bending

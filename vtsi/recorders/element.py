@@ -17,6 +17,7 @@ from numba import njit
 
 from vtsi.errors import ModelError
 from vtsi.recorders.base import Recorder
+from vtsi.recorders.moment import element_end_forces
 from vtsi.recorders.node import _int_list, element_ground_loads
 
 BATCH_ROWS = 20000
@@ -120,6 +121,14 @@ class ElementRecorder(Recorder):
     ``response_labels(kind, width) -> (labels, units)``; otherwise force-like kinds with one
     value per element dof are named ``Px_1, Py_1, Mz_1, ...`` [N, N m] and others ``<kind>_k``.
 
+    Element loads are in the end forces as OpenSees counts them (the element's resisting force
+    less its load vector): the fixed-end forces of the patterns' element loads (``eleLoad``) and,
+    in a :class:`~vtsi.coupled.CoupledAnalysis`, of the train's moving forces and contact forces
+    λ_{n+1} (the step's end) standing inside a track element, spread as the constraint's rows
+    spread them (:class:`~vtsi.coupled.CoupledLoads`, handed over when the analysis starts the
+    recorder; a response of a track element that its type does not derive from the end forces,
+    nor leaves unloaded, is then a ModelError).
+
     ``sink``, ``dt``, ``envelope``, ``history``, ``tag``: see :class:`~vtsi.recorders.base.Recorder`.
     """
 
@@ -134,6 +143,8 @@ class ElementRecorder(Recorder):
         self._groups = None
         self._widths = None
         self._element_loads = []     # [(pattern, [equivalent loads (n_g, ndof) or None per group])]
+        self._coupled = None         # the CoupledLoads of the coupled analysis running
+        self._wheels = []            # per group: the end-force table of the wheel loads (FixedEndMoments) or None
 
     @property
     def widths(self):
@@ -192,7 +203,33 @@ class ElementRecorder(Recorder):
         self._groups = [_Group(columns=offsets[g["order"]][:, None] + np.arange(g["width"])[None, :], **g)
                         for g in groups]                     # output columns (n_g, width)
         self._widths, self._n_columns = widths, int(offsets[-1])
+        self._coupled, self._wheels = None, [None] * len(self._groups)     # until take_coupled_loads
         return requests
+
+    def start(self, assembly, model, info=None):
+        self.take_coupled_loads(assembly, (info or {}).get("coupled_loads"))
+        super().start(assembly, model, info)
+
+    def take_coupled_loads(self, assembly, coupled):
+        """Take the wheel loads of the coupled analysis that starts the recorder (``coupled``, its
+        :class:`~vtsi.coupled.CoupledLoads`, or None) into the end forces of the track elements
+        recorded (after :meth:`requests`); a recorder that wraps this one passes on what its
+        ``start`` was handed."""
+        self._coupled = coupled
+        self._wheels = [None] * len(self._groups)
+        if coupled is not None:
+            track = coupled.constraint.track
+            for g, group in enumerate(self._groups):
+                tags = [self.elements[k] for k in group.order]
+                on_track = [tag for tag in tags if tag in track.elements]
+                if not on_track or self.response in group.etype.unloaded_responses:
+                    continue
+                if group.stiffness is None:
+                    raise ModelError(f"{self.name}: response {self.response!r} of element {on_track[0]} "
+                                     f"({group.etype.name}) is not available in a coupled analysis whose wheels run "
+                                     "on it: its type does not derive it from the end forces, which take the wheel "
+                                     "loads; record 'force' or 'globalForce'")
+                self._wheels[g] = element_end_forces(assembly, track, tags)
 
     def prepare(self, assembly, model):
         # element loads on the recorded elements: their fixed-end forces are part of the element forces;
@@ -245,6 +282,9 @@ class ElementRecorder(Recorder):
         for g, group in enumerate(self._groups):
             etype, coords, params = group.etype, group.coords, group.params
             n_g, nd = group.ucols.shape
+            wheels = None
+            if self._wheels[g] is not None:         # −f_eq of the wheel loads inside the elements (global)
+                wheels = self._coupled.add(self._wheels[g], times, np.zeros((n, n_g * nd))).reshape(n, n_g, nd)
             width = group.width
             span = group.columns.ravel()
             target = slice(int(span[0]), int(span[0]) + span.size) if np.all(np.diff(span) == 1) else group.columns
@@ -260,6 +300,8 @@ class ElementRecorder(Recorder):
                     element_products(group.stiffness, rows, group.ucols, f, False)
                     if group.damping is not None:
                         element_products(group.damping, rows, group.vcols, f, True)
+                    if wheels is not None:
+                        f += wheels[s: s + m]
                     if group.end_forces:
                         f = np.asarray(etype.end_force_response(self.response, c, f.reshape(m * n_g, nd)))
                     f = f.reshape(m, n_g, width)

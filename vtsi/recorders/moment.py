@@ -29,7 +29,9 @@ exact (statically). Two parts, one for each term:
   sample (:func:`add_train_loads` for a train's forces and contact forces, which a coupled
   analysis hands its recorders: :class:`~vtsi.coupled.CoupledLoads`). The same table and
   kernel give a support reaction the share −f_eq of the loads in the elements at its dof
-  (:func:`fixed_end_forces`, the reaction recorders of :mod:`vtsi.recorders.node`).
+  (:func:`fixed_end_forces`, the reaction recorders of :mod:`vtsi.recorders.node`) and an
+  element's end forces the −f_eq of the loads inside it (:func:`element_end_forces`, the
+  element recorders of :mod:`vtsi.recorders.element`).
 
 Without the correction (K_e u_e alone, as earlier versions took it) a load inside an element
 gave the end moments O(ℓ) wrong, halved by the averaging. On the 20 m simply supported span of
@@ -68,24 +70,25 @@ from vtsi.recorders.node import _int_list
 from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel, hermite, host_element
 
 
-def _track_ends(asm, track, node):
-    """The track elements meeting at ``node`` (an existing node): ``[(track element index e,
-    sign)]`` with sign −1 where the node is the element's start (in x), +1 where it is its end;
-    empty off the track."""
-    x = float(asm.coords[asm.node_index[node], 0])
-    ends = []
+def _ends_by_node(asm, track):
+    """The track elements meeting at each node of the track: ``{node: [(track element index e,
+    sign)]}``, e increasing, with sign −1 where the node is the element's start (in x), +1 where
+    it is its end."""
+    ends = {}
     for e, tag in enumerate(track.elements):
         b, i = asm.element_location[tag]
-        if node in asm.blocks[b][0].nodes[i]:
-            ends.append((e, -1.0 if abs(x - track.x_start[e]) <= 0.5 * track.length[e] else 1.0))
+        for node in asm.blocks[b][0].nodes[i]:
+            x = float(asm.coords[asm.node_index[node], 0])
+            ends.setdefault(node, []).append((e, -1.0 if abs(x - track.x_start[e]) <= 0.5 * track.length[e] else 1.0))
     return ends
 
 
 def _node_ends(asm, track, node):
-    """:func:`_track_ends` of a node of the track (a ModelError for any other node)."""
+    """The track elements meeting at ``node``, a node of the track (:func:`_ends_by_node`; a
+    ModelError for any other node)."""
     if node not in asm.node_index:
         raise ModelError(f"bending moment: node {node} does not exist")
-    ends = _track_ends(asm, track, node)
+    ends = _ends_by_node(asm, track).get(node, [])
     if not ends:
         x = float(asm.coords[asm.node_index[node], 0])
         raise ModelError(f"bending moment: node {node} (x = {x:g} m) is not a node of the track")
@@ -129,17 +132,18 @@ def moment_rows(asm, track, nodes):
 class FixedEndMoments:
     """Where loads standing inside the track's elements change the bending moments at ``nodes``
     (the −f_eq term of the module docstring), built by :func:`fixed_end_moments`, or the
-    reactions at some dofs (:func:`fixed_end_forces`).
+    reactions at some dofs (:func:`fixed_end_forces`), or the end forces of some elements
+    (:func:`element_end_forces`).
 
     A downward load P at x inside track element e adds ``weight[k] · P · h[slot[k]](x)`` to
     column ``column[k]`` for each entry k in ``ptr[e]:ptr[e + 1]``, h = [H₁, ℓH₂, H₃, ℓH₄] the
     track's Hermite row in e. Moments: −(sign × f_eq,rz)/n with f_eq = −P h, sign and slot −1
     and 1 for the node at e's start, +1 and 3 for the node at its end, weight = sign/n, n the
-    elements at the node. Reactions: −f_eq at the dof, weight 1, slot 0 to 3.
+    elements at the node. Reactions and end forces: −f_eq at the dof, weight 1, slot 0 to 3.
 
     Attributes
     ----------
-    n_columns : the nodes' (or dofs') count.
+    n_columns : the nodes' (or dofs', or the elements' dofs') count.
     x_start, length : (n_el,) the track's elements [m].
     ptr : (n_el + 1,) int64; column, slot (n_entries,) int64; weight (n_entries,) float64.
     runs : (n_runs, 2) [m] the stretches of consecutive elements with entries.
@@ -204,13 +208,40 @@ def fixed_end_forces(asm, track, rows):
     dofs (ux, nodes of no track element) take nothing."""
     entries = []
     node_x = np.empty(len(rows))
+    ends = _ends_by_node(asm, track)
     for j, row in enumerate(rows):
         node, dof = int(asm.node_tags[row // asm.ndf]), int(row % asm.ndf)
         node_x[j] = float(asm.coords[asm.node_index[node], 0])
         if dof in (1, 2):
-            for e, sign in _track_ends(asm, track, node):
+            for e, sign in ends.get(node, []):
                 entries.append((e, j, dof - 1 + (0 if sign < 0 else 2), 1.0, _dof_index(asm, track, e, node, dof)))
     return _shares_table(track, entries, node_x)
+
+
+def element_end_forces(asm, track, elements):
+    """The :class:`FixedEndMoments` table of the end forces of ``elements`` (tags): column
+    ``offset_k + j`` is element k's dof j in its own dof vector (global axes; ``offset_k`` the
+    dof counts of the elements before it). A downward load P at x in track element e is an
+    element load of e, f_eq = −P h on its [uy₁, rz₁, uy₂, rz₂] (h the track's Hermite row,
+    :mod:`vtsi.track`), and e's end forces are its resisting force less its load vector (as
+    OpenSeesPy's ``eleForce``, ``localForce``), so they take +P h there (weight 1, slot its
+    place in h); an element off the track takes nothing, nor does one next to e."""
+    entries, node_x = [], []
+    ends = _ends_by_node(asm, track)
+    for tag in elements:
+        b, i = asm.element_location[tag]
+        etype = asm.blocks[b][0]
+        offset = len(node_x)
+        node_x += [float(asm.coords[asm.node_index[node], 0]) for node in etype.nodes[i] for _ in etype.node_dofs]
+        if tag not in track.elements:
+            continue
+        e = track.elements.index(tag)
+        for node in etype.nodes[i]:
+            sign = next(s for k, s in ends[node] if k == e)
+            for dof in (1, 2):
+                j = _dof_index(asm, track, e, node, dof)
+                entries.append((e, offset + j, dof - 1 + (0 if sign < 0 else 2), 1.0, j))
+    return _shares_table(track, entries, np.array(node_x))
 
 
 def _shares_table(track, entries, node_x):
@@ -337,11 +368,12 @@ class BendingMomentRecorder(Recorder):
     """Bending moment M [N·m] (sagging positive) at ``nodes`` of ``track`` (see the module
     docstring), one column per node, with the fixed-end share of the element loads of the load
     patterns and, in a :class:`~vtsi.coupled.CoupledAnalysis`, of its train's moving forces and
-    contact forces as recorded (:class:`~vtsi.coupled.CoupledLoads`, handed over when the analysis
-    starts the recorder; none where the track is not the wheels' or a stretch of it, a
-    ModelError where it is partly). ``constraint``: the analysis's
-    :class:`~vtsi.constraint.MovingLoadConstraint` (another is a ModelError when the analysis
-    starts); the recorder then reads the contact forces as its own columns (it records in
+    contact forces at each step's end, λ_{n+1}, which the recorded displacements balance (the
+    same as the recorded force for the Newmark family; Bathe records the step's mean)
+    (:class:`~vtsi.coupled.CoupledLoads`, handed over when the analysis starts the recorder;
+    none where the track is not the wheels' or a stretch of it, a ModelError where it is
+    partly). ``constraint``: None, or the analysis's :class:`~vtsi.constraint.MovingLoadConstraint`
+    (checked: another is a ModelError when the analysis starts; the recorder then records in
     coupled analyses only). ``sink``, ``dt``, ``envelope``, ``history``, ``tag``: see
     :class:`~vtsi.recorders.base.Recorder`."""
 
@@ -361,31 +393,26 @@ class BendingMomentRecorder(Recorder):
         super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
         self._projection = None
         self._fixed = None
-        self._n_u = 0
-        self._knot = 0.0
         self._pattern_loads = []
-        self._coupled = None        # the CoupledLoads of the analysis running, without constraint=
+        self._coupled = None        # the CoupledLoads of the analysis running
 
     def requests(self, assembly):
         free, self._projection = moment_rows(assembly, self.track, self.nodes)
         self._fixed = fixed_end_moments(assembly, self.track, self.nodes)
-        self._n_u = len(free)
-        n_c = 0 if self.constraint is None else self.constraint.n_contact
-        return [("u", int(f)) for f in assembly.full_of_free[free]] + [("contact_force", i) for i in range(n_c)]
+        return [("u", int(f)) for f in assembly.full_of_free[free]]
 
     def start(self, assembly, model, info=None):
         coupled = (info or {}).get("coupled_loads")
         self._coupled = None
         if self.constraint is not None:
-            if coupled is not None and coupled.constraint is not self.constraint:
+            if coupled is None:
+                raise ModelError(f"{self.name}: constraint= is given, so it records in a coupled analysis only, "
+                                 f"got a {(info or {}).get('analysis', 'transient')} analysis")
+            if coupled.constraint is not self.constraint:
                 raise ModelError(f"{self.name}: its constraint= is another MovingLoadConstraint than the one of "
                                  "the coupled analysis that records it; give the analysis's own constraint or none "
                                  "(the recorder then takes the analysis's)")
-            if self.constraint.n_contact:
-                dt = (info or {}).get("dt")
-                if dt is None and self.constraint.interpolation != "hermite":
-                    raise ModelError(f"{self.name}: 'bspline' rows need the analysis's time step")
-                self._knot = self.constraint.knot(dt) if dt is not None else 0.0
+            self._coupled = coupled
         elif coupled is not None:
             wheels = set(coupled.constraint.track.elements)
             shared = [tag for tag in self.track.elements if tag in wheels]
@@ -409,11 +436,9 @@ class BendingMomentRecorder(Recorder):
                 "units": ["N m"] * len(self.nodes), "columns": {"node": np.array(self.nodes, dtype=np.int64)}}
 
     def compute(self, times, columns, assembly):
-        out = columns[:, :self._n_u] @ self._projection
+        out = columns @ self._projection
         for pattern, share in self._pattern_loads:      # element loads: at the time the steps applied them
             out += pattern.factors(times - self.load_lag)[:, None] * share[None, :]
-        if self.constraint is not None:
-            add_train_loads(self._fixed, self.constraint, times, columns[:, self._n_u:], self._knot, out)
-        elif self._coupled is not None:
-            self._coupled.add(self._fixed, times, out, end=False)
+        if self._coupled is not None:
+            self._coupled.add(self._fixed, times, out)
         return out

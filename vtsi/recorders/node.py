@@ -54,12 +54,14 @@ class NodeRecorder(Recorder):
         return self._reaction.requests
 
     def start(self, assembly, model, info=None):
-        self._coupled = (info or {}).get("coupled_loads")
-        if self._reaction is not None and self._coupled is not None and self._coupled.modal:
-            raise ModelError(f"{self.name}: {self.response} in a coupled analysis with a modal bridge is not "
-                             "recorded: K Φ q leaves out the truncated modes' share of a reaction (a 20 m span "
-                             "of 20 elements, 3 modes, a force at mid-span: 42.1 kN for 49.05 kN); record it with "
-                             "the FE bridge (bridge=None)")
+        info = info or {}
+        self._coupled = info.get("coupled_loads")
+        truncated = info.get("bridge") == "modal, truncated" or (self._coupled is not None and self._coupled.modal)
+        if self._reaction is not None and truncated:
+            raise ModelError(f"{self.name}: {self.response} in a {info.get('analysis', 'transient')} analysis with a "
+                             "modal bridge is not recorded: K Φ q leaves out the truncated modes' share of a "
+                             "reaction (a 20 m span of 20 elements, 3 modes, a force at mid-span: 42.1 kN for "
+                             "49.05 kN); record it with the FE bridge (bridge=None) or every mode")
         super().start(assembly, model, info)
 
     def prepare(self, assembly, model):
@@ -97,9 +99,12 @@ class ReactionRecorder(NodeRecorder):
     starts the recorder): the train's moving forces and contact forces λ_{n+1} at the step's end,
     as the constraint's rows share them between the dofs of the element under each wheel (a
     support's fixed dofs included: a wheel in an end element loads the support directly), and
-    the bridge's own weight with ``bridge_self_weight``; with a modal bridge reactions are
-    refused (a ModelError when the analysis starts). ``u`` (``v``, ``a``) is every dof's that
-    moves: free, prescribed (``sp``) and constrained (``equalDOF``, ``rigidLink``) dofs.
+    the bridge's own weight with ``bridge_self_weight``. With a modal bridge of fewer modes than
+    free dofs (:attr:`~vtsi.modal_bridge.ModalBridge.truncated`), in a coupled or a transient
+    analysis (whose run info says ``'bridge': 'modal, truncated'``), reactions are refused (a
+    ModelError when the analysis starts): K Φ q leaves out the truncated modes' share. ``u``
+    (``v``, ``a``) is every dof's that moves: free, prescribed (``sp``) and constrained
+    (``equalDOF``, ``rigidLink``) dofs.
     """
 
     name = "reaction recorder"
@@ -154,10 +159,21 @@ class _ReactionRows:
         if self.loads is not None:
             out -= self.loads.at(times)
         if self.coupled is not None:
-            if self.coupled.self_weight is not None:
-                out -= self.coupled.self_weight[self.rows][None, :]
-            self.coupled.add(self.shares, times, out)       # − P of the downward wheel loads: + their shares
+            subtract_coupled_loads(self.coupled, self.shares, self.rows, times, out)
         return out
+
+
+def subtract_coupled_loads(coupled, shares, rows, times, out):
+    """``out (len(times), len(rows)) −= P``, what a coupled analysis applies at the full dofs
+    ``rows`` at ``times`` [s], steps it delivered last (``coupled`` its
+    :class:`~vtsi.coupled.CoupledLoads`, ``shares`` = ``coupled.shares(assembly, rows)``): the
+    bridge's own weight (``bridge_self_weight``) and the train's moving forces and contact forces
+    λ_{n+1}, shared between the dofs of the element under each wheel as the constraint's rows
+    share them. The one reading of those loads of the reaction recorders and the ``reactions``
+    command (``R = F_resisting − P``)."""
+    if coupled.self_weight is not None:
+        out -= coupled.self_weight[rows][None, :]
+    return coupled.add(shares, times, out)       # − P of the downward wheel loads: + their shares
 
 
 def moving_dofs(assembly):

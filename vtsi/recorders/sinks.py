@@ -632,6 +632,7 @@ class TextSink(Sink):
         self._recorder = recorder
         if recorder.history and not self.close_on_write:
             self._handle = open(self.path, "ab")
+            self._size = self._handle.seek(0, os.SEEK_END)     # whole lines: what the file holds now
 
     def write(self, times, values, envelope):
         if values is None:
@@ -651,7 +652,7 @@ class TextSink(Sink):
                     self._handle = open(self.path, "ab")
                 self._handle.write(text)
                 self._handle.flush()
-                size = self._handle.tell()
+                size = self._size + len(text)   # appended to the whole lines it held
         except OSError as exc:
             raise self._failed(f"the records of t = {times[0]:.6g} to {times[-1]:.6g} s", exc,
                                self._size) from None

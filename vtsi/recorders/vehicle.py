@@ -6,6 +6,7 @@ channels: ``'train_u'``, ``'train_v'``, ``'train_a'`` (train dof index) and
 """
 import numpy as np
 
+from vtsi.contact import gap_tolerance
 from vtsi.errors import ModelError
 from vtsi.recorders.base import Recorder
 
@@ -61,7 +62,8 @@ class TrainRecorder(Recorder):
 class ContactRecorder(Recorder):
     """Records ``response`` of the contact wheels: ``'force'`` (λ [N], compression positive),
     ``'gap'`` (position gap [m], > 0 in flight) or ``'in_contact'`` (1 on the rail, 0 in flight:
-    gap <= ``gap_tol``). ``wheels``: contact-wheel indices (None = all ``n_contact``)."""
+    gap <= ``gap_tol`` [m], 0 to :data:`~vtsi.contact.MAX_GAP_TOL`, as the analysis's flight
+    criterion). ``wheels``: contact-wheel indices (None = all ``n_contact``)."""
 
     name = "contact recorder"
 
@@ -73,7 +75,8 @@ class ContactRecorder(Recorder):
         bad = [w for w in wheels if not 0 <= w < n_c]
         if bad:
             raise ModelError(f"contact recorder: wheel {bad[0]} out of range 0..{n_c - 1}")
-        self.constraint, self.wheels, self.response, self.gap_tol = constraint, wheels, response, float(gap_tol)
+        self.gap_tol = gap_tolerance(gap_tol, self.name, ModelError)
+        self.constraint, self.wheels, self.response = constraint, wheels, response
         super().__init__(**kwargs)
 
     def requests(self, assembly):
