@@ -18,9 +18,10 @@ do the weights of the constraint forces of a coupled analysis (:attr:`Stage.mass
 
 Contract of an integrator
 -------------------------
-Items 1 and 7 are checked by :func:`register`; items 2, 4, 6 and 8 by
-:meth:`Integrator.checked_stages` (:func:`check_stages`), which every analysis calls once when it
-prepares a Δt (not per step), so that a broken scheme is refused with an
+Items 1 and 7, and that ``stages`` is defined, are checked by :func:`register`; items 2, 4, 6 and 8
+by :meth:`Integrator.checked_stages` (:func:`check_stages`), which every analysis calls once when it
+prepares a Δt (not per step; vtsi's own schemes once per class, parameters and Δt in a process,
+:func:`_shipped_key`), so that a broken scheme is refused with an
 :class:`~vtsi.errors.AnalysisError` naming it instead of crashing the compiled loop or running to
 a wrong answer; ``tests/test_integrator_contract.py`` runs every registered integrator through
 all of them.
@@ -62,23 +63,25 @@ with contact='lcp' needs it, and the design check reads wheel unloading only wit
 smoothed rows).
 """
 import inspect
+import math
 import re
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from vtsi.errors import AnalysisError
+from vtsi.errors import AnalysisError, as_number
 
 INTEGRATORS = {}
 HIGH_OMEGA_DT = 1e4   # Ω = ωΔt where :attr:`Integrator.dissipative` reads the spectral radius
 
 
 def register(cls):
-    """Class decorator: check contract items 1 and 7 and make the integrator known by name (to
-    :func:`make_integrator`, sweeps, coupled analyses and the ``integrator`` command).
+    """Class decorator: check contract items 1 and 7 and that the class defines ``stages(dt)``,
+    and make the integrator known by name (to :func:`make_integrator`, sweeps, coupled analyses
+    and the ``integrator`` command).
 
-    Raises TypeError for a missing or invalid ``name`` / ``n_stages``, or a name that another
-    class has registered (both classes named)."""
+    Raises TypeError for a missing or invalid ``name`` / ``n_stages``, no ``stages``, or a name
+    that another class has registered (both classes named)."""
     for attribute in ("name", "n_stages"):
         if getattr(cls, attribute, None) is None:
             raise TypeError(f"integrator {cls.__name__}: missing class attribute {attribute!r}")
@@ -87,6 +90,8 @@ def register(cls):
     if isinstance(cls.n_stages, bool) or not isinstance(cls.n_stages, (int, np.integer)) or cls.n_stages < 1:
         raise TypeError(f"integrator {cls.__name__}: n_stages must be an int >= 1 (the stages of a step), "
                         f"got {cls.n_stages!r}")
+    if cls.stages is Integrator.stages:
+        raise TypeError(f"integrator {cls.__name__}: must define stages(dt), returning its n_stages Stage objects")
     known = INTEGRATORS.get(cls.name)
     redefined = known is not None and (known.__module__, known.__qualname__) == (cls.__module__, cls.__qualname__)
     if known is not None and known is not cls and not redefined:   # re-running a script redefines its class
@@ -128,9 +133,16 @@ _CALL = re.compile(r"\s*([A-Za-z]\w*)\s*\((.*)\)\s*")
 
 
 def _call_arguments(spec, text):
-    """The numbers of ``'0.9, gamma=0.6'``: ``([0.9], {'gamma': 0.6})``, or an AnalysisError."""
+    """The numbers of ``'0.9, gamma=0.6'``: ``([0.9], {'gamma': 0.6})``, or an AnalysisError; ``''``
+    is no argument. An empty argument (``'HHT(0.9,,0.35)'``, a trailing comma) is refused: dropping
+    it moved the numbers after it to the wrong parameters."""
     args, kwargs = [], {}
-    for part in filter(None, (p.strip() for p in text.split(","))):
+    parts = [p.strip() for p in text.split(",")] if text.strip() else []
+    if "" in parts:
+        raise AnalysisError(f"integrator {spec!r}: argument {parts.index('') + 1} of {len(parts)} is empty; "
+                            "give every number, or name the ones after a parameter left at its default "
+                            "('HHT(0.9, beta=0.35)')")
+    for part in parts:
         key, _, value = part.rpartition("=")
         try:
             number = float(value)
@@ -198,16 +210,25 @@ class Integrator:
         return c
 
     def stages(self, dt):
-        raise NotImplementedError
+        raise AnalysisError(f"integrator {type(self).__name__}: stages(dt) is not defined; an integrator class "
+                            "must define stages(dt), returning its n_stages Stage objects (vtsi.integrators.base)")
 
     def checked_stages(self, dt):
         """:meth:`stages` of ``dt`` [s] checked against the contract (items 2, 4, 6, 8 of the module
         docstring, :func:`check_stages`): what an analysis prepares its stepping from, once per
-        Δt (the check costs about as much as :meth:`amplification`, nothing per step).
+        Δt (the check costs about as much as :meth:`amplification`, nothing per step). vtsi's own
+        schemes are checked once per (class, parameters, Δt) in a process (:func:`_shipped_key`);
+        any other class every time.
 
         Raises AnalysisError naming the integrator (its repr), the stage and what is wrong."""
         stages = self.stages(dt)
-        check_stages(self, stages, dt)
+        key = _shipped_key(self, dt)
+        if key not in _CHECKED:
+            check_stages(self, stages, dt)
+            if key is not None:
+                if len(_CHECKED) >= CHECKED_KEYS:
+                    _CHECKED.clear()
+                _CHECKED.add(key)
         return stages
 
     def force_record_weights(self):
@@ -253,13 +274,33 @@ class Integrator:
 
 COEFFICIENTS = ("du", "dv", "ku", "kv", "km")
 CONSISTENCY_TOL = 1e-8    # relative error allowed in the consistency check (roundoff: ~1e-15)
+CHECKED_KEYS = 256        # how many keys of vtsi's own schemes checked_stages remembers (then it starts over)
+_CHECKED = set()          # the keys (_shipped_key) whose stages check_stages passed
+_PACKAGE = __name__.rpartition(".")[0] + "."      # 'vtsi.integrators.': the modules of vtsi's own schemes
+
+
+def _shipped_key(integrator, dt):
+    """``(class, its stages and force_record_weights, the instance's attributes, dt)`` for an
+    instance of a class defined in this package: its stages and record weights are a pure function
+    of this key (they read only the parameters set in ``__init__`` and ``dt``), so a key that
+    :func:`check_stages` passed once passes again. ``None`` for any other class (a user's scheme,
+    a subclass of a shipped one included: its methods may read anything), checked every time."""
+    cls = type(integrator)
+    if not cls.__module__.startswith(_PACKAGE):
+        return None
+    key = (cls, cls.stages, cls.force_record_weights, tuple(sorted(vars(integrator).items())), dt)
+    try:
+        hash(key)
+    except TypeError:             # an attribute set to a list or an array
+        return None
+    return key
 
 
 def oscillator_step(stages, bank, k, c, load):
     """One step of ``ü + c u̇ + k u = p`` (mass 1) through ``stages``, on the columns of ``bank``
     (n_slots, n_col) whose slots 0..2 hold ``u_n, v_n, a_n``; ``load`` (n_col,) the constant load
-    ``p`` of each column. Fills each stage's slots ``3 + 3 s ..`` (the last stage's are the state
-    at ``t_n + Δt``) and returns ``bank``."""
+    ``p`` of each column; ``k`` [1/s²], ``c`` [1/s] scalars or one per column (n_col,). Fills each
+    stage's slots ``3 + 3 s ..`` (the last stage's are the state at ``t_n + Δt``) and returns ``bank``."""
     n = bank.shape[0]
     for s, st in enumerate(stages):
         weight = sum(w for _, w in st.load)
@@ -292,6 +333,7 @@ def check_stages(integrator, stages, dt):
         if not isinstance(st, Stage):
             raise AnalysisError(f"{where} is a {type(st).__name__}, not a vtsi.integrators.Stage")
         known = 3 + 3 * s          # slots 0 .. known - 1 are written when the stage runs
+        rows = []
         for name in COEFFICIENTS:
             try:
                 c = np.asarray(getattr(st, name), dtype=np.float64)
@@ -301,15 +343,20 @@ def check_stages(integrator, stages, dt):
                 raise AnalysisError(f"{where}: {name} has shape {c.shape}; it needs ({A + 1},): n_slots + 1 with "
                                     f"n_slots = 3 + 3 n_stages = {A} (slots 0..{A - 1}, then the unknown a_s's "
                                     "coefficient; Integrator.coefficients() builds one)")
-            if not np.all(np.isfinite(c)):
-                raise AnalysisError(f"{where}: {name} holds NaN or inf: {c}")
-            late = np.flatnonzero(c[known:A])
-            if len(late):
-                slot = known + int(late[0])
-                raise AnalysisError(f"{where}: {name} reads slot {slot} ({_slot_name(slot)}), not written yet; "
-                                    f"stage {s + 1} reads only slots 0..{known - 1} (the step start"
-                                    + (" and the stages before it)" if s else ")"))
-            setattr(st, name, c)
+            rows.append(c)
+        block = np.array(rows)     # (5, A + 1): the coefficients checked together
+        finite = np.isfinite(block).all(axis=1)
+        if not finite.all():
+            q = int(np.argmin(finite))
+            raise AnalysisError(f"{where}: {COEFFICIENTS[q]} holds NaN or inf: {rows[q]}")
+        late = block[:, known:A] != 0.0
+        if late.any():
+            q, slot = divmod(int(np.argmax(late)), A - known)
+            slot += known
+            raise AnalysisError(f"{where}: {COEFFICIENTS[q]} reads slot {slot} ({_slot_name(slot)}), not written "
+                                f"yet; stage {s + 1} reads only slots 0..{known - 1} (the step start"
+                                + (" and the stages before it)" if s else ")"))
+        st.du, st.dv, st.ku, st.kv, st.km = rows
         if st.km[A] != 0.0:
             raise AnalysisError(f"{where}: km[{A}] = {st.km[A]:g}; the unknown's mass coefficient is 1, "
                                 "km[A] must be 0")
@@ -321,7 +368,7 @@ def check_stages(integrator, stages, dt):
         except (TypeError, ValueError):
             raise AnalysisError(f"{where}: load must be a list of (theta, weight) number pairs, "
                                 f"got {st.load!r}") from None
-        if not load or not np.all(np.isfinite(load)):
+        if not load or not all(math.isfinite(theta) and math.isfinite(w) for theta, w in load):
             raise AnalysisError(f"{where}: load must be a non-empty list of finite (theta, weight) pairs, "
                                 f"got {st.load!r}")
         total, mass = sum(w for _, w in load), st.mass_weight
@@ -354,38 +401,38 @@ def _slot_name(slot):
     return f"{what}_n" if slot < 3 else f"{what} of stage {slot // 3}"
 
 
+MOTIONS = ("the static equilibrium u = P/K, v = a = 0 under a constant load P",
+           "the constant-velocity motion u = V t of a body without stiffness under the damping force P = C V")
+
+
 def _check_consistency(who, stages, n_slots, dt):
     """Contract item 8 on the oscillator ``ü + c u̇ + k u = p`` with ``c = 1/Δt``: each stage must
     keep ``u = 1`` at rest under ``p = k = 1/Δt²`` and move ``u = V t`` (``V = 1/Δt``) under
-    ``p = c V`` with ``k = 0`` (values of order 1 in units of Δt)."""
+    ``p = c V`` with ``k = 0`` (values of order 1 in units of Δt); both motions are the two columns
+    of one :func:`oscillator_step`. The first failure (motion, stage, then u, v, a) is named."""
     c = 1.0 / dt
-    cases = (("the static equilibrium u = P/K, v = a = 0 under a constant load P", 1.0 / dt ** 2, (1.0, 0.0)),
-             ("the constant-velocity motion u = V t of a body without stiffness under the damping force P = C V",
-              0.0, (0.0, 1.0 / dt)))
-    for motion, k, (u0, v0) in cases:
-        bank = np.zeros((n_slots, 1))
-        bank[:2, 0] = u0, v0
-        load = np.array([k * u0 + c * v0])
-        oscillator_step(stages, bank, k, c, load)
-        for s, st in enumerate(stages):
-            expected = (u0 + v0 * st.theta * dt, v0, 0.0)
-            scale = (1.0, dt, dt * dt)
-            for q, name in enumerate(("u", "v", "a")):
-                got = bank[3 + 3 * s + q, 0]
-                if not abs(got - expected[q]) * scale[q] <= CONSISTENCY_TOL:
-                    raise AnalysisError(
-                        f"{who}: stage {s + 1} of {len(stages)} does not keep {motion} (dt = {dt:g} s): its {name} is "
-                        f"{got:.10g} where the motion has {expected[q]:.10g} at the stage's end time theta = "
-                        f"{st.theta:g}; check its update coefficients du, dv, its equation's ku, kv, km against "
-                        "its load weights, and its theta")
+    bank = np.zeros((n_slots, 2))
+    bank[0, 0], bank[1, 1] = 1.0, c               # u_n = 1 at rest; v_n = V = 1/Δt from u_n = 0
+    oscillator_step(stages, bank, np.array([c * c, 0.0]), c, np.array([c * c, c * c]))
+    # (stage, u v a, motion): u = 1 and u = V θ Δt = θ, v = 0 and V, a = 0, scaled by 1, Δt, Δt²
+    expected = np.array([[[1.0, float(st.theta)], [0.0, c], [0.0, 0.0]] for st in stages])
+    got = bank[3:].reshape(expected.shape)
+    ok = (np.abs(got - expected) * np.array([[1.0], [dt], [dt * dt]]) <= CONSISTENCY_TOL).transpose(2, 0, 1)
+    if ok.all():
+        return
+    m, s, q = np.unravel_index(int(np.argmin(ok)), ok.shape)          # motion, stage, u v a
+    got, expected = got.transpose(2, 0, 1), expected.transpose(2, 0, 1)
+    raise AnalysisError(
+        f"{who}: stage {s + 1} of {len(stages)} does not keep {MOTIONS[m]} (dt = {dt:g} s): its {'uva'[q]} is "
+        f"{got[m, s, q]:.10g} where the motion has {expected[m, s, q]:.10g} at the stage's end time theta = "
+        f"{stages[s].theta:g}; check its update coefficients du, dv, its equation's ku, kv, km against its load "
+        "weights, and its theta")
 
 
 def number(integrator, name, value):
-    """``float(value)``, or an AnalysisError naming the integrator and the parameter."""
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise AnalysisError(f"integrator {integrator}: {name} must be a number, got {value!r}") from None
+    """``float(value)``, or an AnalysisError naming the integrator and the parameter (a bool is
+    not taken for 1 or 0: ``Newmark(True, True)`` was γ = β = 1)."""
+    return as_number(value, f"integrator {integrator}", name, AnalysisError)
 
 
 def check_parameter(integrator, name, value, low, high, low_open=False, high_open=False, why=""):

@@ -68,9 +68,10 @@ class HHT(Newmark):
     unconditional stability and spectral radius ``ρ∞ = α/(2 - α)``, which is
     ``(1 + α_H)/(1 - α_H)`` in Hilber's form.
 
-    Other ``γ, β`` (OpenSees's ``integrator HHT α γ β``) need ``γ >= 3/2 - α`` (else slow modes
-    grow); their stability limit is computed from the characteristic polynomial (see
-    :func:`hht_stability_limit`) and a choice unstable at every practical step is refused.
+    Other ``γ, β`` (OpenSees's ``integrator HHT α γ β``) need ``γ >= 3/2 - α`` (else the algorithmic
+    damping is negative and every slow mode grows: ``ρ ≈ 1 + (3/2 - α - γ) Ω²/2``); their stability
+    limit is computed from the characteristic polynomial (see :func:`hht_stability_limit`) and a
+    choice unstable at every practical step is refused.
     ``α`` has no default, as in OpenSees: ``'HHT'`` by name alone was the undamped trapezoidal
     rule (α = 1), which a user asking for HHT's dissipation did not get.
     """
@@ -91,7 +92,9 @@ class HHT(Newmark):
             return                                   # Hilber et al. (1977): unconditionally stable
         if self.gamma < 1.5 - self.alpha - 1e-12:
             raise AnalysisError(f"integrator {self.name}: gamma = {self.gamma:g} is below 3/2 - alpha = "
-                                f"{1.5 - self.alpha:g} (the scheme then amplifies every slow mode)")
+                                f"{1.5 - self.alpha:g}: its algorithmic damping is negative and every slow mode grows "
+                                f"(spectral radius 1 + {(1.5 - self.alpha - self.gamma) / 2:.3g} (omega*dt)^2 "
+                                "as omega*dt -> 0)")
         self._limit = hht_stability_limit(self.alpha, self.gamma, self.beta)
         if self._limit == 0.0:
             raise AnalysisError(f"integrator {self.name}: beta = {self.beta:g} is too small for alpha = "
