@@ -20,6 +20,7 @@ import pytest
 
 import vtsi
 import vtsi.opensees as vops
+from vtsi.vehicle import GRAVITY
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "custom_element.py"
 MODULE = "vtsi_example_custom_element"
@@ -238,6 +239,34 @@ def _step_load_beam():
 def step_load_beam():
     """``step_load_beam()``: a new model of :func:`_step_load_beam` at every call."""
     return _step_load_beam
+
+
+SPAN_20M = {"L": 20.0, "n_el": 20, "E": 3.5e10, "I": 3.0, "mu": 2.0e4, "P": 98100.0}   # 1 m elements, f1 9.0 Hz
+
+
+def _span_20m_commands(session):
+    """By commands on ``session``: the 20 m simply supported span of :data:`SPAN_20M` (20
+    ``elasticBeamColumn`` of 1 m, consistent mass, nodes 1..21, pinned at 1, roller at 21), its
+    track (elements 1..20) and two cars, 1 a moving force P (a 10 t axle) and 2 a 10 t moving mass."""
+    d = SPAN_20M
+    session.wipe()
+    session.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(d["n_el"] + 1):
+        session.node(i + 1, d["L"] * i / d["n_el"], 0.0)
+    session.fix(1, 1, 1, 0)
+    session.fix(d["n_el"] + 1, 0, 1, 0)
+    session.geomTransf("Linear", 1)
+    for e in range(d["n_el"]):
+        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, d["E"], d["I"], 1, "-mass", d["mu"], "-cMass")
+    session.track(1, "-eleRange", 1, d["n_el"])
+    session.car(1, "movingForce", d["P"])
+    session.car(2, "movingMass", d["P"] / GRAVITY)
+
+
+@pytest.fixture(scope="session")
+def span_20m_commands():
+    """``span_20m_commands(session)``: :func:`_span_20m_commands` (the constants: SPAN_20M)."""
+    return _span_20m_commands
 
 
 # In CI (CI=true, as .ci/run sets it) or with VTSI_REQUIRE_ORACLES=1, a test that skips because a

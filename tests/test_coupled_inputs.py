@@ -196,3 +196,30 @@ def test_every_catalogue_car_builds_in_every_unit_system(car, units):
     converted = Units(*units).car(car)
     weight = GRAVITY * sum(m for m, name in zip(np.diag(car.M), car.dof_names) if name.endswith("_y"))
     assert converted.static_wheel_loads.sum() == pytest.approx(Units(*units).f_force * weight, rel=1e-9)
+
+
+# -- the train's stability limit -------------------------------------------------------------------
+def test_a_car_too_stiff_for_a_conditionally_stable_scheme_is_refused_before_the_run():
+    """Newmark(1/2, 1/6) is stable for ωΔt <= √12 = 3.464 (docs/theory/integrators.md). A sprung
+    mass (m_s = 1000 kg on k_s, a 500 kg wheel) has ω² = k_s (1/m_s + 1/m_w) with its wheel free,
+    a bound of the coupled system's (the constraint restricts it). The bridge's own check passed
+    such a car (ωΔt = 3.6 of the body on a held wheel: contact forces of ±6e10 N in 60 steps, no
+    error): it is refused before the run, naming ω_max; a softer car (ω_free Δt = 3.3) runs,
+    and so does the stiff car with Newmark's average acceleration (unconditionally stable)."""
+    dt, m_s, m_w = 1e-4, 1000.0, 500.0
+    stiff = m_s * (3.6 / dt) ** 2
+    omega = np.sqrt(stiff * (1 / m_s + 1 / m_w))
+    an, _, _ = analysis(sprung_mass(m_s, stiff, 0.0, m_w), dt=dt)
+    an.integrator = vtsi.integrators.Newmark(0.5, 1.0 / 6.0)
+    with pytest.raises(AnalysisError, match=rf"^integrator Newmark: dt = 0.0001 s exceeds its stability limit "
+                                            rf"{np.sqrt(12.0) / omega:.6g} s for the train .* omega_max = "
+                                            rf"{omega:.6g} rad/s .* mostly car0\.wheel"):
+        an.static()
+    soft = (3.3 / dt) ** 2 / (1 / m_s + 1 / m_w)
+    for car, integrator in ((sprung_mass(m_s, soft, 0.0, m_w), vtsi.integrators.Newmark(0.5, 1.0 / 6.0)),
+                            (sprung_mass(m_s, stiff, 0.0, m_w), vtsi.integrators.Newmark(0.5, 0.25))):
+        an, _, _ = analysis(car, dt=dt)
+        an.integrator = integrator
+        an.static()
+        an.run(60)
+        assert np.abs(an.contact_force).max() < 1.01 * car.static_wheel_loads[0]

@@ -61,21 +61,11 @@ def local_forces(loads, element):
     return [0.0, shear_at(loads, x1), -moment_at(loads, x1), 0.0, -shear_at(loads, x2), moment_at(loads, x2)]
 
 
-def script_span(session, x_force, x_mass, self_weight=False):
-    """The 20 m span of 20 elements by commands, a train at rest: a moving force P at ``x_force``
-    and a 10 t mass at ``x_mass``, then ``deadLoad``."""
-    session.wipe()
-    session.model("basic", "-ndm", 2, "-ndf", 3)
-    for i in range(N_EL + 1):
-        session.node(i + 1, L * i / N_EL, 0.0)
-    session.fix(1, 1, 1, 0)
-    session.fix(N_EL + 1, 0, 1, 0)
-    session.geomTransf("Linear", 1)
-    for e in range(N_EL):
-        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, E, I, 1, "-mass", MU, "-cMass")
-    session.track(1, "-eleRange", 1, N_EL)
-    session.car(1, "movingForce", P)
-    session.car(2, "movingMass", P / GRAVITY)
+def script_span(span_20m_commands, session, x_force, x_mass, self_weight=False):
+    """The 20 m span of 20 elements by commands (conftest's ``span_20m_commands``: its constants
+    are this module's), a train at rest: the moving force P at ``x_force`` and the 10 t mass at
+    ``x_mass``, then ``deadLoad``."""
+    span_20m_commands(session)
     head, tail = sorted([(x_force, 1), (x_mass, 2)], reverse=True)       # offsets back from the head
     session.train(1, 0.0, "-cars", head[1], 0.0, tail[1], head[0] - tail[0])
     session.movingLoadConstraint(1, 1, 1, head[0])
@@ -85,14 +75,14 @@ def script_span(session, x_force, x_mass, self_weight=False):
 
 
 @pytest.mark.parametrize("place", PLACES)
-def test_the_reactions_command_takes_the_train_s_loads(place):
+def test_the_reactions_command_takes_the_train_s_loads(place, span_20m_commands):
     """``reactions`` then ``nodeReaction`` after ``deadLoad`` and after ``analyze`` (static and
     ``-dynamic``: the train at rest): the statics of the force and the mass, near the supports
     (each wheel in an end element, its share on the support's own dof) and inside the span."""
     x_force, x_mass = PLACES[place]
     expected = reactions_of([(P, x_force), (P, x_mass)])
     session = ops.Session()
-    script_span(session, x_force, x_mass)
+    script_span(span_20m_commands, session, x_force, x_mass)
     for step in ("deadLoad", "analyze"):
         if step == "analyze":
             session.analyze(3, 1e-3)
@@ -103,11 +93,11 @@ def test_the_reactions_command_takes_the_train_s_loads(place):
             assert abs(session.nodeReaction(1, 1)) < 1e-9 * P           # no horizontal load
 
 
-def test_the_reactions_command_takes_the_bridge_s_own_weight():
+def test_the_reactions_command_takes_the_bridge_s_own_weight(span_20m_commands):
     """``deadLoad -selfWeight``: each support also carries half the deck's weight μ g L (the
     consistent mass's 1ᵀ M 1 = μ L) after ``deadLoad`` and after ``analyze``."""
     session = ops.Session()
-    script_span(session, *PLACES["inside the span"], self_weight=True)
+    script_span(span_20m_commands, session, *PLACES["inside the span"], self_weight=True)
     half = MU * GRAVITY * L / 2
     expected = np.array(reactions_of([(P, 7.3), (P, 13.6)])) + half
     for step in ("deadLoad", "analyze"):
@@ -119,7 +109,7 @@ def test_the_reactions_command_takes_the_bridge_s_own_weight():
 
 
 @pytest.mark.parametrize("place", PLACES)
-def test_element_forces_of_the_commands_take_the_wheel_loads_inside(place):
+def test_element_forces_of_the_commands_take_the_wheel_loads_inside(place, span_20m_commands):
     """``eleForce``, ``eleResponse`` ``localForce`` and ``basicForce`` after ``deadLoad`` and
     ``analyze``: the loaded elements (a wheel inside each) and their neighbours read the statics,
     whose end forces at a shared node balance."""
@@ -128,7 +118,7 @@ def test_element_forces_of_the_commands_take_the_wheel_loads_inside(place):
     hosts = [int(np.floor(x)) + 1 for x in (x_force, x_mass)]
     elements = sorted({e for h in hosts for e in (h - 1, h, h + 1) if 1 <= e <= N_EL})
     session = ops.Session()
-    script_span(session, x_force, x_mass)
+    script_span(span_20m_commands, session, x_force, x_mass)
     for step in ("deadLoad", "analyze"):
         if step == "analyze":
             session.analyze(3, 1e-3)
@@ -144,14 +134,14 @@ def test_element_forces_of_the_commands_take_the_wheel_loads_inside(place):
 
 
 @pytest.mark.parametrize("response", ["localForce", "force"])
-def test_the_element_recorder_command_takes_the_wheel_loads_inside(tmp_path, response):
+def test_the_element_recorder_command_takes_the_wheel_loads_inside(tmp_path, response, span_20m_commands):
     """``recorder Element`` (a command recorder of ElementRecorders of its own) over the loaded
     elements and their neighbours, a memory record and a file: each step's row reads the statics
     of the train at rest, as ``eleResponse`` does (global = local axes here)."""
     loads = [(P, 7.3), (P, 13.6)]
     elements = [7, 8, 9, 13, 14, 15]
     session = ops.Session()
-    script_span(session, 7.3, 13.6)
+    script_span(span_20m_commands, session, 7.3, 13.6)
     path = tmp_path / "forces.out"
     session.recorder("Element", "-file", str(path), "-precision", 16, "-ele", *elements, response)
     session.analyze(3, 1e-3)
@@ -162,11 +152,11 @@ def test_the_element_recorder_command_takes_the_wheel_loads_inside(tmp_path, res
     np.testing.assert_allclose(rows, np.tile(expected, (3, 1)), rtol=0, atol=1e-9 * P * L)
 
 
-def test_a_changed_domain_time_is_refused_for_the_train_s_loads():
+def test_a_changed_domain_time_is_refused_for_the_train_s_loads(span_20m_commands):
     """After ``setTime`` the train's loads are not known at the domain's time: ``reactions`` and
     ``eleForce`` say so (and ``setTime`` back gives the statics again)."""
     session = ops.Session()
-    script_span(session, *PLACES["inside the span"])
+    script_span(span_20m_commands, session, *PLACES["inside the span"])
     session.analyze(2, 1e-3)
     session.setTime(0.5)
     for query in (session.reactions, lambda: session.eleForce(8)):

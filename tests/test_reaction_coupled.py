@@ -225,23 +225,13 @@ def test_a_modal_bridge_s_reactions_are_refused():
             analysis.run(1)
 
 
-def test_the_command_layer_s_reaction_recorder_takes_the_wheel_loads(tmp_path):
+def test_the_command_layer_s_reaction_recorder_takes_the_wheel_loads(tmp_path, span_20m_commands):
     """``recorder Node ... reaction`` of a script with a moving-load constraint, run by
     ``analyze(1, dt)`` calls (its record kept open), and to an HDF5 file, whose metadata the
     analysis's loads object stays out of: a force 0.1 m from the right support and a mass 0.1 m
     from the left one load each support with P (statics)."""
     session = ops.Session()
-    session.model("basic", "-ndm", 2, "-ndf", 3)
-    for i in range(N_EL + 1):
-        session.node(i + 1, L * i / N_EL, 0.0)
-    session.fix(1, 1, 1, 0)
-    session.fix(N_EL + 1, 0, 1, 0)
-    session.geomTransf("Linear", 1)
-    for e in range(N_EL):
-        session.element("elasticBeamColumn", e + 1, e + 1, e + 2, 1.0, E, I, 1, "-mass", MU, "-cMass")
-    session.track(1, "-eleRange", 1, N_EL)
-    session.car(1, "movingForce", P)
-    session.car(2, "movingMass", P / GRAVITY)
+    span_20m_commands(session)          # conftest: this module's span, its track and the two cars
     session.train(1, 0.0, "-cars", 1, 0.0, 2, 19.8)
     session.movingLoadConstraint(1, 1, 1, 19.9)
     session.integrator("Newmark", 0.5, 0.25)

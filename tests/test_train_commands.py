@@ -429,3 +429,44 @@ def test_get_load_factor_after_a_coupled_analyze():
     session.analyze(5, DT)
     assert session.getTime() == pytest.approx(5 * DT) and session.getLoadFactor(7) == pytest.approx(3.0 * 5 * DT)
     assert session.getLoadFactor(8) == 2.0
+
+
+def test_dead_load_of_b_spline_rows_takes_the_run_s_dt():
+    """B-spline rows spread a moving wheel over 2 V Δt, so the dead load depends on the run's Δt:
+    ``deadLoad`` without it solved them for Δt = 1 s (the S2 car at mid-span, V = 27.8 m/s: a
+    56 m knot on a 25 m span, the mid-span deflection 0.41 mm for 2.21) and ``analyze`` started from that
+    state. Now ``deadLoad`` needs ``-dt`` before the first ``analyze`` and gives the object API's
+    ``static()`` at that Δt; an ``analyze`` at another Δt right after it is refused; after an
+    ``analyze`` it takes the run's Δt."""
+    def commands(session):
+        session.wipe()
+        _bridge(session, "-cMass")
+        session.track(1, "-eleRange", 1, NE)
+        session.car(1, "sprungMass", S2["m_s"], S2["k_s"])
+        session.train(1, S2["V"], "-cars", 1, 0.0)
+        session.movingLoadConstraint(1, 1, 1, S2["L"] / 2, "-bspline")
+        session.integrator("Newmark", 0.5, 0.25)
+        session.analysis("Transient")
+
+    model = vtsi.Model()
+    bridge, train = s2_model(model, NE)
+    constraint = MovingLoadConstraint(Track(model, bridge.elements), TrainSubdomain(train, x_head0=S2["L"] / 2),
+                                      interpolation="bspline")
+    CoupledAnalysis(model, constraint, "Newmark", DT).static()
+    reference = vtsi.analysis.domain_state(model).u[3 * (NE // 2) + 1]     # mid-span uy
+    session = ops.Session()
+    commands(session)
+    with pytest.raises(CommandError, match=r"^deadLoad: the train's B-spline rows .* give it, deadLoad -dt <dt>"):
+        session.deadLoad()
+    session.deadLoad("-dt", DT)
+    assert session.nodeDisp(NE // 2 + 1, 2) == pytest.approx(reference, rel=1e-12)
+    with pytest.raises(CommandError, match=r"^analyze: dt = 0.002 s, but deadLoad solved .* for dt = 0.001 s; "
+                                           r"give deadLoad -dt 0.002$"):
+        session.analyze(1, 2 * DT)
+    session.analyze(2, DT)
+    commands(session)
+    session.analyze(1, DT)          # the automatic dead load at the run's dt; then deadLoad takes it
+    session.deadLoad()
+    moved = session.nodeDisp(NE // 2 + 1, 2)
+    session.deadLoad("-dt", DT)
+    assert session.nodeDisp(NE // 2 + 1, 2) == moved and moved == pytest.approx(reference, rel=1e-3)

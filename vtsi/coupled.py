@@ -11,6 +11,7 @@ Fedorova, M., Sivaselvan, M.V. (2017) An algorithm for dynamic vehicle-track-str
 interaction analysis for high-speed trains. Engineering Structures 148, 857-877.
 """
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse import csgraph
@@ -231,7 +232,11 @@ class CoupledAnalysis:
                                            lambda: FEStages(asm, active, integ, dt, track, self_weight))
         self.stages = bridge
         stages = integ.checked_stages(dt)       # contract: force_weight > 0 (the loop divides by it), ...
-        build = lambda: TrainStages(train, stages, integ.n_slots)
+
+        def build():                # the train's stability limit, then its factors: once per train in a sweep
+            check_train_stability(train, integ, dt)
+            return TrainStages(train, stages, integ.n_slots)
+
         source = asm if self.bridge is None else self.bridge     # the train's entry goes with the bridge's
         t = self.bridge_cache.get(source, train_stage_key(integ, dt, train), build) if train.n_dof else build()
         self.fac_t, self.tflex, self.ops_t, self.weights_t = t.fac, t.flex, t.ops, t.weights
@@ -857,6 +862,28 @@ class _CoupledPlan:
              for th in a.stage_theta], axis=1)) for nu in (0, 1))
         self.block, self.ahead = (t_c, i, table, r_table, rate_table), BLOCK_STEPS
         return table[:n], r_table[:n], rate_table[:n]
+
+
+def check_train_stability(train, integrator, dt):
+    """An AnalysisError if ``integrator`` is conditionally stable and ``dt`` [s] exceeds its limit
+    for the train subdomain ``train``: the bridge's own check (:class:`~vtsi.subdomain.FEStages`)
+    does not see a stiff car. ω_max is the train's with its wheels free where they have mass
+    (the coupled system's highest frequency is at most the larger of the bridge's and this, the
+    constraint restricting both: Rayleigh's quotient) and held by the rail where they have none."""
+    limit = integrator.stability_limit(dt)
+    if limit is None or not train.n_dof:
+        return
+    M, K = train.M.toarray(), train.K.toarray()
+    keep = np.flatnonzero(np.diag(M) > 0.0)
+    lam, modes = scipy.linalg.eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)])
+    omega_max = float(np.sqrt(max(lam[-1], 0.0)))
+    if omega_max * dt > limit * (1.0 + 1e-12):
+        dof = train.train.dof_names[keep[np.argmax(np.abs(modes[:, -1]))]]
+        raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
+                            f"{limit / omega_max:.6g} s for the train (= {limit:.4g}/omega_max, omega_max = "
+                            f"{omega_max:.6g} rad/s of the train with its wheels free, a bound of the coupled "
+                            f"system's, its stiffest mode mostly {dof}); reduce dt or use an unconditionally stable "
+                            "scheme")
 
 
 class TrainStages:

@@ -112,12 +112,7 @@ class Trig(TimeSeries):
     definition), 0 outside."""
 
     def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None, label=None):
-        self.tag, self._label = tag, label
-        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
-        self.period = _finite(self, "period", period)
-        self.factor, self.shift = _finite(self, "factor", factor), _finite(self, "shift", shift)
-        self.zero_shift = _finite(self, "zeroShift", zero_shift)
-        _interval(self)
+        _periodic(self, t_start, t_end, period, factor, shift, zero_shift, tag, label)
         if not self.period > 0.0:
             raise ModelError(f"{self.label}: period must be > 0, got {self.period}")
         if self.zero_shift and not abs(self.zero_shift) <= abs(self.factor):
@@ -151,12 +146,7 @@ class Triangle(TimeSeries):
     k = frac((t + φ − t_start)/period); 0 outside."""
 
     def __init__(self, t_start, t_end, period, factor=1.0, shift=0.0, zero_shift=0.0, tag=None, label=None):
-        self.tag, self._label = tag, label
-        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
-        self.period = _finite(self, "period", period)
-        self.factor, self.shift = _finite(self, "factor", factor), _finite(self, "shift", shift)
-        self.zero_shift = _finite(self, "zeroShift", zero_shift)
-        _interval(self)
+        _periodic(self, t_start, t_end, period, factor, shift, zero_shift, tag, label)
         if not self.period > 0.0 or self.factor == 0.0:
             raise ModelError(f"{self.label}: period must be > 0 and factor not 0, got "
                              f"{self.period}, {self.factor}")
@@ -179,12 +169,8 @@ class Pulse(TimeSeries):
 
     def __init__(self, t_start, t_end, period, width=0.5, factor=1.0, shift=0.0, zero_shift=0.0, tag=None,
                  label=None):
-        self.tag, self._label = tag, label
-        self.t_start, self.t_end = _finite(self, "tStart", t_start), _finite(self, "tEnd", t_end)
-        self.period, self.width = _finite(self, "period", period), _finite(self, "width", width)
-        self.factor, self.shift = _finite(self, "factor", factor), _finite(self, "shift", shift)
-        self.zero_shift = _finite(self, "zeroShift", zero_shift)
-        _interval(self)
+        _periodic(self, t_start, t_end, period, factor, shift, zero_shift, tag, label)
+        self.width = _finite(self, "width", width)
         if not self.period > 0.0 or not 0.0 < self.width < 1.0:
             raise ModelError(f"{self.label}: period must be > 0 and width in (0, 1), got "
                              f"{self.period}, {self.width}")
@@ -321,6 +307,17 @@ def _times(series, t):
         return np.asarray(t, dtype=float)
     except (TypeError, ValueError):
         raise ModelError(f"{series.label}: times must be numbers [s], got {t!r}") from None
+
+
+def _periodic(series, t_start, t_end, period, factor, shift, zero_shift, tag, label):
+    """Set the parameters that OpenSees's periodic series (Trig, Triangle, Pulse) share on
+    ``series``, each checked finite (:func:`_finite`) and the interval (:func:`_interval`)."""
+    series.tag, series._label = tag, label
+    series.t_start, series.t_end = _finite(series, "tStart", t_start), _finite(series, "tEnd", t_end)
+    series.period = _finite(series, "period", period)
+    series.factor, series.shift = _finite(series, "factor", factor), _finite(series, "shift", shift)
+    series.zero_shift = _finite(series, "zeroShift", zero_shift)
+    _interval(series)
 
 
 def _interval(series):

@@ -2,7 +2,6 @@
 ``reactions``, ``eleForce``, ``eleResponse``, ``getTime``, ``setTime``, ``loadConst``,
 ``getLoadFactor``, ``nodeMass``, ``nodeBounds``, ``nodeCoord``, ``nodeEigenvector``,
 ``nodeResponse``, ``getNodeTags``, ``getEleTags``, with OpenSees's return values."""
-import copy
 import logging
 import math
 
@@ -52,7 +51,8 @@ class LoadsLastApplied:
             return
         self.patterns = {}
         for p in model.patterns.values():
-            kept = copy.copy(p)
+            kept = object.__new__(type(p))          # a shallow copy (copy.copy costs 4 times as much)
+            kept.__dict__.update(p.__dict__)
             kept.nodal, kept.element_loads, kept.prescribed = dict(p.nodal), list(p.element_loads), dict(p.prescribed)
             kept.on_change = None
             self.patterns[id(p)] = (p, kept, asm.element_equivalent_loads(p) if p.element_loads else {})

@@ -32,7 +32,7 @@ from vtsi import recorders as rec
 from vtsi.analysis import domain_state
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.coupled import CoupledAnalysis, coupled_integrator
-from vtsi.errors import CommandError, ModelError, is_int
+from vtsi.errors import CommandError, ModelError, as_positive, is_int
 from vtsi.models import Irregularity, cars, fra_psd, german_psd, trains
 from vtsi.vehicle import MAX_TRAIN_SPEED, Train, moving_force
 from vtsi.track import Track
@@ -66,6 +66,8 @@ class TrainCommands(SessionBase):
         self._units = Units()
         self._coupled = None
         self._coupled_state = None
+        self._run_dt = None          # [s] the coupled run's Δt, from analyze or deadLoad -dt (None: not given yet)
+        self._dead_load_dt = None    # [s] the Δt the dead load's B-spline rows were solved for, until a step
 
     def _new(self, registry, command, tag):
         if tag in registry:
@@ -281,21 +283,42 @@ class TrainCommands(SessionBase):
         self._coupled = None
 
     def deadLoad(self, *args):
-        """``deadLoad [-selfWeight]``: static equilibrium of bridge and train under the train's
-        weight and the patterns; with ``-selfWeight`` also under the bridge's own weight (-g M in
-        y, g = 9.81 m/s²), the results then being totals. Without it they are the response to the
-        train and the patterns (a script that applies the deck's weight by a pattern gets totals)."""
+        """``deadLoad [-selfWeight] [-dt dt]``: static equilibrium of bridge and train under the
+        train's weight and the patterns; with ``-selfWeight`` also under the bridge's own weight
+        (-g M in y, g = 9.81 m/s²), the results then being totals. Without it they are the response
+        to the train and the patterns (a script that applies the deck's weight by a pattern gets
+        totals). ``-dt``: the Δt [s] of the run that follows, which B-spline rows of a moving train
+        need (they spread each wheel over 2 V Δt): refused without it before the first ``analyze``,
+        and an ``analyze`` at another Δt right after it is refused."""
         a = Args("deadLoad", args)
-        self_weight = a.more() and a.option(("-selfWeight",)) == "-selfWeight"
-        a.done()
+        self_weight, dt = False, None
+        while a.more():
+            if a.option(("-selfWeight", "-dt")) == "-selfWeight":
+                self_weight = True
+            else:
+                dt = as_positive(a.option_floats("-dt", 1, "the run's time step [s]")[0], "deadLoad", "-dt",
+                                 CommandError)
         if self_weight != self._self_weight:
             self._self_weight, self._coupled = self_weight, None
-        analysis = self._coupled_analysis("deadLoad", dt=None)
+        spread = self._spread_rows()
+        if spread and dt is None and self._run_dt is None:
+            raise CommandError("deadLoad: the train's B-spline rows (movingLoadConstraint -bspline) spread each wheel "
+                               "over 2 V dt, so the dead load depends on the run's time step: give it, deadLoad -dt "
+                               "<dt> (the dt of the analyze that follows)")
+        analysis = self._coupled_analysis("deadLoad", dt=dt if dt is not None else self._run_dt)
+        self._run_dt = analysis.dt if dt is not None else self._run_dt
+        self._dead_load_dt = analysis.dt if spread else None
         self._load_time = analysis.static()["time"]   # the loads applied now
         self._coupled_state = (analysis.coupled_loads, domain_state(analysis.model))    # the queries' train loads
         self._dead_load_done = True
 
     # -- the analysis ----------------------------------------------------------------------------
+    def _spread_rows(self):
+        """Whether the constraint's rows depend on Δt: B-spline rows of a moving train."""
+        spec = self._constraint
+        return (spec is not None and spec["interpolation"] == "bspline"
+                and self._trains[spec["train"]].speed > 0.0)
+
     def _coupled_analysis(self, command, dt):
         if self._constraint is None:
             raise CommandError(f"{command}: no movingLoadConstraint defined")
@@ -326,7 +349,11 @@ class TrainCommands(SessionBase):
         ``loadConst``, the loads of ``nodeResponse`` id 7 and ``eleForce``) is where the last step
         applied the loads, as in the transient analysis without a train (:func:`equilibrium_point`):
         HHT and GeneralizedAlpha ``t_n + αΔt``, the others the step's end."""
+        if self._dead_load_dt is not None and dt != self._dead_load_dt:
+            raise CommandError(f"analyze: dt = {dt:g} s, but deadLoad solved the train's B-spline rows (spread over "
+                               f"2 V dt) for dt = {self._dead_load_dt:g} s; give deadLoad -dt {dt:g}")
         analysis = self._coupled_analysis("analyze", dt)
+        self._run_dt, self._dead_load_dt = dt, None
         if not self._dead_load_done:
             self._load_time = analysis.static()["time"]
             self._dead_load_done = True
