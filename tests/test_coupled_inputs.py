@@ -223,3 +223,12 @@ def test_a_car_too_stiff_for_a_conditionally_stable_scheme_is_refused_before_the
         an.static()
         an.run(60)
         assert np.abs(an.contact_force).max() < 1.01 * car.static_wheel_loads[0]
+
+
+@pytest.mark.parametrize("value", ["no", 1, None])
+def test_bridge_self_weight_must_be_a_bool(value):
+    """``bridge_self_weight='no'`` was taken for True (``bool('no')``) and added the deck's weight
+    to results said to be the train's response: only True or False is taken."""
+    with pytest.raises(AnalysisError, match=rf"^CoupledAnalysis: bridge_self_weight must be True or False, got "
+                                            rf"{re.escape(repr(value))}"):
+        analysis(bridge_self_weight=value)

@@ -38,7 +38,7 @@ from vtsi.banded import (
 from vtsi.constraint import MovingLoadConstraint
 from vtsi.contact import contact_events, contact_summary, gap_tolerance
 from vtsi.coupled_loop import run_coupled_steps
-from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_positive
+from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_flag, as_positive
 from vtsi.integrators import HHT, make_integrator
 from vtsi.lcp import lcp_workspace
 from vtsi.recorders.moment import add_train_loads, fixed_end_forces
@@ -148,7 +148,7 @@ class CoupledAnalysis:
                                 "analysis needs an implicit integrator: Newmark with beta > 0 (e.g. Newmark(0.5, "
                                 "0.25)), HHT or Bathe")
         self.gravity = as_positive(gravity, "CoupledAnalysis", "gravity [m/s²]", AnalysisError, allow_zero=True)
-        self.bridge_self_weight = bool(bridge_self_weight)
+        self.bridge_self_weight = as_flag(bridge_self_weight, "CoupledAnalysis", "bridge_self_weight", AnalysisError)
         self.recorders = list(recorders)
         check_own_files("CoupledAnalysis", self.recorders)      # two recorders writing one file
         self.chunk_steps = _integer("CoupledAnalysis", "chunk_steps", chunk_steps, 1)
