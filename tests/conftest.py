@@ -241,6 +241,27 @@ def step_load_beam():
     return _step_load_beam
 
 
+def _mass_beam(o, n_el=10, length=20.0):
+    """A simply supported beam of ``n_el`` elasticBeamColumn elements with mass (15 t/m; OpenSees
+    commands on module or session ``o``: OpenSeesPy's or vtsi's), nodes 1..n_el + 1, pinned at 1,
+    roller at the last, transformation 1."""
+    o.wipe()
+    o.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(n_el + 1):
+        o.node(i + 1, length * i / n_el, 0.0)
+    o.fix(1, 1, 1, 0)
+    o.fix(n_el + 1, 0, 1, 0)
+    o.geomTransf("Linear", 1)
+    for i in range(n_el):
+        o.element("elasticBeamColumn", i + 1, i + 1, i + 2, 5.0, 3.5e10, 0.7, 1, "-mass", 15000.0)
+
+
+@pytest.fixture(scope="session")
+def mass_beam():
+    """``mass_beam(o, n_el=10, length=20.0)``: :func:`_mass_beam`."""
+    return _mass_beam
+
+
 SPAN_20M = {"L": 20.0, "n_el": 20, "E": 3.5e10, "I": 3.0, "mu": 2.0e4, "P": 98100.0}   # 1 m elements, f1 9.0 Hz
 
 

@@ -242,18 +242,10 @@ def test_transient_alpha_schemes_apply_the_loads_at_the_alpha_point(integrator, 
     assert value == pytest.approx(reference, rel=1e-12)
 
 
-def coupled_bridge(session, integrator, n_el=10, length=20.0):
-    """A 20 m simply supported deck of 10 elements (15 t/m) under a moving force of 100 kN at
+def coupled_bridge(mass_beam, session, integrator, n_el=10, length=20.0):
+    """A 20 m simply supported deck of 10 elements (15 t/m; conftest's ``mass_beam``) under a moving force of 100 kN at
     20 m/s, ``integrator``, and a Linear pattern 7 (factor 3) with a load at midspan."""
-    session.wipe()
-    session.model("basic", "-ndm", 2, "-ndf", 3)
-    for i in range(n_el + 1):
-        session.node(i + 1, length * i / n_el, 0.0)
-    session.fix(1, 1, 1, 0)
-    session.fix(n_el + 1, 0, 1, 0)
-    session.geomTransf("Linear", 1)
-    for i in range(n_el):
-        session.element("elasticBeamColumn", i + 1, i + 1, i + 2, 5.0, 3.5e10, 0.7, 1, "-mass", 15000.0)
+    mass_beam(session, n_el, length)
     session.timeSeries("Linear", 7, "-factor", 3.0)
     session.pattern("Plain", 7, 7)
     session.load(n_el // 2 + 1, 0.0, -1e3, 0.0)
@@ -267,13 +259,13 @@ def coupled_bridge(session, integrator, n_el=10, length=20.0):
 
 @pytest.mark.parametrize("integrator, alpha", [(("HHT", 0.8), 0.8), (("GeneralizedAlpha", 1.0, 0.8), 0.8),
                                                (("Newmark", 0.5, 0.25), 1.0), (("Bathe",), 1.0)])
-def test_a_coupled_step_applies_the_loads_where_the_transient_one_does(integrator, alpha):
+def test_a_coupled_step_applies_the_loads_where_the_transient_one_does(integrator, alpha, mass_beam):
     """The coupled analysis (no OpenSees counterpart) applies its patterns at its stage load
     points, HHT and GeneralizedAlpha t_n + αΔt, and getLoadFactor reads them there, as after the
     transient step (above): 3 (4 + α) Δt after 5 steps, 3 (5 + α) Δt after one more (its start
     the time before the run), 3 (7 + α) Δt after 2 more; vtsi read the step's end (3 × 5 Δt)."""
     session = vops.Session()
-    coupled_bridge(session, integrator)
+    coupled_bridge(mass_beam, session, integrator)
     session.analyze(5, DT)
     assert session.getLoadFactor(7) == pytest.approx(3.0 * (4 + alpha) * DT, rel=1e-12)
     session.analyze(1, DT)

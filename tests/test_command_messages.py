@@ -19,20 +19,6 @@ pytestmark = pytest.mark.usefixtures("fresh_session")
 RTOL = 1e-9
 
 
-def beam(o, n_el=10, length=20.0):
-    """A simply supported beam of ``n_el`` elasticBeamColumn elements with mass (OpenSees
-    commands on module or session ``o``)."""
-    o.wipe()
-    o.model("basic", "-ndm", 2, "-ndf", 3)
-    for i in range(n_el + 1):
-        o.node(i + 1, length * i / n_el, 0.0)
-    o.fix(1, 1, 1, 0)
-    o.fix(n_el + 1, 0, 1, 0)
-    o.geomTransf("Linear", 1)
-    for i in range(n_el):
-        o.element("elasticBeamColumn", i + 1, i + 1, i + 2, 5.0, 3.5e10, 0.7, 1, "-mass", 15000.0)
-
-
 def solver(o, integrator=("Newmark", 0.5, 0.25), analysis="Transient"):
     o.constraints("Plain")
     o.numberer("Plain")
@@ -141,9 +127,9 @@ def test_a_series_tag_given_as_a_str_is_refused_as_openseespy_refuses_it(one_lin
     assert one_line(exc) == "pattern UniformExcitation 3: the -accel time series tag must be an integer, got '1'"
 
 
-def test_an_inline_series_string_still_works():
+def test_an_inline_series_string_still_works(mass_beam):
     """``'Constant -factor 2.0'`` with ``-fact 3``: the load factor 6 after a step (2 × 3)."""
-    beam(vops, n_el=2)
+    mass_beam(vops, n_el=2)
     vops.pattern("Plain", 2, "Constant -factor 2.0", "-fact", 3.0)
     vops.load(2, 0.0, -1.0, 0.0)
     solver(vops, ("LoadControl", 1.0), "Static")
@@ -152,8 +138,8 @@ def test_an_inline_series_string_still_works():
 
 
 # -- 4. eleLoad -range over missing elements ------------------------------------------------------
-def midspan_under_range(o, first, last):
-    beam(o, n_el=20)
+def midspan_under_range(mass_beam, o, first, last):
+    mass_beam(o, n_el=20)
     o.timeSeries("Linear", 1)
     o.pattern("Plain", 1, 1)
     o.eleLoad("-range", first, last, "-type", "-beamUniform", -1e4)
@@ -162,14 +148,14 @@ def midspan_under_range(o, first, last):
     return o.nodeDisp(11, 2)
 
 
-def test_eleload_range_over_missing_elements_is_refused(one_line):
+def test_eleload_range_over_missing_elements_is_refused(one_line, mass_beam):
     """OpenSeesPy loads the elements of the range that exist and warns for each missing one
     (its result equals the range of those alone, asserted); vtsi refuses the range as it
     refuses ``-ele`` with a missing tag, naming the missing tags compactly."""
-    existing = midspan_under_range(oracle, 18, 20)
+    existing = midspan_under_range(mass_beam, oracle, 18, 20)
     assert existing != 0.0
-    assert midspan_under_range(oracle, 18, 25) == existing
-    assert abs(midspan_under_range(vops, 18, 20) - existing) <= RTOL * abs(existing)
+    assert midspan_under_range(mass_beam, oracle, 18, 25) == existing
+    assert abs(midspan_under_range(mass_beam, vops, 18, 20) - existing) <= RTOL * abs(existing)
     for (first, last), message in [((18, 25), "elements 21-25 do not exist"),
                                    ((21, 21), "element 21 does not exist"),
                                    ((25, 18), "the last element is before the first")]:
@@ -204,10 +190,10 @@ def test_eleload_range_over_missing_elements_is_refused(one_line):
     (("Node", "-node", 2, "-dof", 2, "-file", "x.out"),
      "no response given (one of disp, vel, accel, reaction, reactionIncInertia)"),
 ])
-def test_a_recorder_response_out_of_place_is_named(tmp_path, monkeypatch, args, message, one_line):
+def test_a_recorder_response_out_of_place_is_named(tmp_path, monkeypatch, args, message, one_line, mass_beam):
     """No file is created by a refused line."""
     monkeypatch.chdir(tmp_path)
-    beam(vops)
+    mass_beam(vops)
     with pytest.raises(CommandError) as exc:
         vops.recorder(*args)
     assert one_line(exc) == f"recorder {args[0]}: {message}"
@@ -255,11 +241,11 @@ print('analyzed', flush=True)
 
 
 # -- 6. getLoadFactor and the loads applied -------------------------------------------------------
-def load_factors(o):
+def load_factors(mass_beam, o):
     """getLoadFactor of two patterns before any step, after setTime, after a step and loadConst,
     and of a pattern defined after a step (with its nodal and element load: nodeResponse 7,
     eleForce) before and after ``reactions`` applies the loads again."""
-    beam(o)
+    mass_beam(o)
     o.timeSeries("Constant", 1, "-factor", 2.0)
     o.pattern("Plain", 1, 1, "-fact", 3.0)
     o.load(6, 0.0, -1e5, 0.0)
@@ -285,11 +271,11 @@ def load_factors(o):
     return out
 
 
-def test_get_load_factor_is_what_openseespy_returns():
+def test_get_load_factor_is_what_openseespy_returns(mass_beam):
     """0 before the first step and after setTime alone (OpenSees's LoadPattern::getLoadFactor
     returns the factor of the last Domain::applyLoad, 0 before it); 6 and 3 × 0.51 after a step
     from t = 0.5; a pattern defined after a step reads 0 and loads nothing (nodeResponse 7,
     eleForce) until reactions applies the loads again."""
-    reference, value = load_factors(oracle), load_factors(vops)
+    reference, value = load_factors(mass_beam, oracle), load_factors(mass_beam, vops)
     np.testing.assert_allclose(value, reference, rtol=RTOL, atol=0.0)
     assert reference[:4] == [0.0] * 4 and reference[4] == 6.0 and reference[9] == 0.0
