@@ -557,9 +557,23 @@ class Assembly:
 
     def load_vectors(self, patterns):
         """Free-dof load vectors ``(len(patterns), n_free)`` of the patterns' loads
-        (:meth:`full_load_vectors`) and, of prescribed displacements g (``sp``), −K g."""
-        full = self.full_load_vectors(patterns)
-        for p, pattern in zip(full, patterns):
+        (:meth:`full_load_vectors`) and, of prescribed displacements g (``sp``), −K g. A pattern
+        of nodal loads alone, in a model without constraints, goes straight into the free dofs
+        (``free_of_full``: no full vector, the same numbers), as a script that moves a load by a
+        new pattern at every step makes them."""
+        out = np.zeros((len(patterns), self.n_free))
+        general = []            # the rows of the patterns that need a full vector
+        direct = self.transformation is None
+        for row, pattern in enumerate(patterns):
+            if direct and pattern.ground_direction is None and not pattern.element_loads and not pattern.prescribed:
+                self._set_nodal_loads(out, row, pattern, self._free_places)
+            else:
+                general.append(row)
+        if not general:
+            return out
+        chosen = [patterns[row] for row in general]
+        full = self.full_load_vectors(chosen)
+        for p, pattern in zip(full, chosen):
             if pattern.prescribed:          # −K g of the prescribed displacements g (and of the dofs tied to them)
                 g = np.zeros(self.n_full)
                 for (node, d), value in pattern.prescribed.items():
@@ -568,7 +582,8 @@ class Assembly:
                     g[self.node_index[node] * self.ndf + d] = value
                 self.complete(g)
                 p -= self.K_full @ g
-        return self.reduce(full.T).T
+        out[general] = self.reduce(full.T).T
+        return out
 
     def full_load_vectors(self, patterns):
         """Full-dof loads ``(len(patterns), n_full)`` [N, N·m] the patterns apply at factor 1, fixed
@@ -578,23 +593,37 @@ class Assembly:
         OpenSees's ``EarthquakePattern`` loads every node's mass (a fixed node's too) and every
         element's. A prescribed displacement (``sp``) is not a load: it moves its dof."""
         full = np.zeros((len(patterns), self.n_full))
-        for p, pattern in zip(full, patterns):
+        for row, pattern in enumerate(patterns):
             if pattern.ground_direction is not None:
-                p -= self.M_full @ self.ground_vector(pattern.ground_direction)
+                full[row] -= self.M_full @ self.ground_vector(pattern.ground_direction)
                 continue
-            for tag, values in pattern.nodal.items():
-                if tag not in self.node_index:
-                    raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
-                if len(values) > self.ndf:
-                    raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, "
-                                     f"ndf is {self.ndf}")
-                i = self.node_index[tag]
-                p[i * self.ndf: i * self.ndf + len(values)] += values
+            self._set_nodal_loads(full, row, pattern, range(self.n_full))
             if pattern.element_loads:
                 for tag, f in self.element_equivalent_loads(pattern).items():
                     b, i = self.element_location[tag]
-                    p[self.blocks[b][4][i]] += f
+                    full[row, self.blocks[b][4][i]] += f
         return full
+
+    @functools.cached_property
+    def _free_places(self):
+        """``free_of_full`` as a list (read an entry at a time)."""
+        return self.free_of_full.tolist()
+
+    def _set_nodal_loads(self, vectors, row, pattern, places):
+        """Set the nodal loads of ``pattern`` [N, N·m] into row ``row`` of ``vectors`` (zero
+        there), full dof ``j`` at ``places[j]``, none where that is negative (a fixed dof of a
+        free-dof vector); each dof takes one value (a node's loads are one entry of the
+        pattern). A ModelError names a node that does not exist or a load of more than ndf values."""
+        index, ndf = self.node_index, self.ndf
+        for tag, values in pattern.nodal.items():
+            i = index.get(tag)
+            if i is None:
+                raise ModelError(f"pattern {pattern.tag}: load on node {tag}, which does not exist")
+            if len(values) > ndf:
+                raise ModelError(f"pattern {pattern.tag}: load on node {tag} has {len(values)} values, ndf is {ndf}")
+            for j, value in zip(places[i * ndf: i * ndf + len(values)], values.tolist()):
+                if j >= 0:
+                    vectors[row, j] = 0.0 + value     # (0.0 + a -0.0 load is 0.0, as a sum onto the zeros)
 
     def ground_vector(self, direction):
         """``r (n_full,)``: 1 at the translations along ``direction`` (1 x, 2 y), 0 elsewhere."""

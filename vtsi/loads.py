@@ -1,4 +1,6 @@
 """Load patterns: nodal loads scaled by a time series (OpenSees ``pattern Plain``)."""
+import math
+
 import numpy as np
 
 from vtsi.errors import ModelError, as_number
@@ -74,9 +76,10 @@ class LoadPattern:
             raise ModelError(f"pattern {self.tag}: load on node {node} must be numbers, got {list(values)!r}") from None
         if self.ndf is not None and values.shape != (self.ndf,):
             raise ModelError(f"pattern {self.tag}: load on node {node}: needs {self.ndf} values, got {len(values)}")
-        if not np.all(np.isfinite(values)):
+        if not all(map(math.isfinite, values.ravel().tolist())):     # (numpy's isfinite costs more on ndf values)
             raise ModelError(f"pattern {self.tag}: load on node {node} has NaN or inf: {values.tolist()}")
-        self.nodal[node] = self.nodal.get(node, 0.0) + values
+        old = self.nodal.get(node)
+        self.nodal[node] = values + 0.0 if old is None else old + values     # (+ 0.0: a -0.0 load is 0.0)
         self._changed()
 
     def beam_load(self, element, kind, *values):
@@ -115,8 +118,9 @@ class LoadPattern:
         if not np.all(np.isfinite(out)):
             bad = np.flatnonzero(~np.isfinite(out).ravel())[0]
             when = self.constant_time if self.constant_time is not None else np.asarray(t, dtype=float).ravel()[bad]
-            raise ModelError(f"pattern {self.tag}: time series {self.series.tag} ({type(self.series).__name__}) "
-                             f"gives load factor {out.ravel()[bad]} at t = {when:g} s")
+            kind, tag = type(self.series).__name__, self.series.tag
+            series = f"time series {tag} ({kind})" if tag is not None else f"its {kind} series (inline)"
+            raise ModelError(f"pattern {self.tag}: {series} gives load factor {out.ravel()[bad]} at t = {when:g} s")
         return out
 
 
@@ -150,7 +154,8 @@ def element_load_values(kind, values):
 
 def _finite(tag, name, value):
     """``value`` as a finite float, or a ModelError naming pattern ``tag``, ``name`` and the value."""
-    value = as_number(value, f"pattern {tag}", name)
-    if not np.isfinite(value):
+    if type(value) is not float:
+        value = as_number(value, f"pattern {tag}", name)
+    if not math.isfinite(value):
         raise ModelError(f"pattern {tag}: {name} must be finite, got {value}")
     return value

@@ -444,7 +444,8 @@ class AnalysisCommands(SessionBase):
                 t = state.time
             # a reaction recorder that recorded the last step had OpenSees apply the loads again at
             # its time first (Domain::calculateNodalReactions), as the reactions command does
-            if any(r.last_time is not None and abs(r.last_time - state.time) <= 1e-9 * dt for r in reactions):
+            if reactions and any(r.last_time is not None and abs(r.last_time - state.time) <= 1e-9 * dt
+                                 for r in reactions):
                 t = state.time
             self._load_time = t
         return 0

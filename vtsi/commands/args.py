@@ -43,7 +43,7 @@ class Args:
 
     def __init__(self, command, args):
         self.command = command
-        self.items = list(args)
+        self.items = tuple(args)    # (a command's own tuple is not copied)
         self.pos = 0
 
     def more(self):
@@ -71,6 +71,8 @@ class Args:
 
     def int(self, what):
         x = self.take(what)
+        if type(x) is int:
+            return x
         if not is_int(x):
             raise self._refused(what, x, "an integer")
         return int(x)
@@ -109,12 +111,19 @@ class Args:
         return [self.float(f"{option} {what}") for _ in range(count)]
 
     def floats(self, what):
-        """The numbers that follow, up to the next word (a list there is refused naming ``what``)."""
-        out = []
-        while self.next_is_number():
-            out.append(self.float(what))
-        if self.more() and is_list(self.peek()):
-            raise self._refused(what, self.peek(), "a number")
+        """The numbers that follow, up to the next word, as floats (a NaN or ±inf one, or a list
+        there, is refused naming ``what``, as :meth:`float` refuses it). One pass over the items:
+        a script's ``load`` in a per-step loop reads its values here."""
+        items, end = self.items, self.pos
+        while end < len(items) and (type(items[end]) in _NUMBERS or is_number(items[end])):
+            end += 1
+        out = [float(x) for x in items[self.pos: end]]
+        if not all(map(math.isfinite, out)):
+            bad = next(x for x in out if not math.isfinite(x))
+            raise CommandError(f"{self.command}: {what} must be finite, got {bad}")
+        self.pos = end
+        if end < len(items) and is_list(items[end]):
+            raise self._refused(what, items[end], "a number")
         return out
 
     def number_list(self, option):

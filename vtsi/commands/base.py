@@ -57,6 +57,8 @@ class SessionBase:
 
     def _node(self, command, tag):
         model = self._model(command)
+        if type(tag) is int and tag in model.nodes:
+            return tag
         if not is_int(tag):
             raise CommandError(f"{command}: node tag must be an integer, got {tag!r}")
         if int(tag) not in model.nodes:

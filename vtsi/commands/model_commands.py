@@ -55,7 +55,6 @@ class ModelCommands(SessionBase):
         self._transforms = {}
         self._zero_length = {}     # element tag -> [(dir, E, eta) per material]
         self._current_pattern = None
-        self._series_count = 0
 
     def model(self, *args):
         """``model('basic', '-ndm', 2, '-ndf', 3)`` (``-ndf`` defaults to 3 for ``-ndm 2``)."""
@@ -465,9 +464,9 @@ class ModelCommands(SessionBase):
         if isinstance(spec, str):
             series = self._inline_series(name, spec, "the time series tag")
         elif is_int(spec):
-            if int(spec) not in model.time_series:
+            series = model.time_series.get(int(spec))
+            if series is None:
                 raise CommandError(f"{name}: time series {spec} does not exist")
-            series = model.time_series[int(spec)]
         else:
             raise CommandError(f"{name}: time series tag must be an integer, got {spec!r}")
         fact = 1.0
@@ -513,7 +512,8 @@ class ModelCommands(SessionBase):
         Tcl's ``pattern Plain 7 {Path ...}``) of the pattern ``name``; its errors name the pattern
         (``pattern Plain 7: series Path: missing -factor``). A tag given as a str (``'1'``, which
         a Tcl word is not: it arrives as an int) is refused naming ``what``, as OpenSeesPy refuses it.
-        The series gets the next negative tag (it is not in the model's table of series)."""
+        The series has no tag, as in OpenSees it is in no table of series (``printModel`` names
+        it ``inline``)."""
         words = tcl_words(spec)
         if not words:
             raise CommandError(f"{name}: empty time series specification")
@@ -522,27 +522,32 @@ class ModelCommands(SessionBase):
             raise CommandError(f"{name}: {what} must be an integer, got {spec!r}")
         if kind not in SERIES_TYPES and kind not in SERIES_ALIASES:
             raise CommandError(f"{name}: series type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
-        self._series_count += 1
-        return self._make_series(kind, -self._series_count, Args(name, words[1:]), f"{name}: series {kind}")
+        return self._make_series(kind, None, Args(name, words[1:]), f"{name}: series {kind}")
 
     def load(self, *args):
-        """``load(node, *values)``: nodal load of the last pattern defined [N, N·m]."""
+        """``load(node, *values)``: a nodal load [N, N·m], one value per dof, of the last pattern
+        defined (in Tcl also inside its braces). Every argument after the node tag is a load
+        value, as OpenSees reads them: OpenSees's ``-pattern`` and ``-const`` options are refused
+        naming the word, as OpenSees's Tcl and OpenSeesPy both fail on them
+        (docs/opensees_conventions.md, b)."""
         model = self._model("load")
         a = Args("load", args)
         tag = a.int("node tag")
         values = a.floats(f"load on node {tag}")
-        if a.more() and not (isinstance(a.peek(), str) and a.peek().startswith("-")):
-            raise CommandError(f"load on node {tag}: a load value must be a number, got {a.peek()!r}")
+        if a.more():
+            word = a.peek()
+            why = (f"; OpenSees reads every argument after the node tag as a load value, so it takes no {word} "
+                   f"option: a load goes to the last pattern defined ({self._pattern_hint()})"
+                   if word in ("-pattern", "-const") else "")
+            raise CommandError(f"load on node {tag}: a load value must be a number, got {word!r}{why}")
         pattern = self._current_pattern
-        while a.more():
-            a.option(("-pattern",))
-            pattern = a.int("-pattern tag")
         self._node("load", tag)
         if pattern is None:
             raise CommandError(f"load on node {tag}: no load pattern; define one with {self._pattern_hint()}")
-        if pattern not in model.patterns:
+        target = model.patterns.get(pattern)
+        if target is None:
             raise CommandError(f"load on node {tag}: pattern {pattern} does not exist")
-        model.load(pattern, tag, *values)
+        target.load(tag, *values)       # (Model.load's other checks, of the node, are the command's own above)
 
     def sp(self, *args):
         """``sp(node, dof, value)``: a prescribed displacement [m, rad] of the last pattern defined,

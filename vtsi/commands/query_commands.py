@@ -38,21 +38,28 @@ class LoadsLastApplied:
     loads as they were), ``equivalents`` its element loads' global nodal loads at factor 1
     (``{element tag: (ndof,)}``, :meth:`vtsi.assembly.Assembly.element_equivalent_loads`);
     ``nodal_mass`` the nodal masses then (a ground acceleration's load on them). ``previous``: the
-    last application, whose copies are reused while the model, its assembly and its patterns
-    (``Model.load_version``) are unchanged, so that a script's ``analyze(1, dt)`` loop copies nothing."""
+    last application, whose copies are reused while the model and its assembly (the masses) are
+    unchanged: all of them while its patterns are (``Model.load_version``), so that a script's
+    ``analyze(1, dt)`` loop copies nothing, else those of the patterns whose own loads, factor and
+    freezing are (``LoadPattern.version``): a script that adds a pattern at every step copies
+    that one only."""
 
     def __init__(self, model, time, previous=None):
         asm = model.build()
         self.time = float(time)
         self.model, self.assembly, self.version = model, asm, model.load_version
-        if (previous is not None and previous.model is model and previous.assembly is asm
-                and previous.version == model.load_version):
+        same = previous is not None and previous.model is model and previous.assembly is asm
+        if same and previous.version == model.load_version:
             self.patterns, self.nodal_mass = previous.patterns, previous.nodal_mass
             return
+        before = previous.patterns if same else {}
         self.patterns = {}
         for p in model.patterns.values():
-            self.patterns[id(p)] = (p, p.snapshot(), asm.element_equivalent_loads(p) if p.element_loads else {})
-        self.nodal_mass = dict(model.nodal_mass)
+            entry = before.get(id(p))
+            if entry is None or entry[0] is not p or entry[1].version != p.version:
+                entry = (p, p.snapshot(), asm.element_equivalent_loads(p) if p.element_loads else {})
+            self.patterns[id(p)] = entry
+        self.nodal_mass = previous.nodal_mass if same else dict(model.nodal_mass)
 
     def factor(self, pattern):
         """The load factor the model's ``pattern`` was applied with (OpenSees's

@@ -106,7 +106,8 @@ class CommandElementRecorder(Recorder):
     (:func:`~vtsi.commands.responses.opensees_layout`; None: that response's own columns). The
     elements that need the same vtsi response (``deformation`` for a zeroLength's basic
     quantities, also on the velocities) are recorded by one
-    :class:`~vtsi.recorders.ElementRecorder`, whose columns are then rearranged."""
+    :class:`~vtsi.recorders.ElementRecorder`, whose columns are then rearranged. With no
+    ``elements`` (none has the response: OpenSees records no columns) it records none."""
 
     name = "element recorder"
 
@@ -121,16 +122,18 @@ class CommandElementRecorder(Recorder):
                         any(self._layouts[k] is not None and self._layouts[k][2] for k in places))
                        for source, places in by_source.items()]
         super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
+        self._load_lag = Recorder.load_lag
         self._columns = None      # per part: its request columns, and the same with u replaced by v
         self._blocks = None       # per element: (part, first column in its values, width, layout)
         self._slices = None       # the output in slices of successive elements (see requests)
 
     @property
     def load_lag(self):
-        return self._parts[0][0].load_lag
+        return self._load_lag
 
     @load_lag.setter
     def load_lag(self, value):
+        self._load_lag = value
         for part, _places, _rates in self._parts:
             part.load_lag = value
 
@@ -204,7 +207,9 @@ class CommandElementRecorder(Recorder):
                 rate = None if rates[p] is None else rates[p][:, start: start + width * count].reshape(n * count, width)
                 block = apply_layout(layout, block.reshape(n * count, width), rate).reshape(n, -1)
             blocks.append(block)
-        return blocks[0] if len(blocks) == 1 else np.hstack(blocks)
+        if len(blocks) == 1:
+            return blocks[0]
+        return np.hstack(blocks) if blocks else np.empty((n, 0))      # no elements: no columns
 
 
 def command_element_recorder(session, elements, response, **kwargs):
@@ -334,31 +339,38 @@ class RecorderCommands(SessionBase):
             for e in elements:
                 if e not in model._element_owner:
                     raise CommandError(f"{name}: element {e} does not exist")
-            elements = self._answering(name, elements, asked)
-            make = lambda s: command_element_recorder(self, elements, response, sink=s, dt=opts["-dT"],
-                                                       envelope=envelope, history=not envelope)
+            sink = self._recorder_sink(name, opts)      # made before the warning, which names its file
+            elements = self._answering(name, elements, asked, getattr(sink, "path", None))
+            return self._register_recorder(command_element_recorder(self, elements, response, sink=sink,
+                                                                    dt=opts["-dT"], envelope=envelope,
+                                                                    history=not envelope))
         return self._register_recorder(make(self._recorder_sink(name, opts)))
 
-    def _answering(self, name, elements, asked):
+    def _answering(self, name, elements, asked, path):
         """The ``elements`` (tags) that answer the response ``asked``. As in OpenSees, one that has
-        no such response gets no columns (a warning names it); none answering is a CommandError
-        naming the first and the responses it answers."""
+        no such response gets no columns, and a warning (logged: on stderr by default) names it;
+        when none answers, as OpenSees, the record has no columns (the file ``path``, None: in
+        memory, holds no values: a text file only the times with ``-time``, as OpenSees writes
+        it), and the warning names the file and the responses the first element answers."""
         asm = self.domain.build()
         kept, lacking = [], []
         for e in elements:
             etype = asm.blocks[asm.element_location[e][0]][0]
             (kept if asked in accepted_responses(etype, asm.ndf, self._zero_length.get(e)) else lacking).append(e)
-        if not kept:
-            e = elements[0]
-            etype = asm.blocks[asm.element_location[e][0]][0]
-            raise CommandError(f"{name}: element {e} ({etype.name}) has no response {asked!r}; valid: "
-                               f"{', '.join(accepted_responses(etype, asm.ndf, self._zero_length.get(e)))}")
         if lacking:
             which = ", ".join(f"{e} ({asm.blocks[asm.element_location[e][0]][0].name})" for e in lacking)
-            log.warning("%s %s: element%s %s %s no response %r and get%s no columns, as in OpenSees; the record "
-                        "holds those of element%s %s", name, asked, "s" if len(lacking) > 1 else "", which,
-                        "have" if len(lacking) > 1 else "has", asked, "" if len(lacking) > 1 else "s",
-                        "s" if len(kept) > 1 else "", ", ".join(map(str, kept)))
+            many = len(lacking) > 1
+            head = (f"{name} {asked}: element{'s' * many} {which} {'have' if many else 'has'} no response {asked!r} "
+                    f"and get{'' if many else 's'} no columns, as in OpenSees")
+            if kept:
+                log.warning("%s; the record holds those of element%s %s", head, "s" * (len(kept) > 1),
+                            ", ".join(map(str, kept)))
+            else:
+                e = elements[0]
+                valid = accepted_responses(asm.blocks[asm.element_location[e][0]][0], asm.ndf,
+                                           self._zero_length.get(e))
+                log.warning("%s: %s holds no values (element %s answers %s)", head,
+                            path if path is not None else "the record", e, ", ".join(valid))
         return kept
 
     def _register_recorder(self, recorder):

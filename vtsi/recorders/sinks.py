@@ -239,10 +239,12 @@ class HDF5Sink(Sink):
             time = f.create_dataset("time", shape=(0,), maxshape=(None,), chunks=(rows,), dtype="f8")
             time.attrs["units"] = _time_units(layout["run"])
             time.make_scale("time")
-            values = f.create_dataset("values", shape=(0, n), maxshape=(None, n), chunks=(rows, max(n, 1)),
+            # no columns (an Element recorder of elements without the response): HDF5 takes no chunk wider
+            # than a fixed dimension, so the column dimension is left unlimited (it stays 0)
+            values = f.create_dataset("values", shape=(0, n), maxshape=(None, n or None), chunks=(rows, max(n, 1)),
                                       dtype="f8", compression=self.compression,
                                       compression_opts=self.compression_opts)
-            values.attrs["units"] = np.array(layout["units"], dtype=object)
+            values.attrs.create("units", np.array(layout["units"], dtype=object), dtype=h5py.string_dtype())
             values.attrs["quantity"] = layout["quantity"]
             values.dims[0].label = "time"
             values.dims[0].attach_scale(time)
@@ -253,8 +255,11 @@ class HDF5Sink(Sink):
             env = f.create_group("envelope")
             for name in recorder.envelope.fields:       # concurrent_*: (n, n), units per column (axis 1)
                 env.create_dataset(name, data=np.full(getattr(recorder.envelope, name).shape, np.nan))
-                env[name].attrs["units"] = _time_units(layout["run"]) if name.startswith("time") else \
-                    np.array(layout["units"], dtype=object)
+                if name.startswith("time"):
+                    env[name].attrs["units"] = _time_units(layout["run"])
+                else:       # a list of str, also an empty one (no columns), which h5py cannot type by itself
+                    env[name].attrs.create("units", np.array(layout["units"], dtype=object),
+                                           dtype=h5py.string_dtype())
             env.attrs["n_records"] = 0
         runs = f.create_group("runs")
         for name in ("first_row", "rows") + self.RUN_FIELDS + ("time_units",):
@@ -589,7 +594,10 @@ class TextSink(Sink):
     number as C++ ``ostream`` with ``precision`` significant digits (``'%.{p}g'``).
     Envelope-only recorder (``history=False``, OpenSees ``EnvelopeNode``/``EnvelopeElement``):
     three lines, min, max and absmax, written when the run ends (rewritten after each run);
-    with ``time=True`` every value is preceded by the time it occurred (``t v`` pairs).
+    with ``time=True`` every value is preceded by the time it occurred (``t v`` pairs). A line
+    of no numbers is not written, as OpenSees's ``DataFileStream`` writes none: a recorder of no
+    columns (``recorder Element`` of elements without the response) leaves the file empty, or
+    writes the times only (history with ``time=True``).
 
     The file is created, or truncated, when the sink is built (OpenSees truncates when the
     recorder command runs: scripts are re-run in place). Lines are flushed after every chunk;
@@ -635,8 +643,8 @@ class TextSink(Sink):
             self._size = self._handle.seek(0, os.SEEK_END)     # whole lines: what the file holds now
 
     def write(self, times, values, envelope):
-        if values is None:
-            self._last_time = float(times[-1])
+        if values is None or not (self.echo_time or values.shape[1]):   # the envelope's, or rows of no numbers:
+            self._last_time = float(times[-1])                          # no line (OpenSees's DataFileStream::write)
             return
         text = format_g_bytes(values, self.precision, times if self.echo_time else None)
         if LINE_END != b"\n":
@@ -731,8 +739,9 @@ def format_rows(times, values, precision=6):
 
 def format_envelope(envelope, echo_time=False, precision=6):
     """The three lines of OpenSees's envelope recorders (min, max, absmax), empty if nothing
-    was recorded; with ``echo_time`` each value is preceded by its time of occurrence."""
-    if envelope.n_records == 0:
+    was recorded or there are no columns (OpenSees writes no line of no numbers); with
+    ``echo_time`` each value is preceded by its time of occurrence."""
+    if envelope.n_records == 0 or not len(envelope.min):
         return ""
     rows = []
     for name in ("min", "max", "absmax"):
