@@ -431,7 +431,8 @@ def _check_consistency(who, stages, n_slots, dt):
 
 def number(integrator, name, value):
     """``float(value)``, or an AnalysisError naming the integrator and the parameter (a bool is
-    not taken for 1 or 0: ``Newmark(True, True)`` was γ = β = 1)."""
+    not taken for 1 or 0: ``Newmark(True, True)`` was γ = β = 1; nor a text for its number:
+    ``Newmark(beta='0.25')`` ran; :func:`~vtsi.errors.as_number`)."""
     return as_number(value, f"integrator {integrator}", name, AnalysisError)
 
 

@@ -22,6 +22,8 @@ OpenSees ``SRC/analysis/integrator/GeneralizedAlpha.cpp``.
 """
 import numpy as np
 
+from vtsi.errors import AnalysisError
+
 from .base import Stage, check_parameter, number, register
 from .newmark import Newmark
 
@@ -33,7 +35,8 @@ class GeneralizedAlpha(Newmark):
     reads the third and fourth argument as β then γ, and :mod:`vtsi.opensees` follows the parser).
     Defaults: ``ρ∞ = 0.8`` (αM = 2/3, αF = 5/9), γ, β of second order. Refused (AnalysisError
     naming the parameter and its range): αF outside [½, 1], αM outside [αF, 2], γ < ½ + αM − αF,
-    β < γ/2, anything not finite."""
+    β < γ/2, anything not finite, and, as Newmark's γ <= 1 and β <= 1 from its second-order ½ and
+    ¼, γ > 1 + αM − αF and β > (1 + αM − αF)²."""
 
     name = "GeneralizedAlpha"
 
@@ -53,6 +56,18 @@ class GeneralizedAlpha(Newmark):
                "omit gamma and beta for the second-order defaults")
         check_parameter(self.name, "gamma", gamma, 0.5 + d - 1e-12, np.inf, why=why)
         check_parameter(self.name, "beta", beta, 0.5 * gamma - 1e-12, np.inf, why=why)
+        # Newmark's upper ends (gamma <= 1, beta <= 1) from the second-order values: at 20 steps a
+        # period (αM = αF = 1) beta = 1e4 lengthens the period 31 times, 1e8 3142 times (the response
+        # stands still), and gamma = beta = 1e8 too; gamma = beta = 1 (Newmark's ends) takes 37 % of
+        # the amplitude a period
+        for name, value, most, text, why in (
+                ("gamma", gamma, 1.0 + d, "1 + alpha_m - alpha_f, 1/2 above", "damps first-order beyond use"),
+                ("beta", beta, (1.0 + d) ** 2, "(1 + alpha_m - alpha_f)^2, 4 times",
+                 "lengthens the period beyond use")):
+            if value > most:
+                raise AnalysisError(f"integrator {self.name}: {name} = {value:g} is above {text} its second-order "
+                                    f"value ({most:g}, as Newmark's {name} <= 1): a larger one {why} (at 1e8 a step "
+                                    "no longer moves the response)")
         self.gamma, self.beta = gamma, beta      # Newmark's update; its own range of gamma does not apply
         self.explicit = False
 

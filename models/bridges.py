@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vtsi.damping import rayleigh_damping
-from vtsi.errors import ModelError, as_number, is_count
+from vtsi.errors import ModelError, as_number, as_positive, is_count
 
 MAX_ELEMENTS_PER_SPAN = 1000    # a beam's elements per span: finer than any deck needs (dofs, time)
 
@@ -62,6 +62,9 @@ def continuous_beam(model, spans, elements_per_span, E, I, mu, A=1.0, consistent
         raise ModelError(f"continuous_beam: elements_per_span must be an even integer from 2 to "
                          f"{MAX_ELEMENTS_PER_SPAN}, got {elements_per_span!r}")
     n = int(elements_per_span)
+    x0 = as_number(x0, "continuous_beam", "x0 [m]")
+    if not np.isfinite(x0):
+        raise ModelError(f"continuous_beam: x0 must be finite [m], got {x0}")
     xs = [x0]
     for s in spans:
         xs.extend(xs[-1] + s * np.arange(1, n + 1) / n)
@@ -87,5 +90,7 @@ def simply_supported_beam(model, L, n_elements, E, I, mu, **kwargs):
 
 
 def first_frequency(L, E, I, mu):
-    """f₁ = (π/L)² √(EI/μ) / 2π [Hz] of a simply supported Euler-Bernoulli beam."""
+    """f₁ = (π/L)² √(EI/μ) / 2π [Hz] of a simply supported Euler-Bernoulli beam (L [m], E [Pa],
+    I [m⁴], μ [kg/m] > 0 and finite, else a ModelError naming the one at fault)."""
+    L, E, I, mu = (as_positive(value, "first_frequency", name) for name, value in zip("L E I mu".split(), (L, E, I, mu)))
     return (np.pi / L) ** 2 * np.sqrt(E * I / mu) / (2.0 * np.pi)

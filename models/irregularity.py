@@ -22,7 +22,7 @@ import functools
 import numpy as np
 import scipy.interpolate
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_numbers, is_count
 from vtsi.spline import UniformCubic
 
 _GERMAN = {'low': 4.032e-7, 'high': 1.080e-6}  # A_v [m·rad], low / high interference
@@ -34,7 +34,7 @@ WAVELENGTH_BAND = (3.0, 150.0)  # [m] the wavelengths a sample profile holds, sh
 
 
 def _omega(omega, where, allow_zero):
-    omega = np.asarray(omega, dtype=np.float64)
+    omega = as_numbers(omega, where, "omega [rad/m]")
     bad = ~np.isfinite(omega) | (omega < 0 if allow_zero else omega <= 0)
     if np.any(bad):
         raise ModelError(f"{where}: omega must be finite and {'>=' if allow_zero else '>'} 0 [rad/m], "
@@ -91,10 +91,10 @@ def fra_psd(omega, fra_class=6):
     ----------
     Lei (2017), ch. 5.
     """
-    if fra_class not in range(1, 7):
+    if not (is_count(fra_class, 1) and fra_class <= 6):
         raise ModelError(f"fra_psd: unknown fra_class {fra_class!r}; valid: 1, 2, 3, 4, 5, 6")
     w2 = _omega(omega, 'fra_psd', allow_zero=False) ** 2
-    return 1e-4 * _FRA_K * _FRA_AV[fra_class - 1] * _FRA_OMEGA_C ** 2 / (w2 * (w2 + _FRA_OMEGA_C ** 2))
+    return 1e-4 * _FRA_K * _FRA_AV[int(fra_class) - 1] * _FRA_OMEGA_C ** 2 / (w2 * (w2 + _FRA_OMEGA_C ** 2))
 
 
 def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=None):
@@ -130,21 +130,27 @@ def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=No
     ----------
     Shinozuka & Jan (1972).
     """
-    x = np.asarray(x, dtype=np.float64)
-    lam_min, lam_max = (float(v) for v in wavelength_band)
-    if not (np.isfinite(lam_max) and 0 < lam_min < lam_max):
+    x = as_numbers(x, "sample_profile", "x [m]")
+    band = as_numbers(wavelength_band, "sample_profile", "wavelength_band [m]")
+    if band.shape != (2,) or not (np.isfinite(band[1]) and 0 < band[0] < band[1]):
         raise ModelError(f"sample_profile: wavelength_band must be 0 < min < max [m], got {wavelength_band!r}")
+    lam_min, lam_max = band
     if not np.all(np.isfinite(x)):
         raise ModelError("sample_profile: x must be finite")
     w_lo, w_hi = 2 * np.pi / lam_max, 2 * np.pi / lam_min
     if n_waves is None:
         span = x.max() - x.min() if x.size else 0.0
         n_waves = max(1000, int(np.ceil((w_hi - w_lo) * span / (2 * np.pi))))
-    if int(n_waves) != n_waves or n_waves < 1:
+    if not is_count(n_waves, 1):
         raise ModelError(f"sample_profile: n_waves must be a positive integer, got {n_waves!r}")
     d_omega = (w_hi - w_lo) / int(n_waves)
     omega = w_lo + d_omega * (np.arange(int(n_waves)) + 0.5)
-    amplitude = np.sqrt(2.0 * np.asarray(psd(omega), dtype=np.float64) * d_omega)
+    density = as_numbers(psd(omega), "sample_profile", "psd(omega) [m²/(rad/m)]")
+    if density.shape != omega.shape or not np.all(np.isfinite(density) & (density >= 0.0)):
+        bad = density.ravel()[~(np.isfinite(density.ravel()) & (density.ravel() >= 0.0))]
+        raise ModelError(f"sample_profile: psd(omega) must give a finite value >= 0 [m²/(rad/m)] for each of the "
+                         f"{omega.size} omega, got shape {density.shape}" + (f", {bad[0]:g}" if bad.size else ""))
+    amplitude = np.sqrt(2.0 * density * d_omega)
     phase = np.random.default_rng(rng).uniform(0.0, 2.0 * np.pi, omega.size)
     flat = x.ravel()
     r = np.zeros(flat.size)
@@ -180,7 +186,7 @@ class Irregularity:
     """
 
     def __init__(self, x, r, extrapolate=False):
-        x, r = np.asarray(x, dtype=np.float64), np.asarray(r, dtype=np.float64)
+        x, r = as_numbers(x, "Irregularity", "x [m]"), as_numbers(r, "Irregularity", "r [m]")
         if x.ndim != 1 or x.shape != r.shape or x.size < 2:
             raise ModelError(f"Irregularity: x and r must be two 1-d arrays of the same length >= 2, "
                              f"got shapes {x.shape} and {r.shape}")

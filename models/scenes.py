@@ -3,6 +3,10 @@ examples. Every number here is either from a published source or an independent 
 (named beside it and in docs/scenes.md) or our own choice, stated as such.
 """
 
+import math
+
+from vtsi.errors import ModelError, as_number
+
 from .bridges import continuous_beam, simply_supported_beam
 from .cars import four_dof_car, sprung_mass
 from .trains import Train
@@ -38,10 +42,13 @@ def s3_model(model, n_elements=None, speed=None, approach=2.0):
     the B-spline constraint for Δt ≤ 2 ms at 400 km/h, so the dead-load state is exact for it
     too). Returns (bridge, train, x_head0)."""
     p = S3
+    approach = as_number(approach, "s3_model", "approach [m]")
+    if not math.isfinite(approach):
+        raise ModelError(f"s3_model: approach must be finite [m], got {approach}")
     bridge = simply_supported_beam(model, p["L"], n_elements or p["n_elements"], p["E"], p["I"], p["mu"])
     car = four_dof_car(p["m_c"], p["J_c"], p["m_w"], p["k_s"], p["c_s"], p["l_c"])
     train = Train([car], [0.0], p["V"] if speed is None else speed, name="S3 four-dof car")
-    return bridge, train, -float(approach)
+    return bridge, train, -approach
 
 
 def s5_viaduct(model, elements_per_span=20):

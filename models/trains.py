@@ -16,7 +16,7 @@ from importlib import resources
 import numpy as np
 
 from vtsi.codes.en1991_2 import HSLM_B_SPAN_RANGE
-from vtsi.errors import ModelError, is_count
+from vtsi.errors import ModelError, is_count, is_number
 from vtsi.vehicle import Train
 
 from .cars import car_from_catalogue
@@ -173,13 +173,11 @@ def hslm_b_parameters(span):
     (so N grows as L shrinks). Check Figure 6.13 before design use.
     """
     lo, hi = HSLM_B_SPAN_RANGE
-    try:
-        L = float(span)
-    except (TypeError, ValueError):
-        L = float('nan')
+    L = float(span) if is_number(span) else float('nan')
     if not (np.isfinite(L) and lo <= L < hi):
         raise ModelError(f"hslm_b: span L = {span!r} m is outside the range of EN 1991-2 Figure 6.13, "
-                         f"{lo:g} m <= L < {hi:g} m (HSLM-A covers L >= {hi:g} m)")
+                         f"{lo:g} m <= L < {hi:g} m (HSLM-A covers L >= {hi:g} m)"
+                         + ("" if is_number(span) else ": L must be a number"))
     s = (L - lo) / (hi - lo)
     N = int(np.floor(_HSLM_B_N[0] + s * (_HSLM_B_N[1] - _HSLM_B_N[0]) + 0.5))
     d = _HSLM_B_D[0] + s * (_HSLM_B_D[1] - _HSLM_B_D[0])

@@ -418,6 +418,19 @@ def test_yaml_description_equals_toml(tmp_path, beam):
     assert a.bridge.description == b.bridge.description and a.settings == b.settings == {"damping": 0.0125, "dt": 0.01}
 
 
+def test_yaml_reads_exponents_without_a_dot_as_numbers(tmp_path, beam):
+    """YAML 1.2's floats: PyYAML (YAML 1.1) read ``3.5e10`` and ``1e-2`` as texts, refused as not
+    numbers; a quoted one stays a text, refused."""
+    pytest.importorskip("yaml")
+    yaml_text = ("bridge:\n  kind: beam\n  spans_m: [20.0]\n  E_Pa: 35e9\n  I_m4: 1.9\n  mu_kg_m: 15000.0\n"
+                 "  elements_per_span: 4\nanalysis:\n  damping: 125e-4\n  dt_s: 1e-2\n")
+    a = read_bridge_file(write(tmp_path, "b.yaml", yaml_text))
+    b = read_bridge_file(beam("b.toml"))
+    assert a.bridge.description == b.bridge.description and a.settings == b.settings == {"damping": 0.0125, "dt": 0.01}
+    with pytest.raises(ModelError, match="dt must be a number, got '1e-2'"):
+        read_bridge_file(write(tmp_path, "q.yaml", yaml_text.replace("dt_s: 1e-2", 'dt_s: "1e-2"')))
+
+
 def test_script_kind_in_a_description(tmp_path):
     """A description may point at a script (path relative to it) and carry [analysis] defaults."""
     (tmp_path / "models").mkdir()

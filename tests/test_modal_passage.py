@@ -225,7 +225,7 @@ def test_a_bad_passage_input_is_named(call, message):
     ("abc", r"damping ratios must be numbers, got 'abc'"),
     ([0.01, "a", 0.02], r"damping ratios must be numbers"),
     (lambda f: 1.0 / 0.0, r"the damping function failed at 5\.\d+ Hz: ZeroDivisionError"),
-    (lambda f: "x", r"the damping function failed at 5\.\d+ Hz: ValueError"),
+    (lambda f: "x", r"the damping function's ratio at 5\.\d+ Hz must be a number, got 'x'"),
 ], ids=["text", "text-in-list", "function-raises", "function-text"])
 def test_bad_damping_ratios_are_named(zeta, message):
     """A ratio that is not a number, or a damping function that fails, is named (with the

@@ -12,7 +12,7 @@ import scipy.sparse.linalg as spla
 from numba import njit
 
 from vtsi.banded import pad, solve_band
-from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_number, as_positive
+from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_number, as_positive, is_number
 from vtsi.integrators import make_integrator
 from vtsi.model import Model
 from vtsi.recorders.sinks import check_own_files
@@ -157,8 +157,8 @@ def moving_components(labels, loaded, seeds, u, v, a, full_of_free):
 def _integer(who, what, value, low=None):
     """``value`` as an int (>= ``low``), or an AnalysisError naming ``who`` and the value."""
     try:
-        ok = not isinstance(value, (bool, np.bool_, str)) and float(value) == int(value)
-    except (TypeError, ValueError, OverflowError):
+        ok = is_number(value) and float(value) == int(value)
+    except (ValueError, OverflowError):          # NaN, inf
         ok = False
     if not ok or (low is not None and int(value) < low):
         bound = f" >= {low}" if low is not None else ""
@@ -423,13 +423,10 @@ class StaticAnalysis:
         ``dt`` = dλ. AnalysisError if one is not a recorder."""
 
     def __init__(self, model, d_lambda=1.0, recorders=()):
-        try:
-            finite = np.isfinite(float(d_lambda))
-        except (TypeError, ValueError):
-            raise AnalysisError(f"LoadControl: increment must be a number, got {d_lambda!r}") from None
-        if not finite:
+        d_lambda = as_number(d_lambda, "LoadControl", "increment", AnalysisError)
+        if not np.isfinite(d_lambda):
             raise AnalysisError(f"LoadControl: increment must be finite, got {d_lambda}")
-        self.model, self.d_lambda = _model("static analysis", model), float(d_lambda)
+        self.model, self.d_lambda = _model("static analysis", model), d_lambda
         self.recorders = _recorders("static analysis", recorders)
 
     def run(self, n_steps=1):

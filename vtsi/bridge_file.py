@@ -36,6 +36,7 @@ missing reader (tomli, PyYAML, tkinter) and the arguments raise :class:`~vtsi.er
 import hashlib
 import math
 import os
+import re
 import runpy
 import sys
 import traceback
@@ -157,13 +158,26 @@ def _read_table(path, suffix):
                          "bridge as TOML") from None
     try:
         with open(path, encoding="utf-8") as f:
-            data = yaml.safe_load(f)
+            data = yaml.load(f, Loader=_yaml_1_2_floats(yaml))
     except (yaml.YAMLError, UnicodeDecodeError) as exc:
         raise BridgeModelError(f"bridge file {path}: not valid YAML ({' '.join(str(exc).split())})") from None
     if not isinstance(data, dict):
         raise BridgeModelError(f"bridge file {path}: expected a mapping with a 'bridge' table, got "
                                f"{type(data).__name__}")
     return data
+
+
+def _yaml_1_2_floats(yaml):
+    """PyYAML's safe loader that reads YAML 1.2's floats too: PyYAML follows YAML 1.1, whose
+    floats need a dot, so ``dt_s: 1e-3`` and ``E_Pa: 3.5e10`` were texts (refused as not
+    numbers); a quoted ``"1e-3"`` stays a text. ``yaml`` is the PyYAML module."""
+    class Loader(yaml.SafeLoader):
+        pass
+
+    Loader.add_implicit_resolver("tag:yaml.org,2002:float",
+                                 re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+                                 list("-+0123456789."))
+    return Loader
 
 
 def _description(path, suffix, track):

@@ -23,7 +23,7 @@ import numpy as np
 from vtsi.analysis import eigen
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.deck import deck_layout
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, number_array
 from vtsi.model import Model
 from vtsi.track import Track
 
@@ -157,15 +157,17 @@ def rayleigh_coefficients(zeta, f_a, f_b):
 
 def rayleigh_ratio(f, alpha, beta):
     """The damping ratio ζ(f) = α / (4π f) + π β f [-] that C = α M + β K gives a mode of
-    frequency ``f`` [Hz] (> 0; see the module docstring)."""
-    try:
-        f = np.asarray(f, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"rayleigh ratio: frequencies must be numbers [Hz], got {f!r}") from None
+    frequency ``f`` [Hz] (> 0; see the module docstring); ``alpha`` [1/s] and ``beta`` [s] finite
+    and >= 0, as :meth:`vtsi.Model.rayleigh` takes them."""
+    hz = number_array(f)
+    if hz is None:
+        raise ModelError(f"rayleigh ratio: frequencies must be numbers [Hz], got {f!r}")
     alpha, beta = as_number(alpha, "rayleigh ratio", "alpha"), as_number(beta, "rayleigh ratio", "beta")
-    if not np.all(np.isfinite(f) & (f > 0.0)):
-        raise ModelError(f"rayleigh ratio: frequencies must be > 0 and finite [Hz], got {f.tolist()}")
-    return alpha / (4 * np.pi * f) + np.pi * beta * f
+    if not (np.isfinite(alpha) and np.isfinite(beta) and alpha >= 0.0 and beta >= 0.0):
+        raise ModelError(f"rayleigh ratio: alpha [1/s] and beta [s] must be finite and >= 0, got ({alpha:g}, {beta:g})")
+    if not np.all(np.isfinite(hz) & (hz > 0.0)):
+        raise ModelError(f"rayleigh ratio: frequencies must be > 0 and finite [Hz], got {hz.tolist()}")
+    return alpha / (4 * np.pi * hz) + np.pi * beta * hz
 
 
 def decks_cutoff_hz(deck_frequencies_hz):
@@ -174,10 +176,7 @@ def decks_cutoff_hz(deck_frequencies_hz):
     ``deck_frequencies_hz`` (n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (:func:`deck_frequencies`;
     a (3,) row: one deck). Counting every frequency up to the largest is on the safe side for
     each deck (the EN asks at least its own)."""
-    try:
-        rows = np.asarray(deck_frequencies_hz, dtype=float)
-    except (TypeError, ValueError):
-        rows = None
+    rows = number_array(deck_frequencies_hz)
     if rows is None or rows.ndim not in (1, 2) or rows.shape[-1] != 3 or rows.size == 0:
         raise ModelError(f"EN 1990 A2.4.4.2.1: the cut-off of decks needs each deck's n0, n2, n3 [Hz], "
                          f"(n_decks, 3), got {deck_frequencies_hz!r}")

@@ -24,6 +24,10 @@ bridge is built or read (a :class:`ModelError`, like every other definition) and
 like every other refusal of a sweep): ``except ModelError`` and ``except SweepError`` catch what
 they caught before the class existed, and ``except BridgeError`` catches both.
 """
+import numbers
+import reprlib
+from decimal import Decimal
+
 import numpy as np
 
 
@@ -107,15 +111,67 @@ class PassageError(SweepError):
     (``.finished``: those of its task, which the sweep writes)."""
 
 
+class _Short(reprlib.Repr):
+    """The value of a refusal on one line of at most a few dozen characters (an array's items
+    as a list's: numpy's own repr breaks lines)."""
+
+    def repr_ndarray(self, x, level):
+        return f"array({self.repr1(x.tolist(), level)})"
+
+
+_SHORT = _Short()
+_SHORT.maxlist = _SHORT.maxtuple = 8
+_SHORT.maxstring = _SHORT.maxother = 80
+
+
+def is_number(value):
+    """Whether ``value`` is a real number: a Python or numpy int or float, a Fraction or Decimal,
+    or a 0-d numpy array of ints or floats (``np.asarray(2.0)``). Not a bool, nor a text ('60':
+    a value read from a file and not converted; the command layer and the file readers convert
+    their words before they hand them on), nor a complex, nor an array of one item or more."""
+    if isinstance(value, np.ndarray):
+        return value.ndim == 0 and value.dtype.kind in "iuf"
+    return isinstance(value, (numbers.Real, Decimal)) and not isinstance(value, bool)
+
+
 def as_number(value, where, name, error=ModelError):
-    """``value`` as a float, or ``error`` naming ``where``, ``name`` and the value given (a bool
-    is not taken for 1 or 0)."""
+    """``value`` as a float if it is a number (:func:`is_number`: not a bool, not a text), else
+    ``error`` naming ``where``, ``name`` and the value given."""
+    if not is_number(value):
+        raise error(f"{where}: {name} must be a number, got {_SHORT.repr(value)}")
     try:
-        if isinstance(value, (bool, np.bool_)):
-            raise TypeError
         return float(value)
-    except (TypeError, ValueError):
-        raise error(f"{where}: {name} must be a number, got {value!r}") from None
+    except OverflowError:            # an int beyond a float's range (1e308)
+        raise error(f"{where}: {name} must be a number within a float's range (1e308), got an integer of "
+                    f"{len(str(abs(int(value))))} digits") from None
+
+
+def number_array(value):
+    """``value`` (a number, or a sequence or array of them, any shape) as a new C-contiguous
+    float64 array if every item is a number as :func:`is_number` has it, else None (a bool or a
+    text item, ``['0.02']`` as ``'0.02'``, a ragged nesting, an int beyond a float's range).
+    Finiteness and shape are the caller's to check; :func:`as_numbers` words the refusal."""
+    if isinstance(value, (str, bytes)):
+        return None
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):          # a ragged nesting; an object numpy cannot hold
+        return None
+    if not (array.dtype.kind in "iuf" or (array.dtype.kind == "O" and all(is_number(item) for item in array.flat))):
+        return None
+    try:
+        return np.array(array, dtype=np.float64, order="C")
+    except OverflowError:                    # an int beyond a float's range (1e308)
+        return None
+
+
+def as_numbers(value, where, name, error=ModelError):
+    """:func:`number_array` of ``value``, or ``error`` naming ``where``, ``name`` and the value given
+    (a long one shortened with '...': its first items)."""
+    array = number_array(value)
+    if array is None:
+        raise error(f"{where}: {name} must be numbers, got {_SHORT.repr(value)}")
+    return array
 
 
 def as_positive(value, where, name, error=ModelError, *, finite=True, allow_zero=False):

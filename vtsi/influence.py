@@ -37,7 +37,7 @@ import numpy as np
 import scipy.sparse.linalg as spla
 from scipy.optimize import brentq
 
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, as_numbers, is_int
 from vtsi.recorders.moment import fixed_end_moments, moment_rows
 from vtsi.track import Track
 
@@ -87,10 +87,8 @@ class InfluenceLines:
         self.track = track
         self._fixed = None                     # the moments' fixed-end share (FixedEndMoments)
         if moments is not None:
-            try:
-                nodes = [int(n) for n in moments]
-            except (TypeError, ValueError):
-                nodes = []
+            items = list(moments) if np.iterable(moments) and not isinstance(moments, (str, bytes)) else []
+            nodes = [int(n) for n in items] if all(is_int(n) for n in items) else []
             if not nodes:
                 raise ModelError(f"influence lines: moments must be a non-empty list of node tags, got {moments!r}")
             functionals = moment_rows(asm, track, nodes)
@@ -280,11 +278,9 @@ def _classification_factor(alpha, model):
 
 
 def _finite_array(what, values):
-    """``values`` as a float array (at least 1-D), or a ModelError naming ``what`` and the values."""
-    try:
-        values = np.atleast_1d(np.asarray(values, dtype=float))
-    except (TypeError, ValueError):
-        raise ModelError(f"influence lines: {what} must be numbers, got {values!r}") from None
+    """``values`` as a float array (at least 1-D), or a ModelError naming ``what`` and the values
+    (a text or a bool among them too: :func:`~vtsi.errors.as_numbers`)."""
+    values = np.atleast_1d(as_numbers(values, "influence lines", what))
     if not np.all(np.isfinite(values)):
         raise ModelError(f"influence lines: {what} must be finite, got {values.tolist()}")
     return values

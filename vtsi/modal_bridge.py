@@ -31,7 +31,8 @@ import scipy.sparse as sp
 from vtsi.analysis import eigen, modes_up_to
 from vtsi.banded import inverse_columns, ldl_band
 from vtsi.damping import bridge_frequencies
-from vtsi.errors import AnalysisError, BridgeModelError, ModelError, as_positive, is_count
+from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, as_number, as_numbers, as_positive, is_count,
+                         is_int)
 from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
 from vtsi.subdomain import BridgeStages, factor
 from vtsi.track import Track
@@ -164,9 +165,7 @@ class ModalBridge:
         elif callable(zeta):
             ratios = np.array([_ratio_of(zeta, fi) for fi in self.frequencies])
         else:
-            if np.asarray(zeta).dtype == bool:
-                raise ModelError(f"modal bridge: damping ratios must be numbers, got {zeta!r}")
-            ratios = _float_array(zeta, "damping ratios")
+            ratios = as_numbers(zeta, "modal bridge", "damping ratios")
             ratios = np.broadcast_to(ratios, (n,)).copy() if ratios.ndim == 0 else ratios
         if ratios.shape != (n,) or not np.all((ratios >= 0) & np.isfinite(ratios)):
             given = "a function giving " + str(ratios.tolist()) if callable(zeta) else np.asarray(zeta).tolist()
@@ -199,7 +198,7 @@ class ModalBridge:
     def add_ratios(self, ratios):
         """Add damping ratios [-] to the lowest ``len(ratios)`` modes (OpenSees ``modalDamping``
         on top of the model's own damping)."""
-        ratios = _float_array(ratios, "added ratios")
+        ratios = as_numbers(ratios, "modal bridge", "added ratios")
         if ratios.ndim != 1 or len(ratios) > self.n_modes or not np.all((ratios >= 0) & np.isfinite(ratios)):
             raise ModelError(f"modal bridge: added ratios must be finite, >= 0 and at most one per mode "
                              f"({self.n_modes}), got {ratios.tolist()}")
@@ -233,7 +232,7 @@ class ModalBridge:
         if track is None:
             raise ModelError("modal bridge: a residual flexibility needs the bridge's track "
                              "(ModalBridge(model, track, ...))")
-        output_map = _float_array(output_map, "output map")
+        output_map = as_numbers(output_map, "modal bridge", "output map")
         if output_map.ndim != 2 or output_map.shape[0] != asm.n_free:
             raise ModelError(f"modal bridge: the output map must be (n_free = {asm.n_free}, n_columns), "
                              f"got {output_map.shape}")
@@ -245,7 +244,7 @@ class ModalBridge:
         """The truncated modes' quasi-static part (n_samples, n_columns) of the outputs of
         :meth:`residual_flexibility` ``G`` in a passage (arguments as :meth:`passage`)."""
         x0, loads, speed, n_samples, dt = self._axles(offsets, loads, speed, x_head0, n_samples, dt)
-        G = _float_array(G, "residual flexibility G")
+        G = as_numbers(G, "modal bridge", "residual flexibility G")
         if G.ndim != 2 or G.shape[0] != self.track.n_track:
             raise ModelError(f"modal bridge: the residual flexibility G must be (n_track = {self.track.n_track}, "
                              f"n_columns), got {G.shape}")
@@ -262,7 +261,7 @@ class ModalBridge:
         (``rows (3, n_modes, n_columns)``: a node response is its row of Φ on q, q̇ or q̈)."""
         x0, loads, speed, n_samples, dt = self._axles(offsets, loads, speed, x_head0, n_samples, dt)
         self.check_underdamped()
-        rows = _float_array(rows, "passage rows")
+        rows = as_numbers(rows, "modal bridge", "passage rows")
         if rows.ndim != 3 or rows.shape[:2] != (3, self.n_modes):
             raise ModelError(f"modal bridge: passage rows must be (3, {self.n_modes}, n_columns), got {rows.shape}")
         out = np.zeros((n_samples, rows.shape[2]))
@@ -275,7 +274,8 @@ class ModalBridge:
         axles' positions at t = 0 [m] (decreasing), contiguous."""
         if self.track is None:
             raise ModelError("modal bridge: a passage needs the bridge's track (ModalBridge(model, track, ...))")
-        offsets, loads = _float_array(offsets, "axle offsets"), _float_array(loads, "axle loads")
+        offsets = as_numbers(offsets, "modal bridge", "axle offsets")
+        loads = as_numbers(loads, "modal bridge", "axle loads")
         if offsets.ndim != 1 or loads.shape != offsets.shape or offsets.size == 0:
             raise ModelError(f"modal bridge: a passage needs as many axle loads as axle offsets (1-D, at least one), "
                              f"got {loads.shape} loads and {offsets.shape} offsets")
@@ -285,14 +285,13 @@ class ModalBridge:
         if bad >= 0:
             raise ModelError(f"modal bridge: axle {bad}: offset {offsets[bad]} m is ahead of axle {bad - 1}'s "
                              f"{offsets[bad - 1]} m; offsets behind the head increase (the train's order)")
-        for name, value in (("speed", speed), ("dt", dt)):
-            if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value) and value > 0):
-                raise ModelError(f"modal bridge: passage {name} must be > 0 and finite, got {value!r}")
-        if not (isinstance(x_head0, (int, float, np.floating, np.integer)) and math.isfinite(x_head0)):
+        speed = as_positive(speed, "modal bridge", "passage speed")
+        dt = as_positive(dt, "modal bridge", "passage dt")
+        if not math.isfinite(as_number(x_head0, "modal bridge", "passage x_head0 [m]")):
             raise ModelError(f"modal bridge: passage x_head0 must be a finite position [m], got {x_head0!r}")
-        if not (isinstance(n_samples, (int, np.integer)) and n_samples >= 0):
+        if not (is_int(n_samples) and n_samples >= 0):
             raise ModelError(f"modal bridge: passage n_samples must be an integer >= 0, got {n_samples!r}")
-        return float(x_head0) - offsets, loads, float(speed), int(n_samples), float(dt)
+        return float(x_head0) - offsets, loads, speed, int(n_samples), dt
 
     def coordinates(self, offsets, loads, speed, x_head0, n_samples, dt):
         """``(q, q̇, q̈)`` of a passage (arguments as :meth:`passage`), each (n_samples, n_modes)."""
@@ -377,22 +376,15 @@ class ModalStages(BridgeStages):
         return out @ self._post
 
 
-def _float_array(value, what):
-    """``value`` as a float array (C-contiguous), or a ModelError naming ``what``."""
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"modal bridge: {what} must be numbers, got {value!r}") from None
-    return array if array.flags.c_contiguous else np.ascontiguousarray(array)
-
-
 def _ratio_of(zeta, f):
-    """The damping ratio the user's function ``zeta`` gives at ``f`` [Hz]."""
+    """The damping ratio the user's function ``zeta`` gives at ``f`` [Hz] (a number: a text or
+    a bool it returns is refused, naming the frequency)."""
     try:
-        return float(zeta(f))
+        ratio = zeta(f)
     except Exception as exc:       # the user's function: its failure named, with the frequency
         raise ModelError(f"modal bridge: the damping function failed at {f:.6g} Hz: "
                          f"{type(exc).__name__}: {exc}") from None
+    return as_number(ratio, "modal bridge", f"the damping function's ratio at {f:.6g} Hz")
 
 
 def _positive_hz(value):

@@ -41,7 +41,8 @@ from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
 from vtsi.damping import decks_cutoff_hz, deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
-from vtsi.errors import AnalysisError, BridgeModelError, ModelError, SettingError, VtsiError, as_flag, as_positive
+from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, SettingError, VtsiError, as_flag, as_number,
+                         as_numbers, as_positive, is_int, is_number, number_array)
 from vtsi.influence import InfluenceLines, StaticEnvelopes
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import peaks
@@ -150,15 +151,17 @@ class Output:
                 raise ModelError(f"output {self.name!r}: nodes must be {', '.join(repr(p) for p in PLACES)} or node "
                                  f"tags, got {self.nodes!r}")
         else:
-            object.__setattr__(self, "nodes", tuple(int(n) for n in self.nodes))
+            tags = list(self.nodes) if np.iterable(self.nodes) else [self.nodes]
+            if not all(is_int(n) for n in tags):
+                raise ModelError(f"output {self.name!r}: nodes must be {', '.join(repr(p) for p in PLACES)} or node "
+                                 f"tags, got {self.nodes!r}")
+            object.__setattr__(self, "nodes", tuple(int(n) for n in tags))
+        as_flag(self.history, f"output {self.name!r}", "history")
         if self.cutoff is not None:
             if self.response not in NODE_RESPONSES:
                 raise ModelError(f"output {self.name!r}: a cut-off applies to node responses, not {self.response!r}")
             if self.cutoff != "en":
-                try:
-                    value = float(self.cutoff)
-                except (TypeError, ValueError):
-                    value = float("nan")
+                value = float(self.cutoff) if is_number(self.cutoff) else math.nan
                 if not (math.isfinite(value) and value > 0):
                     raise ModelError(f"output {self.name!r}: cutoff must be 'en' or a frequency > 0 [Hz], "
                                      f"got {self.cutoff!r}")
@@ -271,10 +274,8 @@ class PassageSettings:
             raise ModelError(f"sweep settings: damping {self.damping:g} is {100 * self.damping:g} % of critical, above "
                              f"the {100 * MAX_BRIDGE_DAMPING:g} % any bridge has: it is a ratio (0.01 for 1 %)")
         if self.damping_hz is not None:
-            try:
-                pair = tuple(float(f) for f in self.damping_hz)
-            except (TypeError, ValueError):
-                pair = ()
+            hz = number_array(self.damping_hz)
+            pair = () if hz is None or hz.ndim != 1 else tuple(hz.tolist())
             if len(pair) != 2 or not all(math.isfinite(f) and f > 0 for f in pair) or pair[0] == pair[1]:
                 raise ModelError(f"sweep settings: damping_hz must be two different frequencies > 0 [Hz], "
                                  f"got {self.damping_hz!r}")
@@ -321,6 +322,21 @@ class PassageSettings:
 
 
 
+def _modal_damping(pairs):
+    """``pairs`` ((frequency [Hz], ratio [-]), ...) as a tuple of float pairs, each frequency > 0
+    and ratio >= 0, finite; else a ModelError naming the pair at fault."""
+    rows = as_numbers(pairs, "sweep", "modal damping (frequency [Hz], ratio) pairs")
+    if rows.size == 0:
+        return ()
+    if rows.ndim != 2 or rows.shape[1] != 2:
+        raise ModelError(f"sweep: modal damping must be (frequency [Hz], ratio) pairs, got {pairs!r}")
+    for f, zeta in rows:
+        if not (math.isfinite(f) and f > 0.0 and math.isfinite(zeta) and zeta >= 0.0):
+            raise ModelError(f"sweep: modal damping ({f:g} Hz, {zeta:g}): the frequency must be > 0 and the ratio "
+                             ">= 0, both finite")
+    return tuple((float(f), float(zeta)) for f, zeta in rows)
+
+
 def _ratios_by_frequency(frequencies, modal_damping):
     """The ratios (n,) that ``modal_damping`` ((frequency [Hz], ratio), ...) gives the modes of
     ``frequencies`` (n,) [Hz]: each pair's ratio to the modes within 1e-6 of its frequency (0
@@ -339,11 +355,15 @@ def contact_force_mean(forces, dt, window=CONTACT_FORCE_WINDOW):
     Where the rail kinks (rigid ground next to a span) the exact force holds an impulse, which a
     step shows as impulse/Δt, and Newmark's rows ring at period 2Δt after it: the raw minimum of
     an ICE3 over a 20 m span went from ΔQ/Q = 0.11 to 0.79 as Δt fell from 2 to 0.25 ms
-    ('bspline' rows), to 2.3 with exact events; the mean stays at 0.07–0.08."""
+    ('bspline' rows), to 2.3 with exact events; the mean stays at 0.07–0.08. ``dt`` and ``window``
+    finite and > 0, else a ModelError naming them."""
+    dt = as_positive(dt, "contact force mean", "dt [s]")
+    window = as_positive(window, "contact force mean", "window [s]")
     m = max(1, int(math.floor(0.5 * window / dt + 0.5)))
     weights = np.ones(2 * m + 1)
     weights[[0, -1]] = 0.5
-    return convolve1d(np.asarray(forces, dtype=float), weights / (2 * m), axis=0, mode="nearest")
+    forces = as_numbers(forces, "contact force mean", "forces [N]")
+    return convolve1d(forces, weights / (2 * m), axis=0, mode="nearest")
 
 
 def en_cutoff_hz(bridge):
@@ -410,8 +430,9 @@ def resolves(dt, frequency_hz):
 
 
 def dt_resolving(frequency_hz):
-    """DEFAULT_DT [s], or finer for STEPS_PER_CUTOFF_PERIOD steps a period of ``frequency_hz``,
-    rounded down to 1, 2, 2.5 or 5 × 10^k s."""
+    """DEFAULT_DT [s], or finer for STEPS_PER_CUTOFF_PERIOD steps a period of ``frequency_hz``
+    (finite and > 0, else a ModelError), rounded down to 1, 2, 2.5 or 5 × 10^k s."""
+    frequency_hz = as_positive(frequency_hz, "time step", "frequency [Hz]")
     dt = min(DEFAULT_DT, 1.0 / (STEPS_PER_CUTOFF_PERIOD * frequency_hz))
     decade = 10.0 ** math.floor(math.log10(dt))
     return max(m for m in (1.0, 2.0, 2.5, 5.0) if m * decade <= dt * (1 + 1e-12)) * decade
@@ -546,6 +567,9 @@ class PassageRunner:
     """
 
     def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=(), top_speed_kmh=None):
+        if top_speed_kmh is not None:
+            top_speed_kmh = as_positive(top_speed_kmh, "sweep", "top speed [km/h]")
+        modal_damping = _modal_damping(modal_damping)
         self.model = copy.deepcopy(model)
         outputs = tuple(outputs)
         names = [o.name for o in outputs]
@@ -785,8 +809,11 @@ class PassageRunner:
         replaces the runner's (e.g. histories of a governing case)."""
         clock = time.perf_counter()
         s = self.settings
+        speed_kmh = as_number(speed_kmh, "sweep", "speed [km/h]")
         if not (math.isfinite(speed_kmh) and speed_kmh > 0):
             raise ModelError(f"sweep: speed must be > 0 km/h, got {speed_kmh}")
+        if not is_int(seed):
+            raise ModelError(f"sweep: a seed is an integer (-1: a smooth rail), got {seed!r}")
         train = self.train(train_name, speed_kmh / 3.6)
         if s.bridge == "modal" and train.n_dof == 0 and not s.bridge_self_weight:
             return self._modal_passage(train_name, train, float(speed_kmh), int(seed),

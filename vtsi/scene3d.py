@@ -42,7 +42,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from vtsi.check import stored_check
-from vtsi.errors import ModelError, SweepError, as_number
+from vtsi.errors import ModelError, SweepError, as_number, is_number, number_array
 from vtsi.sweep_results import SweepResults, case_key, deck_first_frequencies, deck_ranges
 
 logger = logging.getLogger(__name__)
@@ -189,10 +189,9 @@ def _pyvista():
 
 
 def _vector(name, value, size=None, min_size=0, of=""):
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ModelError(f"{name}: not an array of numbers ({exc}): {reprlib.repr(value)}") from None
+    a = number_array(value)
+    if a is None:
+        raise ModelError(f"{name}: not an array of numbers: {reprlib.repr(value)}")
     if a.ndim != 1:
         raise ModelError(f"{name}: expected a 1-D array, got shape {a.shape}")
     if size is not None and a.size != size:
@@ -206,10 +205,9 @@ def _vector(name, value, size=None, min_size=0, of=""):
 
 def _array(name, value, shape):
     """A float array of ``shape`` (None entries: any size)."""
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ModelError(f"{name}: not an array of numbers ({exc})") from None
+    a = number_array(value)
+    if a is None:
+        raise ModelError(f"{name}: not an array of numbers: {reprlib.repr(value)}")
     want = "(" + ", ".join("any" if s is None else str(s) for s in shape) + ")"
     if a.ndim != len(shape) or any(s is not None and s != n for s, n in zip(shape, a.shape)):
         raise ModelError(f"{name}: expected shape {want}, got {a.shape}")
@@ -219,12 +217,7 @@ def _array(name, value, shape):
 
 
 def _positive(name, value):
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a positive number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{name}: expected a positive number, got {value!r}") from None
+    v = float(value) if is_number(value) else math.nan
     if not (math.isfinite(v) and v > 0):
         raise ModelError(f"{name}: expected a positive number, got {value!r}")
     return v
@@ -517,10 +510,9 @@ class PassageScene:
         wx = _vector("wheel_x", wheel_x)
         cb = None if car_bounds is None else _array("car_bounds", car_bounds, (None, 2))
         if time is not None:
-            try:
-                time = float(time)
-            except (TypeError, ValueError):
-                raise ModelError(f"time: expected a number [s], got {time!r}") from None
+            if not is_number(time):
+                raise ModelError(f"time: expected a number [s], got {time!r}")
+            time = float(time)
             if not math.isfinite(time):
                 raise ModelError(f"time: expected a finite number [s], got {time!r}")
         return _Frame(uy, wx, cb, time)

@@ -22,7 +22,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-from vtsi.errors import ModelError, as_number, is_count
+from vtsi.errors import ModelError, as_number, as_numbers, as_positive, is_count, is_number, number_array
 from vtsi.signature import principal_wavelength
 
 GRAVITY = 9.81
@@ -107,12 +107,12 @@ class Car:
 
     def __post_init__(self):
         set_ = object.__setattr__
+        where = f"car {self.name!r}"
         for attr in ('M', 'C', 'K', 'gravity_load', 'wheel_offsets'):
-            set_(self, attr, _frozen(getattr(self, attr), np.float64))
+            set_(self, attr, _frozen(as_numbers(getattr(self, attr), where, attr), np.float64))
         set_(self, 'wheel_dofs', _frozen(self.wheel_dofs, np.int64))
         set_(self, 'dof_names', tuple(self.dof_names))
         n = len(self.dof_names)
-        where = f"car {self.name!r}"
         for attr in ('M', 'C', 'K'):
             a = getattr(self, attr)
             if a.shape != (n, n) or not np.all(np.isfinite(a)):
@@ -128,7 +128,7 @@ class Car:
         if n == 0:
             if self.wheel_dofs.size or self.static_wheel_loads is None:
                 raise ModelError(f"{where}: a force-only car (no dofs) needs static_wheel_loads and no wheel_dofs")
-            loads = _frozen(self.static_wheel_loads, np.float64)
+            loads = _frozen(as_numbers(self.static_wheel_loads, where, 'static_wheel_loads'), np.float64)
         else:
             wd = self.wheel_dofs
             if (wd.shape != self.wheel_offsets.shape or np.unique(wd).size != wd.size
@@ -290,11 +290,11 @@ class Train:
         self.cars = tuple(cars)
         self.name = str(name)
         where = f"train {self.name!r}"
-        try:
-            self.car_offsets = _frozen(car_offsets, np.float64)
-        except (TypeError, ValueError):
-            raise ModelError(f"{where}: car_offsets must be numbers [m], got {car_offsets!r}") from None
-        self.max_speed = float(max_speed)
+        offsets = number_array(car_offsets)
+        if offsets is None:
+            raise ModelError(f"{where}: car_offsets must be numbers [m], got {car_offsets!r}")
+        self.car_offsets = _frozen(offsets, np.float64)
+        self.max_speed = as_positive(max_speed, where, "max_speed")
         self.speed = _speed(speed, where, self.max_speed)
         length = _check_characteristic_length(characteristic_length, where)
         if not self.cars or not all(isinstance(car, Car) for car in self.cars):
@@ -493,8 +493,8 @@ def _read_text(path):
 
 
 def _check_axle_table(positions, loads, labels, where, load_unit='N'):
-    positions = np.asarray(positions, dtype=np.float64)
-    loads = np.asarray(loads, dtype=np.float64)
+    positions = as_numbers(positions, where, "positions [m]")
+    loads = as_numbers(loads, where, f"loads [{load_unit}]")
     if positions.ndim != 1 or positions.shape != loads.shape or positions.size == 0:
         raise ModelError(f"{where}: positions and loads must be 1-d arrays of equal, non-zero length, "
                          f"got shapes {positions.shape} and {loads.shape}")
@@ -541,11 +541,8 @@ def _check_characteristic_length(value, where):
     """D [m] as a float, None, or SIGNATURE; else a ModelError naming ``where`` and the value."""
     if value is None or (isinstance(value, str) and value == SIGNATURE):
         return value
-    try:
-        D = float(value)
-    except (TypeError, ValueError):
-        D = float('nan')
-    if isinstance(value, bool) or not (np.isfinite(D) and D > 0):
+    D = float(value) if is_number(value) else float('nan')
+    if not (np.isfinite(D) and D > 0):
         raise ModelError(f"{where}: characteristic_length must be a finite length > 0 [m], "
                          f"'{SIGNATURE}' (from the train's dynamic signature) or None, got {value!r}")
     return D

@@ -5,17 +5,15 @@ Units: frequencies [Hz], accelerations [m/s²].
 """
 import numpy as np
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, number_array
 
 
 def acceleration_cutoff_hz(frequencies):
     """A2.4.4.2.1(4)P: deck accelerations count frequencies up to the largest of 30 Hz, 1.5 n₀
     and n₃ [Hz], from the bridge's first vertical frequencies (n₀ first; n₃ the third: the
     first three modes count, so fewer than three given is refused)."""
-    try:
-        f = np.asarray(frequencies, dtype=float).ravel()
-    except (TypeError, ValueError):
-        f = None
+    f = number_array(frequencies)
+    f = None if f is None else f.ravel()
     if f is None or f.size < 3 or not np.all(np.isfinite(f) & (f > 0)) or np.any(np.diff(f) < 0):
         raise ModelError(f"EN 1990 A2.4.4.2.1: the cut-off needs the first three vertical frequencies > 0 [Hz], "
                          f"in increasing order (n0 first), got {frequencies!r}")

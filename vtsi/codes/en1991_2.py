@@ -5,7 +5,7 @@ Units: spans L [m]; damping ratios as fractions (0.01 for 1 %), not percent.
 """
 import numpy as np
 
-from vtsi.errors import ModelError, as_number, as_positive
+from vtsi.errors import ModelError, as_number, as_numbers, as_positive
 
 # Table 6.6, lower limits of the damping ratio ζ [%] for span L [m]: (value for L >= 20 m, slope
 # per metre below 20 m).
@@ -25,7 +25,7 @@ def hslm_b_refusal(decks):
     span of L_min <= L < L_max (:data:`HSLM_B_SPAN_RANGE`) with HSLM-B, its N and d from that L
     (Figure 6.13), and a continuous deck with HSLM-A1 to A10. A bridge takes HSLM-B when every
     deck is one span and all are of one length in that range (each deck then takes that L's)."""
-    decks = [[float(L) for L in np.atleast_1d(spans)] for spans in decks]
+    decks = [as_numbers(spans, "EN 1991-2 6.4.6.1.1", "a deck's spans [m]").ravel().tolist() for spans in decks]
     lo, hi = HSLM_B_SPAN_RANGE
     rule = (f"HSLM-B loads simply supported spans of {lo:g} m <= L < {hi:g} m only, each with the N and d of its "
             "L (EN 1991-2 6.4.6.1.1, Table 6.4)")

@@ -56,7 +56,7 @@ from scipy.sparse.linalg import spsolve
 
 from vtsi.analysis import component_labels, dofs_with
 from vtsi.constraint import MovingLoadConstraint
-from vtsi.errors import AnalysisError, ModelError
+from vtsi.errors import AnalysisError, ModelError, as_number, as_numbers, as_positive
 from vtsi.track import hermite, hermite_curvature, hermite_slope, host_element
 from vtsi.train import TrainSubdomain
 from vtsi.vehicle import GRAVITY
@@ -399,6 +399,7 @@ class CoupledSystem:
     """
 
     def __init__(self, model, constraint, bridge_self_weight=False, gravity=GRAVITY, irregularity_breaks=()):
+        gravity = as_positive(gravity, "reference solver", "gravity [m/s²]", AnalysisError, allow_zero=True)
         if model is None:
             if not isinstance(constraint, RigidGround):
                 raise ModelError("reference solver: model=None (rigid ground) needs a RigidGround constraint")
@@ -422,7 +423,7 @@ class CoupledSystem:
                 # u_b = u_sw + ũ_b with K u_sw = P_sw, and ũ_b obeys the equations without P_sw
                 ones_y = np.zeros(asm.n_full)
                 ones_y[1::asm.ndf] = 1.0
-                p_sw = -float(gravity) * (asm.M_full @ ones_y)[asm.full_of_free]
+                p_sw = -gravity * (asm.M_full @ ones_y)[asm.full_of_free]
                 self.sag = spsolve(K_b.tocsc(), p_sw)
             patterns = [(p, asm.load_vector(p)) for p in model.patterns.values()]
             self.keep = active_bridge_dofs(M_b, C_b, K_b, constraint.track.free_index,
@@ -675,12 +676,12 @@ class Phase:
 
 
 def _check_times(t_end, t_eval):
-    t_end = float(t_end)
+    t_end = as_number(t_end, "reference solver", "t_end [s]", AnalysisError)
     if not (np.isfinite(t_end) and t_end > 0):
         raise AnalysisError(f"reference solver: t_end must be > 0, got {t_end}")
     if t_eval is None:
         t_eval = np.linspace(0.0, t_end, int(round(t_end / 1e-3)) + 1)
-    t_eval = np.asarray(t_eval, dtype=float).ravel()
+    t_eval = as_numbers(t_eval, "reference solver", "t_eval [s]", AnalysisError).ravel()
     if t_eval.size == 0 or np.any(np.diff(t_eval) <= 0) or t_eval[0] < 0 or t_eval[-1] > t_end * (1 + 1e-12):
         raise AnalysisError("reference solver: t_eval must be increasing, within [0, t_end]")
     return t_end, np.minimum(t_eval, t_end)

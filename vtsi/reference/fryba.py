@@ -30,24 +30,38 @@ import math
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, as_numbers, as_positive, is_count
 
 __all__ = ["moving_force_midspan", "daf", "first_frequency", "speed_of_alpha", "static_midspan"]
 
 
 def first_frequency(L, EI, mu):
-    """First bending frequency ``f_1 = (π/L)² √(EI/mu) / (2π)`` [Hz]."""
+    """First bending frequency ``f_1 = (π/L)² √(EI/mu) / (2π)`` [Hz] (``L``, ``EI``, ``mu`` > 0 and
+    finite, else a ModelError naming the one at fault)."""
+    L, EI, mu = _positive("first_frequency", L=L, EI=EI, mu=mu)
     return (math.pi / L) ** 2 * math.sqrt(EI / mu) / (2.0 * math.pi)
 
 
 def speed_of_alpha(alpha, L, EI, mu):
-    """Speed [m/s] of the dimensionless speed ``α = V / (2 f_1 L)``."""
+    """Speed [m/s] of the dimensionless speed ``α = V / (2 f_1 L)`` (all > 0 and finite)."""
+    (alpha,) = _positive("speed_of_alpha", alpha=alpha)
     return 2.0 * alpha * first_frequency(L, EI, mu) * L
 
 
 def static_midspan(P, L, EI):
-    """Static midspan deflection ``P L³ / (48 EI)`` of a force at midspan [m]."""
+    """Static midspan deflection ``P L³ / (48 EI)`` of a force at midspan [m] (``P`` finite,
+    ``L``, ``EI`` > 0 and finite)."""
+    P = as_number(P, "static_midspan", "P")
+    L, EI = _positive("static_midspan", L=L, EI=EI)
+    if not math.isfinite(P):
+        raise ModelError(f"static_midspan: P must be finite, got {P}")
     return P * L ** 3 / (48.0 * EI)
+
+
+def _positive(where, **values):
+    """The ``values`` (by name) as floats > 0 and finite, or a ModelError naming ``where``, the
+    first at fault and its value."""
+    return [as_positive(value, where, name) for name, value in values.items()]
 
 
 def _forced_from_rest(F, omega, Omega, zeta, t):
@@ -63,8 +77,6 @@ def _forced_from_rest(F, omega, Omega, zeta, t):
         q = F / s * (np.sin(omega * t) / omega - 2.0 * np.cos(0.5 * s * t) * half)
         qd = F * Omega / s * 2.0 * np.sin(0.5 * s * t) * half
         return q, qd
-    if not 0.0 < zeta < 1.0:
-        raise ModelError(f"moving force: damping ratio must be in [0, 1), got {zeta!r}")
     d = (omega ** 2 - Omega ** 2) ** 2 + (2.0 * zeta * omega * Omega) ** 2
     a = F * (omega ** 2 - Omega ** 2) / d          # particular: a sin Ωt + b cos Ωt
     b = -F * 2.0 * zeta * omega * Omega / d
@@ -85,6 +97,14 @@ def _free(q0, qd0, omega, zeta, tau):
     return np.exp(-zeta * omega * tau) * (q0 * np.cos(wd * tau) + (qd0 + zeta * omega * q0) / wd * np.sin(wd * tau))
 
 
+def _damping_ratio(zeta):
+    """``zeta`` as a float in [0, 1), or a ModelError naming the value."""
+    zeta = as_number(zeta, "moving force", "damping ratio")
+    if not 0.0 <= zeta < 1.0:
+        raise ModelError(f"moving force: damping ratio must be in [0, 1), got {zeta!r}")
+    return zeta
+
+
 def moving_force_midspan(P, V, L, EI, mu, t, n_modes=101, zeta=0.0):
     """Midspan deflection ``w(L/2, t)`` [m], positive downward, of the simply supported beam
     under the force ``P`` [N] (positive downward) entering at ``t = 0`` with speed ``V`` [m/s].
@@ -92,18 +112,30 @@ def moving_force_midspan(P, V, L, EI, mu, t, n_modes=101, zeta=0.0):
     Parameters
     ----------
     P, V, L, EI, mu : force [N], speed [m/s], span [m], bending stiffness [N·m²], mass per
-        length [kg/m].
-    t : array of times [s] (any shape); ``w = 0`` for ``t <= 0``; free vibration after ``L/V``.
-    n_modes : modes 1..n_modes are summed (the even ones vanish at midspan).
+        length [kg/m]; finite, all but P > 0.
+    t : array of finite times [s] (any shape); ``w = 0`` for ``t <= 0``; free vibration after ``L/V``.
+    n_modes : modes 1..n_modes are summed (the even ones vanish at midspan); an integer >= 1.
     zeta : modal damping ratio, the same for every mode, in [0, 1).
+
+    A bad argument raises a ModelError naming it and its value.
 
     Returns
     -------
     w : array of the shape of ``t`` [m].
     """
-    if not (V > 0.0 and L > 0.0 and EI > 0.0 and mu > 0.0):
+    P = as_number(P, "moving force", "P")
+    sizes = [as_number(value, "moving force", name) for name, value in (("V", V), ("L", L), ("EI", EI), ("mu", mu))]
+    if not all(value > 0.0 for value in sizes):
         raise ModelError(f"moving force: V, L, EI, mu must be > 0, got {V!r}, {L!r}, {EI!r}, {mu!r}")
-    t = np.asarray(t, dtype=float)
+    if not all(math.isfinite(value) for value in [P] + sizes):
+        raise ModelError(f"moving force: P, V, L, EI, mu must be finite, got {P!r}, {V!r}, {L!r}, {EI!r}, {mu!r}")
+    V, L, EI, mu = sizes
+    if not is_count(n_modes, 1):
+        raise ModelError(f"moving force: n_modes must be an integer >= 1, got {n_modes!r}")
+    zeta = _damping_ratio(zeta)
+    t = as_numbers(t, "moving force", "times t [s]")
+    if not np.all(np.isfinite(t)):
+        raise ModelError(f"moving force: times t must be finite [s], got {t.ravel()[~np.isfinite(t.ravel())][0]}")
     shape = t.shape
     t = t.ravel()
     T = L / V
@@ -127,9 +159,9 @@ def moving_force_midspan(P, V, L, EI, mu, t, n_modes=101, zeta=0.0):
 
 def daf(alpha, n_modes=101, zeta=0.0, free_periods=1.0):
     """Midspan dynamic amplification ``max_t w(L/2, t) / (P L³ / 48 EI)`` at the dimensionless
-    speed ``α = V / (2 f_1 L)`` (> 0).
+    speed ``α = V / (2 f_1 L)`` (> 0 and finite).
 
-    The maximum is searched over the crossing and ``free_periods`` periods of the first mode
+    The maximum is searched over the crossing and ``free_periods`` (>= 0) periods of the first mode
     after the force has left (the free vibration of the first mode peaks within one period),
     on a grid of 40 points per period of the first mode and per ``T/40`` (T the crossing time),
     then refined with a bounded scalar optimiser around the best grid maxima (resolved to far
@@ -138,6 +170,10 @@ def daf(alpha, n_modes=101, zeta=0.0, free_periods=1.0):
     alpha = as_number(alpha, "daf", "alpha")
     if not alpha > 0.0:
         raise ModelError(f"daf: alpha must be > 0, got {alpha!r}")
+    if not math.isfinite(alpha):
+        raise ModelError(f"daf: alpha must be finite, got {alpha!r}")
+    free_periods = as_positive(free_periods, "daf", "free_periods", allow_zero=True)
+    zeta = _damping_ratio(zeta)
     # Dimensionless beam: L = EI = mu = P = 1, so ω_1 = π², V = α ω_1 L / π.
     L = EI = mu = P = 1.0
     w1 = math.pi ** 2
