@@ -224,12 +224,12 @@ BEAM_RESPONSES = ("force, globalForce, localForce, basicDeformation, chordRotati
                   "xaxis, yaxis, zaxis, basicForce, forces, globalForces, localForces, basicForces, basicDeformations")
 """What an elasticBeamColumn answers, as ``eleResponse 1 foo`` lists it (tests/test_opensees_commands.py)."""
 MESSAGES = [
-    (lambda: vops.eleResponse(1, "section", 1, "force"),
-     "eleResponse 1: response 'section 1 force' is not supported: vtsi's elements are elastic, with no sections or "
-     "materials to query; supported: " + BEAM_RESPONSES),
-    (lambda: vops.recorder("Element", "-ele", 1, "section", 1, "force"),
-     "recorder Element: response 'section 1 force' is not supported: vtsi's elements are elastic, with no sections "
-     "or materials to query; supported: " + BEAM_RESPONSES),
+    (lambda: vops.eleResponse(1, "RayleighForces"),
+     "eleResponse 1: response 'RayleighForces' of element 1 (elasticBeamColumn) is not supported: OpenSees answers "
+     "it with values vtsi does not compute; supported: " + BEAM_RESPONSES),
+    (lambda: vops.recorder("Element", "-ele", 1, "RayleighForces"),
+     "recorder Element: response 'RayleighForces' of element 1 (elasticBeamColumn) is not supported: OpenSees "
+     "answers it with values vtsi does not compute; supported: " + BEAM_RESPONSES),
     (lambda: vops.timeSeries("Path", 5, "-dt", 0.1, "-values"),
      "timeSeries Path 5: the -values list is empty; give its numbers after -values"),
     (lambda: vops.loadConst("-time"), "loadConst: -time needs a value (the new time [s]), got none"),

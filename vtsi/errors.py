@@ -129,6 +129,8 @@ def is_number(value):
     or a 0-d numpy array of ints or floats (``np.asarray(2.0)``). Not a bool, nor a text ('60':
     a value read from a file and not converted; the command layer and the file readers convert
     their words before they hand them on), nor a complex, nor an array of one item or more."""
+    if type(value) in (float, int):         # (the common case first: the command layer asks per word)
+        return True
     if isinstance(value, np.ndarray):
         return value.ndim == 0 and value.dtype.kind in "iuf"
     return isinstance(value, (numbers.Real, Decimal)) and not isinstance(value, bool)

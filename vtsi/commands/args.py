@@ -6,19 +6,11 @@ import re
 
 import numpy as np
 
-from vtsi.errors import CommandError, is_int
+from vtsi.errors import CommandError, is_int, is_number
 
 
 class UnknownCommand(CommandError, AttributeError):
     """A command (or module attribute) that this layer does not offer."""
-
-
-_NUMBERS = (int, float)
-
-
-def is_number(x):
-    return type(x) in _NUMBERS or (isinstance(x, (int, float, np.integer, np.floating))
-                                   and not isinstance(x, (bool, np.bool_)))
 
 
 def is_list(x):
@@ -95,8 +87,11 @@ class Args:
         return x
 
     def option_floats(self, option, count=1, what="value"):
-        """The ``count`` numbers after ``option`` (just read); a missing one or a word in their
-        place raises ``'<command>: -mass needs 3 values (one per dof), got 1'``."""
+        """The ``count`` numbers after ``option`` (just read); a missing one raises ``'<command>:
+        -mass needs 3 values (one per dof), got 1'`` (an option in its place is named: ``got 0
+        ('-cMass' follows)``), another word in its place names it: ``'deadLoad: -dt needs a number
+        (the run's time step [s]), got 'abc''``, ``'node 9: -mass needs 3 numbers (one per dof);
+        value 2 is 'abc''``."""
         got = 0
         while got < count and self.next_is_number():
             got += 1
@@ -104,6 +99,11 @@ class Args:
         if got < count:
             if self.more() and is_list(self.peek()):
                 raise self._refused(f"{option} ({what})", self.peek(), "a number")
+            if self.more() and not is_option(self.peek()):
+                word = self.peek()
+                raise CommandError(f"{self.command}: {option} needs a number ({what}), got {word!r}" if count == 1 else
+                                   f"{self.command}: {option} needs {count} numbers ({what}); value {got + 1} is "
+                                   f"{word!r}")
             plural = f"{count} values" if count > 1 else "a value"
             found = f"{got} ({self.peek()!r} follows)" if self.more() else str(got) if got else "none"
             raise CommandError(f"{self.command}: {option} needs {plural} ({what}), got {found}")
@@ -115,7 +115,7 @@ class Args:
         there, is refused naming ``what``, as :meth:`float` refuses it). One pass over the items:
         a script's ``load`` in a per-step loop reads its values here."""
         items, end = self.items, self.pos
-        while end < len(items) and (type(items[end]) in _NUMBERS or is_number(items[end])):
+        while end < len(items) and is_number(items[end]):
             end += 1
         out = [float(x) for x in items[self.pos: end]]
         if not all(map(math.isfinite, out)):

@@ -23,6 +23,11 @@ MATERIAL_TYPES = ("Elastic", "Viscous")
 SERIES_TYPES = ("Constant", "Linear", "Path", "Trig", "Triangle", "Rectangular", "Pulse")
 SERIES_ALIASES = {"ConstantSeries": "Constant", "LinearSeries": "Linear", "Series": "Path", "TrigSeries": "Trig",
                   "Sine": "Trig", "SineSeries": "Trig", "TriangleSeries": "Triangle", "PulseSeries": "Pulse"}
+SERIES_LEADING_NUMBERS = {"Constant": 0, "Linear": 0, "Rectangular": 2, "Trig": 3, "Triangle": 3, "Pulse": 3}
+"""The numbers an inline series of each type takes before its options, each option taking one
+value: OpenSees (``OPS_LinearSeries``, ``OPS_TrigSeries``, ...) reads a tag first when the words
+after the type are these plus an odd number (``Linear 5 -factor 2``, ``Trig 1 0 10 1``). A Path
+takes a first word that is an integer for its tag (``TclSeriesCommand``, OpenSees 3.7.1)."""
 
 
 def _missing_runs(lo, hi, present, shown=5):
@@ -512,8 +517,10 @@ class ModelCommands(SessionBase):
         Tcl's ``pattern Plain 7 {Path ...}``) of the pattern ``name``; its errors name the pattern
         (``pattern Plain 7: series Path: missing -factor``). A tag given as a str (``'1'``, which
         a Tcl word is not: it arrives as an int) is refused naming ``what``, as OpenSeesPy refuses it.
-        The series has no tag, as in OpenSees it is in no table of series (``printModel`` names
-        it ``inline``)."""
+        The series' own tag, which OpenSees reads where :data:`SERIES_LEADING_NUMBERS` says
+        (``Linear 5 -factor 2``), is read, an integer, and dropped: OpenSees's ``TclSeriesCommand``
+        adds the series to no table of series (``pattern Plain 2 5`` does not find it), so the
+        series has no tag (``printModel`` names it ``inline``)."""
         words = tcl_words(spec)
         if not words:
             raise CommandError(f"{name}: empty time series specification")
@@ -522,7 +529,13 @@ class ModelCommands(SessionBase):
             raise CommandError(f"{name}: {what} must be an integer, got {spec!r}")
         if kind not in SERIES_TYPES and kind not in SERIES_ALIASES:
             raise CommandError(f"{name}: series type {kind!r} is not supported; supported: {', '.join(SERIES_TYPES)}")
-        return self._make_series(kind, None, Args(name, words[1:]), f"{name}: series {kind}")
+        label = f"{name}: series {kind}"
+        a = Args(label, words[1:])
+        lead = SERIES_LEADING_NUMBERS.get(SERIES_ALIASES.get(kind, kind))
+        if (type(a.peek()) is int if lead is None
+                else (len(a.items) - lead) % 2 == 1 and a.next_is_number()):
+            a.int("tag")        # OpenSees's tag of a series it keeps in no table
+        return self._make_series(kind, None, a, label)
 
     def load(self, *args):
         """``load(node, *values)``: a nodal load [N, N·m], one value per dof, of the last pattern

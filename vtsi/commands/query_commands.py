@@ -8,16 +8,15 @@ import math
 import numpy as np
 
 from vtsi.analysis import domain_state
-from vtsi.errors import CommandError, ModelError, is_int
+from vtsi.errors import CommandError, ModelError, is_int, is_number
 from vtsi.recorders.element import FORCE_KINDS, element_response
 from vtsi.recorders.moment import element_end_forces
 from vtsi.recorders.node import AppliedLoads, element_ground_loads, subtract_coupled_loads
 
-from .args import Args, dof_value, is_number
+from .args import Args, dof_value
 from .base import Placeholder, SessionBase
 from .model_text import model_text
-from .responses import (ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, element_response_word,
-                        opensees_layout)
+from .responses import ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, element_answers, opensees_layout
 
 QUERY_COMMANDS = ("printModel", "nodeDisp", "nodeVel", "nodeAccel", "nodeReaction", "reactions", "eleForce", "eleResponse",
                   "getTime", "setTime", "loadConst", "nodeCoord", "nodeEigenvector", "nodeResponse", "getNodeTags",
@@ -408,14 +407,27 @@ class QueryCommands(SessionBase):
         return dof_value(values, dof, f"eleForce {tag}")
 
     def eleResponse(self, tag, *args):
-        """``eleResponse(tag, 'force'|'globalForce'|'localForce'|'basicForce'|...)`` as a list."""
+        """``eleResponse(tag, 'force'|'globalForce'|'localForce'|'basicForce'|...)`` as a list. A
+        response the element has not, in vtsi as in OpenSees (``stresses``, ``section 1 force``),
+        gives ``[]``, as OpenSeesPy (Tcl: an empty result), and a warning (logged: on stderr by
+        default) naming the element and the responses it answers; one OpenSees answers and vtsi
+        does not is refused (:func:`~.responses.element_answers`)."""
         _, state = self._state("eleResponse")
         a = Args(f"eleResponse {tag}", args)
         a.word("response")      # a name first: a missing one or a number is named
-        kind = element_response_word(a.command, a.items, lambda: self._element_responses([tag]))
         if not is_int(tag):
             raise CommandError(f"eleResponse: element tag must be an integer, got {tag!r}")
-        return [float(x) for x in self._element_response("eleResponse", int(tag), kind, state.u, state.v)]
+        tag = int(tag)
+        asm = self.domain.build()
+        if tag in asm.element_location:      # (a missing element: _element_response names it)
+            etype = asm.blocks[asm.element_location[tag][0]][0]
+            valid = accepted_responses(etype, asm.ndf, self._zero_length.get(tag))
+            if not element_answers(a.command, tag, etype, a.items, valid):
+                asked = " ".join(map(str, a.items))
+                log.warning("%s %s: element %d (%s) has no response %r and gives [], as in OpenSees (it answers "
+                            "%s)", a.command, asked, tag, etype.name, asked, ", ".join(valid))
+                return []
+        return [float(x) for x in self._element_response("eleResponse", tag, a.items[0], state.u, state.v)]
 
     def reactions(self, *args):
         """Compute the nodal reactions (read them with :meth:`nodeReaction`): ``R = F_resisting - P``

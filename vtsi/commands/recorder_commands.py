@@ -14,7 +14,7 @@ from vtsi.units import Units
 
 from .args import Args, is_option
 from .base import SessionBase
-from .responses import (ELEMENT_RESPONSE_ALIASES, accepted_responses, apply_layout, element_response_word,
+from .responses import (ELEMENT_RESPONSE_ALIASES, PART_WORDS, accepted_responses, apply_layout, element_answers,
                         opensees_layout)
 
 RECORDER_COMMANDS = ("recorder",)
@@ -306,10 +306,13 @@ class RecorderCommands(SessionBase):
                 raise CommandError(f"{name}: {response[0]!r} is neither a {what} (an integer) nor a response "
                                    f"({', '.join(NODE_RESPONSES)})")
             if not isinstance(response[0], str) or any(isinstance(w, str) and w.startswith("-") for w in rest) or (
-                    rest and (response[-1] in NODE_RESPONSES if is_node else len(rest) == 1)):
+                    rest and (response[-1] in NODE_RESPONSES if is_node else len(rest) == 1
+                              and response[0] not in PART_WORDS)):
                 raise CommandError(f"{name}: {what} must be an integer, got {response[0]!r}")
         if not is_node:
-            response = element_response_word(name, response, lambda: self._element_responses(targets))
+            if not isinstance(response[0], str):
+                raise CommandError(f"{name}: response must be a name (one of "
+                                   f"{', '.join(self._element_responses(targets))}), got {response[0]!r}")
         elif len(response) > 1 or not isinstance(response[0], str):
             raise CommandError(f"{name}: response {' '.join(map(str, response))!r} is not supported; supported: "
                                + ", ".join(NODE_RESPONSES))
@@ -332,31 +335,42 @@ class RecorderCommands(SessionBase):
             make = lambda s: rec.NodeRecorder(nodes, dofs, response, sink=s, dt=opts["-dT"],
                                               envelope=envelope, history=not envelope)
         else:
-            asked, response = response, ELEMENT_RESPONSE_ALIASES.get(response, response)
+            words, asked = response, " ".join(map(str, response))
+            response = ELEMENT_RESPONSE_ALIASES.get(asked, asked)
             if targets is None:
                 raise CommandError(f"{name}: no elements given (-ele 1 2 ... or -eleRange first last), as OpenSees")
             elements = targets
             for e in elements:
                 if e not in model._element_owner:
                     raise CommandError(f"{name}: element {e} does not exist")
+            kept = self._answering(name, elements, words)     # before the sink: a refusal creates no file
             sink = self._recorder_sink(name, opts)      # made before the warning, which names its file
-            elements = self._answering(name, elements, asked, getattr(sink, "path", None))
-            return self._register_recorder(command_element_recorder(self, elements, response, sink=sink,
+            self._warn_lacking(name, elements, kept, asked, getattr(sink, "path", None))
+            return self._register_recorder(command_element_recorder(self, kept, response, sink=sink,
                                                                     dt=opts["-dT"], envelope=envelope,
                                                                     history=not envelope))
         return self._register_recorder(make(self._recorder_sink(name, opts)))
 
-    def _answering(self, name, elements, asked, path):
-        """The ``elements`` (tags) that answer the response ``asked``. As in OpenSees, one that has
-        no such response gets no columns, and a warning (logged: on stderr by default) names it;
-        when none answers, as OpenSees, the record has no columns (the file ``path``, None: in
-        memory, holds no values: a text file only the times with ``-time``, as OpenSees writes
-        it), and the warning names the file and the responses the first element answers."""
+    def _answering(self, name, elements, words):
+        """The ``elements`` (tags) that answer the response ``words`` (one name, or several for a
+        response of a part of the element: ``section 1 force``), by
+        :func:`~.responses.element_answers`, which refuses one OpenSees answers and vtsi does not."""
         asm = self.domain.build()
-        kept, lacking = [], []
+        kept = []
         for e in elements:
             etype = asm.blocks[asm.element_location[e][0]][0]
-            (kept if asked in accepted_responses(etype, asm.ndf, self._zero_length.get(e)) else lacking).append(e)
+            if element_answers(name, e, etype, words, accepted_responses(etype, asm.ndf, self._zero_length.get(e))):
+                kept.append(e)
+        return kept
+
+    def _warn_lacking(self, name, elements, kept, asked, path):
+        """As in OpenSees, an element of ``elements`` not ``kept`` (it has no response ``asked``)
+        gets no columns, and a warning (logged: on stderr by default) names it; when none
+        answers, as OpenSees, the record has no columns (the file ``path``, None: in memory,
+        holds no values: a text file only the times with ``-time``, as OpenSees writes it), and
+        the warning names the file and the responses the first element answers."""
+        asm = self.domain.build()
+        lacking = [e for e in elements if e not in kept]
         if lacking:
             which = ", ".join(f"{e} ({asm.blocks[asm.element_location[e][0]][0].name})" for e in lacking)
             many = len(lacking) > 1
@@ -371,7 +385,6 @@ class RecorderCommands(SessionBase):
                                            self._zero_length.get(e))
                 log.warning("%s: %s holds no values (element %s answers %s)", head,
                             path if path is not None else "the record", e, ", ".join(valid))
-        return kept
 
     def _register_recorder(self, recorder):
         """Give ``recorder`` the next tag (OpenSees: a counter wipe() does not reset), keep it open

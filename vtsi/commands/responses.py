@@ -11,17 +11,45 @@ ELEMENT_RESPONSE_ALIASES = {
 }
 
 
-def element_response_word(command, words, answered):
-    """The response name of ``words``, what follows the elements in ``eleResponse`` or ``recorder
-    Element``: one name; several (OpenSees's ``section 1 force``, ``material 1 stress``: a response
-    of a part of the element) raise a CommandError naming them, ``command`` and the names the
-    elements answer, ``answered()`` (called only then: :func:`accepted_responses`)."""
-    if len(words) == 1 and isinstance(words[0], str):
-        return words[0]
-    names = answered()
-    raise CommandError(f"{command}: response {' '.join(map(str, words))!r} is not supported: vtsi's elements are "
-                       "elastic, with no sections or materials to query" + (f"; supported: {', '.join(names)}"
-                                                                            if names else ""))
+OPENSEES_ONLY_RESPONSES = {
+    "elasticBeamColumn": {"RayleighForces": 1, "rayleighForces": 1, "deformatons": 1},
+    "truss": {"defo": 1, "basicDefo": 1, "energy": 1, "material": 2, "-material": 2},
+    "zeroLength": {"rayleighForces": 1, "dampingForces": 1, "defo": 1, "globalforces": 1, "defoANDforce": 1,
+                   "deformationANDforces": 1, "deformationsANDforces": 1, "materials": 1, "directions": 1,
+                   "material": 3},
+}
+"""The responses OpenSees answers with values for an element of vtsi's types and vtsi does not:
+per type, the response's first word and the fewest words OpenSees answers it with (a truss's
+``material stress`` or ``material 1 stress`` and a zeroLength's ``material 1 stress`` are
+responses of its material). Read in the types' ``setResponse`` (OpenSees 3.7.1) and measured
+on OpenSeesPy 3.7.1 (tests/test_command_cm.py); any other response an element lacks, OpenSees
+answers with nothing."""
+
+PART_WORDS = ("section", "material", "-material")
+"""The first words by which OpenSees's elements name a response of one of their parts
+(``section 1 force``, ``material 1 stress``)."""
+
+
+def element_answers(command, tag, etype, words, valid):
+    """Whether element ``tag`` of ``etype``, which answers the names ``valid``
+    (:func:`accepted_responses`), answers the response ``words`` (the words after the element
+    in ``eleResponse`` or ``recorder Element``: one name, or several for a response of a part
+    of it, ``section 1 force``). False when OpenSees's element has no such response either:
+    OpenSees answers nothing (``eleResponse`` returns ``[]``, a recorder gives it no columns).
+    A response OpenSees answers with values that vtsi does not compute
+    (:data:`OPENSEES_ONLY_RESPONSES`), and a name the element answers followed by more words
+    (OpenSees ignores them), raise a CommandError naming ``command``, the element and the words."""
+    asked = " ".join(map(str, words))
+    if len(words) == 1 and asked in valid:
+        return True
+    need = OPENSEES_ONLY_RESPONSES.get(etype.name, {}).get(words[0])
+    if need is not None and len(words) >= need:
+        raise CommandError(f"{command}: response {asked!r} of element {tag} ({etype.name}) is not supported: "
+                           f"OpenSees answers it with values vtsi does not compute; supported: {', '.join(valid)}")
+    if words[0] in valid:
+        raise CommandError(f"{command}: response {asked!r} of element {tag} ({etype.name}): {words[0]} takes no "
+                           f"more words, got {' '.join(map(str, words[1:]))!r} (OpenSees ignores them)")
+    return False
 
 
 def opensees_layout(etype, kind, ndf, materials=None):

@@ -174,7 +174,9 @@ class TrainCommands(SessionBase):
     def irregularity(self, *args):
         """``irregularity(tag, 'profile', '-x', x..., '-r', r...)``, ``(tag, 'file', path)``, or a
         random profile ``(tag, 'german', 'low'|'high', x_first, x_last, ['-seed', s])`` /
-        ``(tag, 'fra', class, x_first, x_last, ['-seed', s])`` (one-sided PSDs, 3-150 m)."""
+        ``(tag, 'fra', class, x_first, x_last, ['-seed', s])`` (one-sided PSDs, 3-150 m); without
+        ``-seed`` the seed is 0 (a sweep's default seed too), so that a script gives the same
+        profile on every run."""
         a = Args("irregularity", args)
         tag = a.int("irregularity tag")
         self._new(self._irregularities, "irregularity", tag)
@@ -205,7 +207,7 @@ class TrainCommands(SessionBase):
             else:
                 level = a.word("level", ("low", "high")) if kind == "german" else a.int("FRA class")
                 x0, x1 = a.float("x_first"), a.float("x_last")
-                seed = None
+                seed = 0
                 if a.more():
                     a.option(("-seed",))
                     seed = a.int("-seed")
@@ -289,11 +291,16 @@ class TrainCommands(SessionBase):
         to the train and the patterns (a script that applies the deck's weight by a pattern gets
         totals). ``-dt``: the Δt [s] of the run that follows, which B-spline rows of a moving train
         need (they spread each wheel over 2 V Δt): refused without it before the first ``analyze``,
-        and an ``analyze`` at another Δt right after it is refused."""
+        and an ``analyze`` at another Δt right after it is refused. An option given twice is refused
+        (as ``timeSeries Path``'s)."""
         a = Args("deadLoad", args)
-        self_weight, dt = False, None
+        self_weight, dt, given = False, None, set()
         while a.more():
-            if a.option(("-selfWeight", "-dt")) == "-selfWeight":
+            opt = a.option(("-selfWeight", "-dt"))
+            if opt in given:
+                raise CommandError(f"deadLoad: option {opt} given twice")
+            given.add(opt)
+            if opt == "-selfWeight":
                 self_weight = True
             else:
                 dt = as_positive(a.option_floats("-dt", 1, "the run's time step [s]")[0], "deadLoad", "-dt",
