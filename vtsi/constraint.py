@@ -17,19 +17,24 @@ sinc⁴(f h), has fourth-order zeros at the Nyquist frequency 1/(2Δt) and at al
 multiples, so the constraint sampled at the steps carries no period-2Δt content: the mode the
 trapezoidal rule leaves undamped is not excited. The smoothing is second-order accurate:
 Ñ - N = (2Δt²/3) N̈ + O(Δt⁴) where N is smooth (the kernel's variance is h²/3). The
-smoothed profile r̃ is tabulated once per run at spacing V h / 8 and interpolated by a cubic
-spline (its derivative gives dr̃/dt); even a C² sampled profile benefits, since its third
-derivative jumps at every sample.
+smoothed profile r̃ is tabulated at the nodes x_j = x_begin + j V h / 8 of a grid anchored at the
+track's start and interpolated by a cubic B-spline whose coefficients are local
+(:class:`SmoothedProfile`; its derivative gives dr̃/dt): its value at a position does not depend
+on the range tabulated, so the rows of a run split anywhere are one run's. Even a C² sampled
+profile benefits, since its third derivative jumps at every sample.
 """
+import math
+
 import numpy as np
-from scipy.interpolate import CubicSpline
+from numba import njit
 
 from vtsi.errors import ModelError
-from vtsi.spline import UniformCubic
 from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel, row_width
 from vtsi.train import TrainSubdomain
 
 INTERPOLATIONS = ("hermite", "bspline")
+NODES_PER_KNOT = 8       # nodes of the smoothed profile's table per knot spacing
+TABLE_MARGIN = 50        # [knot spacings] the table's reach beyond the positions asked
 
 
 class MovingLoadConstraint:
@@ -110,7 +115,7 @@ class MovingLoadConstraint:
         if knot == 0.0:
             r = self._profile(x, nu)
         else:
-            r = self._smoothed_profile(x.min(), x.max(), knot)(x, nu)
+            r = self._smoothed_profile(float(x.min()), float(x.max()), knot)(x, nu)
         if not np.all(np.isfinite(r)):
             where = np.argwhere(~np.isfinite(r))[0]
             raise ModelError(f"MovingLoadConstraint: the irregularity gives {r[tuple(where)]} under contact wheel "
@@ -118,23 +123,85 @@ class MovingLoadConstraint:
         return r * self.train.speed ** nu
 
     def _smoothed_profile(self, x_lo, x_hi, knot):
-        """r̃ as a C² cubic spline tabulated at knot/8 spacing (cached; rebuilt when the range
-        grows): each node is the exact convolution by 4-point Gauss on the 4 kernel pieces."""
+        """r̃ for knot spacing ``knot`` [m] over [x_lo, x_hi] [m] (a :class:`SmoothedProfile`
+        anchored at the track's start; cached, tabulated anew over a range that grows)."""
         cached = getattr(self, "_smoothed", None)
-        if cached is not None and cached[0] == knot and cached[1] <= x_lo and x_hi <= cached[2]:
-            return cached[3]
-        lo, hi = x_lo - 50.0 * knot, x_hi + 50.0 * knot
-        grid = np.linspace(lo, hi, int(np.ceil((hi - lo) / (knot / 8.0))) + 1)
-        r = np.zeros_like(grid)
-        for k in range(4):    # kernel pieces [(k-2) knot, (k-1) knot], 4-point Gauss each
-            for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
-                xi = (k - 1.5 + 0.5 * z) * knot
-                r += 0.5 * w * bspline_kernel(xi / knot) * self._profile(grid - xi, 0)
-        table = UniformCubic(CubicSpline(grid, r))
-        self._smoothed = (knot, lo, hi, table)
-        return table
+        if cached is not None and cached.covers(knot, x_lo, x_hi):
+            return cached
+        self._smoothed = SmoothedProfile(lambda x: self._profile(x, 0), knot, self.track.x_begin,
+                                         x_lo - TABLE_MARGIN * knot, x_hi + TABLE_MARGIN * knot)
+        return self._smoothed
 
     def rows_at(self, t, dt):
         """Time hook: ``(cols, vals, slopes, r)`` of the contact wheels at time ``t``."""
         cols, vals, slopes = self.track.rows(self.positions(t), self.knot(dt))
         return cols, vals, slopes, self.irregularity_at(np.array(t), dt)
+
+
+class SmoothedProfile:
+    """``profile(x, nu)``: the smoothed irregularity r̃ (nu = 0) or its derivative d^nu r̃/dx^nu
+    (1, 2) [m, 1, 1/m] at positions ``x`` [m] in [x_lo, x_hi], for knot spacing ``knot`` [m].
+
+    Node j, at x_j = origin + j s (s = knot / NODES_PER_KNOT, ``origin`` a fixed position: the
+    track's start), holds r̃(x_j), the convolution of ``r`` (a vectorised r(x) [m]) with
+    B₃(ξ/knot)/knot by 4-point Gauss on the kernel's 4 pieces. Between the nodes r̃ is the
+    uniform cubic B-spline Σ c_j B₃((x − x_j)/s) with the local coefficients
+    c_j = (8 r̃_j − r̃_{j−1} − r̃_{j+1}) / 6, the quasi-interpolant that reproduces cubics: C², error
+    O(s⁴ d⁴r̃/dx⁴) (at a node −s⁴ d⁴r̃/dx⁴ / 36). The value at x in [x_j, x_j+1] depends on the
+    nodes j − 2 … j + 3 only, each computed from its own position, so not on the range
+    tabulated: a run's rows are the same whichever block of steps asked for them.
+    """
+
+    def __init__(self, r, knot, origin, x_lo, x_hi):
+        self.knot, self.origin = float(knot), float(origin)
+        self.step = self.knot / NODES_PER_KNOT
+        self.inv_step = NODES_PER_KNOT / self.knot
+        first = math.floor((x_lo - self.origin) * self.inv_step) - 2    # the nodes x_lo and x_hi need
+        last = math.ceil((x_hi - self.origin) * self.inv_step) + 3
+        grid = self.origin + np.arange(first - 1, last + 2, dtype=float) * self.step
+        values = np.zeros_like(grid)
+        for k in range(4):    # kernel pieces [(k-2) knot, (k-1) knot], 4-point Gauss each
+            for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
+                xi = (k - 1.5 + 0.5 * z) * self.knot
+                values += 0.5 * w * bspline_kernel(xi / self.knot) * np.asarray(r(grid - xi), dtype=float)
+        self.first = first                         # the node of coef[0]
+        self.coef = (8.0 * values[1:-1] - values[:-2] - values[2:]) / 6.0
+        self.x_lo = self.origin + (first + 2) * self.step
+        self.x_hi = self.origin + (last - 3) * self.step
+
+    def covers(self, knot, x_lo, x_hi):
+        """Whether the table is for ``knot`` [m] and holds [x_lo, x_hi] [m]."""
+        return knot == self.knot and self.x_lo <= x_lo and x_hi <= self.x_hi
+
+    def __call__(self, x, nu=0):
+        x = np.asarray(x, dtype=float)
+        out = np.empty(x.size)
+        _bspline_values(self.coef, self.first, self.origin, self.inv_step, np.ascontiguousarray(x).ravel(), nu, out)
+        return out.reshape(x.shape)
+
+
+@njit(cache=True)
+def _bspline_values(coef, first, origin, inv_step, x, nu, out):
+    """The uniform cubic B-spline Σ coef[k] B₃(u − (first + k)), u = (x − origin)·inv_step, or its
+    derivative ``nu`` in x, at each ``x`` (NaN outside the nodes held or at a NaN)."""
+    for i in range(x.shape[0]):
+        u = (x[i] - origin) * inv_step
+        if not np.isfinite(u):
+            out[i] = np.nan
+            continue
+        j = math.floor(u)
+        t = u - j
+        k = j - first            # the piece [x_j, x_j+1] takes coef[k - 1 .. k + 2]
+        if k < 1 or k + 2 >= coef.shape[0]:
+            out[i] = np.nan
+            continue
+        c0, c1, c2, c3 = coef[k - 1], coef[k], coef[k + 1], coef[k + 2]
+        s = 1.0 - t
+        if nu == 0:
+            out[i] = (c0 * s * s * s + c1 * (4.0 - 6.0 * t * t + 3.0 * t * t * t)
+                      + c2 * (1.0 + 3.0 * t + 3.0 * t * t - 3.0 * t * t * t) + c3 * t * t * t) / 6.0
+        elif nu == 1:
+            out[i] = (-c0 * s * s + c1 * (3.0 * t * t - 4.0 * t) + c2 * (1.0 + 2.0 * t - 3.0 * t * t)
+                      + c3 * t * t) * (0.5 * inv_step)
+        else:
+            out[i] = (c0 * s + c1 * (3.0 * t - 2.0) + c2 * (1.0 - 3.0 * t) + c3 * t) * (inv_step * inv_step)

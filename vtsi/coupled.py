@@ -49,6 +49,7 @@ from vtsi.vehicle import GRAVITY
 
 CONTACT_STRATEGIES = ("bilateral", "lcp")
 LCP_DEFAULT_ALPHA = 0.9      # HHT's α when contact='lcp' and no integrator is given
+STEPS_ON_TRACK = 10          # an axle takes at least 10 steps of Δt to cross the track (a sweep's passage too)
 CURVATURE_STEP = 1e-4        # [m] central-difference step of smoothed rows' curvature under a wheel at the start
 
 
@@ -141,6 +142,11 @@ class CoupledAnalysis:
                                 f"valid: {', '.join(CONTACT_STRATEGIES)}{hint}")
         self.model, self.constraint, self.contact = model, constraint, contact
         self.train = constraint.train
+        offsets = self.train.train.car_offsets
+        if np.any(offsets < 0.0):
+            car = int(np.flatnonzero(offsets < 0.0)[0])
+            raise ModelError(f"CoupledAnalysis: car {car} of train {self.train.train.name!r} has the offset "
+                             f"{offsets[car]:g} m; car offsets are measured behind the train's head and must be >= 0")
         self.integrator = coupled_integrator(integrator, contact)
         if self.integrator.explicit:
             why = " with beta = 0 (central differences)" if self.integrator.name == "Newmark" else ""
@@ -442,7 +448,7 @@ class CoupledAnalysis:
         and takes its contact forces as those of the step before (:meth:`_previous_forces`)."""
         self._prev = None
         if self._kept_plan is not None:
-            self._kept_plan.clock = None
+            self._kept_plan.clock = self._kept_plan.kept_state = None
 
     # -- time stepping --------------------------------------------------------------------
     def _plan(self):
@@ -458,6 +464,7 @@ class CoupledAnalysis:
         else:
             moved = False
         if plan is None or plan.key != key or self._prepared is not asm or plan.bridge is not self.stages or moved:
+            self._check_resolution()
             patterns = list(self.model.patterns.values())
             loads = _pattern_loads(asm, patterns)
             asm = self._prepare(loads[1])
@@ -467,19 +474,34 @@ class CoupledAnalysis:
             plan.recorders, plan.feed = recorders, None
         return plan
 
+    def _check_resolution(self):
+        """An AnalysisError unless Δt resolves the passage by the sweep's rule: an axle crosses the
+        track in at least STEPS_ON_TRACK steps (a train at rest takes any Δt)."""
+        track, speed = self.constraint.track, self.train.speed
+        crossing = (track.x_end - track.x_begin) / speed if speed > 0.0 else np.inf
+        if crossing < STEPS_ON_TRACK * self.dt:
+            raise AnalysisError(f"CoupledAnalysis: dt = {self.dt:g} s does not resolve the passage: the train at "
+                                f"{speed:g} m/s crosses the {track.x_end - track.x_begin:g} m track in {crossing:.3g} s, "
+                                f"fewer than {STEPS_ON_TRACK} steps of dt; take dt <= {crossing / STEPS_ON_TRACK:.3g} s")
+
     def run(self, n_steps):
         """Advance ``n_steps`` steps from the committed states (call :meth:`static` first for a
         start from the dead-load equilibrium). Returns the domain state. Refused after a run
         that diverged (its model stays at the start of the diverging chunk).
 
-        The steps of a run are counted in chunks of ``chunk_steps`` from its start t_c: stage θ of
-        the chunk's step k is at t_o + (k − o + θ) Δt, t_o = t_c + o Δt, o = 0 or, with
-        ``exact_events``, the step after the chunk's last kink crossing. A run of one step that
-        starts where the last run ended continues that count, so that a script's per-step loop
-        (``analyze(1, dt)``) gives one ``run(n)``'s numbers to the bit (B-spline rows on an
-        irregular rail: to round-off, :meth:`_CoupledPlan.rows_of`); a longer run starts its own.
-        Such a loop costs one compiled step and a constant per call: what a run needs
-        (:meth:`_plan`) and the coming steps' tables (load factors, rail data) are kept."""
+        The steps are counted in chunks of ``chunk_steps`` from a start t_c: stage θ of the
+        chunk's step k is at t_o + ((k − o) + θ) Δt, t_o = t_c + o Δt, o = 0 or, with
+        ``exact_events``, the step after the chunk's last kink crossing. A run that starts where
+        the last one ended (at the time it committed, with the kept plan of :meth:`_plan`, no
+        :meth:`static` or :meth:`start_from` since) continues that count, so that a run split
+        into runs of any lengths (a script's ``analyze(1, dt)`` or ``analyze(10, dt)`` loop, a
+        pause to read the state or change a recorder) gives one run's numbers to the bit: the
+        same chunks, stage times and rows (each row a function of its time only,
+        :meth:`_CoupledPlan.rows_of`); on a modal bridge it goes on from the modal coordinates
+        the last run committed while the domain state is the one that run wrote
+        (:meth:`_CoupledPlan.load_bridge`). Any other run counts from its own start. A per-step
+        loop costs one compiled step and a constant per call: what a run needs and the coming
+        steps' tables (load factors, rail data) are kept."""
         if not (type(n_steps) is int and n_steps >= 0):
             n_steps = _integer("CoupledAnalysis", "number of steps", n_steps, 0)
         if self._diverged is not None:
@@ -493,7 +515,7 @@ class CoupledAnalysis:
         asm, bridge, loads = plan.asm, plan.bridge, plan.loads
         kd_b, kd_t, n_t = bridge.kd, plan.kd_t, train.n_dof
         bank_b, bank_t = plan.bank_b, plan.bank_t
-        bridge.load_bank(bank_b, state, asm.full_of_free)
+        plan.load_bridge(state)
         for slot, vec in enumerate((train.u, train.v, train.a)):
             bank_t[slot, kd_t: kd_t + n_t] = vec
         self.coupled_loads.begin(con.knot(self.dt), plan.self_weight, self.bridge is not None and self.bridge.truncated)
@@ -506,9 +528,6 @@ class CoupledAnalysis:
             with the contact wheels at ``x0_c`` at t = 0 and the rail data ``r_part``,
             ``rate_part`` of those steps, their time counted from the chunk's step ``origin``; the
             loop's status, its step counted in this call."""
-            m = lo - origin
-            theta, load_theta = (self.stage_theta, self.load_theta) if m == 0 else \
-                (self.stage_theta + m, self.load_theta + m)      # m + θ: the loop's step + θ from the origin
             a, b = lo - i, hi - i
             bad = run_coupled_steps(
                 bank_b, bank_t, self.du, self.dv,
@@ -517,8 +536,8 @@ class CoupledAnalysis:
                 bridge.flex, self.tflex, track.x_start, track.length, track.dofs, bridge.track_index,
                 bridge.track_basis,
                 x0_c, train.wheel_dofs, con.x0_force, train.wheel_forces, train.speed,
-                knot, r_part, rate_part, t0 + origin * self.dt, self.dt, theta,
-                load_theta, self.load_weight, self.force_weight, self.mass_weight, self.record_weights,
+                knot, r_part, rate_part, t0 + origin * self.dt, lo - origin, self.dt, self.stage_theta,
+                self.load_theta, self.load_weight, self.force_weight, self.mass_weight, self.record_weights,
                 self.contact == "lcp",
                 self.gap_tol,
                 self.in_contact, plan.rec_slot, plan.rec_index, out_b[a:b], plan.t_slot, plan.t_index, out_t[a:b],
@@ -530,7 +549,7 @@ class CoupledAnalysis:
         done = 0
         try:
             while done < n_steps:
-                t0, i, first = plan.chunk(state.time, n_steps == 1, self.chunk_steps)
+                t0, i, first = plan.chunk(state.time, self.chunk_steps)
                 n = min(self.chunk_steps - i, n_steps - done)
                 table, r_table, rate_table = plan.rows_of(t0, i, n, self.chunk_steps)
                 out_b, out_t = np.zeros((n, len(plan.rec_slot))), np.zeros((n, len(plan.t_index)))
@@ -563,7 +582,7 @@ class CoupledAnalysis:
                     bridge.commit(state, bank_b, asm.full_of_free, t0 + (i + n) * self.dt)   # leaves the analysis
                     for slot, vec in enumerate((train.u, train.v, train.a)):              # at its last row
                         vec[:] = bank_t[slot, kd_t: kd_t + n_t]
-                    plan.clock = (t0, i + n, first, state.time)
+                    plan.committed(t0, i + n, first, state)
                     done += n
                 else:
                     step, t_bad = done + good + 1, t0 + (i + good + 1) * self.dt
@@ -813,8 +832,9 @@ class _CoupledPlan:
                      "loads": a.load_description, "coupled_loads": a.coupled_loads}
         self.recorders, self.feed = tuple(a.recorders), None
         self.clock = None
+        self.kept_state = None      # (time, u, v, a) the last chunk committed (load_bridge)
         self.block = None       # (t_c, first row, table, r_table, rate_table) of chunk rows
-        self.ahead = 1          # rows a step evaluates (the first the step's, BLOCK_STEPS after it)
+        self.ahead = 1          # rows a run evaluates at least (the first its own, BLOCK_STEPS after it)
 
     def start_feed(self):
         """The recorder feed of a run: built (and its recorders started) once, restarted after."""
@@ -831,29 +851,49 @@ class _CoupledPlan:
         self.rec_slot, self.rec_index = self.bridge.record_plan(feed.rec_slot, feed.rec_index)
         return feed
 
-    def chunk(self, time, single, chunk_steps):
+    def chunk(self, time, chunk_steps):
         """``(t_c, i, origin)`` of the next step at the committed ``time`` [s]: the chunk of the
-        steps before, when a run of one step (``single``) starts where they ended and the chunk
-        of ``chunk_steps`` has room; else a new chunk from ``time``."""
+        steps before, when the run starts where they ended and the chunk of ``chunk_steps`` has
+        room; else a new chunk from ``time``."""
         clock = self.clock
-        if single and clock is not None and clock[3] == time and clock[1] < chunk_steps:
+        if clock is not None and clock[3] == time and clock[1] < chunk_steps:
             return clock[:3]
         return time, 0, 0
+
+    def committed(self, t_c, i, origin, state):
+        """A chunk from ``t_c`` [s] committed its steps up to ``i`` (time counted from its step
+        ``origin``) to the domain ``state``: the count the next run continues (:meth:`chunk`) and,
+        for a bridge whose bank does not come back from the state to the bit, that state."""
+        self.clock = (t_c, i, origin, state.time)
+        if not self.bridge.exact_reload:
+            self.kept_state = (state.time, state.u.copy(), state.v.copy(), state.a.copy())
+
+    def load_bridge(self, state):
+        """The committed domain ``state`` into the bridge bank's slots 0..2, unless they hold it
+        already: a bridge without :attr:`~vtsi.subdomain.BridgeStages.exact_reload` (a modal
+        bridge, whose q = Φᵀ M u gives back a commit's q to round-off only) goes on from the
+        coordinates of the last commit while the domain state is the one it wrote."""
+        kept = self.kept_state
+        if kept is not None and kept[0] == state.time and all(
+                np.array_equal(k, vec) for k, vec in zip(kept[1:], (state.u, state.v, state.a))):
+            return
+        self.bridge.load_bank(self.bank_b, state, self.asm.full_of_free)
 
     def rows_of(self, t_c, i, n, chunk_steps):
         """``(table (n, n_stages, n_patterns + 1), r_table, rate_table (n, n_stages, n_c))`` of the
         steps i..i + n - 1 of the chunk from ``t_c`` [s]: each stage's load factors (the patterns',
         then the self weight's mass weight), and the rail's position [m] and rate [m/s] under
         the contact wheels (irregularity less the deck's self-weight sag). From the kept block
-        when it holds them; else a block of the rows asked for, or for a step that continues a
-        per-step loop of BLOCK_STEPS rows (within the chunk). (A longer run evaluates its rows
-        only: B-spline rows tabulate an irregularity over the wheels' range, MovingLoadConstraint.)"""
+        when it holds them; else a block from step i of the rows asked for, and of at least
+        BLOCK_STEPS rows (within the chunk) after the plan's first run. Each row is a function of
+        its step's time only (a smoothed irregularity too, :class:`~vtsi.constraint.SmoothedProfile`),
+        so the rows of a block are those of any other that holds its steps, to the bit."""
         block = self.block
         if block is not None and block[0] == t_c and block[1] <= i and i + n <= block[1] + len(block[2]):
             k = i - block[1]
             return block[2][k: k + n], block[3][k: k + n], block[4][k: k + n]
         a, con = self.analysis, self.analysis.constraint
-        m = min(self.ahead, chunk_steps - i) if n == 1 else n
+        m = min(max(n, self.ahead), chunk_steps - i)
         starts = t_c + a.dt * np.arange(i, i + m, dtype=float)
         table = np.concatenate([load_factor_table(self.patterns, starts, a.dt, self.load_points, a._path_tables),
                                 np.tile(a.mass_weight[None, :, None], (m, 1, 1))], axis=2)

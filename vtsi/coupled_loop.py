@@ -304,8 +304,8 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                       load_factors, load_ptr, load_dof, load_val, p_train,
                       flex, tflex, x_start, length, tdofs, track_free, track_basis,
                       x0_c, wheel_dof, x0_f, force_f, speed, knot, r_table, rate_table,
-                      t0, dt, stage_theta, load_theta, load_weight, force_weight, mass_weight, record_weights, lcp,
-                      gap_tol,
+                      t0, first, dt, stage_theta, load_theta, load_weight, force_weight, mass_weight, record_weights,
+                      lcp, gap_tol,
                       in_contact,
                       rec_b_slot, rec_b_index, out_b, rec_t_slot, rec_t_index, out_t,
                       out_force, out_force_end, out_gap, limit, work_b, work_t, cols, vals, slopes, W, q, lam, lcp_work, band_b, band_t,
@@ -313,6 +313,10 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                       response_range):
     """Advance ``out_b.shape[0]`` coupled steps; returns the first diverged step or -1
     (-2 - step when the contact problem is singular at that step).
+
+    Step ``step`` of the call is step ``first + step`` (int) counted from ``t0`` [s]: its stage s
+    is at t0 + ((first + step) + stage_theta[s]) Δt, the step's number summed as an integer
+    first, so that a run split into calls anywhere has one call's stage times to the bit.
 
     The bridge is a subdomain of :mod:`vtsi.subdomain`: track dof c is the coordinate
     ``track_free[c]`` (FE) or ``track_basis[c] · q`` (modal, ``track_basis`` (n_track, n)).
@@ -374,7 +378,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                 w_q = load_weight[s, q_]
                 if w_q == 0.0:
                     continue
-                tq = t0 + (step + load_theta[s, q_]) * dt
+                tq = t0 + ((first + step) + load_theta[s, q_]) * dt
                 # x0_f decreases (the train's order), so the forces on the track are a run of them
                 for f in range(_first_at_most(x0_f, x_end - speed * tq), n_f):
                     xf = x0_f[f] + speed * tq
@@ -408,7 +412,7 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
             if n_c == 0:
                 continue
             # 2. rows, free gap and contact flexibility
-            ts = t0 + (step + stage_theta[s]) * dt
+            ts = t0 + ((first + step) + stage_theta[s]) * dt
             for i in range(n_c):
                 x[i] = x0_c[i] + speed * ts
             constraint_rows(x, knot, x_start, length, tdofs, cols, vals, slopes)

@@ -34,7 +34,7 @@ from vtsi.damping import bridge_frequencies
 from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, as_number, as_numbers, as_positive, is_count,
                          is_int)
 from vtsi.modal_passage import add_static_correction, exact_response, first_bad_axle, shape_polynomials
-from vtsi.subdomain import BridgeStages, factor
+from vtsi.subdomain import BridgeStages, factor, rows_times
 from vtsi.track import Track
 
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
@@ -373,7 +373,7 @@ class ModalStages(BridgeStages):
         return np.repeat(slots, self.n).astype(np.int64), np.tile(np.arange(self.n, dtype=np.int64), len(slots))
 
     def recorded(self, out):
-        return out @ self._post
+        return rows_times(out, self._post)
 
 
 def _ratio_of(zeta, f):

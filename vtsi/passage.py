@@ -38,7 +38,7 @@ from scipy.ndimage import convolve1d
 from vtsi.analysis import domain_state, modes_up_to
 from vtsi.codes.en1991_2 import frequency_limits, hslm_b_refusal
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
-from vtsi.coupled import CONTACT_STRATEGIES, CoupledAnalysis, coupled_integrator
+from vtsi.coupled import CONTACT_STRATEGIES, STEPS_ON_TRACK, CoupledAnalysis, coupled_integrator
 from vtsi.damping import decks_cutoff_hz, deck_frequencies, rayleigh_damping, vertical_frequencies
 from vtsi.deck import deck_layout
 from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, SettingError, VtsiError, as_flag, as_number,
@@ -68,7 +68,6 @@ STEPS_PER_CUTOFF_PERIOD = 20    # ... or finer: 20 steps a period of the EN cut-
                                 # period error there (2π/20)²/12 = 0.8 %, its samples' under-read 1.2 %)
 PLAUSIBLE_FREQUENCY_SHARE = 0.2  # a first frequency below this share of EN 1991-2 Fig. 6.10's lower limit: other units
 E_UNITS = (("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9))   # E typed in them as Pa: f1 ∝ √E reads √(factor) times low
-STEPS_ON_TRACK = 10             # an axle takes at least 10 steps to cross the track
 MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one passage
 TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
 CAR_APPROACH = 25.0     # [m] default approach of trains of cars (covers the taper)

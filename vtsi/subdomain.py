@@ -9,7 +9,12 @@ part. What a bridge gives the loops for one integrator and Δt is a :class:`Brid
   ``band``, ``load_points`` (each stage's ``(θ, weight)`` load evaluations): the stepping data;
 - :meth:`~BridgeStages.loads`: pattern loads (CSR over the free dofs) as loads on the coordinates;
 - :meth:`~BridgeStages.bank` (or :meth:`~BridgeStages.load_bank`, into a kept bank) /
-  :meth:`~BridgeStages.commit`: the committed state in and out;
+  :meth:`~BridgeStages.commit`: the committed state in and out; ``exact_reload``: whether a
+  committed bank comes back from the state it wrote to the bit (the FE bridge's coordinates are
+  dof values; a modal bridge's q come back as Φᵀ M Φ q, q to round-off, so a loop that goes on
+  from its own commit keeps its bank);
+- :func:`rows_times`: ``a @ b`` whose rows do not depend on how many there are (a chunk's
+  recorded rows, whatever its length);
 - :meth:`~BridgeStages.record_plan` / :meth:`~BridgeStages.recorded`: what the kernel records for the
   recorders' free-dof columns and how those columns follow from it;
 - along a track (coupled analyses): ``track_index`` (n_track,) the coordinate of each track dof and
@@ -128,11 +133,26 @@ def max_frequency(assembly):
     return float(np.sqrt(max(lam[-1], 0.0)))
 
 
+@njit(cache=True)
+def rows_times(a, b):
+    """``a @ b`` for ``a (n, k)``, ``b (k, m)``, each row summed in one order whatever n: the rows of
+    a chunk of steps are the same in chunks of any length (BLAS picks its kernels by the shapes,
+    so a one-step chunk's row and a longer chunk's differ in the last bits)."""
+    out = np.zeros((a.shape[0], b.shape[1]))
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            aij = a[i, j]
+            for c in range(b.shape[1]):
+                out[i, c] += aij * b[j, c]
+    return out
+
+
 class BridgeStages:
     """The contract (see the module docstring). Subclasses set the attributes and implement
     :meth:`free_values` (coordinates -> free-dof vectors) and :meth:`loads`."""
 
     n = 0
+    exact_reload = False        # a modal bridge's q = Φᵀ M u of a commit Φ q is q to round-off only
     track_index = np.zeros(0, dtype=np.int64)
     track_basis = np.zeros((0, 0))
     flex = np.zeros((0, 0, 0))
@@ -189,6 +209,8 @@ class FEStages(BridgeStages):
     self_weight_load : (n_free,) [N] or None: the self weight whose static deflection ``track_sag``
         the rail is measured from.
     """
+
+    exact_reload = True         # its coordinates are the moving dofs' values
 
     def __init__(self, assembly, active, integrator, dt, track=None, self_weight_load=None):
         self.assembly, self.active, self.n = assembly, active, len(active)
