@@ -22,7 +22,7 @@ import functools
 import numpy as np
 import scipy.interpolate
 
-from vtsi.errors import ModelError, as_numbers, is_count
+from vtsi.errors import ModelError, as_numbers, is_count, is_int
 from vtsi.spline import UniformCubic
 
 _GERMAN = {'low': 4.032e-7, 'high': 1.080e-6}  # A_v [m·rad], low / high interference
@@ -63,7 +63,7 @@ def german_psd(omega, level='low'):
     ----------
     Lei (2017), ch. 5.
     """
-    if level not in _GERMAN:
+    if not (isinstance(level, str) and level in _GERMAN):
         raise ModelError(f"german_psd: unknown level {level!r}; valid: {list(_GERMAN)}")
     w2 = _omega(omega, 'german_psd', allow_zero=True) ** 2
     return _GERMAN[level] * _GERMAN_OMEGA_C ** 2 / ((w2 + _GERMAN_OMEGA_R ** 2) * (w2 + _GERMAN_OMEGA_C ** 2))
@@ -145,12 +145,17 @@ def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=No
         raise ModelError(f"sample_profile: n_waves must be a positive integer, got {n_waves!r}")
     d_omega = (w_hi - w_lo) / int(n_waves)
     omega = w_lo + d_omega * (np.arange(int(n_waves)) + 0.5)
+    if not callable(psd):
+        raise ModelError(f"sample_profile: psd must be a function S(omega) [m²/(rad/m)], got {psd!r}")
     density = as_numbers(psd(omega), "sample_profile", "psd(omega) [m²/(rad/m)]")
     if density.shape != omega.shape or not np.all(np.isfinite(density) & (density >= 0.0)):
         bad = density.ravel()[~(np.isfinite(density.ravel()) & (density.ravel() >= 0.0))]
         raise ModelError(f"sample_profile: psd(omega) must give a finite value >= 0 [m²/(rad/m)] for each of the "
                          f"{omega.size} omega, got shape {density.shape}" + (f", {bad[0]:g}" if bad.size else ""))
     amplitude = np.sqrt(2.0 * density * d_omega)
+    if not (rng is None or isinstance(rng, np.random.Generator) or (is_int(rng) and rng >= 0)):
+        raise ModelError(f"sample_profile: rng must be a seed (an integer >= 0), a numpy Generator or None, "
+                         f"got {rng!r}")
     phase = np.random.default_rng(rng).uniform(0.0, 2.0 * np.pi, omega.size)
     flat = x.ravel()
     r = np.zeros(flat.size)

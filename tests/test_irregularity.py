@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import scipy.integrate
 
+from vtsi.errors import ModelError
 from vtsi.models import Irregularity, fra_psd, german_psd, sample_profile
 
 
@@ -82,3 +83,19 @@ def test_irregularity_from_function_and_psd():
     x = np.linspace(0.0, 300.0, 3001)
     profile = Irregularity.from_psd(german_psd, x, rng=5)
     np.testing.assert_allclose(profile(x), sample_profile(german_psd, x, rng=5), atol=1e-15)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda x: sample_profile(german_psd, x, rng="abc"), "rng must be a seed (an integer >= 0), a numpy Generator or None, got 'abc'"),
+    (lambda x: sample_profile(german_psd, x, rng=1.5), "rng must be a seed (an integer >= 0), a numpy Generator or None, got 1.5"),
+    (lambda x: sample_profile(german_psd, x, rng=-1), "rng must be a seed (an integer >= 0), a numpy Generator or None, got -1"),
+    (lambda x: Irregularity.from_psd(german_psd, x, rng=2.5), "rng must be a seed (an integer >= 0), a numpy Generator or None, got 2.5"),
+    (lambda x: sample_profile(3.0, x), "psd must be a function S(omega) [m²/(rad/m)], got 3.0"),
+    (lambda x: german_psd(1.0, level=["low"]), "unknown level ['low']; valid: ['low', 'high']"),
+], ids=["text-seed", "fractional-seed", "negative-seed", "from_psd-seed", "psd-not-callable", "level-list"])
+def test_bad_profile_inputs_are_named(call, message):
+    """A seed that is not an integer >= 0, a spectrum that is not a function and a level that is not
+    a name: one ModelError line each (numpy's TypeError/ValueError, or 'unhashable type', before)."""
+    with pytest.raises(ModelError) as caught:
+        call(np.linspace(0.0, 100.0, 11))
+    assert message in str(caught.value) and "\n" not in str(caught.value)
