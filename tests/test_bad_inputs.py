@@ -470,7 +470,7 @@ def test_diverging_run_names_step_and_time_and_the_hdf5_file_keeps_every_step_be
         analysis.run(1000)
     step, t = info.value.step, info.value.time
     assert step > 7 and t == pytest.approx(step * dt, rel=1e-12)
-    assert str(info.value).startswith(f"transient analysis diverged at step {step}, t = {t:.6g} s (|u| > 0.001 or NaN)")
+    assert str(info.value).startswith(f"transient analysis diverged at step {step} of this run, t = {t:.6g} s (|u| > 0.001 or NaN)")
     with h5py.File(path, "r") as f:                          # closed by the analysis, readable
         values, times = f["values"][:, 0], f["time"][...]
     assert len(values) == step - 1

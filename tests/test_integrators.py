@@ -410,7 +410,7 @@ def test_divergence_error_names_step_and_time_and_keeps_records():
         analysis.run(10 * step)
     assert err.value.step == step
     assert err.value.time == pytest.approx(2.5 + step * dt, rel=1e-12)
-    assert f"step {step}," in str(err.value) and f"t = {2.5 + step * dt:.6g} s" in str(err.value)
+    assert f"step {step} of this run," in str(err.value) and f"t = {2.5 + step * dt:.6g} s" in str(err.value)
     assert len(rec.values) == step - 1
     np.testing.assert_allclose(rec.values[:, 0], expected[:-1], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(rec.time, 2.5 + dt * np.arange(1, step), rtol=1e-13)

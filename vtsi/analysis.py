@@ -847,7 +847,8 @@ class _RunPlan:
             size = "|u|" if self.fe else "a modal coordinate |q| [m·√kg]"      # what the kernel bounds
             what = f"{size} > {limit:g} or NaN" if np.isfinite(limit) else "NaN or inf"
             step = first_step + bad
-            raise DivergenceError(f"transient analysis diverged at step {step}, t = {times[bad + 1]:.6g} s ({what}) "
+            raise DivergenceError(f"transient analysis diverged at step {step} of this run, "
+                                  f"t = {times[bad + 1]:.6g} s ({what}) "
                                   f"with {self.info['integrator']}, dt = {self.info['dt']:g} s", step, times[bad + 1])
         return True
 

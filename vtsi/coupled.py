@@ -87,7 +87,8 @@ class CoupledAnalysis:
     integrator : name, class or instance ('Newmark', HHT(0.9), 'Bathe', ...); None: Newmark
         (average acceleration) with bilateral contact, HHT(0.9) with contact='lcp', which refuses
         an integrator without numerical dissipation (:func:`coupled_integrator`).
-    dt : time step [s].
+    dt : time step [s]. ``dt`` and ``integrator`` may be assigned between runs (or :meth:`set_dt`):
+        the next run prepares the factors for them, as a new analysis from the committed state.
     contact : 'bilateral' (wheels always on the rail) or 'lcp' (contact loss allowed).
     gravity : g [m/s²] (finite, >= 0) for the bridge's weight ``-g M 1_y`` with
         ``bridge_self_weight`` (the train's weight is its gravity_load, used as built).
@@ -147,12 +148,8 @@ class CoupledAnalysis:
             car = int(np.flatnonzero(offsets < 0.0)[0])
             raise ModelError(f"CoupledAnalysis: car {car} of train {self.train.train.name!r} has the offset "
                              f"{offsets[car]:g} m; car offsets are measured behind the train's head and must be >= 0")
-        self.integrator = coupled_integrator(integrator, contact)
-        if self.integrator.explicit:
-            why = " with beta = 0 (central differences)" if self.integrator.name == "Newmark" else ""
-            raise AnalysisError(f"CoupledAnalysis: {self.integrator.name}{why} is explicit; a constrained "
-                                "analysis needs an implicit integrator: Newmark with beta > 0 (e.g. Newmark(0.5, "
-                                "0.25)), HHT or Bathe")
+        self._prepared = self._dt = self._integrator = None
+        self.integrator = integrator
         self.gravity = as_positive(gravity, "CoupledAnalysis", "gravity [m/s²]", AnalysisError, allow_zero=True)
         self.bridge_self_weight = as_flag(bridge_self_weight, "CoupledAnalysis", "bridge_self_weight", AnalysisError)
         self.recorders = list(recorders)
@@ -160,8 +157,7 @@ class CoupledAnalysis:
         self.chunk_steps = _integer("CoupledAnalysis", "chunk_steps", chunk_steps, 1)
         self.divergence_limit = as_positive(divergence_limit, "CoupledAnalysis", "divergence_limit", AnalysisError,
                                             finite=False)
-        self.dt = as_positive(dt, "CoupledAnalysis", "dt", AnalysisError)
-        self._prepared = None
+        self.set_dt(dt)
         self._path_tables = {}
         self._sag = None
         self._diverged = None      # where a run diverged ("step N, t = … s"): no run goes on from there
@@ -184,6 +180,41 @@ class CoupledAnalysis:
         self.stages = None
         self.coupled_loads = CoupledLoads(constraint)
         self._kept_plan = None     # what a run needs, kept for the runs that follow (_plan)
+
+    @property
+    def dt(self):
+        """The time step [s]; assigning it is :meth:`set_dt`."""
+        return self._dt
+
+    @dt.setter
+    def dt(self, dt):
+        self.set_dt(dt)
+
+    def set_dt(self, dt):
+        """Set the time step ``dt`` [s] (a finite number > 0, else AnalysisError naming the value).
+        A new value drops the prepared factors (the next run or :meth:`static` prepares them for
+        it, as a new analysis from the committed state would); the same value changes nothing."""
+        dt = as_positive(dt, "CoupledAnalysis", "dt", AnalysisError)
+        if dt != self._dt:
+            self._dt, self._prepared = dt, None
+
+    @property
+    def integrator(self):
+        """The integrator (an instance); assigning a name, class or instance
+        (:func:`coupled_integrator`, refused if explicit) drops the prepared factors as
+        :meth:`set_dt` does."""
+        return self._integrator
+
+    @integrator.setter
+    def integrator(self, integrator):
+        integ = coupled_integrator(integrator, self.contact)
+        if integ.explicit:
+            why = " with beta = 0 (central differences)" if integ.name == "Newmark" else ""
+            raise AnalysisError(f"CoupledAnalysis: {integ.name}{why} is explicit; a constrained "
+                                "analysis needs an implicit integrator: Newmark with beta > 0 (e.g. Newmark(0.5, "
+                                "0.25)), HHT or Bathe")
+        if integ is not self._integrator:
+            self._integrator, self._prepared = integ, None
 
     # -- preparation ----------------------------------------------------------------------
     def _bridge_constant_load(self, asm):
@@ -240,7 +271,7 @@ class CoupledAnalysis:
         stages = integ.checked_stages(dt)       # contract: force_weight > 0 (the loop divides by it), ...
 
         def build():                # the train's stability limit, then its factors: once per train in a sweep
-            check_train_stability(train, integ, dt)
+            check_train_stability(train, integ, dt, bridge.rail_point_mass(track) if train.n_dof else np.inf)
             return TrainStages(train, stages, integ.n_slots)
 
         source = asm if self.bridge is None else self.bridge     # the train's entry goes with the bridge's
@@ -594,10 +625,12 @@ class CoupledAnalysis:
                                  gap=out_gap[:good][:, plan.gap_wheels])
                 if bad != -1:
                     if bad >= 0:
-                        raise DivergenceError(f"coupled analysis diverged at step {step}, t = {t_bad:.6g} s "
-                                              f"(|u| > {self.divergence_limit:g} m or NaN) with "
+                        what = (f"|u| > {self.divergence_limit:g} m or NaN" if np.isfinite(self.divergence_limit)
+                                else "NaN or inf")
+                        raise DivergenceError(f"coupled analysis diverged at step {step} of this run, "
+                                              f"t = {t_bad:.6g} s ({what}) with "
                                               f"{self.integrator!r}, dt = {self.dt:g} s", step, t_bad)
-                    raise DivergenceError(f"coupled analysis: contact flexibility W is singular at step {step}, "
+                    raise DivergenceError(f"coupled analysis: contact flexibility W is singular at step {step} of this run, "
                                           f"t = {t_bad:.6g} s", step, t_bad)
         finally:
             feed.close()
@@ -773,8 +806,10 @@ class CoupledAnalysis:
         return contact_summary(self, static_load=static_load, interpolate=interpolate)
 
     def _previous_forces(self, width):
-        """Contact forces and rows of the last committed step (the dead-load forces and the rows
-        at the current time before the first step), for integrators that weight them (HHT)."""
+        """``(λ, cols, vals)``: the contact forces [N] at the end of the last committed step and
+        its rows, for integrators that weight them (HHT); after a new start (:meth:`static`,
+        :meth:`start_from`) its ``start_force`` and the rows at the current time (zero forces
+        without one). The kernel updates them in place at every step."""
         con = self.constraint
         prev = getattr(self, "_prev", None)
         if prev is None or prev[1].shape[1] != width:
@@ -783,8 +818,8 @@ class CoupledAnalysis:
             if con.n_contact:
                 c0, v0, _, _ = con.rows_at(t, self.dt)
                 cols[:, : c0.shape[1]], vals[:, : v0.shape[1]] = c0, v0
-            if len(self.contact_force):
-                lam = self.contact_force[-1].copy()
+            if prev is not None:            # the last step's end force λ_{n+1}, on rows of another width
+                lam = prev[0].copy()
             elif self.static_state is not None:
                 lam = self.static_state["start_force"].copy()
             else:
@@ -904,26 +939,38 @@ class _CoupledPlan:
         return table[:n], r_table[:n], rate_table[:n]
 
 
-def check_train_stability(train, integrator, dt):
+def check_train_stability(train, integrator, dt, rail_mass=np.inf):
     """An AnalysisError if ``integrator`` is conditionally stable and ``dt`` [s] exceeds its limit
     for the train subdomain ``train``: the bridge's own check (:class:`~vtsi.subdomain.FEStages`)
     does not see a stiff car. ω_max is the train's with its wheels free where they have mass
     (the coupled system's highest frequency is at most the larger of the bridge's and this, the
-    constraint restricting both: Rayleigh's quotient) and held by the rail where they have none."""
+    constraint restricting both: Rayleigh's quotient). A contact wheel without mass rides the
+    rail, so it takes ``rail_mass`` [kg], the bridge's smallest apparent mass at a node of the
+    track (:meth:`~vtsi.subdomain.BridgeStages.rail_point_mass`; inf: held, as on rigid
+    ground): the car on that point mass is the body-on-rail system whose frequency
+    sqrt(k (1/m + 1/m_rail)) the coupled system has when the bridge's stiffness at the point is
+    small against the suspension's (a stiff car over a light modal bridge: 4.03/Δt, where the car
+    with its wheel held gave 3.29/Δt). Wheels sharing one part of the bridge share its mass, so
+    with several it is an estimate, not a strict bound."""
     limit = integrator.stability_limit(dt)
     if limit is None or not train.n_dof:
         return
     M, K = train.M.toarray(), train.K.toarray()
+    wheels = train.wheel_dofs[np.diag(M)[train.wheel_dofs] <= 0.0]
+    on_bridge = bool(np.isfinite(rail_mass) and len(wheels))
+    if on_bridge:
+        M[wheels, wheels] = rail_mass
     keep = np.flatnonzero(np.diag(M) > 0.0)
     lam, modes = scipy.linalg.eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)])
     omega_max = float(np.sqrt(max(lam[-1], 0.0)))
     if omega_max * dt > limit * (1.0 + 1e-12):
         dof = train.train.dof_names[keep[np.argmax(np.abs(modes[:, -1]))]]
+        on_rail = f", a wheel without mass on the rail's {rail_mass:.4g} kg" if on_bridge else ""
         raise AnalysisError(f"integrator {integrator.name}: dt = {dt:g} s exceeds its stability limit "
                             f"{limit / omega_max:.6g} s for the train (= {limit:.4g}/omega_max, omega_max = "
-                            f"{omega_max:.6g} rad/s of the train with its wheels free, a bound of the coupled "
-                            f"system's, its stiffest mode mostly {dof}); reduce dt or use an unconditionally stable "
-                            "scheme")
+                            f"{omega_max:.6g} rad/s of the train with its wheels free{on_rail}: a bound of the "
+                            f"coupled system's, its stiffest mode mostly {dof}); reduce dt or use an "
+                            "unconditionally stable scheme")
 
 
 class TrainStages:

@@ -504,12 +504,12 @@ def run_coupled_steps(bank_b, bank_t, du, dv,
                     cols_prev[i, a_] = cols[i, a_]
                     vals_prev[i, a_] = vals[i, a_]
         worst = 0.0
+        bad = 0.0       # u · 0 summed: NaN if any u is NaN or ±inf (vtsi.timeloop.update_stage)
         for bank in (bank_b, bank_t):
             for i in range(bank.shape[1]):
-                xa = abs(bank[0, i])
-                if not xa <= worst:
-                    worst = xa
-        if not worst <= limit:
+                worst = max(worst, abs(bank[0, i]))
+                bad += bank[0, i] * 0.0
+        if not (worst <= limit and bad == 0.0):     # NaN and ±inf diverge even with limit = inf
             return step
         for r in range(rec_b_slot.shape[0]):   # index -1: a dof at rest (not integrated)
             out_b[step, r] = bank_b[rec_b_slot[r], kdb + rec_b_index[r]] if rec_b_index[r] >= 0 else 0.0

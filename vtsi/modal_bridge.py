@@ -142,6 +142,7 @@ class ModalBridge:
             raise BridgeModelError(f"modal bridge: no mode up to {f[-1]:g} Hz moves the track")
         self.assembly, self.track = asm, track
         self.frequencies, self.shapes = f[keep], np.ascontiguousarray(shapes[:, keep])
+        self.off_track = np.ascontiguousarray(np.delete(shapes, keep, axis=1))   # computed, moving no track dof
         self.omega = 2 * np.pi * self.frequencies
         if not np.all(self.omega > 0):
             raise BridgeModelError("modal bridge: a kept mode has zero frequency (a mechanism)")
@@ -178,10 +179,14 @@ class ModalBridge:
 
     @property
     def truncated(self):
-        """Whether fewer modes are kept than the model has (one per free dof with mass; a dof
-        without mass follows the others statically): then a response made of the stiffness,
-        K Φ q (a reaction), leaves out the other modes' share."""
-        return self.n_modes < int(np.count_nonzero(self.assembly.M.diagonal() > 0.0))
+        """Whether a mode that the loads can excite is left out: fewer modes are kept and
+        ``off_track`` than the model has (one per free dof with mass; a dof without mass follows
+        the others statically). Then a response made of the stiffness, K Φ q (a reaction), leaves
+        out the other modes' share. The ``off_track`` modes (computed and dropped because they do not
+        move the track: a straight beam's axial modes) take no wheel force, and a pattern load
+        that would excite them is refused (:meth:`ModalStages.loads`), so they leave out nothing."""
+        kept = self.n_modes + self.off_track.shape[1]
+        return kept < int(np.count_nonzero(self.assembly.M.diagonal() > 0.0))
 
     @property
     def zeta(self):
@@ -332,6 +337,10 @@ class ModalStages(BridgeStages):
             if self_weight_load is not None:
                 self.track_sag = self.track_basis @ (self.phi.T @ self_weight_load / k)
 
+    def mobility(self, track_dofs):
+        """Σ_k φ_k² [1/kg] of each of the track dofs ``track_dofs`` over the kept modes (mass-normalised)."""
+        return np.sum(self.track_basis[track_dofs] ** 2, axis=1)
+
     def coordinates(self, free):
         """q = Φᵀ M u of a free-dof vector."""
         return self.phi.T @ (self.mass @ free)
@@ -346,8 +355,10 @@ class ModalStages(BridgeStages):
         return self.phi @ x
 
     def loads(self, ptr, dof, val):
-        """The pattern loads' modal forces Φᵀ P, one dense row of n per pattern (CSR). A load on a
-        dof without mass is refused: its static response is not in the modes."""
+        """The pattern loads' modal forces Φᵀ P, one dense row of n per pattern (CSR). Refused: a
+        load on a dof without mass (its static response is not in the modes), and a load that
+        excites a mode left out because it moves no track dof (:attr:`ModalBridge.off_track`,
+        e.g. a horizontal force on a straight beam's axial modes: it would be dropped silently)."""
         massless = dof[self.mass.diagonal()[dof] <= 0.0] if len(dof) else dof
         if len(massless):
             raise AnalysisError(f"modal bridge: a load on {self.modal.assembly.dof_label(massless[0])}, which has "
@@ -355,9 +366,18 @@ class ModalStages(BridgeStages):
                                 "or use the FE bridge)")
         n_p = len(ptr) - 1
         out = np.zeros((n_p, self.n))
+        off = self.modal.off_track[self.modal.assembly.full_of_free]       # (n_free, n_off)
         for p in range(n_p):
             sl = slice(ptr[p], ptr[p + 1])
             out[p] = self.phi[dof[sl]].T @ val[sl]
+            excited = off[dof[sl]].T @ val[sl]
+            scale = np.abs(off[dof[sl]]).max(initial=0.0) * np.abs(val[sl]).sum()
+            if np.any(np.abs(excited) > 1e-9 * scale):
+                at = dof[sl][np.argmax(np.abs(off[dof[sl]]).max(axis=1) * np.abs(val[sl]))]
+                raise AnalysisError(f"modal bridge: a load on {self.modal.assembly.dof_label(at)} excites modes "
+                                    "that move no track dof and were left out (a straight deck's axial modes): its "
+                                    "response would be dropped; build the ModalBridge without the track "
+                                    "(track=None keeps every mode) or use the FE bridge")
         return (np.arange(n_p + 1, dtype=np.int64) * self.n, np.tile(np.arange(self.n, dtype=np.int64), n_p),
                 out.ravel())
 

@@ -192,6 +192,18 @@ class BridgeStages:
             vec[full_of_free] = self.free_values(bank[slot, self.kd: self.kd + self.n])
         state.time = time
 
+    def rail_point_mass(self, track):
+        """[kg] The smallest apparent mass of the bridge at a node of ``track``, 1 / (e M⁻¹ eᵀ)
+        with e the rail's row at the node (its uy dof) on the coordinates (M = I for mass-normalised
+        modes): the mass a massless wheel's springs act on there at high frequency (inf if no node
+        of the track moves)."""
+        cols, vals, _ = track.rows(np.append(track.x_start, track.x_end))
+        at_node = np.unique(cols[(cols >= 0) & (vals == 1.0)])
+        if not len(at_node):
+            return np.inf
+        mobility = self.mobility(at_node)
+        return 1.0 / mobility.max() if mobility.max() > 0.0 else np.inf
+
     def track_values(self, coords):
         """The track dofs' values (n_track,) of a coordinate vector (n,)."""
         if self.track_basis.shape[1]:
@@ -257,6 +269,26 @@ class FEStages(BridgeStages):
     def stiffness(self):
         """K over the free dofs (CSR)."""
         return self.assembly.K
+
+    def mobility(self, track_dofs):
+        """(e M⁻¹ eᵀ) [1/kg] of each of the track dofs ``track_dofs`` (0 for a dof at rest) over the
+        integrated dofs, the massless ones left out (they follow the others statically)."""
+        coords = self.track_index[track_dofs]
+        out = np.zeros(len(coords))
+        moving = coords >= 0
+        M = self.assembly.M.tocsr()[self.active][:, self.active]
+        massed = np.flatnonzero(M.diagonal() > 0.0)
+        where = np.searchsorted(massed, coords[moving])
+        ok = where < len(massed)
+        ok[ok] = massed[where[ok]] == coords[moving][ok]
+        if len(massed) and np.any(ok):
+            rhs = np.zeros((len(massed), int(ok.sum())))
+            rhs[where[ok], np.arange(int(ok.sum()))] = 1.0
+            sol = spla.splu(M[massed][:, massed].tocsc()).solve(rhs)
+            vals = np.zeros(int(moving.sum()))
+            vals[ok] = sol[where[ok], np.arange(int(ok.sum()))]
+            out[moving] = vals
+        return out
 
     def coordinates(self, free):
         return free[self.active]

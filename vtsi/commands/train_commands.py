@@ -345,10 +345,10 @@ class TrainCommands(SessionBase):
                                             bridge_self_weight=self._self_weight, gravity=self._units.gravity)
             self._dead_load_done = False
         analysis = self._coupled
-        if dt is not None and dt != analysis.dt:
-            analysis.dt, analysis._prepared = float(dt), None
+        if dt is not None:
+            analysis.dt = float(dt)
         if integ is not None and analysis.integrator is not integ:
-            analysis.integrator, analysis._prepared = coupled_integrator(integ, analysis.contact, command), None
+            analysis.integrator = coupled_integrator(integ, analysis.contact, command)
         return analysis
 
     def _analyze_coupled(self, n, dt):
