@@ -20,6 +20,7 @@ import pytest
 
 import vtsi
 import vtsi.opensees as vops
+from vtsi.tcl import Interpreter
 from vtsi.vehicle import GRAVITY
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "custom_element.py"
@@ -179,6 +180,13 @@ def fresh_session():
     oracle = sys.modules.get("openseespy.opensees")
     if oracle is not None:
         oracle.wipe()
+
+
+@pytest.fixture
+def tcl(fresh_session):
+    """A Tcl interpreter on the test's own vtsi session (tkinter: the standard library's Tcl)."""
+    pytest.importorskip("tkinter")
+    return Interpreter(vops.session)
 
 
 @pytest.fixture(scope="session")

@@ -36,13 +36,6 @@ from vtsi.tcl import Interpreter, run_file  # noqa: E402
 pytestmark = pytest.mark.usefixtures("fresh_session")
 
 
-@pytest.fixture
-def tcl():
-    """A Tcl interpreter on the test's vtsi session (tkinter: the standard library's Tcl)."""
-    pytest.importorskip("tkinter")
-    return Interpreter(vops.session)
-
-
 # -- 1. a random rail profile without -seed ----------------------------------------------------
 
 def test_an_irregularity_without_seed_is_the_seed_0_profile_in_every_session():

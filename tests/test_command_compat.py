@@ -21,17 +21,9 @@ import pytest
 oracle = pytest.importorskip("openseespy.opensees")
 import vtsi.opensees as vops  # noqa: E402
 from vtsi.errors import CommandError  # noqa: E402
-from vtsi.tcl import Interpreter  # noqa: E402
 
 RTOL = 1e-7
 pytestmark = pytest.mark.usefixtures("fresh_session")
-
-
-@pytest.fixture
-def tcl():
-    """A Tcl interpreter on the test's vtsi session (tkinter: the standard library's Tcl)."""
-    pytest.importorskip("tkinter")
-    return Interpreter(vops.session)
 
 
 # -- recorder Element over elements of different types -----------------------------------------
