@@ -56,12 +56,13 @@ HSLM-A1 .. HSLM-A10, or axle-table CSV files (columns position_m, load_kN).
 SPEEDS [km/h]: START:STOP:STEP (STOP included when on the grid), v1,v2,..., or en:LINE_SPEED
 for the EN 1991-2 6.4.6.2 series (144 km/h to 1.2 x LINE_SPEED in 10 km/h steps, plus every
 resonance speed n D / i itself (n each deck's first three vertical frequencies, D each train's
-characteristic length, i = 1..4) and 2 km/h steps within +-10 % of it; rounded to 0.01 km/h).
+characteristic length, i = 1..4) and 2 km/h steps within +-10 % of it; rounded to 0.01 km/h);
+at most 10000 speeds.
 
 Prints the table of envelope maxima with the governing train and speed per quantity, and a
 note when dt takes fewer than 20 steps a period of the EN cut-off (what 'vtsi check' calls not
 converged). Exit status: 0 done; 2 bad command line or input (nothing written), or a results file another
-run is writing; 1 a passage failed during the run (finished cases stay in the file); 130
+run is writing or that cannot be created (nor its lock file); 1 a passage failed during the run (finished cases stay in the file); 130
 interrupted (Ctrl-C), 143 terminated (SIGTERM): finished cases stay in the file, --resume
 continues. --overwrite keeps the old file until the new sweep is complete (it is written to
 FILE.h5.new meanwhile; --overwrite again continues it). A closed standard output (| head) does
@@ -202,7 +203,7 @@ def _parser():
                                        "criterion fails (FAIL), or no verdict (NO VERDICT: an incomplete sweep, a "
                                        "criterion with a limit left not checked, or none held to a limit); 2 bad "
                                        "command line or input (nothing written), or a results file another run is "
-                                       "writing; 3 a passage failed; 130 interrupted (Ctrl-C), 143 terminated "
+                                       "writing or that cannot be created (nor its lock file); 3 a passage failed; 130 interrupted (Ctrl-C), 143 terminated "
                                        "(SIGTERM): finished cases stay in the file, --resume continues.",
                            epilog=CHECK_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _sweep_options(check, check=True)
@@ -700,7 +701,7 @@ def _check_out_path(out, ns):
 
 def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
     from vtsi.errors import VtsiError
-    from vtsi.sweep_results import ResultsFileInUse, SweepResults, staging_path
+    from vtsi.sweep_results import ResultsFileRefused, SweepResults, staging_path
 
     replacing = bool(ns.overwrite) and os.path.exists(out)     # the old file stays until the new sweep is complete
     where = staging_path(out) if replacing else out            # the new sweep's file meanwhile
@@ -708,7 +709,7 @@ def _run_sweep(sweep, ns, out, summary=True, command="sweep"):
     try:
         results = sweep.run(out, workers=ns.workers, progress=False if ns.quiet else None, resume=ns.resume,
                             overwrite=ns.overwrite)
-    except ResultsFileInUse as exc:                            # another run's files: leave them alone
+    except ResultsFileRefused as exc:       # before any passage ran (a bad input); another run's files left alone
         return _fail(exc, EXIT_USAGE, command)
     except (VtsiError, OSError, KeyboardInterrupt) as exc:
         done = 0

@@ -256,6 +256,9 @@ def _beam(table, base_dir):
     spans = spans if isinstance(spans, list) else [spans]
     if not spans or any(isinstance(s, bool) or not isinstance(s, (int, float)) or not s > 0 for s in spans):
         raise ModelError(f"spans_m must be a list of positive numbers [m], got {table['spans_m']!r}")
+    endless = next((s for s in spans if not math.isfinite(s)), None)
+    if endless is not None:
+        raise ModelError(f"spans_m: every span must be finite [m], got {endless:g}")
     lo, hi = SPAN_RANGE_M
     odd = next((s for s in spans if not lo <= s <= hi), None)
     if odd is not None:

@@ -39,7 +39,7 @@ from scipy.optimize import brentq
 
 from vtsi.errors import ModelError, as_number, as_numbers, is_int
 from vtsi.recorders.moment import fixed_end_moments, moment_rows
-from vtsi.track import Track
+from vtsi.track import Track, row_width
 
 LM71_AXLE = 250e3        # [N], EN 1991-2 §6.3.2(3), Figure 6.1
 LM71_SPACING = 1.6       # [m] between the four axles
@@ -48,6 +48,18 @@ SW0_LOAD = 133e3         # [N/m] q_vk of Load Model SW/0, EN 1991-2 §6.3.3, Tab
 SW0_LENGTH = 15.0        # [m] a: each of its two loaded lengths
 SW0_GAP = 5.3            # [m] c: between them
 SCAN_PER_ELEMENT = 20
+BLOCK_BYTES = 4 * 2 ** 20
+"""[B] The temporaries of one block of a scan (the rows of its positions gathered from the lines;
+each axle's line at a block of head positions): a scan takes its positions that many bytes at a
+time, so that a static envelope holds at most about 2 × BLOCK_BYTES beyond its scan's
+(positions, n_responses) arrays, whatever the number of responses × axles (a fixed block of 2048
+heads of HSLM-A1's 50 axles took 4.3 GB at 601 responses). Measured on 10 to 30 spans of 30 m
+(101 to 601 responses): blocks of 0.5 to 8 MB ran fastest (in cache; HSLM-A1's envelope at 601
+responses 1.8 s at 4 MB, 4.1 s at 32 MB, 13 s with the fixed block)."""
+PRIMITIVE_ARRAYS = 8
+"""(n_responses,) float64 arrays that evaluating a line's primitive (``InfluenceLines._primitive``)
+holds per position at its peak (measured: 8.2, with the line's four-entry rows gathered): what
+sizes the blocks of LM71's and SW/0's scans."""
 
 
 class StaticEnvelopes(NamedTuple):
@@ -121,11 +133,21 @@ class InfluenceLines:
         self.step = float(lengths.min()) / SCAN_PER_ELEMENT
 
     def __call__(self, x):
-        """IL (len(x), n_responses) [response units per N] at positions x [m] (0 off the track)."""
+        """IL (len(x), n_responses) [response units per N] at positions x [m] (0 off the track),
+        their rows gathered from the lines :data:`BLOCK_BYTES` at a time."""
         x = _finite_array("positions x [m]", x)
+        il = np.empty((x.size, self.n_responses))
+        for part in _blocks(x.size, 8 * (row_width(self.track.length.min(), 0.0) + 1) * self.n_responses):
+            il[part] = self._lines(x[part])
+        return il
+
+    def _lines(self, x):
+        """IL (len(x), n_responses) at finite positions x [m], at once: the rows of x gathered from
+        the lines (len(x), width, n_responses) are its temporaries (:meth:`__call__` blocks them)."""
         cols, vals, _ = self.track.rows(x)
-        w = np.where((cols >= 0)[..., None], self._w_track[np.maximum(cols, 0)], 0.0)   # (n_x, width, n_resp)
-        il = -np.einsum("ij,ijk->ik", vals, w)
+        w = self._w_track[np.maximum(cols, 0)]          # (n_x, width, n_resp)
+        w[cols < 0] = 0.0
+        il = np.einsum("ij,ijk->ik", -vals, w)
         if self._fixed is not None:
             il += self._fixed.at(x)
         return il
@@ -162,13 +184,12 @@ class InfluenceLines:
         return out
 
     def _train_response(self, heads, offsets, loads):
-        """The static response ``(len(heads), n_responses)`` of the axles with the head at ``heads``."""
-        response = np.zeros((heads.size, self.n_responses))
-        for block in range(0, heads.size, 2048):
-            h = heads[block: block + 2048]
-            x = self._on_the_ends(h[:, None] - offsets[None, :])
-            il = self(x.ravel()).reshape(x.shape + (self.n_responses,))
-            response[block: block + 2048] = np.einsum("j,ijk->ik", loads, il)
+        """The static response ``(len(heads), n_responses)`` of the axles with the head at ``heads``
+        (heads taken :data:`BLOCK_BYTES` of their axles' lines at a time)."""
+        response = np.empty((heads.size, self.n_responses))
+        for part in _blocks(heads.size, 8 * offsets.size * self.n_responses):
+            x = self._on_the_ends(heads[part, None] - offsets[None, :])
+            response[part] = np.einsum("j,ijk->ik", loads, self(x.ravel()).reshape(x.shape + (self.n_responses,)))
         return response
 
     def lm71_envelope(self, alpha=1.0):
@@ -184,17 +205,20 @@ class InfluenceLines:
         kinks = self.kinks()                    # and the centres that put an axle on a kink or a track end
         where = np.concatenate([kinks[np.isfinite(kinks)], self._ends()])
         centres = np.union1d(centres, (where[:, None] - axle_offsets[None, :]).ravel())
-        axles = self._on_the_ends(centres[:, None] + axle_offsets[None, :])
-        point = LM71_AXLE * self(axles.ravel()).reshape(axles.shape + (self.n_responses,)).sum(axis=1)
+        point = self._train_response(centres, -axle_offsets, np.full(axle_offsets.size, LM71_AXLE))
         reach = 1.5 * LM71_SPACING + 0.8                            # from the centre to the load's start [m]
-        out = np.zeros((2, self.n_responses))
-        for k, sign in enumerate((-1.0, 1.0)):
-            # the distributed load on the favourable-to-the-extreme part of the line only
+
+        def extreme(sign, pick):
+            # the distributed load on the favourable-to-the-extreme part of the line only (one
+            # sign's primitive at a time: it holds two arrays the size of the scan)
             primitive = self._primitive(lambda values: np.where(sign * values > 0.0, values, 0.0))
-            left = primitive(centres - reach)
-            right = primitive(np.array([track.x_end]))[0][None, :] - primitive(centres + reach)
-            response = point + LM71_UDL * (left + right)
-            out[k] = response.min(axis=0) if sign < 0 else response.max(axis=0)
+            end = primitive(np.array([track.x_end]))
+            extremes = []
+            for part in _blocks(centres.size, 2 * 8 * PRIMITIVE_ARRAYS * self.n_responses):
+                left, right = primitive(centres[part] - reach), end - primitive(centres[part] + reach)
+                extremes.append(pick(point[part] + LM71_UDL * (left + right), axis=0))
+            return pick(extremes, axis=0)
+        out = np.stack([extreme(-1.0, np.min), extreme(1.0, np.max)])
         return alpha * out
 
     def sw0_envelope(self, alpha=1.0):
@@ -219,7 +243,9 @@ class InfluenceLines:
         def slope(s, column):                               # r'(s) of one response
             return SW0_LOAD * float(signs @ self(s + ends)[:, column])
 
-        scanned = response(starts)
+        scanned = np.empty((starts.size, self.n_responses))
+        for part in _blocks(starts.size, len(ends) * 8 * PRIMITIVE_ARRAYS * self.n_responses):
+            scanned[part] = response(starts[part])
         out = np.zeros((2, self.n_responses))
         for k, pick in enumerate((np.argmin, np.argmax)):
             for j in range(self.n_responses):
@@ -251,15 +277,22 @@ class InfluenceLines:
         ``(n, n_responses)``, as a function of x (clipped to the track): Simpson's rule on a
         grid through the element ends at most :attr:`step` apart, exact for the cubic pieces of
         an influence line (``part`` None: the line itself), and for a ``part`` of it (an
-        elementwise function of its values, e.g. its part of one sign) up to where that clips it."""
+        elementwise function of its values, e.g. its part of one sign) up to where that clips it.
+        Built and evaluated :data:`BLOCK_BYTES` at a time: an evaluation holds
+        :data:`PRIMITIVE_ARRAYS` (n_responses,) arrays per position."""
         part = part or (lambda values: values)
         track = self.track
         pieces = np.maximum(np.ceil(track.length / self.step - 1e-9), 1).astype(int)
         x = np.append(np.concatenate([x0 + ell * np.arange(m) / m for x0, ell, m in
                                       zip(track.x_start, track.length, pieces)]), track.x_end)
-        il, il_mid = part(self(x)), part(self(0.5 * (x[1:] + x[:-1])))       # (n_x, n_resp), (n_x - 1, n_resp)
-        cumulative = np.concatenate([np.zeros((1, self.n_responses)), np.cumsum(
-            np.diff(x)[:, None] / 6.0 * (il[:-1] + 4.0 * il_mid + il[1:]), axis=0)])
+        il, cumulative = np.empty((x.size, self.n_responses)), np.zeros((x.size, self.n_responses))
+        for block in _blocks(x.size, 8 * PRIMITIVE_ARRAYS * self.n_responses):
+            il[block] = part(self(x[block]))
+        for block in _blocks(x.size - 1, 8 * PRIMITIVE_ARRAYS * self.n_responses):     # the grid's intervals
+            a, b = x[:-1][block], x[1:][block]
+            simpson = (b - a)[:, None] / 6.0 * (il[:-1][block] + 4.0 * part(self(0.5 * (b + a))) + il[1:][block])
+            simpson[0] += cumulative[block.start]        # the sum so far, added as one running sum would
+            cumulative[block.start + 1: block.stop + 1] = np.cumsum(simpson, axis=0)
 
         def at(ends):
             ends = np.clip(ends, x[0], x[-1])
@@ -275,6 +308,13 @@ def _classification_factor(alpha, model):
     if not (np.isfinite(alpha) and alpha > 0.0):
         raise ModelError(f"influence lines: {model} alpha must be > 0 and finite, got {alpha}")
     return alpha
+
+
+def _blocks(n, bytes_each):
+    """Slices of ``range(n)`` of at most :data:`BLOCK_BYTES` / ``bytes_each`` items (at least one):
+    the blocks of a scan whose temporaries take ``bytes_each`` [B] per item."""
+    size = max(1, BLOCK_BYTES // max(1, int(bytes_each)))
+    return [slice(start, start + size) for start in range(0, n, size)]
 
 
 def _finite_array(what, values):

@@ -10,7 +10,7 @@ The bridge is built and factored once per sweep (in the calling process, before 
 is dispatched); each task carries that prepared bridge to its worker, and each passage starts
 from the bridge's rest state (:class:`~vtsi.passage.PassageRunner`). Cases are grouped into
 tasks of about ``TASK_STEPS`` time steps, so that dispatching a task costs well under 5 % of
-running it. Results are written by the calling process as each task completes, atomically
+running it, and of at most ``TASK_HISTORY_BYTES`` of time histories. Results are written by the calling process as each task completes, atomically
 (:mod:`vtsi.sweep_results`): a sweep killed at any moment loses only the tasks that were
 running, and ``resume=True`` runs only what is missing.
 
@@ -51,16 +51,30 @@ from vtsi.vehicle import MAX_TRAIN_SPEED
 
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
 MAX_SEEDS = 10_000          # rail samples of a sweep at most
+MAX_SPEEDS = 10_000
+"""Speeds of a sweep at most: 10 000 of them cover every speed a train reaches (up to 720 km/h)
+0.072 km/h apart, far finer than a resonance of a damped deck (its peak is about 2ζ·v wide: 3 km/h
+at 300 km/h and ζ = 0.5 %; EN 1991-2 §6.4.6.2 steps 10 km/h, 2 km/h near one), so more is a typo
+('200:300:0.001': 100 001 passages, which ran 9 minutes before they were stopped)."""
 WORKER_GRACE_S = 5.0        # [s] a stopped pool's workers have to exit once their tasks ended, then are ended
 CAR_STEP_COST = 8.0         # a coupled step of cars in steps of moving forces (measured: ICE3's 32 wheels 20-31 µs,
                             # HSLM-A1's 50 axles 4 µs, on a 20 m span of 10 elements): tasks of cars last as long
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
+TASK_HISTORY_BYTES = 128 * 2 ** 20
+"""[B] The time histories (``history=True`` outputs, float64) a task's cases hold at most, as
+estimated by :meth:`Sweep.history_bytes`: a task keeps its histories until the calling process
+writes them, and every write rewrites the whole file (docs/sweeps.md, "Memory"). Measured on 60
+exact modal passages of HSLM-A7 over 10 × 30 m keeping the deck accelerations (14.5 MB each, a
+560 MB file): tasks of 32, 64, 128, 256 MB and all in one ran 50, 35, 26, 25 and 23 s, peaking at
+1.36, 1.39, 1.51, 1.56 and 2.58 GB; 128 MB costs 14 % of time and little memory over smaller
+tasks, whose more frequent rewrites of the file cost more time."""
 
 
 # -- speeds ------------------------------------------------------------------------------------
 def speeds(spec):
     """Speeds [km/h] from ``'START:STOP:STEP'`` (STOP included when it falls on the grid),
-    ``'v1,v2,...'``, a number or a sequence of numbers. Every speed must be > 0."""
+    ``'v1,v2,...'``, a number or a sequence of numbers. Every speed must be > 0 and finite, and
+    at most MAX_SPEEDS of them."""
     if isinstance(spec, str):
         text = spec.strip()
         try:
@@ -71,12 +85,20 @@ def speeds(spec):
         if parts is not None and len(parts) != 3 or values is None and parts is None:
             raise SweepError(f"speeds {spec!r}: expected START:STOP:STEP or a comma-separated list [km/h]")
         if parts:
+            for name, value in zip(("start", "stop", "step"), parts):
+                if not math.isfinite(value):
+                    raise SweepError(f"speeds {spec!r}: the {name} must be finite, got {value:g} km/h")
             start, stop, step = parts
             if not step > 0:
                 raise SweepError(f"speeds {spec!r}: the step must be > 0 km/h, got {step:g}")
             if stop < start:
                 raise SweepError(f"speeds {spec!r}: empty range (stop {stop:g} < start {start:g} km/h)")
-            values = start + step * np.arange(int(math.floor((stop - start) / step + 1e-9)) + 1)
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            if count > MAX_SPEEDS:
+                raise SweepError(f"speeds {spec!r}: a step of {step:g} km/h makes {float(count):.6g} speeds, more than "
+                                 f"{MAX_SPEEDS} (MAX_SPEEDS: every speed a train reaches, 0.072 km/h apart); EN 1991-2 "
+                                 "6.4.6.2 steps 10 km/h, 2 km/h near a resonance")
+            values = start + step * np.arange(count)
     else:
         try:
             values = np.atleast_1d(np.asarray(spec, dtype=float)).ravel()
@@ -90,7 +112,11 @@ def speeds(spec):
     if values.max() > 3.6 * MAX_TRAIN_SPEED:
         raise SweepError(f"speeds: {values.max():g} km/h is faster than any train (at most "
                          f"{3.6 * MAX_TRAIN_SPEED:g} km/h)")
-    return np.unique(np.round(values, 9))
+    values = np.unique(np.round(values, 9))
+    if values.size > MAX_SPEEDS:
+        raise SweepError(f"speeds: {values.size} speeds, more than {MAX_SPEEDS} (MAX_SPEEDS: every speed a train "
+                         "reaches, 0.072 km/h apart)")
+    return values
 
 
 def resonance_speeds(frequencies_hz, lengths_m, orders=tuple(range(1, HARMONICS + 1))):
@@ -376,7 +402,8 @@ class Sweep:
     def identity(self):
         """What makes two sweeps the same (stored in the results file; a resumed sweep must match):
         the bridge (its description and matrices' hash), what each train is (its hash, so that an
-        edited axle table or a changed catalogue train is another sweep), settings, outputs,
+        edited axle table or a changed catalogue train is another sweep, and the same table by
+        another path is not: :class:`~vtsi.sweep_results.ResultsWriter`), settings, outputs,
         trains, speeds and seeds."""
         return {"bridge": self.bridge.description, "bridge_fingerprint": _fingerprint(self.runner),
                 "train_fingerprints": {name: train_fingerprint(self.runner.train(name, 1.0)) for name in self.trains},
@@ -457,13 +484,28 @@ class Sweep:
             steps *= CAR_STEP_COST              # a coupled step of cars costs several of moving forces
         return float(steps)
 
+    def history_bytes(self, cases):
+        """The mean size [B] of the time histories a case of ``cases`` keeps (its outputs with
+        ``history=True``: a time and a value per column at each of its steps, float64), from
+        every twentieth case; 0 when no output keeps one."""
+        kept = [o for o in self.outputs if o.history]
+        if not kept:
+            return 0.0
+        trains = [self.runner.train(t, v / 3.6) for t, v, _ in cases[:: max(1, len(cases) // 20)]]
+        return float(np.mean([8.0 * self.runner.n_steps(train) * sum(1 + len(self.runner.columns(o, train))
+                                                                     for o in kept) for train in trains]))
+
     @staticmethod
-    def task_size(n_cases, cost, workers):
-        """Cases per task: about TASK_STEPS steps (``cost``: a case's, :meth:`case_cost`), and at
-        least one task per worker."""
+    def task_size(n_cases, cost, workers, history_bytes=0.0):
+        """Cases per task: about TASK_STEPS steps (``cost``: a case's, :meth:`case_cost`), at most
+        TASK_HISTORY_BYTES of time histories (``history_bytes`` [B]: a case's,
+        :meth:`history_bytes`), and at least one task per worker."""
         if not n_cases:
             return 1
-        return int(max(1, min(math.ceil(TASK_STEPS / max(cost, 1.0)), math.ceil(n_cases / workers))))
+        size = min(math.ceil(TASK_STEPS / max(cost, 1.0)), math.ceil(n_cases / workers))
+        if history_bytes > 0:
+            size = min(size, math.floor(TASK_HISTORY_BYTES / history_bytes))
+        return int(max(1, size))
 
     def run(self, path=None, *, workers=None, executor=None, progress=None, resume=False, overwrite=False,
             cases_per_task=None):
@@ -502,7 +544,7 @@ class Sweep:
                 cost = self.case_cost(todo)
                 if workers is None and executor is None and cost * len(todo) <= TASK_STEPS:
                     n_workers = 1
-                size = cases_per_task or self.task_size(len(todo), cost, n_workers)
+                size = cases_per_task or self.task_size(len(todo), cost, n_workers, self.history_bytes(todo))
                 tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
                 bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
                 if executor is None and n_workers == 1:
@@ -537,12 +579,13 @@ class Sweep:
         Every case must be one of the sweep's: a train of the sweep (named as :func:`train_list`
         reads it: 'ice3' is 'ICE3'), one of its speeds and one of its seeds (-1 on a smooth
         rail); anything else is a SweepError naming the case and what is valid, before anything
-        runs or is written."""
+        runs or is written. A file of another sweep is refused naming its first difference
+        (:class:`~vtsi.sweep_results.ResultsFileRefused`: build the Sweep with the file's)."""
         cases = self.sweep_cases(cases, "record_histories")
         for o in outputs:
             if not isinstance(o, Output):
                 raise SweepError(f"record_histories: outputs must be vtsi.passage.Output, got {o!r}")
-        with ResultsWriter(path, self.identity(), self.runner, resume=True) as writer:
+        with ResultsWriter(path, self.identity(), self.runner, resume=True, adding_histories=True) as writer:
             self.prepare()
             try:
                 results = [self.runner.run(t, v, s, outputs=outputs) for t, v, s in cases]

@@ -299,7 +299,14 @@ def staging_path(path):
     return os.fspath(path) + STAGING
 
 
-class ResultsFileInUse(SweepError):
+class ResultsFileRefused(SweepError):
+    """A results file a sweep cannot write, found before any passage runs (``vtsi sweep`` exits 2,
+    a bad input): its folder missing or not writable, a lock file that cannot be created, an
+    existing file without resume or overwrite, of another sweep or unreadable, a new file that
+    cannot be written (:class:`ResultsWriter`)."""
+
+
+class ResultsFileInUse(ResultsFileRefused):
     """Another process is writing the results file: another sweep (it holds the file's lock,
     ``<file>.lock``), or any process holding the file open for writing (HDF5's own file lock)."""
 
@@ -486,6 +493,28 @@ def _first_difference(a, b, path=()):
     return None if a == b else (path, a, b)
 
 
+def _axle_tables_as_stored(identity, stored):
+    """``(identity, names)``: a sweep's ``identity`` with each axle table that the file's identity
+    ``stored`` holds under another name, with the same content (its train_fingerprints: the same
+    table by another path, 'tgv.csv' given as '../tgv.csv' from another folder), named as the
+    file names it; ``names`` {name here: name in the file} of those. Catalogue trains, and
+    tables whose content the file holds under none or several of its other names, are left as
+    they are."""
+    catalogue = set(train_names())
+    mine, theirs = identity.get("train_fingerprints") or {}, stored.get("train_fingerprints")
+    if not isinstance(theirs, dict) or not isinstance(stored.get("trains"), list):
+        return identity, {}
+    here = [t for t in identity["trains"] if t not in catalogue and t not in stored["trains"]]
+    there = [t for t in stored["trains"] if t not in catalogue and t not in identity["trains"]]
+    prints_here, prints_there = [mine.get(t) for t in here], [theirs.get(t) for t in there]
+    names = {t: there[prints_there.index(p)] for t, p in zip(here, prints_here)
+             if p is not None and prints_here.count(p) == 1 and prints_there.count(p) == 1}
+    if not names:
+        return identity, {}
+    return dict(identity, trains=[names.get(t, t) for t in identity["trains"]],
+                train_fingerprints={names.get(t, t): p for t, p in mine.items()}), names
+
+
 def _item_names(items):
     """A list's items as :func:`_describe` names them: an output by its name, others as they are."""
     return [x.get("name") if isinstance(x, dict) else x for x in items]
@@ -553,28 +582,40 @@ class ResultsWriter:
 
     It holds the file's lock (:class:`ResultsFileLock`) from its start to :meth:`close`; with
     ``overwrite`` it writes the new sweep to :func:`staging_path` and :meth:`commit` puts it in
-    place of the old file (see the module docstring)."""
+    place of the old file (see the module docstring). Every refusal of the file before a
+    passage runs is a :class:`ResultsFileRefused`. ``adding_histories``: the writer of
+    :meth:`~vtsi.sweep.Sweep.record_histories`, whose refusal of a file of another sweep says to
+    build the Sweep as the file's (it cannot overwrite).
 
-    def __init__(self, path, identity, runner, resume=False, overwrite=False):
+    An axle table is named in the file as it was first given: the same table (same content, its
+    train_fingerprints) given by another path ('../tgv.csv' for 'tgv.csv', the sweep resumed from
+    another folder) continues the file, and its cases and histories are written under the file's
+    name."""
+
+    def __init__(self, path, identity, runner, resume=False, overwrite=False, adding_histories=False):
         self.path = self.target = None if path is None else os.fspath(path)
         self.identity = json.loads(json.dumps(identity))
         self.runner = runner
+        self.adding_histories = adding_histories
         self._memory = self._lock = None
+        self._names = {}                # an axle table's name here -> in the file, where they differ
         if self.path is None:
             self._create()
             return
-        if os.path.isdir(self.path):
-            raise SweepError(f"results file {self.path} is a directory")
-        folder = os.path.dirname(os.path.abspath(self.path))
-        if not os.path.isdir(folder):
-            raise SweepError(f"results file {self.path}: the directory {folder} does not exist")
-        if not os.access(folder, os.W_OK | os.X_OK):
-            raise SweepError(f"results file {self.path}: cannot write in {folder}")
-        self._lock = ResultsFileLock(self.path)
         try:
+            if os.path.isdir(self.path):
+                raise SweepError(f"results file {self.path} is a directory")
+            folder = os.path.dirname(os.path.abspath(self.path))
+            if not os.path.isdir(folder):
+                raise SweepError(f"results file {self.path}: the directory {folder} does not exist")
+            if not os.access(folder, os.W_OK | os.X_OK):
+                raise SweepError(f"results file {self.path}: cannot write in {folder}")
+            self._lock = ResultsFileLock(self.path)
             self._start(resume, overwrite)
-        except BaseException:
+        except BaseException as exc:
             self.close()
+            if isinstance(exc, SweepError) and not isinstance(exc, ResultsFileRefused):
+                raise ResultsFileRefused(str(exc)) from None
             raise
 
     def __enter__(self):
@@ -726,11 +767,12 @@ class ResultsWriter:
                        if not o.vehicle and written is not None and o.name in written}
         if version != FORMAT_VERSION:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
-                             "it cannot be resumed; use another file, or overwrite=True (--overwrite)")
-        diff = _first_difference(self.identity, stored)
+                             f"it cannot be resumed; {self._remedy()}")
+        here, renamed = _axle_tables_as_stored(self.identity, stored)
+        diff = _first_difference(here, stored)
         if diff:
             raise SweepError(f"results file {path} holds a different sweep ({_describe(diff, self.runner)}); "
-                             "use another file, or overwrite=True (--overwrite)")
+                             f"{self._remedy(diff)}")
         before = {"deck": " ('deck' was every node of the track, the approaches' too: 'track' now)",
                   "supports": " ('supports' held the approaches' springs too)"}
         for o in self.runner.outputs:
@@ -740,8 +782,8 @@ class ResultsWriter:
                 raise SweepError(f"results file {path}: its output {o.name!r} at {place} holds "
                                  f"{self._nodes_text(columns[o.name])}, this vtsi's {place} {self._nodes_text(now)}: "
                                  "the file was written by a vtsi whose place held other nodes"
-                                 f"{before.get(o.nodes, '')}, and resuming would mix the two; use another file, or "
-                                 "overwrite=True (--overwrite)")
+                                 f"{before.get(o.nodes, '')}, and resuming would mix the two; {self._remedy()}")
+        self._names = renamed
         if done is None:
             return
         names, lengths = self.identity["trains"], {}
@@ -754,8 +796,20 @@ class ResultsWriter:
                                  f"{int(n)} steps, this vtsi runs {lengths[key]}: the file was written by a vtsi whose "
                                  "passages ran another length (since 2026-11-27, for one, a sweep reading car bodies "
                                  "runs until the last car body stops counting: vtsi.passage.PassageRunner.n_steps), "
-                                 "and resuming would mix passages of both; use another file, or overwrite=True "
-                                 "(--overwrite)")
+                                 f"and resuming would mix passages of both; {self._remedy()}")
+
+    def _remedy(self, diff=None):
+        """What to do with a file this writer cannot continue: ``diff``, the first difference of
+        its sweep (:func:`_first_difference`), or None for a file another vtsi wrote."""
+        if not self.adding_histories:
+            return "use another file, or overwrite=True (--overwrite)"
+        if diff is None:
+            return ("record_histories adds to a file of this vtsi's sweep: run the sweep again (another file, or "
+                    "overwrite=True), then record its histories")
+        path = diff[0]
+        what = ("settings." + str(path[1]) if path[0] == "settings" and len(path) > 1 else
+                {"bridge_fingerprint": "bridge", "train_fingerprints": "trains"}.get(path[0], path[0]))
+        return f"record_histories adds to the file of its own sweep: build the Sweep with the file's {what}"
 
     def _nodes_text(self, nodes):
         """Node tags ``nodes`` in words: '49 nodes (x = -20 to 100 m)'."""
@@ -836,10 +890,11 @@ class ResultsWriter:
                 _append(cases, name + WHOLE_RUN, whole)
         described = {o["name"]: output_description(o["response"], o.get("cutoff_hz")) for o in ident["outputs"]}
         for r in results:
+            train = self._names.get(r.train, r.train)        # as the file names it
             for name, (time, values) in r.histories.items():
-                h = cases.require_group("histories").require_group(train_key(r.train)).require_group(
+                h = cases.require_group("histories").require_group(train_key(train)).require_group(
                     _speed_seed(r.speed_kmh, r.seed))
-                h.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
+                h.attrs.update({"train": train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
                                 "n_steps": r.n_steps})
                 _put_history(h, name, time, values, described[name])
         # the cases' cells of the envelope tables: the extreme over the columns, where and when
@@ -875,11 +930,12 @@ class ResultsWriter:
 
         def put(f):
             for r in results:
-                key = case_key(r.train, r.speed_kmh, r.seed)
+                train = self._names.get(r.train, r.train)    # as the file names it
+                key = case_key(train, r.speed_kmh, r.seed)
                 if "histories" in f and key in f["histories"]:
                     del f["histories"][key]
                 g = f.require_group("histories").create_group(key)
-                g.attrs.update({"train": r.train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
+                g.attrs.update({"train": train, "speed_kmh": r.speed_kmh, "seed": r.seed, "x_head0": r.x_head0,
                                 "n_steps": r.n_steps})
                 for name, (time, values) in r.histories.items():
                     _put_history(g, name, time, values, described[name])
@@ -990,8 +1046,11 @@ class SweepResults:
         the sweep's trains."""
         name = canonical_train_name(train) if isinstance(train, (str, os.PathLike)) else None
         if name not in self.trains:
+            hint = ("names ignore case; 'A1' is 'HSLM-A1'" if set(self.trains) <= set(train_names()) else
+                    "catalogue names ignore case, 'A1' is 'HSLM-A1'; an axle table is named by its path as the sweep "
+                    "was given it, case included")
             raise SweepError(f"sweep results: train {train!r} is not one of the sweep's: {', '.join(self.trains)} "
-                             "(names ignore case; 'A1' is 'HSLM-A1')")
+                             f"({hint})")
         return name
 
     def speed(self, speed_kmh):
