@@ -409,26 +409,19 @@ def test_f1_gives_the_frequency(beam):
         load_bridge(beam("both.toml", {"f1_Hz": 5.0}))
 
 
-def test_yaml_description_equals_toml(tmp_path, beam):
-    pytest.importorskip("yaml")
-    yaml_text = ("bridge:\n  kind: beam\n  spans_m: [20.0]\n  E_Pa: 3.5e+10\n  I_m4: 1.9\n  mu_kg_m: 15000.0\n"
-                 "  elements_per_span: 4\nanalysis:\n  damping: 0.0125\n  dt_s: 0.01\n")
-    a = read_bridge_file(write(tmp_path, "b.yaml", yaml_text))
-    b = read_bridge_file(beam("b.toml"))
-    assert a.bridge.description == b.bridge.description and a.settings == b.settings == {"damping": 0.0125, "dt": 0.01}
-
-
-def test_yaml_reads_exponents_without_a_dot_as_numbers(tmp_path, beam):
-    """YAML 1.2's floats: PyYAML (YAML 1.1) read ``3.5e10`` and ``1e-2`` as texts, refused as not
+@pytest.mark.parametrize("E, damping, dt", [("3.5e+10", "0.0125", "0.01"), ("35e9", "125e-4", "1e-2")],
+                         ids=["yaml-1.1-floats", "exponents-without-a-dot"])
+def test_yaml_description_equals_toml(tmp_path, beam, E, damping, dt):
+    """YAML 1.2's floats: PyYAML (YAML 1.1) read ``35e9`` and ``1e-2`` as texts, refused as not
     numbers; a quoted one stays a text, refused."""
     pytest.importorskip("yaml")
-    yaml_text = ("bridge:\n  kind: beam\n  spans_m: [20.0]\n  E_Pa: 35e9\n  I_m4: 1.9\n  mu_kg_m: 15000.0\n"
-                 "  elements_per_span: 4\nanalysis:\n  damping: 125e-4\n  dt_s: 1e-2\n")
+    yaml_text = (f"bridge:\n  kind: beam\n  spans_m: [20.0]\n  E_Pa: {E}\n  I_m4: 1.9\n  mu_kg_m: 15000.0\n"
+                 f"  elements_per_span: 4\nanalysis:\n  damping: {damping}\n  dt_s: {dt}\n")
     a = read_bridge_file(write(tmp_path, "b.yaml", yaml_text))
     b = read_bridge_file(beam("b.toml"))
     assert a.bridge.description == b.bridge.description and a.settings == b.settings == {"damping": 0.0125, "dt": 0.01}
-    with pytest.raises(ModelError, match="dt must be a number, got '1e-2'"):
-        read_bridge_file(write(tmp_path, "q.yaml", yaml_text.replace("dt_s: 1e-2", 'dt_s: "1e-2"')))
+    with pytest.raises(ModelError, match=f"dt must be a number, got '{dt}'"):
+        read_bridge_file(write(tmp_path, "q.yaml", yaml_text.replace(f"dt_s: {dt}", f'dt_s: "{dt}"')))
 
 
 def test_script_kind_in_a_description(tmp_path):
