@@ -271,7 +271,7 @@ class CoupledAnalysis:
         stages = integ.checked_stages(dt)       # contract: force_weight > 0 (the loop divides by it), ...
 
         def build():                # the train's stability limit, then its factors: once per train in a sweep
-            check_train_stability(train, integ, dt, bridge.rail_point_mass(track) if train.n_dof else np.inf)
+            check_train_stability(train, integ, dt, bridge, track)
             return TrainStages(train, stages, integ.n_slots)
 
         source = asm if self.bridge is None else self.bridge     # the train's entry goes with the bridge's
@@ -939,15 +939,16 @@ class _CoupledPlan:
         return table[:n], r_table[:n], rate_table[:n]
 
 
-def check_train_stability(train, integrator, dt, rail_mass=np.inf):
+def check_train_stability(train, integrator, dt, bridge=None, track=None):
     """An AnalysisError if ``integrator`` is conditionally stable and ``dt`` [s] exceeds its limit
     for the train subdomain ``train``: the bridge's own check (:class:`~vtsi.subdomain.FEStages`)
     does not see a stiff car. ω_max is the train's with its wheels free where they have mass
     (the coupled system's highest frequency is at most the larger of the bridge's and this, the
     constraint restricting both: Rayleigh's quotient). A contact wheel without mass rides the
-    rail, so it takes ``rail_mass`` [kg], the bridge's smallest apparent mass at a node of the
-    track (:meth:`~vtsi.subdomain.BridgeStages.rail_point_mass`; inf: held, as on rigid
-    ground): the car on that point mass is the body-on-rail system whose frequency
+    rail, so it takes the rail's mass [kg], the smallest apparent mass of ``bridge`` (its
+    :class:`~vtsi.subdomain.BridgeStages`) at a node of ``track``
+    (:meth:`~vtsi.subdomain.BridgeStages.rail_point_mass`, computed only then; no bridge: held,
+    as on rigid ground): the car on that point mass is the body-on-rail system whose frequency
     sqrt(k (1/m + 1/m_rail)) the coupled system has when the bridge's stiffness at the point is
     small against the suspension's (a stiff car over a light modal bridge: 4.03/Δt, where the car
     with its wheel held gave 3.29/Δt). Wheels sharing one part of the bridge share its mass, so
@@ -957,6 +958,7 @@ def check_train_stability(train, integrator, dt, rail_mass=np.inf):
         return
     M, K = train.M.toarray(), train.K.toarray()
     wheels = train.wheel_dofs[np.diag(M)[train.wheel_dofs] <= 0.0]
+    rail_mass = bridge.rail_point_mass(track) if len(wheels) and bridge is not None else np.inf
     on_bridge = bool(np.isfinite(rail_mass) and len(wheels))
     if on_bridge:
         M[wheels, wheels] = rail_mass
