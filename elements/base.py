@@ -55,7 +55,8 @@ What is checked where
 - :func:`register`, when the class is defined: the class attributes of item 1 exist and name
   known parameters, ``node_dofs`` among 0, 1, 2, ``command_args``/``command_options`` (item 6),
   ``stiffness`` and ``mass`` overridden, the name not taken by another class (TypeError).
-- :meth:`ElementType.add`, per element: the node count, parameter names, numbers, finite,
+- :meth:`ElementType.add`, per element: the node count, parameter names, numbers (a text is
+  refused, :func:`vtsi.errors.as_number`, and a bool but for a flag, True as 1), finite,
   ``positive``/``non_negative``/``flags`` (ModelError naming the element).
 - Each build (:class:`vtsi.assembly.Assembly`, :func:`element_matrices`), once per type: its
   ``check_geometry``; what its kernels return (item 2): a numpy array of real numbers of shape
@@ -89,7 +90,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number
 
 from .kernels import matrix_defects, semidefinite_defects
 
@@ -197,10 +198,9 @@ class ElementType:
                 value = self.defaults[pname]
             else:
                 raise ModelError(f"element {tag} ({self.name}): parameter {pname!r} is required")
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ModelError(f"element {tag} ({self.name}): {pname} must be a number, got {value!r}") from None
+            if pname in self.flags and isinstance(value, (bool, np.bool_)):
+                value = float(value)                  # a flag: True or False as 1 or 0
+            value = as_number(value, f"element {tag} ({self.name})", pname)   # not a text ('3e10'), nor a bool
             if not np.isfinite(value):
                 raise ModelError(f"element {tag} ({self.name}): {pname} must be finite, got {value}")
             if pname in self.positive and value <= 0.0:

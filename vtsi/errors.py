@@ -24,6 +24,7 @@ bridge is built or read (a :class:`ModelError`, like every other definition) and
 like every other refusal of a sweep): ``except ModelError`` and ``except SweepError`` catch what
 they caught before the class existed, and ``except BridgeError`` catches both.
 """
+import math
 import numbers
 import reprlib
 from decimal import Decimal
@@ -143,9 +144,12 @@ def as_number(value, where, name, error=ModelError):
         raise error(f"{where}: {name} must be a number, got {_SHORT.repr(value)}")
     try:
         return float(value)
-    except OverflowError:            # an int beyond a float's range (1e308)
-        raise error(f"{where}: {name} must be a number within a float's range (1e308), got an integer of "
-                    f"{len(str(abs(int(value))))} digits") from None
+    except OverflowError:            # an int or a fraction beyond a float's range (1e308)
+        size = (f"an integer of {len(str(abs(value)))} digits" if is_int(value) else
+                f"a {type(value).__name__} of about 1e{len(str(abs(int(value)))) - 1}")
+        raise error(f"{where}: {name} must be a number within a float's range (1e308), got {size}") from None
+    except ValueError:               # Decimal('sNaN'), which float() refuses
+        raise error(f"{where}: {name} must be a number, got {_SHORT.repr(value)}") from None
 
 
 def number_array(value):
@@ -153,6 +157,11 @@ def number_array(value):
     float64 array if every item is a number as :func:`is_number` has it, else None (a bool or a
     text item, ``['0.02']`` as ``'0.02'``, a ragged nesting, an int beyond a float's range).
     Finiteness and shape are the caller's to check; :func:`as_numbers` words the refusal."""
+    if type(value) in (list, tuple) and set(map(type, value)) <= _PLAIN:   # Python floats: the common case
+        try:
+            return np.array(value, dtype=np.float64)
+        except OverflowError:                # an int beyond a float's range (1e308)
+            return None
     if isinstance(value, (str, bytes)):
         return None
     try:
@@ -161,10 +170,27 @@ def number_array(value):
         return None
     if not (array.dtype.kind in "iuf" or (array.dtype.kind == "O" and all(is_number(item) for item in array.flat))):
         return None
+    if isinstance(value, (list, tuple)) and array.dtype.kind in "iuf" and _holds_bool(value):
+        return None                          # numpy reads [True, 2.0] as [1.0, 2.0]
     try:
         return np.array(array, dtype=np.float64, order="C")
-    except OverflowError:                    # an int beyond a float's range (1e308)
+    except (OverflowError, ValueError):      # an int beyond a float's range (1e308); Decimal('sNaN')
         return None
+
+
+_PLAIN = {float, int}
+
+
+def _holds_bool(items):
+    """Whether ``items``, a nest of lists and tuples, holds a bool (Python's or numpy's) at any depth."""
+    kinds = set(map(type, items))                        # (one pass in C: a list of floats holds one kind)
+    if kinds <= _PLAIN:
+        return False
+    if any(issubclass(kind, (bool, np.bool_)) for kind in kinds):
+        return True
+    nests = tuple(kind for kind in kinds if issubclass(kind, (list, tuple, np.ndarray)))
+    return bool(nests) and any(_holds_bool(item) if not isinstance(item, np.ndarray) else item.dtype.kind == "b"
+                               for item in items if isinstance(item, nests))
 
 
 def as_numbers(value, where, name, error=ModelError):
@@ -200,7 +226,11 @@ def is_int(value):
 
 
 def is_count(value, least=0):
-    """Whether ``value`` is a whole number >= ``least``: an int, or a float without a fraction
-    (``3.0``), not a bool."""
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_)) \
-        and bool(np.isfinite(value)) and int(value) == value and value >= least
+    """Whether ``value`` is a whole number >= ``least``: a number as :func:`is_number` has it (an
+    int, a float without a fraction (``3.0``), a 0-d array, a Fraction 6/1), not a bool."""
+    if not is_number(value):
+        return False
+    try:
+        return math.isfinite(value) and int(value) == value and value >= least
+    except ValueError:               # Decimal('sNaN')
+        return False

@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 
-from vtsi.errors import ModelError, as_number
+from vtsi.errors import ModelError, as_number, number_array
 from vtsi.timeseries import TimeSeries
 
 ELEMENT_LOADS = {"uniform": ("w_y", "w_x"), "point": ("P_y", "x/L", "P_x")}
@@ -70,10 +70,9 @@ class LoadPattern:
 
     def load(self, node, *values):
         """Nodal load ``(Fx, Fy[, Mz])`` [N, N·m] on ``node``: one value per dof of the model."""
-        try:
-            values = np.asarray(values, dtype=float)
-        except (TypeError, ValueError):
-            raise ModelError(f"pattern {self.tag}: load on node {node} must be numbers, got {list(values)!r}") from None
+        given, values = values, number_array(values)
+        if values is None:          # a text ('-1e3'), a bool: a value not converted
+            raise ModelError(f"pattern {self.tag}: load on node {node} must be numbers, got {list(given)!r}")
         if self.ndf is not None and values.shape != (self.ndf,):
             raise ModelError(f"pattern {self.tag}: load on node {node}: needs {self.ndf} values, got {len(values)}")
         if not all(map(math.isfinite, values.ravel().tolist())):     # (numpy's isfinite costs more on ndf values)
@@ -92,10 +91,10 @@ class LoadPattern:
         if kind not in ("uniform", "point"):
             raise ModelError(f"pattern {self.tag}: element load kind {kind!r} on element {element}; valid: "
                              "'uniform', 'point'")
-        try:
-            values = tuple(float(v) for v in values)
-        except (TypeError, ValueError):
-            raise ModelError(f"pattern {self.tag}: load on element {element} must be numbers, got {values!r}") from None
+        array = number_array(values)
+        if array is None or array.ndim != 1:    # a text ('-1e3'), a bool: a value not converted
+            raise ModelError(f"pattern {self.tag}: load on element {element} must be numbers, got {values!r}")
+        values = tuple(array.tolist())
         names = ELEMENT_LOADS[kind]
         if not len(names) - 1 <= len(values) <= len(names) or not np.all(np.isfinite(values)):
             raise ModelError(f"pattern {self.tag}: {kind} load on element {element} needs "

@@ -9,7 +9,7 @@ import numpy as np
 
 from vtsi.assembly import Assembly
 from vtsi.elements import element_type  # the package: importing it registers the element library
-from vtsi.errors import ModelError
+from vtsi.errors import ModelError, as_number, is_int, number_array
 from vtsi.loads import LoadPattern, UniformExcitation
 from vtsi.timeseries import TimeSeries
 
@@ -66,10 +66,9 @@ class Model:
             raise ModelError(f"node {tag} already exists")
         if len(coords) != self.ndm:
             raise ModelError(f"node {tag}: needs {self.ndm} coordinates, got {len(coords)}")
-        try:
-            xy = np.asarray(coords, dtype=float)
-        except (TypeError, ValueError):
-            raise ModelError(f"node {tag}: coordinates must be numbers, got {list(coords)!r}") from None
+        xy = number_array(coords)
+        if xy is None:              # a text ('0.0'), a bool: a value not converted
+            raise ModelError(f"node {tag}: coordinates must be numbers, got {list(coords)!r}")
         if not np.all(np.isfinite(xy)):
             raise ModelError(f"node {tag}: coordinates must be finite, got {xy.tolist()}")
         if mass is not None:
@@ -80,9 +79,7 @@ class Model:
         self._changed()
 
     def _node(self, tag, what):
-        if tag not in self.nodes:
-            raise ModelError(f"{what}: node {tag} does not exist")
-        return tag
+        return _existing(self.nodes, "node", tag, what)
 
     def fix(self, tag, *flags):
         """Fix dofs of node ``tag`` (OpenSees ``fix``): one flag per dof (ux, uy[, rz]), 1 fixed,
@@ -90,11 +87,11 @@ class Model:
         fixed once: ``fix(1, 1, 0, 0); fix(1, 0, 1, 0)`` fixes ux and uy.
 
         Raises ModelError if the node does not exist, the flags are not ``ndf`` values of 0 or
-        1, or a dof to fix is already fixed (as OpenSees, whose ``Domain::addSP_Constraint``
+        1 (not bools), or a dof to fix is already fixed (as OpenSees, whose ``Domain::addSP_Constraint``
         refuses a second constraint on a dof), constrained by equalDOF/rigidLink or prescribed
         (``sp``); the node's fixity is then left as it was."""
         self._node(tag, "fix")
-        if len(flags) != self.ndf or any(f not in (0, 1) for f in flags):
+        if len(flags) != self.ndf or any(isinstance(f, (bool, np.bool_)) or f not in (0, 1) for f in flags):
             raise ModelError(f"fix node {tag}: needs {self.ndf} flags of 0 or 1, got {list(flags)}")
         old = self.fixities.get(tag, (0,) * self.ndf)
         for d, f in enumerate(flags):
@@ -116,7 +113,7 @@ class Model:
         self._node(constrained, "equalDOF")
         if retained == constrained:
             raise ModelError(f"equalDOF: retained and constrained node are both {retained}")
-        if not dofs or any(d not in range(1, self.ndf + 1) for d in dofs):
+        if not dofs or any(not is_int(d) or d not in range(1, self.ndf + 1) for d in dofs):
             raise ModelError(f"equalDOF {retained} {constrained}: dofs must be among 1..{self.ndf}, got {list(dofs)}")
         self._constrain(constrained, {d - 1: [(retained, d - 1, 1.0)] for d in dofs}, f"equalDOF {retained} {constrained}")
 
@@ -186,8 +183,7 @@ class Model:
             raise ModelError(f"element {tag} ({type_name}): needs node dofs {[d + 1 for d in cls.node_dofs]}, "
                              f"but the model has ndf {self.ndf}")
         for n in nodes:
-            if n not in self.nodes:
-                raise ModelError(f"element {tag} ({type_name}): node {n!r} does not exist")
+            _existing(self.nodes, "node", n, f"element {tag} ({type_name})")
         etype = self.element_types.setdefault(type_name, cls())
         etype.add(tag, nodes, **params)
         self._element_owner[tag] = etype
@@ -198,9 +194,7 @@ class Model:
         on it left in a pattern is refused when the model is next built (ModelError).
 
         Raises ModelError if the element does not exist."""
-        if tag not in self._element_owner:
-            raise ModelError(f"remove element: element {tag} does not exist")
-        self._element_owner.pop(tag).remove(tag)
+        self._element_owner.pop(_existing(self._element_owner, "element", tag, "remove element")).remove(tag)
         self._changed()
 
     def add_time_series(self, series):
@@ -241,9 +235,7 @@ class Model:
         if tag in self.patterns:
             raise ModelError(f"pattern {tag} already exists")
         if not isinstance(series, TimeSeries):
-            if series not in self.time_series:
-                raise ModelError(f"pattern {tag}: time series {series} does not exist")
-            series = self.time_series[series]
+            series = self.time_series[_existing(self.time_series, "time series", series, f"pattern {tag}")]
         return tag, series
 
     def load(self, pattern_tag, node, *values):
@@ -253,8 +245,7 @@ class Model:
 
         Raises ModelError if the pattern or node does not exist, the values are not ``ndf``
         finite numbers, or the pattern takes no nodal loads (a UniformExcitation)."""
-        if pattern_tag not in self.patterns:
-            raise ModelError(f"load: pattern {pattern_tag} does not exist")
+        _existing(self.patterns, "pattern", pattern_tag, "load")
         self._node(node, f"load in pattern {pattern_tag}")
         if len(values) != self.ndf:
             raise ModelError(f"load on node {node}: needs {self.ndf} values, got {len(values)}")
@@ -264,10 +255,8 @@ class Model:
         """An element load on beam ``element`` in pattern ``pattern_tag``: ``'uniform'`` ``(w_y[,
         w_x])`` [N/m] or ``'point'`` ``(P_y, x/L[, P_x])`` [N], in element axes, the axial part 0
         when not given (:meth:`vtsi.loads.LoadPattern.beam_load`; OpenSees ``eleLoad``)."""
-        if pattern_tag not in self.patterns:
-            raise ModelError(f"beam_load: pattern {pattern_tag} does not exist")
-        if element not in self._element_owner:
-            raise ModelError(f"beam_load in pattern {pattern_tag}: element {element} does not exist")
+        _existing(self.patterns, "pattern", pattern_tag, "beam_load")
+        _existing(self._element_owner, "element", element, f"beam_load in pattern {pattern_tag}")
         self.patterns[pattern_tag].beam_load(element, kind, *values)
 
     def sp(self, pattern_tag, node, dof, value):
@@ -277,12 +266,11 @@ class Model:
         OpenSees's Transformation handler does (the moving support's velocity and acceleration
         stay 0, so no damping or inertia coupling: for a support motion with inertia, use
         ``uniform_excitation``)."""
-        if pattern_tag not in self.patterns:
-            raise ModelError(f"sp: pattern {pattern_tag} does not exist")
+        _existing(self.patterns, "pattern", pattern_tag, "sp")
         self._node(node, f"sp in pattern {pattern_tag}")
-        if not 1 <= dof <= self.ndf:
-            raise ModelError(f"sp node {node}: dof must be 1..{self.ndf}, got {dof}")
-        value = float(value)
+        if not (is_int(dof) and 1 <= dof <= self.ndf):
+            raise ModelError(f"sp node {node}: dof must be 1..{self.ndf}, got {dof!r}")
+        value = as_number(value, f"sp node {node} dof {dof}", "value")
         if not np.isfinite(value):
             raise ModelError(f"sp node {node} dof {dof}: value must be finite, got {value}")
         if self.fixities.get(node, (0,) * self.ndf)[dof - 1] or (node, dof - 1) in self.mp_constraints:
@@ -312,9 +300,7 @@ class Model:
 
     def remove_time_series(self, tag):
         """Forget series ``tag`` (the patterns made with it keep it, as in OpenSees)."""
-        if tag not in self.time_series:
-            raise ModelError(f"remove timeSeries: series {tag} does not exist")
-        del self.time_series[tag]
+        del self.time_series[_existing(self.time_series, "series", tag, "remove timeSeries")]
 
     def remove_sp(self, node, dof, pattern_tag=None):
         """Free ``node``'s 1-based ``dof``: without ``pattern_tag`` its ``fix`` if it is fixed
@@ -349,9 +335,7 @@ class Model:
         ``remove loadPattern``); its time series stays registered.
 
         Raises ModelError if the pattern does not exist."""
-        if tag not in self.patterns:
-            raise ModelError(f"remove loadPattern: pattern {tag} does not exist")
-        pattern = self.patterns.pop(tag)
+        pattern = self.patterns.pop(_existing(self.patterns, "pattern", tag, "remove loadPattern"))
         pattern.on_change = None
         self._loads_changed()
         if pattern.prescribed:      # its sp dofs were constrained: number the dofs again
@@ -366,7 +350,8 @@ class Model:
         pair for a ratio at two frequencies). Replaces earlier factors. The nodal masses are in
         the αM term; elements with ``do_rayleigh=0`` (the default of ``truss`` and
         ``zeroLength``) are in neither term, their own dashpots kept."""
-        values = np.array([alpha_m, beta_k, beta_k_init, beta_k_comm], dtype=float)
+        given = {"alpha_m": alpha_m, "beta_k": beta_k, "beta_k_init": beta_k_init, "beta_k_comm": beta_k_comm}
+        values = np.array([as_number(value, "rayleigh", name) for name, value in given.items()])
         if not np.all(np.isfinite(values)) or np.any(values < 0):
             raise ModelError(f"rayleigh: factors must be finite and >= 0, got {values.tolist()}")
         self.rayleigh_factors = (values[0], values[1] + values[2] + values[3])
@@ -386,13 +371,24 @@ class Model:
 
 def _nodal_mass(tag, values, ndf):
     """``values`` as ``ndf`` finite masses >= 0 [kg, kg m^2], or a ModelError naming node ``tag``."""
-    try:
-        values = np.asarray(values, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise ModelError(f"mass node {tag}: masses must be numbers, got {values!r}") from None
+    given, values = values, number_array(values)
+    if values is None:          # a text ('1000'), a bool: a value not converted
+        raise ModelError(f"mass node {tag}: masses must be numbers, got {given!r}")
+    values = values.ravel()
     if len(values) != ndf or not np.all(np.isfinite(values)) or np.any(values < 0):
         raise ModelError(f"mass node {tag}: needs {ndf} finite values >= 0, got {values.tolist()}")
     return values
+
+
+def _existing(table, kind, tag, what):
+    """``tag`` if it is a key of ``table`` (the model's nodes, elements, series or patterns),
+    else a ModelError ``'{what}: {kind} {tag} does not exist'``; a bool or a text is no tag
+    (True would be found as 1, '3' would be named as 3)."""
+    if not is_int(tag):
+        raise ModelError(f"{what}: {kind} tag must be an integer, got {tag!r}")
+    if tag not in table:
+        raise ModelError(f"{what}: {kind} {tag} does not exist")
+    return tag
 
 
 def _tag(kind, tag):

@@ -9,7 +9,7 @@ import inspect
 import numpy as np
 from numba import njit
 
-from vtsi.errors import ModelError, as_flag
+from vtsi.errors import ModelError, as_flag, as_number, as_numbers, number_array
 
 
 class TimeSeries:
@@ -289,24 +289,23 @@ def _parameters(series):
 
 
 def _numbers(name, what, values):
-    """``values`` (a sequence of numbers) as a 1-D float64 array, or a ModelError naming the series."""
-    try:
-        out = np.asarray(values, dtype=float) if not isinstance(values, (str, bytes)) else None
-    except (TypeError, ValueError):
-        out = None
-    if out is None:
-        raise ModelError(f"{name}: {what} must be numbers, got {values!r}")
+    """``values`` (a sequence of numbers, not texts nor bools) as a 1-D float64 array, or a
+    ModelError naming the series."""
+    out = as_numbers(values, name, what)
     if out.ndim != 1:
         raise ModelError(f"{name}: {what} must be a 1-D sequence, got shape {out.shape}")
     return out
 
 
 def _times(series, t):
-    """The times ``t`` [s] a series is evaluated at, as a float array, or a ModelError naming the series."""
-    try:
-        return np.asarray(t, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{series.label}: times must be numbers [s], got {t!r}") from None
+    """The times ``t`` [s] a series is evaluated at, as a float array (not texts nor bools), or
+    a ModelError naming the series."""
+    if isinstance(t, np.ndarray) and t.dtype == np.float64:        # (an analysis's times)
+        return t
+    times = number_array(t)
+    if times is None:
+        raise ModelError(f"{series.label}: times must be numbers [s], got {t!r}")
+    return times
 
 
 def _periodic(series, t_start, t_end, period, factor, shift, zero_shift, tag, label):
@@ -374,11 +373,9 @@ def _time_grid_factors(table, times, grid, use_last, scale, outer, out):
 
 
 def _finite(series, name, value):
-    """``value`` as a float, or a ModelError naming the series (its label), ``name`` and the value."""
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{series.label}: {name} must be a number, got {value!r}") from None
+    """``value`` as a finite float, or a ModelError naming the series (its label), ``name`` and
+    the value (a text or a bool is no number: :func:`vtsi.errors.as_number`)."""
+    value = as_number(value, series.label, name)
     if not np.isfinite(value):
         raise ModelError(f"{series.label}: {name} must be finite, got {value}")
     return value

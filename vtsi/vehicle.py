@@ -22,7 +22,7 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-from vtsi.errors import ModelError, as_number, as_numbers, as_positive, is_count, is_number, number_array
+from vtsi.errors import ModelError, as_number, as_numbers, as_positive, is_count, is_int, is_number, number_array
 from vtsi.signature import principal_wavelength
 
 GRAVITY = 9.81
@@ -80,7 +80,8 @@ class Car:
     gravity_load : ndarray, shape (n_dof,)
         −g × mass on translational dofs, 0 on rotations [N].
     wheel_dofs : ndarray, shape (n_wheels,), int64
-        Index into the car's dofs of each wheel's vertical dof, front wheel first. Empty for a
+        Index into the car's dofs of each wheel's vertical dof, front wheel first, given as
+        integers (a float, a text or a bool is refused). Empty for a
         force-only car (``n_dof == 0``): its wheels have no dofs and carry prescribed forces.
     wheel_offsets : ndarray, shape (n_wheels,)
         Distance of each wheel *behind* the car's reference point, the leading wheel (so the first
@@ -110,13 +111,17 @@ class Car:
         where = f"car {self.name!r}"
         for attr in ('M', 'C', 'K', 'gravity_load', 'wheel_offsets'):
             set_(self, attr, _frozen(as_numbers(getattr(self, attr), where, attr), np.float64))
-        set_(self, 'wheel_dofs', _frozen(self.wheel_dofs, np.int64))
+        set_(self, 'wheel_dofs', _frozen(_wheel_dofs(self.wheel_dofs, where), np.int64))
         set_(self, 'dof_names', tuple(self.dof_names))
         n = len(self.dof_names)
         for attr in ('M', 'C', 'K'):
             a = getattr(self, attr)
-            if a.shape != (n, n) or not np.all(np.isfinite(a)):
+            if a.shape != (n, n):
                 raise ModelError(f"{where}: {attr} must be a finite ({n}, {n}) matrix, got shape {a.shape}")
+            if not np.all(np.isfinite(a)):
+                i, j = np.argwhere(~np.isfinite(a))[0]
+                raise ModelError(f"{where}: {attr} must be a finite ({n}, {n}) matrix, got "
+                                 f"{attr}[{i}, {j}] = {a[i, j]}")
             if not np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * np.abs(a).max(initial=0.0)):
                 raise ModelError(f"{where}: {attr} is not symmetric")
         if self.gravity_load.shape != (n,):
@@ -141,8 +146,8 @@ class Car:
                 _check_semidefinite(where, attr, getattr(self, attr), self.dof_names,
                                     self.body_dofs if attr == 'M' else ())
             loads = _frozen(self._solve_statics(), np.float64)
-        if loads.shape != self.wheel_offsets.shape or not np.all(loads > 0):
-            raise ModelError(f"{where}: static wheel loads must be > 0 for every wheel, got {loads}")
+        if loads.shape != self.wheel_offsets.shape or not np.all((loads > 0) & np.isfinite(loads)):
+            raise ModelError(f"{where}: static wheel loads must be > 0 and finite for every wheel, got {loads}")
         set_(self, 'static_wheel_loads', loads)
 
     @property
@@ -178,6 +183,16 @@ class Car:
         f = self.body_dofs
         lam = scipy.linalg.eigh(self.K[np.ix_(f, f)], self.M[np.ix_(f, f)], eigvals_only=True)
         return np.sqrt(lam) / (2.0 * np.pi)
+
+
+def _wheel_dofs(value, where):
+    """A car's ``wheel_dofs`` as an int64 array of its shape if every item is an integer (a Python
+    or numpy int: not a float, a text nor a bool, which numpy would truncate, parse or take for
+    1), else a ModelError naming the car (``where``) and the value."""
+    items = np.asarray(value, dtype=object)
+    if not all(is_int(item) and -2 ** 63 <= item < 2 ** 63 for item in items.flat):
+        raise ModelError(f"{where}: wheel_dofs must be integers (indices of the car's dofs), got {value!r}")
+    return items.astype(np.int64)
 
 
 def _check_semidefinite(where, attr, a, dof_names, massive=()):
