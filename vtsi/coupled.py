@@ -275,7 +275,7 @@ class CoupledAnalysis:
             return TrainStages(train, stages, integ.n_slots)
 
         source = asm if self.bridge is None else self.bridge     # the train's entry goes with the bridge's
-        t = self.bridge_cache.get(source, train_stage_key(integ, dt, train), build) if train.n_dof else build()
+        t = self.bridge_cache.get(source, train_stage_key(integ, dt, train, track), build) if train.n_dof else build()
         self.fac_t, self.tflex, self.ops_t, self.weights_t = t.fac, t.flex, t.ops, t.weights
         self.wheel_response, self.response_range = t.wheel_response, t.response_range
         self.group_ptr, self.group_wheel, self.ground_inv = t.group_ptr, t.group_wheel, t.ground_inv
@@ -957,7 +957,7 @@ def check_train_stability(train, integrator, dt, bridge=None, track=None):
     if limit is None or not train.n_dof:
         return
     M, K = train.M.toarray(), train.K.toarray()
-    wheels = train.wheel_dofs[np.diag(M)[train.wheel_dofs] <= 0.0]
+    wheels = _massless_wheels(train)
     rail_mass = bridge.rail_point_mass(track) if len(wheels) and bridge is not None else np.inf
     on_bridge = bool(np.isfinite(rail_mass) and len(wheels))
     if on_bridge:
@@ -1021,12 +1021,23 @@ class TrainStages:
         self.group_ptr, self.group_wheel, self.ground_inv = _wheel_groups(self.flex, pack("dv")[:, A])
 
 
-def train_stage_key(integrator, dt, train):
-    """What :class:`TrainStages` depend on (hashable): the integrator, Δt [s], the train's M, C, K
-    (CSR) and its contact wheels' dofs; equal for the trains of one catalogue entry at any speed."""
+def _massless_wheels(train):
+    """The contact wheel dofs of the train subdomain ``train`` without mass (they ride the rail)."""
+    return train.wheel_dofs[train.M.diagonal()[train.wheel_dofs] <= 0.0]
+
+
+def train_stage_key(integrator, dt, train, track):
+    """What :class:`TrainStages` and the train's stability check (:func:`check_train_stability`,
+    run as they are built) depend on, the bridge aside (hashable): the integrator, Δt [s], the
+    train's M, C, K (CSR) and its contact wheels' dofs, equal for the trains of one catalogue entry
+    at any speed; and ``track`` (its dofs, :func:`~vtsi.subdomain.stage_key`) where the check reads
+    the rail's mass there: a contact wheel without mass under a conditionally stable integrator
+    (a track over a lighter span gives another verdict)."""
     matrices = tuple((m.shape, m.indptr.tobytes(), m.indices.tobytes(), m.data.tobytes())
                      for m in (train.M, train.C, train.K))
-    return ("train", repr(integrator), float(dt), matrices, train.wheel_dofs.tobytes())
+    on_rail = integrator.stability_limit(dt) is not None and len(_massless_wheels(train)) > 0
+    return ("train", repr(integrator), float(dt), matrices, train.wheel_dofs.tobytes(),
+            stage_key(integrator, dt, track) if on_rail else None)
 
 
 class CoupledLoads:

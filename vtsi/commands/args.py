@@ -37,6 +37,7 @@ class Args:
         self.command = command
         self.items = tuple(args)    # (a command's own tuple is not copied)
         self.pos = 0
+        self.once = set()           # the options read with option(..., once=True)
 
     def more(self):
         return self.pos < len(self.items)
@@ -161,18 +162,28 @@ class Args:
             raise self._refused(what, self.peek(), "an integer")
         return out
 
-    def option(self, valid):
-        """The next option name (a str); an unknown one raises naming it and the valid ones."""
+    def option(self, valid, once=False):
+        """The next option name (a str); an unknown one raises naming it and the valid ones. With
+        ``once``, an option given before (read with ``once``) raises ``'<command>: option -seed
+        given twice'``, also where another option is expected and at :meth:`done`."""
         x = self.take(f"option {' or '.join(valid)}")
         if not isinstance(x, str):
             raise CommandError(f"{self.command}: unexpected argument {x!r} (expected an option: {', '.join(valid)})")
+        self._refuse_repeat(x)
         if x not in valid:
             raise CommandError(f"{self.command}: option {x!r} is not supported; supported: {', '.join(valid)}")
+        if once:
+            self.once.add(x)
         return x
 
     def done(self):
         if self.more():
+            self._refuse_repeat(self.peek())
             raise CommandError(f"{self.command}: unexpected argument {self.peek()!r}")
+
+    def _refuse_repeat(self, x):
+        if isinstance(x, str) and x in self.once:
+            raise CommandError(f"{self.command}: option {x} given twice")
 
     def _refused(self, what, x, kind):
         """The CommandError of ``x`` read as ``what``, which must be ``kind`` ('a number', 'an

@@ -353,7 +353,7 @@ class QueryCommands(SessionBase):
         return [(p.ground_direction, f) for p, f, _ in self._applied_terms() if p.ground_direction is not None]
 
     def _element_response(self, command, tag, kind, u, v):
-        """One element's response as OpenSees returns it (:func:`~.responses.opensees_layout`), its
+        """One element's response (the element ``tag`` exists) as OpenSees returns it (:func:`~.responses.opensees_layout`), its
         element loads' fixed-end forces included (after a coupled analysis also those of the
         wheel loads inside it at the state's time, :meth:`_coupled_now`: the train's moving forces
         and contact forces λ_{n+1}, spread as the constraint's rows spread them), and in the global
@@ -361,8 +361,6 @@ class QueryCommands(SessionBase):
         as OpenSees's ``getResistingForce`` subtracts the element's load vector."""
         asm = self.domain.build()
         kind = ELEMENT_RESPONSE_ALIASES.get(kind, kind)
-        if tag not in asm.element_location:
-            raise CommandError(f"{command}: element {tag} does not exist")
         b, i = asm.element_location[tag]
         etype, _, coords, _params, dofs = asm.blocks[b]
         layout = opensees_layout(etype, kind, asm.ndf, self._zero_length.get(tag))
@@ -399,10 +397,15 @@ class QueryCommands(SessionBase):
         """Resisting force of element ``tag`` in global axes (``K u`` plus the element's own
         dashpots; no Rayleigh damping, no inertia), the force the nodes exert on the element, less
         the loads applied on the element as OpenSees's ``getResistingForce``: the fixed-end forces
-        of its element loads and, under a ground acceleration, ``−M_e r a_g`` on its own mass."""
+        of its element loads and, under a ground acceleration, ``−M_e r a_g`` on its own mass.
+        A missing element gives None (Tcl: an empty result) and a warning (logged) naming it, as
+        OpenSeesPy returns None (its ``Domain::getElementResponse`` finds no element)."""
         _, state = self._state("eleForce")
         if not is_int(tag):
             raise CommandError(f"eleForce: element tag must be an integer, got {tag!r}")
+        if int(tag) not in self.domain.build().element_location:
+            log.warning("eleForce %d: element %d does not exist and gives None, as in OpenSees", tag, tag)
+            return None
         values = self._element_response("eleForce", int(tag), "force", state.u, state.v)
         return dof_value(values, dof, f"eleForce {tag}")
 
@@ -411,7 +414,8 @@ class QueryCommands(SessionBase):
         response the element has not, in vtsi as in OpenSees (``stresses``, ``section 1 force``),
         gives ``[]``, as OpenSeesPy (Tcl: an empty result), and a warning (logged: on stderr by
         default) naming the element and the responses it answers; one OpenSees answers and vtsi
-        does not is refused (:func:`~.responses.element_answers`)."""
+        does not is refused (:func:`~.responses.element_answers`). A missing element gives ``[]``
+        and a warning naming it, as OpenSeesPy gives ``[]``."""
         _, state = self._state("eleResponse")
         a = Args(f"eleResponse {tag}", args)
         a.word("response")      # a name first: a missing one or a number is named
@@ -419,14 +423,16 @@ class QueryCommands(SessionBase):
             raise CommandError(f"eleResponse: element tag must be an integer, got {tag!r}")
         tag = int(tag)
         asm = self.domain.build()
-        if tag in asm.element_location:      # (a missing element: _element_response names it)
-            etype = asm.blocks[asm.element_location[tag][0]][0]
-            valid = accepted_responses(etype, asm.ndf, self._zero_length.get(tag))
-            if not element_answers(a.command, tag, etype, a.items, valid):
-                asked = " ".join(map(str, a.items))
-                log.warning("%s %s: element %d (%s) has no response %r and gives [], as in OpenSees (it answers "
-                            "%s)", a.command, asked, tag, etype.name, asked, ", ".join(valid))
-                return []
+        asked = " ".join(map(str, a.items))
+        if tag not in asm.element_location:
+            log.warning("%s %s: element %d does not exist and gives [], as in OpenSees", a.command, asked, tag)
+            return []
+        etype = asm.blocks[asm.element_location[tag][0]][0]
+        valid = accepted_responses(etype, asm.ndf, self._zero_length.get(tag))
+        if not element_answers(a.command, tag, etype, a.items, valid):
+            log.warning("%s %s: element %d (%s) has no response %r and gives [], as in OpenSees (it answers "
+                        "%s)", a.command, asked, tag, etype.name, asked, ", ".join(valid))
+            return []
         return [float(x) for x in self._element_response("eleResponse", tag, a.items[0], state.u, state.v)]
 
     def reactions(self, *args):

@@ -40,7 +40,7 @@ from vtsi.train import TrainSubdomain
 from vtsi.units import FORCE_UNITS, LENGTH_UNITS, Units, deck_mass_per_length
 
 from .analysis_commands import equilibrium_point
-from .args import Args
+from .args import Args, is_option
 from .base import SessionBase
 
 TRAIN_COMMANDS = ("units", "track", "car", "train", "irregularity", "movingLoadConstraint", "contact", "deadLoad")
@@ -93,7 +93,8 @@ class TrainCommands(SessionBase):
         a = Args("track", args)
         tag = a.int("track tag")
         self._new(self._tracks, "track", tag)
-        opt = a.option(("-ele", "-eleRange"))
+        a.command = f"track {tag}"
+        opt = a.option(("-ele", "-eleRange"), once=True)
         if opt == "-ele":
             elements = a.ints("element tag")
         else:
@@ -121,7 +122,7 @@ class TrainCommands(SessionBase):
                 m_s, k_s = a.float("m_s"), a.float("k_s")
                 extra = {"-c": 0.0, "-wheelMass": 0.0}
                 while a.more():
-                    opt = a.option(tuple(extra))
+                    opt = a.option(tuple(extra), once=True)
                     extra[opt] = a.float(opt)
                 car = cars.sprung_mass(m_s, k_s, extra["-c"], extra["-wheelMass"], g)
             elif kind == "fourDof":
@@ -145,11 +146,12 @@ class TrainCommands(SessionBase):
             speed = self._units.speed(a.take("speed"), f"train {tag}: speed")
         except ModelError as exc:
             raise CommandError(str(exc)) from None
-        opt = a.option(("-cars", "-ICE3", "-HSLM", "-axleFile"))
+        a.command = f"train {tag}"
+        opt = a.option(("-cars", "-ICE3", "-HSLM", "-axleFile"), once=True)
         try:
             if opt == "-cars":
                 pairs = []
-                while a.more():
+                while a.more() and not is_option(a.peek()):
                     car_tag = a.int("car tag")
                     if car_tag not in self._cars:
                         raise CommandError(f"train {tag}: car {car_tag} does not exist")
@@ -184,9 +186,9 @@ class TrainCommands(SessionBase):
         kind = a.word("irregularity type", ("profile", "file", "german", "fra"))
         try:
             if kind == "profile":
-                a.option(("-x",))
+                a.option(("-x",), once=True)
                 x = a.number_list("-x")
-                a.option(("-r",))
+                a.option(("-r",), once=True)
                 r = a.number_list("-r")
                 if len(x) != len(r) or len(x) < 2:
                     raise CommandError(f"irregularity {tag}: -x and -r need the same number (>= 2) of values, "
@@ -209,7 +211,7 @@ class TrainCommands(SessionBase):
                 x0, x1 = a.float("x_first"), a.float("x_last")
                 seed = 0
                 if a.more():
-                    a.option(("-seed",))
+                    a.option(("-seed",), once=True)
                     seed = a.int("-seed")
                     if seed < 0:
                         raise CommandError(f"irregularity {tag}: -seed must be a non-negative integer, got {seed}")
@@ -252,8 +254,9 @@ class TrainCommands(SessionBase):
         if track_tag not in self._tracks:
             raise CommandError(f"movingLoadConstraint {tag}: track {track_tag} does not exist")
         irregularity, interpolation, exact_events = None, "hermite", False
+        a.command = f"movingLoadConstraint {tag}"
         while a.more():
-            opt = a.option(("-irregularity", "-bspline", "-exactEvents"))
+            opt = a.option(("-irregularity", "-bspline", "-exactEvents"), once=True)
             if opt == "-bspline":
                 interpolation = "bspline"
             elif opt == "-exactEvents":
@@ -294,12 +297,9 @@ class TrainCommands(SessionBase):
         and an ``analyze`` at another Δt right after it is refused. An option given twice is refused
         (as ``timeSeries Path``'s)."""
         a = Args("deadLoad", args)
-        self_weight, dt, given = False, None, set()
+        self_weight, dt = False, None
         while a.more():
-            opt = a.option(("-selfWeight", "-dt"))
-            if opt in given:
-                raise CommandError(f"deadLoad: option {opt} given twice")
-            given.add(opt)
+            opt = a.option(("-selfWeight", "-dt"), once=True)
             if opt == "-selfWeight":
                 self_weight = True
             else:
