@@ -897,18 +897,21 @@ class PassageRunner:
         rows, parts = self._modal_plan(outputs)
         values = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt, rows)
         result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)
+        times = s.dt * np.arange(1, n_steps + 1)      # [s], shared by the histories kept
         for o, columns, nodes, residual in parts:
             part = values[:, columns]
+            if o.history and part.shape[1] < values.shape[1]:
+                part = part.copy()     # a kept history holds its own columns, not every output's
             if residual is not None and s.static_correction:   # the truncated modes' quasi-static part
                 part += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
                                                 train.speed, x_head0, n_steps, s.dt)
             if o.response == "moment":      # the axles' fixed-end share where they stand inside an element
                 add_fixed_end_moments(self._fixed_end(nodes), x_head0 - train.wheel_offsets, train.static_wheel_loads,
-                                      train.speed, s.dt * np.arange(1, n_steps + 1), part)
+                                      train.speed, times, part)
             result.envelopes[o.name] = peaks(part, s.dt)
             result.columns[o.name] = nodes
             if o.history:
-                result.histories[o.name] = (s.dt * np.arange(1, n_steps + 1), part)
+                result.histories[o.name] = (times, part)
         result.seconds = time.perf_counter() - clock
         return result
 

@@ -579,13 +579,16 @@ class Sweep:
         Every case must be one of the sweep's: a train of the sweep (named as :func:`train_list`
         reads it: 'ice3' is 'ICE3'), one of its speeds and one of its seeds (-1 on a smooth
         rail); anything else is a SweepError naming the case and what is valid, before anything
-        runs or is written. A file of another sweep is refused naming its first difference
+        runs or is written. An axle table the file names by another path (the sweep resumed
+        from another folder: :class:`~vtsi.sweep_results.ResultsWriter`) may be given by either
+        name, and its histories are stored under the file's, the name its check rows give. A
+        file of another sweep is refused naming its first difference, a missing file as such
         (:class:`~vtsi.sweep_results.ResultsFileRefused`: build the Sweep with the file's)."""
-        cases = self.sweep_cases(cases, "record_histories")
         for o in outputs:
             if not isinstance(o, Output):
                 raise SweepError(f"record_histories: outputs must be vtsi.passage.Output, got {o!r}")
         with ResultsWriter(path, self.identity(), self.runner, resume=True, adding_histories=True) as writer:
+            cases = self.sweep_cases(cases, "record_histories", writer.stored_names)
             self.prepare()
             try:
                 results = [self.runner.run(t, v, s, outputs=outputs) for t, v, s in cases]
@@ -594,10 +597,13 @@ class Sweep:
             writer.write_histories(results, outputs)
         return writer.results()
 
-    def sweep_cases(self, cases, who="sweep"):
+    def sweep_cases(self, cases, who="sweep", stored_names=None):
         """``cases`` ((train, speed_kmh, seed), ...) as the sweep names them (train names read by
         :func:`train_list`, the sweep's own speed values), or a SweepError naming ``who``, the
-        first case that is not one of the sweep's and what is valid."""
+        first case that is not one of the sweep's and what is valid. ``stored_names``: {an axle
+        table's name here: its name in the results file}
+        (:attr:`~vtsi.sweep_results.ResultsWriter.stored_names`); a case may name it either way."""
+        here = {there: name for name, there in (stored_names or {}).items()}
         if isinstance(cases, (str, bytes)) or not np.iterable(cases):
             raise SweepError(f"{who}: cases must be a list of (train, speed_kmh, seed), got {cases!r}")
         out = []
@@ -607,6 +613,7 @@ class Sweep:
             train, speed, seed = case
             shown = f"case ({train!r}, {_shown(speed)}, {_shown(seed)})"
             name = canonical_train_name(train) if isinstance(train, (str, os.PathLike)) else None
+            name = here.get(name, name)
             if name not in self.trains:
                 raise SweepError(f"{who}: {shown}: train {train!r} is not in the sweep; its trains: "
                                  f"{', '.join(self.trains)}")

@@ -585,12 +585,13 @@ class ResultsWriter:
     place of the old file (see the module docstring). Every refusal of the file before a
     passage runs is a :class:`ResultsFileRefused`. ``adding_histories``: the writer of
     :meth:`~vtsi.sweep.Sweep.record_histories`, whose refusal of a file of another sweep says to
-    build the Sweep as the file's (it cannot overwrite).
+    build the Sweep as the file's (it cannot overwrite), and which refuses a missing file (it
+    adds to a sweep's file, never creates one).
 
     An axle table is named in the file as it was first given: the same table (same content, its
     train_fingerprints) given by another path ('../tgv.csv' for 'tgv.csv', the sweep resumed from
     another folder) continues the file, and its cases and histories are written under the file's
-    name."""
+    name; :attr:`stored_names` maps the one to the other."""
 
     def __init__(self, path, identity, runner, resume=False, overwrite=False, adding_histories=False):
         self.path = self.target = None if path is None else os.fspath(path)
@@ -598,7 +599,7 @@ class ResultsWriter:
         self.runner = runner
         self.adding_histories = adding_histories
         self._memory = self._lock = None
-        self._names = {}                # an axle table's name here -> in the file, where they differ
+        self.stored_names = {}          # an axle table's name here -> in the file, where they differ
         if self.path is None:
             self._create()
             return
@@ -626,6 +627,9 @@ class ResultsWriter:
         return False
 
     def _start(self, resume, overwrite):
+        if not os.path.exists(self.path) and self.adding_histories:
+            raise SweepError(f"results file {self.path} does not exist: record_histories adds to the file of a "
+                             "sweep that ran; run the sweep first")
         if not os.path.exists(self.path):
             self._create()
         elif not overwrite:
@@ -783,7 +787,7 @@ class ResultsWriter:
                                  f"{self._nodes_text(columns[o.name])}, this vtsi's {place} {self._nodes_text(now)}: "
                                  "the file was written by a vtsi whose place held other nodes"
                                  f"{before.get(o.nodes, '')}, and resuming would mix the two; {self._remedy()}")
-        self._names = renamed
+        self.stored_names = renamed
         if done is None:
             return
         names, lengths = self.identity["trains"], {}
@@ -890,7 +894,7 @@ class ResultsWriter:
                 _append(cases, name + WHOLE_RUN, whole)
         described = {o["name"]: output_description(o["response"], o.get("cutoff_hz")) for o in ident["outputs"]}
         for r in results:
-            train = self._names.get(r.train, r.train)        # as the file names it
+            train = self.stored_names.get(r.train, r.train)        # as the file names it
             for name, (time, values) in r.histories.items():
                 h = cases.require_group("histories").require_group(train_key(train)).require_group(
                     _speed_seed(r.speed_kmh, r.seed))
@@ -930,7 +934,7 @@ class ResultsWriter:
 
         def put(f):
             for r in results:
-                train = self._names.get(r.train, r.train)    # as the file names it
+                train = self.stored_names.get(r.train, r.train)    # as the file names it
                 key = case_key(train, r.speed_kmh, r.seed)
                 if "histories" in f and key in f["histories"]:
                     del f["histories"][key]

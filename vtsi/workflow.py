@@ -51,11 +51,11 @@ def design_check(sweep, path, settings=None, report_dir=None, *, workers=None, p
         refuse_before_sweep(sweep, settings)
     path = os.path.abspath(os.fspath(path))
     report_dir = os.path.abspath(report_folder(report_dir or os.path.splitext(path)[0] + "_report"))
-    sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
+    results = sweep.run(path, workers=workers, progress=progress, resume=resume, overwrite=overwrite)
     result = check(path, settings)
     result.store(path)
-    governing = sorted({(r.train, r.speed_kmh, r.seed) for r in result.rows
-                        if r.train in sweep.trains and np.isfinite(r.speed_kmh)})
+    governing = sorted({(r.train, r.speed_kmh, r.seed) for r in result.rows      # trains as the file names them
+                        if r.train in results.trains and np.isfinite(r.speed_kmh)})
     if governing:
         sweep.record_histories(path, governing)
     available, reason = rendering_available()
