@@ -40,6 +40,7 @@ import re
 import runpy
 import sys
 import traceback
+import types
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -368,12 +369,15 @@ def _run_tcl(path, session):
 
 
 def _run_python(path, session):
+    """Run the OpenSeesPy script ``path`` as ``__main__`` against ``session``; the classes and
+    functions it defines (a user element type, a damping function) are then given a module of
+    their own (:func:`_script_module`), so that a sweep's process pool can pickle the bridge."""
     old_session = opensees.set_session(session)
     old_argv, old_path = sys.argv, list(sys.path)
     sys.argv = [path]
     sys.path.insert(0, os.path.dirname(path))
     try:
-        runpy.run_path(path, run_name="__main__")
+        _script_module(path, runpy.run_path(path, run_name="__main__"))
     except SystemExit as exc:
         if exc.code not in (None, 0):
             raise BridgeModelError(f"bridge script {path}: exited with status {exc.code}") from None
@@ -384,6 +388,24 @@ def _run_python(path, session):
     finally:
         opensees.set_session(old_session)
         sys.argv, sys.path[:] = old_argv, old_path
+
+
+def _script_module(path, namespace):
+    """Make the script's own classes and functions (``__module__`` '__main__', which in the
+    process that loads the bridge is vtsi's or the user's program, not the script) importable by
+    pickle: they move to a module ``vtsi_bridge_script_<hash of the path>`` of the script's
+    namespace, registered in ``sys.modules``. A sweep's workers forked from this process inherit
+    it (``vtsi sweep``, and the Python API when no other thread runs, see
+    :func:`vtsi.sweep._pool_context`)."""
+    name = "vtsi_bridge_script_" + hashlib.sha256(path.encode()).hexdigest()[:16]
+    module = types.ModuleType(name)
+    module.__file__ = path
+    module.__dict__.update(namespace)
+    module.__name__ = name
+    for value in namespace.values():
+        if isinstance(value, (type, types.FunctionType)) and value.__module__ == "__main__":
+            value.__module__ = name
+    sys.modules[name] = module
 
 
 def _first_line(exc):

@@ -10,23 +10,30 @@ The bridge is built and factored once per sweep (in the calling process, before 
 is dispatched); each task carries that prepared bridge to its worker, and each passage starts
 from the bridge's rest state (:class:`~vtsi.passage.PassageRunner`). Cases are grouped into
 tasks of about ``TASK_STEPS`` time steps, so that dispatching a task costs well under 5 % of
-running it, and of at most ``TASK_HISTORY_BYTES`` of time histories. Results are written by the calling process as each task completes, atomically
+running it, and of at most ``TASK_HISTORY_BYTES`` of time histories (:meth:`Sweep.tasks`).
+Results are written by the calling process as each task completes, atomically
 (:mod:`vtsi.sweep_results`): a sweep killed at any moment loses only the tasks that were
 running, and ``resume=True`` runs only what is missing.
 
 Speeds are km/h at this surface (``speeds``, ``en_speed_grid``); the passages run in m/s.
 """
 import hashlib
+import logging
 import math
 import multiprocessing
 import os
+import pickle
 import signal
 import sys
 import threading
 import time
+import types
 from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, ProcessPoolExecutor, wait
 from dataclasses import dataclass
+from decimal import Context, Decimal
+from fractions import Fraction
 from functools import partial
+from multiprocessing.reduction import ForkingPickler
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -49,6 +56,8 @@ from vtsi.train import TrainSubdomain
 from vtsi.units import MAX_MASS_PER_METRE, MIN_MASS_PER_METRE, deck_mass_per_length
 from vtsi.vehicle import MAX_TRAIN_SPEED
 
+log = logging.getLogger(__name__)
+
 TASK_STEPS = 200_000        # time steps per task (about 0.2-1 s of work)
 MAX_SEEDS = 10_000          # rail samples of a sweep at most
 MAX_SPEEDS = 10_000
@@ -62,8 +71,9 @@ CAR_STEP_COST = 8.0         # a coupled step of cars in steps of moving forces (
 EXACT_SAMPLE_COST = 0.02    # an exact modal passage's output sample against a FE time step (S4: ~0.02 µs vs ~1 µs)
 TASK_HISTORY_BYTES = 128 * 2 ** 20
 """[B] The time histories (``history=True`` outputs, float64) a task's cases hold at most, as
-estimated by :meth:`Sweep.history_bytes`: a task keeps its histories until the calling process
-writes them, and every write rewrites the whole file (docs/sweeps.md, "Memory"). Measured on 60
+counted case by case by :meth:`Sweep.history_bytes` (:meth:`Sweep.tasks`; a case above it alone
+is a task of its own): a task keeps its histories until the calling process writes them, and
+every write rewrites the whole file (docs/sweeps.md, "Memory"). Measured on 60
 exact modal passages of HSLM-A7 over 10 × 30 m keeping the deck accelerations (14.5 MB each, a
 560 MB file): tasks of 32, 64, 128, 256 MB and all in one ran 50, 35, 26, 25 and 23 s, peaking at
 1.36, 1.39, 1.51, 1.56 and 2.58 GB; 128 MB costs 14 % of time and little memory over smaller
@@ -93,9 +103,15 @@ def speeds(spec):
                 raise SweepError(f"speeds {spec!r}: the step must be > 0 km/h, got {step:g}")
             if stop < start:
                 raise SweepError(f"speeds {spec!r}: empty range (stop {stop:g} < start {start:g} km/h)")
-            count = math.floor((stop - start) / step + 1e-9) + 1
+            quotient = (stop - start) / step
+            if math.isfinite(quotient):
+                count = math.floor(quotient + 1e-9) + 1
+                shown = f"{float(count):.6g}"
+            else:               # a step below ~1e-308 of the range: more speeds than a float holds
+                count = math.floor((Fraction(stop) - Fraction(start)) / Fraction(step)) + 1
+                shown = f"{Decimal(count).normalize(Context(prec=6)):g}"
             if count > MAX_SPEEDS:
-                raise SweepError(f"speeds {spec!r}: a step of {step:g} km/h makes {float(count):.6g} speeds, more than "
+                raise SweepError(f"speeds {spec!r}: a step of {step:g} km/h makes {shown} speeds, more than "
                                  f"{MAX_SPEEDS} (MAX_SPEEDS: every speed a train reaches, 0.072 km/h apart); EN 1991-2 "
                                  "6.4.6.2 steps 10 km/h, 2 km/h near a resonance")
             values = start + step * np.arange(count)
@@ -485,27 +501,44 @@ class Sweep:
         return float(steps)
 
     def history_bytes(self, cases):
-        """The mean size [B] of the time histories a case of ``cases`` keeps (its outputs with
-        ``history=True``: a time and a value per column at each of its steps, float64), from
-        every twentieth case; 0 when no output keeps one."""
+        """The size [B] of the time histories each case of ``cases`` keeps, an array: its outputs
+        with ``history=True``, a time and a value per column at each of its steps, float64 (its
+        steps known before it runs, :meth:`~vtsi.passage.PassageRunner.n_steps`: about ∝ 1/speed);
+        0 when no output keeps one."""
         kept = [o for o in self.outputs if o.history]
         if not kept:
-            return 0.0
-        trains = [self.runner.train(t, v / 3.6) for t, v, _ in cases[:: max(1, len(cases) // 20)]]
-        return float(np.mean([8.0 * self.runner.n_steps(train) * sum(1 + len(self.runner.columns(o, train))
-                                                                     for o in kept) for train in trains]))
+            return np.zeros(len(cases))
+        sizes = {}                           # (train, speed): a case's seed does not change it
+        for t, v, _ in cases:
+            if (t, v) not in sizes:
+                train = self.runner.train(t, v / 3.6)
+                sizes[t, v] = 8.0 * self.runner.n_steps(train) * sum(1 + len(self.runner.columns(o, train))
+                                                                     for o in kept)
+        return np.array([sizes[t, v] for t, v, _ in cases])
 
     @staticmethod
-    def task_size(n_cases, cost, workers, history_bytes=0.0):
-        """Cases per task: about TASK_STEPS steps (``cost``: a case's, :meth:`case_cost`), at most
-        TASK_HISTORY_BYTES of time histories (``history_bytes`` [B]: a case's,
-        :meth:`history_bytes`), and at least one task per worker."""
+    def task_size(n_cases, cost, workers):
+        """Cases per task at most: about TASK_STEPS steps (``cost``: a case's, :meth:`case_cost`)
+        and at least one task per worker."""
         if not n_cases:
             return 1
-        size = min(math.ceil(TASK_STEPS / max(cost, 1.0)), math.ceil(n_cases / workers))
-        if history_bytes > 0:
-            size = min(size, math.floor(TASK_HISTORY_BYTES / history_bytes))
-        return int(max(1, size))
+        return int(max(1, min(math.ceil(TASK_STEPS / max(cost, 1.0)), math.ceil(n_cases / workers))))
+
+    def tasks(self, cases, workers):
+        """``cases`` in tasks of consecutive cases, each of at most :meth:`task_size` cases and
+        at most TASK_HISTORY_BYTES of time histories, counted case by case (:meth:`history_bytes`:
+        HSLM-A1 at 40 km/h over 10 × 30 m keeps 9.5 times what it keeps at 400 km/h); a case
+        whose histories alone exceed TASK_HISTORY_BYTES is a task of its own. Without histories,
+        tasks of :meth:`task_size` cases each."""
+        size = self.task_size(len(cases), self.case_cost(cases), workers)
+        tasks, held = [], 0.0
+        for case, nbytes in zip(cases, self.history_bytes(cases)):
+            if not tasks or len(tasks[-1]) == size or held + nbytes > TASK_HISTORY_BYTES:
+                tasks.append([])
+                held = 0.0
+            tasks[-1].append(case)
+            held += nbytes
+        return tasks
 
     def run(self, path=None, *, workers=None, executor=None, progress=None, resume=False, overwrite=False,
             cases_per_task=None):
@@ -516,7 +549,10 @@ class Sweep:
         path : results file (HDF5); None keeps the results in memory.
         workers : processes of the default pool (None: every core, or this process when the
             sweep's work is at most TASK_STEPS steps, less than a pool's start-up gains);
-            1 runs in this process.
+            1 runs in this process. A bridge the pool cannot be sent is refused before anything
+            runs (SweepError naming what cannot be pickled), and one whose classes a fork server's
+            or spawned worker cannot import (a bridge script's) runs in this process, with a
+            logged warning (docs/sweeps.md, "Execution").
         executor : any ``concurrent.futures.Executor`` (e.g. a dask.distributed ``Client``'s
             ``get_executor()``); then ``workers`` only sizes the tasks (default: every core).
         progress : show a progress bar (tqdm: cases done, rate, time left); None: when stderr
@@ -544,8 +580,18 @@ class Sweep:
                 cost = self.case_cost(todo)
                 if workers is None and executor is None and cost * len(todo) <= TASK_STEPS:
                     n_workers = 1
-                size = cases_per_task or self.task_size(len(todo), cost, n_workers, self.history_bytes(todo))
-                tasks = [todo[i: i + size] for i in range(0, len(todo), size)]
+                if executor is None and n_workers > 1:
+                    context = _pool_context()
+                    stranger = _unimportable(self.runner, context.get_start_method())
+                    if stranger is not None:
+                        log.warning("sweep: %s is defined in module %s, which the pool's %s workers (another "
+                                    "thread runs in this process) cannot import: the sweep runs in this process, "
+                                    "on one core; define it in an importable module to run it on %d",
+                                    stranger.__qualname__, stranger.__module__, context.get_start_method(),
+                                    n_workers)
+                        n_workers = 1
+                tasks = ([todo[i: i + cases_per_task] for i in range(0, len(todo), cases_per_task)]
+                         if cases_per_task else self.tasks(todo, n_workers))
                 bar = partial(_progress_bar, len(self.cases), len(self.cases) - len(todo), progress)
                 if executor is None and n_workers == 1:
                     with bar() as shown:
@@ -557,7 +603,6 @@ class Sweep:
                                 writer.write(results)
                             shown.update(len(results))
                 elif executor is None:
-                    context = _pool_context()
                     stop = context.RawValue("b", 0)   # no lock: a worker killed holding one would hang the sweep
                     with ProcessPoolExecutor(max_workers=min(n_workers, len(tasks)), mp_context=context,
                                              initializer=_worker_start, initargs=(stop,)) as pool:
@@ -742,6 +787,60 @@ def _pool_context():
     if "fork" in methods and threading.active_count() == 1:
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
+
+
+class _Discard:
+    """A file that keeps nothing written to it (:func:`_unimportable` only reads the pickling)."""
+
+    def write(self, data):
+        return len(data)
+
+
+class _PoolPickler(ForkingPickler):
+    """The pickler of a process pool's tasks, writing nothing, that notes the first class or
+    function it pickles by name from a module a new process cannot import: one made at run time
+    (``__spec__`` None), such as a bridge script's (:func:`vtsi.bridge_file._script_module`),
+    which only a forked worker has (it inherits ``sys.modules``). ``__main__`` is
+    multiprocessing's own to import (by its path)."""
+
+    def __init__(self):
+        super().__init__(_Discard(), pickle.HIGHEST_PROTOCOL)
+        self.stranger = None
+
+    def reducer_override(self, obj):
+        if self.stranger is None and isinstance(obj, (type, types.FunctionType)):
+            name = getattr(obj, "__module__", None)
+            module = sys.modules.get(name) if name != "__main__" else None
+            if module is not None and getattr(module, "__spec__", None) is None:
+                self.stranger = obj
+        return NotImplemented
+
+
+def _pickle_error(obj):
+    """``(error, pickler)``: the error pickling ``obj`` for a pool's workers raised, or None, and
+    the :class:`_PoolPickler`, whose ``stranger`` is a class or function they cannot import."""
+    pickler = _PoolPickler()
+    try:
+        pickler.dump(obj)
+    except (pickle.PicklingError, TypeError, AttributeError) as exc:    # what pickle raises on what it cannot take
+        return exc, pickler
+    return None, pickler
+
+
+def _unimportable(runner, start_method):
+    """The class or function of ``runner`` that the workers of a pool started by
+    ``start_method`` ('fork', 'forkserver', 'spawn') cannot import (None for 'fork', whose
+    workers inherit this process's modules), else None; a SweepError naming the part of
+    ``runner`` that cannot be pickled at all (a lambda or an open file in a user's model or
+    settings), before any task is sent."""
+    error, pickler = _pickle_error(runner)
+    if error is not None:
+        part = next(name for name, value in [*vars(runner).items(), ("passage runner", runner)]
+                    if _pickle_error(value)[0] is not None)
+        raise SweepError(f"sweep: the sweep's {part.lstrip('_')} cannot be pickled for the pool's workers "
+                         f"({type(error).__name__}: {error}); keep lambdas, open files and locks out of the bridge "
+                         "and settings, or run in this process with workers=1 (--workers 1)")
+    return None if start_method == "fork" else pickler.stranger
 
 
 class _ProgressBar(tqdm):
