@@ -630,8 +630,6 @@ def test_recorder_tags_memory_hdf5_and_errors(tmp_path):
         ops.recorder("Node", "-node", 1, "-dof", 4, "disp")
     with pytest.raises(CommandError, match="node 77 does not exist"):
         ops.recorder("Node", "-node", 77, "-dof", 1, "disp")
-    with pytest.raises(CommandError, match="element 77 does not exist"):
-        ops.recorder("Element", "-ele", 77, "force")
     with pytest.raises(CommandError, match="no response"):
         ops.recorder("Element", "-ele", 1)
     ops.wipe()
@@ -826,7 +824,7 @@ BAD_COMMANDS = [   # (setup, command, args, exception, message)
      r"^eleResponse 1: response 'RayleighForces' of element 1 \(elasticBeamColumn\) is not supported: OpenSees "
      r"answers it with values vtsi does not compute; supported: force, globalForce, "
      r"localForce, basicDeformation, chordRotation, chordDeformation, basicStiffness, xaxis, yaxis, zaxis, basicForce, "
-     r"forces, globalForces, localForces, basicForces, basicDeformations$"),
+     r"forces, globalForces, localForces, basicForces, basicDeformations, xlocal, ylocal, zlocal, deformatons$"),
 ]
 
 

@@ -324,9 +324,10 @@ class ModelCommands(SessionBase):
         seen = set()
         while a.more():
             opt = a.option(("-mat", "-dir", "-orient", "-doRayleigh"))
-            if opt in seen:
+            if opt in seen:     # OpenSees fails on a second -mat and ignores a second -dir; takes the last of the others
                 raise CommandError(f"{name}: {opt} given twice (give every value after one {opt}, as OpenSees)")
-            seen.add(opt)
+            if opt in ("-mat", "-dir"):
+                seen.add(opt)
             if opt == "-mat":
                 mats = a.ints("-mat tag")
             elif opt == "-dir":
@@ -343,12 +344,14 @@ class ModelCommands(SessionBase):
         if orient is not None:
             # 2-D: local x from the first vector; local y is x turned +90 degrees and rz is the
             # global rotation whatever the side of yp (measured on OpenSeesPy 3.7.1)
-            if len(orient) != 6:
-                raise CommandError(f"{name}: -orient needs 6 numbers (x1 x2 x3 yp1 yp2 yp3), got {len(orient)}")
+            # (OpenSees 3.7.1 reads x only in 2-D, its yp from z x x, and ignores a yp given)
+            if len(orient) not in (3, 6):
+                raise CommandError(f"{name}: -orient needs 3 numbers (x1 x2 x3) or 6 (x1 x2 x3 yp1 yp2 yp3), "
+                                   f"got {len(orient)}")
             x, yp = np.array(orient[:3]), np.array(orient[3:])
             if x[2] != 0.0 or np.hypot(x[0], x[1]) == 0.0:
                 raise CommandError(f"{name}: -orient x = {x.tolist()} must lie in the x-y plane (2-D model)")
-            if np.linalg.norm(np.cross(x, yp)) <= 1e-12 * np.linalg.norm(x) * np.linalg.norm(yp):
+            if len(yp) and np.linalg.norm(np.cross(x, yp)) <= 1e-12 * np.linalg.norm(x) * np.linalg.norm(yp):
                 raise CommandError(f"{name}: -orient yp = {yp.tolist()} is parallel to x = {x.tolist()}")
             angle = math.atan2(x[1], x[0])
         params = dict(kx=0.0, ky=0.0, krz=0.0, cx=0.0, cy=0.0, crz=0.0)
@@ -395,8 +398,8 @@ class ModelCommands(SessionBase):
         from its class)."""
         if kind in ("Constant", "Linear"):
             f = 1.0
-            while a.more():
-                a.option(("-factor",))
+            while a.more():     # (a second -factor: OpenSees fails, reading its words by count)
+                a.option(("-factor",), once=True)
                 f = a.float("-factor")
             return (Constant if kind == "Constant" else Linear)(f, tag=tag, label=name)
         if kind in ("Trig", "Triangle", "Rectangular", "Pulse"):
@@ -418,9 +421,7 @@ class ModelCommands(SessionBase):
         valid = ("-dt", "-values", "-time", "-filePath", "-fileTime", "-factor", "-useLast", "-prependZero",
                  "-startTime")
         while a.more():
-            opt = a.option(valid)
-            if opt in opts:
-                raise CommandError(f"{name}: option {opt} given twice")
+            opt = a.option(valid, once=True)
             if opt in ("-dt", "-factor", "-startTime"):
                 opts[opt] = a.float(opt)
             elif opt in ("-values", "-time"):
@@ -580,7 +581,8 @@ class ModelCommands(SessionBase):
         """``eleLoad('-ele', *tags | '-range', first, last, '-type', '-beamUniform', Wy, [Wx])`` or
         ``(..., '-type', '-beamPoint', Py, xL, [Px])``: loads in element axes on beams of the
         last pattern defined (Wy, Py transverse, + along local y; Wx, Px axial, from node i to j;
-        xL the fraction of the length from node i) [N/m, N]. Every element of ``-ele`` and of
+        xL the fraction of the length from node i) [N/m, N]; OpenSees's ``aOverL bOverL`` after
+        ``Wx`` only as ``0 1`` (the whole element: :meth:`_whole_span`). Every element of ``-ele`` and of
         ``-range`` must exist (OpenSees warns for a missing one in a range and loads the rest)."""
         model = self._model("eleLoad")
         a = Args("eleLoad", args)
@@ -610,6 +612,7 @@ class ModelCommands(SessionBase):
         kind = a.word("load type", ("-beamUniform", "-beamPoint"))
         if kind == "-beamUniform":
             values = (a.float("Wy"), *([a.float("Wx")] if a.more() else []))
+            self._whole_span(a)
         else:
             values = (a.float("Py"), a.float("xL"), *([a.float("Px")] if a.more() else []))
         a.done()
@@ -633,6 +636,26 @@ class ModelCommands(SessionBase):
                 model.patterns[pattern].beam_load(tag, shape, *values)
         except ModelError as exc:
             raise CommandError(f"eleLoad: {exc}") from None
+
+    @staticmethod
+    def _whole_span(a):
+        """Read OpenSees's ``aOverL bOverL [Wyb [Wxb]]`` after ``-beamUniform Wy Wx`` (fractions
+        of the length from node i where the load begins and ends, and the load at its end):
+        accepted where they give the uniform load on the whole element (``0 1``, or ``0``), as
+        OpenSees then builds its ``Beam2dUniformLoad``; a partial or a varying load is refused."""
+        extra = a.floats("aOverL, bOverL")
+        if not extra:
+            return
+        a_l, b_l = extra[0], extra[1] if len(extra) > 1 else 1.0
+        if len(extra) > 2:
+            raise CommandError(f"{a.command}: -beamUniform Wya Wxa aOverL bOverL Wyb Wxb (a load varying from Wya at "
+                               "aOverL to Wyb at bOverL) is not supported; split the element where the load "
+                               "changes and give each part its own uniform load")
+        if (a_l, b_l) != (0.0, 1.0):
+            raise CommandError(f"{a.command}: -beamUniform with aOverL = {a_l:g}, bOverL = {b_l:g} is a partial uniform "
+                               "load (from a = aOverL L to b = bOverL L from node i), which is not supported; split the "
+                               "element at a and b (a node at each) and load the part between them (aOverL 0 and "
+                               "bOverL 1, or none, load the whole element)")
 
     def rayleigh(self, *args):
         """``rayleigh(alphaM, betaK, betaKinit, betaKcomm)``: ``C = αM M + (βK + βK0 + βKc) K``."""

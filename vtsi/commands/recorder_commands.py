@@ -238,7 +238,10 @@ class RecorderCommands(SessionBase):
         ``-dof``, ``-ele``, ``-eleRange a b``; then the response, last (an option after it is
         refused: OpenSees would take it for the response). ``-precision`` and ``-closeOnWrite``
         with ``-h5`` are refused (they shape a text file); without a file (memory, OpenSees's
-        screen) they are accepted and change nothing."""
+        screen) they are accepted and change nothing. A node or element of ``-node`` or ``-ele``
+        that does not exist gets no columns and a warning (logged), as OpenSees gives it no
+        columns; an Element recorder of none that exists records no values (a text file with
+        ``-time`` only the times, as OpenSees's)."""
         if args and args[0] in ("Contact", "Train"):
             return self._vehicle_recorder(*args)
         model = self._model("recorder")
@@ -323,15 +326,21 @@ class RecorderCommands(SessionBase):
             if response not in NODE_RESPONSES:
                 raise CommandError(f"{name}: response {response!r} is not supported; supported: "
                                    f"{', '.join(NODE_RESPONSES)}")
-            nodes = sorted(model.nodes) if targets is None else targets   # no -node: every node, as OpenSees
-            for n in nodes:
-                self._node(name, n)
+            nodes = sorted(model.nodes) if targets is None else [n for n in targets if n in model.nodes]
+            missing = [] if targets is None else [n for n in targets if n not in model.nodes]
+            if missing and not nodes:
+                many = len(missing) > 1
+                raise CommandError(f"{name}: node{'s' * many} {', '.join(map(str, missing))} do{'' if many else 'es'} "
+                                   "not exist (OpenSees writes a file of no values; vtsi's node recorder records at "
+                                   "least one node)")
             dofs = opts.get("-dof")
             if not dofs:
                 raise CommandError(f"{name}: no dofs (-dof 1 2 ...)")
             for d in dofs:
                 if not 1 <= d <= model.ndf:
                     raise CommandError(f"{name}: dof {d} is out of range 1..{model.ndf}")
+            if missing:
+                self._warn_missing(name, response, "node", missing, nodes)
             make = lambda s: rec.NodeRecorder(nodes, dofs, response, sink=s, dt=opts["-dT"],
                                               envelope=envelope, history=not envelope)
         else:
@@ -339,13 +348,15 @@ class RecorderCommands(SessionBase):
             response = ELEMENT_RESPONSE_ALIASES.get(asked, asked)
             if targets is None:
                 raise CommandError(f"{name}: no elements given (-ele 1 2 ... or -eleRange first last), as OpenSees")
-            elements = targets
-            for e in elements:
-                if e not in model._element_owner:
-                    raise CommandError(f"{name}: element {e} does not exist")
+            elements = [e for e in targets if e in model._element_owner]
             kept = self._answering(name, elements, words)     # before the sink: a refusal creates no file
-            sink = self._recorder_sink(name, opts)      # made before the warning, which names its file
-            self._warn_lacking(name, elements, kept, asked, getattr(sink, "path", None))
+            sink = self._recorder_sink(name, opts)      # made before the warnings, which name its file
+            path = getattr(sink, "path", None)
+            if len(elements) < len(targets):
+                self._warn_missing(name, asked, "element", [e for e in targets if e not in model._element_owner],
+                                   elements, path)
+            if elements:
+                self._warn_lacking(name, elements, kept, asked, path)
             return self._register_recorder(command_element_recorder(self, kept, response, sink=sink,
                                                                     dt=opts["-dT"], envelope=envelope,
                                                                     history=not envelope))
@@ -362,6 +373,21 @@ class RecorderCommands(SessionBase):
             if element_answers(name, e, etype, words, accepted_responses(etype, asm.ndf, self._zero_length.get(e))):
                 kept.append(e)
         return kept
+
+    @staticmethod
+    def _warn_missing(name, asked, what, missing, recorded, path=None):
+        """As in OpenSees, a node or element (``what``) of the recorder's selection that does not
+        exist (``missing``, their tags) gets no columns, and a warning (logged: on stderr by
+        default; OpenSees says nothing) names it; when no other is in the selection
+        (``recorded``), the warning names the file ``path`` (None: in memory), which holds no
+        values (a text file only the times with ``-time``, as OpenSees writes it)."""
+        many = len(missing) > 1
+        head = (f"{name} {asked}: {what}{'s' * many} {', '.join(map(str, missing))} do{'' if many else 'es'} not "
+                f"exist and get{'' if many else 's'} no columns, as in OpenSees")
+        if recorded:
+            log.warning("%s", head)
+        else:
+            log.warning("%s: %s holds no values", head, path if path is not None else "the record")
 
     def _warn_lacking(self, name, elements, kept, asked, path):
         """As in OpenSees, an element of ``elements`` not ``kept`` (it has no response ``asked``)

@@ -4,26 +4,46 @@ import numpy as np
 
 from vtsi.errors import CommandError
 
-ELEMENT_RESPONSE_ALIASES = {
+TYPE_RESPONSE_ALIASES = {
+    "elasticBeamColumn": {"xlocal": "xaxis", "ylocal": "yaxis", "zlocal": "zaxis", "deformatons": "basicDeformation"},
+    "ElasticTimoshenkoBeam": {"xlocal": "xaxis", "ylocal": "yaxis", "zlocal": "zaxis"},
+    "truss": {"defo": "deformation", "basicDefo": "basicDeformation"},
+    "zeroLength": {"defo": "deformation", "globalforces": "force"},
+}
+"""The other names OpenSees's element of each type gives a response vtsi computes (its
+``setResponse``, and for the beams their ``CrdTransf::setResponse``, OpenSees 3.7.1; measured on
+OpenSeesPy 3.7.1, tests/test_command_aliases.py): a beam's ``xlocal`` is its ``xaxis``,
+``deformatons`` (sic) its ``basicDeformation``; a zeroLength's ``xlocal`` is no response. Each
+type answers only its own."""
+
+PLURAL_ALIASES = {
     "forces": "force", "globalForces": "globalForce", "localForces": "localForce",
     "basicForces": "basicForce", "deformations": "deformation", "basicDeformations": "basicDeformation",
     "axialForces": "axialForce",
 }
+"""The plural of a response, which every type answers (where OpenSees's does not, it answers the
+singular: docs/commands.md)."""
+
+ELEMENT_RESPONSE_ALIASES = {**PLURAL_ALIASES, **{alias: kind for aliases in TYPE_RESPONSE_ALIASES.values()
+                                                 for alias, kind in aliases.items()}}
+"""The response each alias names: :data:`PLURAL_ALIASES` and :data:`TYPE_RESPONSE_ALIASES` (an
+alias names one response whatever the type; which types answer it: :func:`accepted_responses`)."""
 
 
 OPENSEES_ONLY_RESPONSES = {
-    "elasticBeamColumn": {"RayleighForces": 1, "rayleighForces": 1, "deformatons": 1},
-    "truss": {"defo": 1, "basicDefo": 1, "energy": 1, "material": 2, "-material": 2},
-    "zeroLength": {"rayleighForces": 1, "dampingForces": 1, "defo": 1, "globalforces": 1, "defoANDforce": 1,
-                   "deformationANDforces": 1, "deformationsANDforces": 1, "materials": 1, "directions": 1,
-                   "material": 3},
+    "elasticBeamColumn": {"RayleighForces": 1, "rayleighForces": 1, "offsets": 1, "rigidOffsets": 1},
+    "ElasticTimoshenkoBeam": {"offsets": 1, "rigidOffsets": 1},
+    "truss": {"energy": 1, "material": 2, "-material": 2},
+    "zeroLength": {"rayleighForces": 1, "dampingForces": 1, "defoANDforce": 1, "deformationANDforces": 1,
+                   "deformationsANDforces": 1, "materials": 1, "directions": 1, "material": 3},
 }
 """The responses OpenSees answers with values for an element of vtsi's types and vtsi does not:
 per type, the response's first word and the fewest words OpenSees answers it with (a truss's
 ``material stress`` or ``material 1 stress`` and a zeroLength's ``material 1 stress`` are
-responses of its material). Read in the types' ``setResponse`` (OpenSees 3.7.1) and measured
-on OpenSeesPy 3.7.1 (tests/test_command_cm.py); any other response an element lacks, OpenSees
-answers with nothing."""
+responses of its material; a beam's ``offsets``, six zeros, those of its ``geomTransf``). Read
+in the types' ``setResponse`` (OpenSees 3.7.1) and measured on OpenSeesPy 3.7.1
+(tests/test_command_cm.py, tests/test_command_aliases.py); any other response an element lacks,
+OpenSees answers with nothing."""
 
 PART_WORDS = ("section", "material", "-material")
 """The first words by which OpenSees's elements name a response of one of their parts
@@ -89,10 +109,11 @@ def opensees_layout(etype, kind, ndf, materials=None):
 
 def accepted_responses(etype, ndf, materials=None):
     """Every response name the command layer answers for an element of ``etype`` (its own
-    kinds, the OpenSees layouts built from them and their plural aliases), in a stable order."""
+    kinds, the OpenSees layouts built from them, their plural aliases and the other names its
+    OpenSees type gives them, :data:`TYPE_RESPONSE_ALIASES`), in a stable order."""
     names = list(etype.response_kinds) + list(etype.command_layouts)
     names += ["force", "globalForce", "localForce", "basicForce", "deformation", "basicDeformation"]
-    names += list(ELEMENT_RESPONSE_ALIASES)
+    names += list(PLURAL_ALIASES) + list(TYPE_RESPONSE_ALIASES.get(etype.name, ()))
     out = []
     for name in dict.fromkeys(names):
         kind = ELEMENT_RESPONSE_ALIASES.get(name, name)
