@@ -108,7 +108,7 @@ class ZeroLength2d(ElementType):
         far = np.flatnonzero(gap > 1e-10 * np.maximum(1.0, np.abs(coords).max(axis=(1, 2))))
         if far.size:
             i = far[0]
-            log.warning("element %d (%s): nodes %d and %d are %.6g m apart; the springs act between them "
+            log.warning("element %d (%s): nodes %d and %d are %.6g apart (model length units); the springs act between them "
                         "as if they coincided", tags[i], self.name, node_tags[i][0], node_tags[i][1], gap[i])
 
     def response(self, kind, coords, params, u_e, v_e):

@@ -80,7 +80,7 @@ def plot(analysis, events, out):
     ax.plot(t, lam, lw=0.8, color="C0")
     ax.axhline(q_static, color="0.5", lw=0.8, ls="--", label=f"static wheel load Q = {q_static:.0f} kN")
     ax.axvspan(*window, color="0.9", zorder=0, label="zoomed below")
-    ax.set(ylabel="contact force λ [kN]", ylim=(-0.1 * q_static, top), xlim=(t[0], t[-1]),
+    ax.set(xlabel="time [s]", ylabel="contact force λ [kN]", ylim=(-0.1 * q_static, top), xlim=(t[0], t[-1]),
            title=f"Quarter car over a 5 mm bump at midspan of a 30 m span, {speed * 3.6:.0f} km/h")
     ax.legend(loc="upper left", fontsize=8)
     for ax, values, label, color in ((axes[1], lam, "contact force λ [kN]", "C0"), (axes[2], gap, "gap [mm]", "C2")):

@@ -947,7 +947,7 @@ COMMAND_CASES = [
      r"^timeSeries Path 1: option '-foo' is not supported"),
     ("unknown integrator", lambda s: s.integrator("Wilson", 1.4), r"integrator 'Wilson' is not supported; supported: .*Newmark"),
     ("unknown analysis", lambda s: s.analysis("Quasi"), r"analysis type 'Quasi' is not supported; supported: Static, Transient"),
-    ("unknown system", lambda s: s.system("Mumps"), r"system 'Mumps' is not supported; supported: BandSPD"),
+    ("unknown system", lambda s: s.system("Cusp"), r"system 'Cusp' is not supported; supported: BandSPD"),
     ("unknown algorithm option", lambda s: s.algorithm("Newton", "-foo"),
      r"^algorithm Newton: option '-foo' is not supported"),
     ("unknown recorder type", lambda s: s.recorder("Drift", "-file", "x.out"),

@@ -3,11 +3,14 @@ OpenSees's partial uniform load, recorders of missing nodes and elements, and op
 each checked against OpenSeesPy (the oracle; with VTSI_REQUIRE_ORACLES=1 a missing one fails:
 tests/conftest.py)."""
 import logging
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import vtsi.opensees as vops
+from vtsi.commands.analysis_commands import SYSTEMS
 from vtsi.commands.responses import OPENSEES_ONLY_RESPONSES, TYPE_RESPONSE_ALIASES
 from vtsi.errors import CommandError
 
@@ -251,3 +254,16 @@ def test_repeated_options_opensees_refuses_are_refused():
         vops.timeSeries("Constant", 2, "-factor", 2.0, "-factor", 3.0)
     with pytest.raises(CommandError, match=r"^timeSeries Path 3: option -values given twice$"):
         vops.timeSeries("Path", 3, "-dt", 0.1, "-values", 0.0, 1.0, "-values", 2.0)
+
+
+def test_every_system_name_is_one_opensees_accepts():
+    """``system`` takes the names of OpenSees's direct solvers, each of which OpenSeesPy accepts
+    (run one per process: OpenSeesPy has crashed setting several in one)."""
+    script = ("import openseespy.opensees as ops\nops.wipe()\nops.model('basic', '-ndm', 2, '-ndf', 3)\n"
+              "ops.system({!r})\nprint('accepted')\n")
+    for name in SYSTEMS:
+        vops.wipe()
+        vops.model("basic", "-ndm", 2, "-ndf", 3)
+        vops.system(name)
+        run = subprocess.run([sys.executable, "-c", script.format(name)], capture_output=True, text=True, timeout=60)
+        assert "accepted" in run.stdout and "unknown system" not in run.stdout + run.stderr, (name, run.stderr[-500:])

@@ -246,7 +246,7 @@ def test_zero_length_nodes_apart_are_accepted_with_a_warning(caplog):
     m.element("zeroLength", 9, (1, 2), kx=1.0)
     with caplog.at_level(logging.WARNING, logger="vtsi.elements.zero_length"):
         m.build()
-    assert "element 9 (zeroLength): nodes 1 and 2 are 0.5 m apart" in caplog.text
+    assert "element 9 (zeroLength): nodes 1 and 2 are 0.5 apart (model length units)" in caplog.text
 
 
 def test_truss_do_rayleigh():

@@ -221,7 +221,8 @@ def frame():
 
 
 BEAM_RESPONSES = ("force, globalForce, localForce, basicDeformation, chordRotation, chordDeformation, basicStiffness, "
-                  "xaxis, yaxis, zaxis, basicForce, forces, globalForces, localForces, basicForces, basicDeformations")
+                  "xaxis, yaxis, zaxis, basicForce, forces, globalForces, localForces, basicForces, basicDeformations, "
+                  "xlocal, ylocal, zlocal, deformatons")
 """What an elasticBeamColumn answers, as ``eleResponse 1 foo`` lists it (tests/test_opensees_commands.py)."""
 MESSAGES = [
     (lambda: vops.eleResponse(1, "RayleighForces"),

@@ -644,9 +644,15 @@ class PassageScene:
         plotter.add_mesh(meshes["bands"], color=BODY_BAND, ambient=0.3)
         plotter.add_mesh(meshes["bogies"], color=BOGIE, specular=0.3)
         plotter.add_mesh(meshes["windows"], color=WINDOWS, specular=0.6, specular_power=40)
+        margin = round(0.01 * window[0])      # of the texts from the upper corners
         if look.title:
-            plotter.add_text(str(look.title), position="upper_left", font_size=fs + 3, color=TEXT, font="arial")
-        legend = plotter.add_text(" ", position="upper_right", font_size=fs + 1, color=TEXT, font="arial")
+            title = plotter.add_text(str(look.title), position=(margin, window[1] - margin), font_size=fs + 3,
+                                     color=TEXT, font="arial")
+            title.GetTextProperty().SetVerticalJustificationToTop()
+        legend = plotter.add_text(" ", position=(window[0] - margin, window[1] - margin), font_size=fs + 1,
+                                  color=TEXT, font="arial")
+        legend.GetTextProperty().SetVerticalJustificationToTop()
+        legend.GetTextProperty().SetJustificationToRight()
 
         # Camera: from the front (+z), above and a little from the left, framing the deck, the
         # approaches, the scale bar and a train's height.
@@ -763,7 +769,7 @@ class PassageScene:
         lines = [f"displacements × {_fmt(look.scale)}"]
         if frame.time is not None:
             lines.insert(0, f"t = {frame.time:.3f} s")
-        stage.legend.set_text("upper_right", "\n".join(lines))
+        stage.legend.SetInput("\n".join(lines))
 
 
 def _plotter(pv, window):

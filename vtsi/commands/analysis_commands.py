@@ -22,7 +22,9 @@ ANALYSIS_COMMANDS = ("constraints", "numberer", "system", "test", "algorithm", "
                      "analyze", "eigen", "modalDamping", "wipeAnalysis")
 CONSTRAINT_HANDLERS = ("Plain", "Transformation")
 NUMBERERS = ("Plain", "RCM", "AMD")
-SYSTEMS = ("BandSPD", "BandGeneral", "ProfileSPD", "SparseGeneral", "UmfPack", "Umfpack", "FullGeneral", "SparseSYM")
+SYSTEMS = ("BandSPD", "BandGeneral", "BandGen", "ProfileSPD", "SparseGeneral", "SparseGEN", "SparseSPD", "UmfPack",
+           "Umfpack", "SuperLU", "Mumps", "FullGeneral", "SparseSYM")
+"""OpenSees's direct solvers (OpenSeesPy 3.7.1 accepts each name); vtsi solves with its own."""
 TESTS = ("NormUnbalance", "NormDispIncr", "EnergyIncr", "RelativeNormUnbalance", "RelativeNormDispIncr",
          "RelativeTotalNormDispIncr", "RelativeEnergyIncr", "FixedNumIterations")
 ALGORITHMS = {   # name -> accepted flags (a linear model is solved exactly in one pass by all of them)
