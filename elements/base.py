@@ -115,6 +115,10 @@ def register(cls):
     for attribute in ("name", "n_nodes", "node_dofs", "param_names"):
         if not hasattr(cls, attribute):
             raise TypeError(f"element type {cls.__name__}: missing class attribute {attribute!r}")
+    for attribute in ("param_names", "positive", "non_negative", "flags"):
+        names = getattr(cls, attribute)
+        if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+            raise TypeError(f"element type {cls.__name__}: {attribute} must be a tuple of str, got {names!r}")
     unknown = (set(cls.positive) | set(cls.non_negative) | set(cls.flags) | set(cls.defaults)) - set(cls.param_names)
     if unknown:
         raise TypeError(f"element type {cls.__name__}: {sorted(unknown)} are not in param_names")

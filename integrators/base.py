@@ -18,8 +18,8 @@ do the weights of the constraint forces of a coupled analysis (:attr:`Stage.mass
 
 Contract of an integrator
 -------------------------
-Items 1 and 7, and that ``stages`` is defined, are checked by :func:`register`; items 2, 4, 6 and 8
-by :meth:`Integrator.checked_stages` (:func:`check_stages`), which every analysis calls once when it
+Items 1 and 7, and that ``stages`` is defined, are checked by :func:`register`; items 2, 3 (a claim
+of unconditional stability), 4, 6 and 8 by :meth:`Integrator.checked_stages` (:func:`check_stages`), which every analysis calls once when it
 prepares a Δt (not per step; vtsi's own schemes once per class, parameters and Δt in a process,
 :func:`_shipped_key`), so that a broken scheme is refused with an
 :class:`~vtsi.errors.AnalysisError` naming it instead of crashing the compiled loop or running to
@@ -35,8 +35,9 @@ all of them.
    Each stage's ``load`` is a non-empty list of finite ``(θ, w)`` (θ may exceed 1: Wilson-θ) with
    ``Σ w = 1 + Σ km`` (its :attr:`Stage.mass_weight`: a constant load ``P`` then balances the
    constant acceleration ``M⁻¹P`` of a free body); the last stage's ``theta`` is 1.
-3. ``stability_limit(dt)``: ``None`` if unconditionally stable, else the largest stable
-   ``ω Δt`` (undamped); the analysis compares it with ``ω_max Δt`` and refuses to run beyond it.
+3. ``stability_limit(dt)``: ``None`` if unconditionally stable (checked: the undamped
+   oscillator's spectral radius <= 1 from ωΔt = 0.01 to 10⁴), else the largest stable ``ω Δt``
+   (undamped); the analysis compares it with ``ω_max Δt`` and refuses to run beyond it.
 4. ``explicit``: True exactly when ``ku[A] = 0`` in every stage, so that ``K̂ = M + kv[A] C`` holds
    no stiffness (``K̂ = M`` for an undamped model; central difference has ``kv[A] = Δt/2``).
 5. Parameters are validated in ``__init__`` with an :class:`~vtsi.errors.AnalysisError`
@@ -73,6 +74,9 @@ from vtsi.errors import AnalysisError, as_number
 
 INTEGRATORS = {}
 HIGH_OMEGA_DT = 1e4   # Ω = ωΔt where :attr:`Integrator.dissipative` reads the spectral radius
+UNCONDITIONAL_OMEGA_DT = np.geomspace(1e-2, HIGH_OMEGA_DT, 61)
+"""The Ω = ωΔt where :func:`check_stages` verifies a scheme that claims to be unconditionally
+stable (``stability_limit`` None): spectral radius <= 1, ten points a decade."""
 
 
 def register(cls):
@@ -393,6 +397,31 @@ def check_stages(integrator, stages, dt):
         raise AnalysisError(f"{who}: force_record_weights() = {record}; it needs n_stages + 1 = {n_stages + 1} "
                             "finite weights (lambda_n, then each stage's) summing to 1")
     _check_consistency(who, stages, A, dt)
+    if integrator.stability_limit(dt) is None:
+        _check_unconditional(who, integrator.stages(1.0), A)
+
+
+def _check_unconditional(who, stages, n_slots):
+    """Raise an AnalysisError unless ``stages`` (of Δt = 1 s) keep the undamped oscillator's
+    spectral radius <= 1 at every Ω = ωΔt of :data:`UNCONDITIONAL_OMEGA_DT`, as a scheme whose
+    ``stability_limit`` is None (unconditionally stable) must: an explicit scheme or a Wilson-θ
+    with θ < 1.37 that claims it would diverge in the analysis. Each amplification matrix is
+    taken in the scaled state (Ω² u, Ω v, a), where its entries are of order 1."""
+    omega = UNCONDITIONAL_OMEGA_DT
+    m = len(omega)
+    bank = np.zeros((n_slots, 3 * m))
+    bank[:3] = np.tile(np.eye(3), m)
+    out = oscillator_step(stages, bank, np.repeat(omega ** 2, 3), 0.0, np.zeros(3 * m))[n_slots - 3:]
+    amp = out.reshape(3, m, 3).transpose(1, 0, 2)             # (m, 3, 3): Ω's matrix, rows u, v, a
+    scale = np.stack([omega ** 2, omega, np.ones(m)], axis=1)  # S A S⁻¹, S = diag(Ω², Ω, 1)
+    radius = np.abs(np.linalg.eigvals(scale[:, :, None] * amp / scale[:, None, :])).max(axis=1)
+    unstable = np.flatnonzero(~(radius <= 1.0 + 1e-6))         # (NaN: unstable too)
+    if unstable.size:
+        j = unstable[0]
+        raise AnalysisError(f"{who}: stability_limit(dt) is None (unconditionally stable), but its spectral radius "
+                            f"at omega dt = {omega[j]:.3g} is {radius[j]:.6g} > 1 (the first of {len(omega)} values "
+                            f"from {omega[0]:g} to {omega[-1]:g} where it exceeds 1): it diverges there; return the "
+                            "largest stable omega dt from stability_limit (central difference: 2)")
 
 
 def _slot_name(slot):

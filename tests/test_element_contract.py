@@ -275,6 +275,8 @@ def _bare_type(**attributes):
     (dict(positive=("b",)), r"\['b'\] are not in param_names"),
     (dict(flags=("c",)), r"\['c'\] are not in param_names"),
     (dict(node_dofs=(0, 3)), r"node_dofs \(0, 3\) must be among 0, 1, 2"),
+    (dict(param_names="kw"), r"param_names must be a tuple of str, got 'kw'"),
+    (dict(positive="a"), r"positive must be a tuple of str, got 'a'"),
     (dict(stiffness=ElementType.stiffness), r"must override stiffness\(\)"),
     (dict(mass=ElementType.mass), r"must override mass\(\)"),
     (dict(name="elasticBeamColumn"), "'elasticBeamColumn' is already registered by vtsi.elements.beam_column"),

@@ -8,6 +8,7 @@ The broken schemes are the ones a probe wrote (one of each mistake). None is reg
 time: tests/test_integrator_contract.py is parametrised over the registry when it is collected,
 and the registrations made here are undone by the fixtures.
 """
+import re
 import subprocess
 import sys
 import textwrap
@@ -450,3 +451,38 @@ def test_a_transient_run_starts_from_the_committed_acceleration_and_static_first
     rec = NodeRecorder([2], [2])
     vtsi.TransientAnalysis(model, "Newmark", dt, recorders=[rec]).run(100)
     assert np.abs(rec.values[:, 0] - U_STATIC).max() <= 1e-12 * abs(U_STATIC)
+
+
+class WilsonThetaOne(WilsonTheta):
+    """Wilson-θ with θ = 1 (the linear acceleration method), which is stable only up to ωΔt = √12:
+    it claims unconditional stability (stability_limit None, the base's default)."""
+    name = "WilsonThetaOne"
+
+    def __init__(self):
+        self.theta = 1.0
+
+
+class CentralDifferenceNoLimit(Integrator):
+    """Central differences (explicit: K̂ holds no stiffness) without their limit ωΔt = 2."""
+    name, n_stages, explicit = "CentralDifferenceNoLimit", 1, True
+
+    def stages(self, dt):
+        du = self.coefficients(u_n=1.0, v_n=dt, a_n=dt * dt / 2.0)
+        dv = self.coefficients(v_n=1.0, a_n=dt / 2.0, a=dt / 2.0)
+        return [Stage(du=du, dv=dv, ku=du, kv=dv)]
+
+
+@pytest.mark.parametrize("integrator, limit", [(WilsonThetaOne(), 12 ** 0.5), (CentralDifferenceNoLimit(), 2.0)],
+                         ids=lambda i: type(i).__name__)
+def test_a_claim_of_unconditional_stability_is_checked(integrator, limit):
+    """A scheme whose stability_limit is None must keep the spectral radius <= 1 at every ωΔt: one
+    that does not is refused when the analysis prepares it, naming an ωΔt past its true limit
+    (√12 for θ = 1, 2 for central differences) and the radius there; it ran and diverged before."""
+    pattern = (rf"^integrator {type(integrator).__name__}\(.*\): stability_limit\(dt\) is None \(unconditionally "
+               r"stable\), but its spectral radius at omega dt = ([0-9.e+]+) is ([0-9.e+]+) > 1")
+    with pytest.raises(AnalysisError, match=pattern) as info:
+        run(integrator)
+    omega_dt, radius = map(float, re.match(pattern, str(info.value)).groups())
+    assert limit < omega_dt < 1.3 * limit and radius > 1.0      # the first sampled ωΔt where it grows
+    for name in ("Newmark", "HHT(0.8)", "Bathe", "TRBDF2", "GeneralizedAlpha(0.8)"):     # the shipped ones pass
+        assert make_integrator(name).checked_stages(1e-3)
