@@ -1,0 +1,159 @@
+"""The solvers behind vtsi.analysis.eigen and modes_up_to agree with each other and with the full
+dense problem: LAPACK's subset of the lowest modes (gvx), LAPACK's every mode, ARPACK's
+shift-invert about 0; lumped mass (massless rotations: M singular) and consistent mass.
+
+The reference is scipy.linalg.eigh(M, K) of the assembled matrices, every mode, ω² = 1/μ.
+Frequencies agree to 1e-10 relative, mass-normalised shapes to 1e-8 of their largest entry
+(each path signs its shapes by one rule, so they agree with their sign; the reference up to sign).
+"""
+import numpy as np
+import pytest
+import scipy.linalg
+
+import vtsi
+import vtsi.analysis as analysis
+from vtsi.analysis import DENSE_EIGEN_MAX, eigen, modes_up_to
+from vtsi.errors import AnalysisError
+from vtsi.models.bridges import continuous_beam
+
+E, I, MU = 3.5e10, 1.9, 15000.0        # Pa, m⁴, kg/m: a concrete deck
+
+
+def viaduct(spans, elements_per_span, consistent_mass):
+    """A continuous beam over ``spans`` [m]: 3 dofs a node, pin then rollers."""
+    model = vtsi.Model()
+    continuous_beam(model, spans, elements_per_span, E, I, MU, consistent_mass=consistent_mass)
+    return model
+
+
+def reference(model):
+    """Every mode of finite frequency of the full dense problem: ``(omega2 ascending, vectors
+    (n_free, n) mass-normalised)``."""
+    asm = model.build()
+    mu, vec = scipy.linalg.eigh(asm.M.toarray(), asm.K.toarray())
+    finite = mu > 1e-14 * mu.max()
+    omega2, vec = 1.0 / mu[finite][::-1], vec[:, finite][:, ::-1]
+    return omega2, vec / np.sqrt(np.einsum("ij,ij->j", vec, asm.M @ vec))
+
+
+def assert_same_modes(omega2, shapes, ref_omega2, ref_vec, asm, up_to_sign=True):
+    """Frequencies to 1e-10 relative; free-dof shapes to 1e-8 of their largest entry (up to sign
+    against the reference)."""
+    k = len(omega2)
+    assert np.max(np.abs(np.sqrt(omega2 / ref_omega2[:k]) - 1.0)) < 1e-10
+    vec, ref = shapes[asm.full_of_free], ref_vec[:, :k]
+    scale = np.abs(ref).max(axis=0)
+    diff = np.abs(vec - ref).max(axis=0)
+    if up_to_sign:
+        diff = np.minimum(diff, np.abs(vec + ref).max(axis=0))
+    assert np.max(diff / scale) < 1e-8
+
+
+@pytest.fixture(scope="module", params=[False, True], ids=["lumped", "consistent"])
+def mid_model(request):
+    """3 spans of 30 m in 102 elements: 304 free dofs, above DENSE_EIGEN_MAX (either path
+    applies); lumped: the 103 rotations are massless."""
+    model = viaduct([30.0] * 3, 34, request.param)
+    asm = model.build()
+    assert asm.n_free > DENSE_EIGEN_MAX
+    return model, asm, reference(model)
+
+
+def test_dense_subset_dense_full_and_sparse_agree(mid_model):
+    model, asm, (ref_omega2, ref_vec) = mid_model
+    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))
+    rotation = asm.full_of_free % asm.ndf == 2
+    assert np.array_equal(asm.M.diagonal() == 0.0, rotation) == (n_mass < asm.n_free)    # lumped: M singular
+    assert len(ref_omega2) == n_mass            # one mode per dof with mass, none for a massless rotation
+    k = 30
+    subset = analysis._mode_shapes(asm, analysis._dense_modes(asm, lowest=k)[1])
+    full = analysis._dense_modes(asm)
+    sparse = analysis._sparse_modes(asm, k, n_mass)
+    assert len(full[0]) == n_mass
+    for omega2, vec in (analysis._dense_modes(asm, lowest=k), (full[0][:k], full[1][:, :k]), sparse):
+        shapes = analysis._mode_shapes(asm, vec)
+        assert_same_modes(omega2, shapes, ref_omega2, ref_vec, asm)
+        assert np.max(np.abs(shapes - subset)) < 1e-8 * np.abs(subset).max()   # the same sign, whichever path
+        assert np.allclose(np.einsum("ij,ij->j", shapes, asm.M_full @ shapes), 1.0, rtol=1e-12, atol=0.0)
+
+
+def test_eigen_takes_either_path_and_agrees(mid_model):
+    """eigen's few modes (ARPACK here), many modes (LAPACK's subset: 8 k > n), n - 1 modes and 'all'."""
+    model, asm, (ref_omega2, ref_vec) = mid_model
+    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))
+    assert not analysis._dense_for(asm.n_free, 6, n_mass) and analysis._dense_for(asm.n_free, 60, n_mass)
+    for k in (6, 60):
+        omega2, shapes = eigen(model, k)
+        assert omega2.shape == (k,) and shapes.shape == (asm.n_full, k)
+        assert_same_modes(omega2, shapes, ref_omega2, ref_vec, asm)
+    omega2, shapes = eigen(model, "all")
+    assert omega2.shape == (n_mass,)
+    assert_same_modes(omega2, shapes, ref_omega2, ref_vec, asm)
+    if n_mass == asm.n_free:                   # consistent mass: as many modes as free dofs
+        omega2 = eigen(model, asm.n_free - 1)[0]
+        # μ = 1/ω² to an absolute ε max μ in either LAPACK call: ω² to about ε ω²/ω₁² relative
+        assert np.all(np.abs(omega2 / ref_omega2[:-1] - 1.0) < 1e-10 + 1e-14 * ref_omega2[:-1] / ref_omega2[0])
+    else:
+        with pytest.raises(AnalysisError, match=rf"^eigen: only {n_mass} dofs carry mass, {n_mass + 1} modes requested$"):
+            eigen(model, n_mass + 1)
+
+
+def test_sparse_shapes_are_signed_alike_on_every_call(mid_model):
+    """ARPACK starts from a new random vector on each call: the sign rule makes its shapes repeat."""
+    model, asm, _ = mid_model
+    first, second = eigen(model, 8)[1], eigen(model, 8)[1]
+    assert np.max(np.abs(first - second)) < 1e-8 * np.abs(first).max()
+    vec = first[asm.full_of_free]
+    lead = np.argmax(np.abs(vec) > 1e-3 * np.abs(vec).max(axis=0), axis=0)
+    assert np.all(vec[lead, np.arange(8)] > 0.0)
+
+
+def test_small_model_dense_by_value():
+    """Up to DENSE_EIGEN_MAX free dofs: one LAPACK call for the modes up to f_max; below the first
+    mode, the first mode alone."""
+    model = viaduct([20.0] * 2, 20, False)
+    asm = model.build()
+    assert asm.n_free <= DENSE_EIGEN_MAX
+    ref_omega2, ref_vec = reference(model)
+    ref_f = np.sqrt(ref_omega2) / (2 * np.pi)
+    for f_max in (30.0, 0.5 * (ref_f[4] + ref_f[5])):
+        f, shapes = modes_up_to(model, f_max)
+        assert len(f) == np.sum(ref_f <= f_max) and f[-1] <= f_max
+        assert_same_modes((2 * np.pi * f) ** 2, shapes, ref_omega2, ref_vec, asm)
+    f, shapes = modes_up_to(model, 0.5 * ref_f[0])
+    assert len(f) == 1
+    assert_same_modes((2 * np.pi * f) ** 2, shapes, ref_omega2, ref_vec, asm)
+
+
+@pytest.mark.parametrize("spans, f_max, rounds", [
+    ([30.0] * 30, 30.0, [8, 98]),        # 871 dofs: 8 modes (to 3.78 Hz), then 1.5 × 8 × 30 / 3.78 + 2 (95 to 30 Hz)
+    ([30.0] * 3, 60.0, [8, "dense"]),    # 268 dofs: 8 modes (to 20.6 Hz), then LAPACK's: 8 × 38 > 268 (17 to 60 Hz)
+])
+def test_modes_up_to_in_rounds(monkeypatch, spans, f_max, rounds):
+    """modes_up_to on ARPACK asks 8 modes, then the count up to f_max extrapolated from them,
+    until a mode lies above f_max (or the count is LAPACK's to find): the modes up to f_max of
+    the full problem, whichever solve found them."""
+    model = viaduct(spans, 10 if len(spans) > 3 else 30, True)
+    asm = model.build()
+    asked = []
+    sparse, dense = analysis._sparse_modes, analysis._dense_modes
+    monkeypatch.setattr(analysis, "_sparse_modes", lambda asm, k, n_mass: asked.append(k) or sparse(asm, k, n_mass))
+    monkeypatch.setattr(analysis, "_dense_modes", lambda asm, **up_to: asked.append("dense") or dense(asm, **up_to))
+    f, shapes = modes_up_to(model, f_max)
+    assert asked == rounds
+    ref_omega2, ref_vec = reference(model)
+    ref_f = np.sqrt(ref_omega2) / (2 * np.pi)
+    assert len(f) == np.sum(ref_f <= f_max) > rounds[0]
+    assert_same_modes((2 * np.pi * f) ** 2, shapes, ref_omega2, ref_vec, asm)
+
+
+def test_a_model_without_mass_is_refused():
+    model = vtsi.Model()
+    model.node(1, 0.0, 0.0)
+    model.node(2, 10.0, 0.0)
+    model.fix(1, 1, 1, 1)
+    model.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=E, I=I)
+    for call in (lambda: eigen(model, 1), lambda: modes_up_to(model, 30.0)):
+        with pytest.raises(AnalysisError, match=r"^(eigen|modes_up_to): no dof carries mass \(every mode has an "
+                                                r"infinite frequency\)$"):
+            call()
