@@ -31,8 +31,7 @@ def test_eq_6_13_additional_damping():
     assert additional_damping(29.8) == 0.0
 
 
-@pytest.mark.parametrize("call, words", [(lambda: additional_damping(30.0), "below 30 m"),
-                                         (lambda: additional_damping(-1.0), "> 0"),
+@pytest.mark.parametrize("call, words", [(lambda: additional_damping(-1.0), "> 0"),
                                          (lambda: damping_lower_bound("timber", 10.0), "timber"),
                                          (lambda: damping_lower_bound("steel", "ten"), "number")])
 def test_out_of_range_is_refused(call, words):

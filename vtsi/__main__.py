@@ -73,7 +73,7 @@ CHECK_EPILOG = """\
 BRIDGE, TRAINS and SPEEDS as for 'vtsi sweep' (see 'vtsi sweep --help'); without --speeds the
 EN 1991-2 6.4.6.2 series up to 1.2 x --line-speed. Damping: --damping ZETA, or --bridge-type
 for the EN 1991-2 Table 6.6 lower bound of the longest span (+ --additional-damping, Eq. 6.13,
-for moving forces on spans below 30 m). Writes the results file (--out), the checks in it, the
+for moving forces: 0 on spans of 30 m or more). Writes the results file (--out), the checks in it, the
 governing cases' time histories, a 3-D scene (when off-screen rendering works) and the report
 (report.html, self-contained, and report.md with PNGs) in --report DIR. Prints the table of
 checks: value, limit, utilisation, pass/fail, the governing train, speed and place."""
@@ -215,7 +215,7 @@ def _parser():
                        help="EN 1991-2 Table 6.6 damping: steel, composite, prestressed_concrete, filler_beam, "
                             "reinforced_concrete (its lower bound for the longest span); or give --damping")
     rules.add_argument("--additional-damping", action="store_true",
-                       help="add Delta zeta of EN 1991-2 Eq. 6.13 (moving forces, spans < 30 m)")
+                       help="add Delta zeta of EN 1991-2 Eq. 6.13 (moving forces; 0 for spans of 30 m or more)")
     rules.add_argument("--track-form", default="ballasted", metavar="FORM",
                        help="ballasted (3.5 m/s^2, default) or direct_fastening (5 m/s^2)")
     rules.add_argument("--comfort", default="good", metavar="LEVEL",
@@ -470,7 +470,7 @@ def _code_damping(ns, source, values):
     check, printed in the report. Notes on standard error (unless --quiet) when --bridge-type
     replaces the bridge file's [analysis] damping, and when --bridge-type or --damping replaces
     a bridge script's own damping."""
-    from vtsi.codes.en1991_2 import additional_damping, damping_lower_bound
+    from vtsi.codes.en1991_2 import additional_damping, additional_damping_text, damping_lower_bound
     from vtsi.passage import PassageRunner, PassageSettings
 
     in_file = source.settings.get("damping")
@@ -504,7 +504,7 @@ def _code_damping(ns, source, values):
                                   "interaction is in the model with --cars full")
             extra = additional_damping(span)
             zeta += extra
-            how += f" + Eq. 6.13 Δζ {_percent(extra)} = {_percent(zeta)}"
+            how += f" + {additional_damping_text(span)} = {_percent(zeta)}"
         option = f"--bridge-type {ns.bridge_type}"
         noted = [file_text and f"{file_text} ({os.path.basename(source.path)})", in_script]
     replaced = [text for text in (file_text and f"{file_text} ({_percent(in_file)})", in_script) if text]

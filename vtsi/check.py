@@ -28,7 +28,10 @@ deflection             the more unfavourable of Φ α × LM71/SW/0's static     
                        L_Φ and n₀)
 deflection_overhang    the same on a deck's overhang, against L_c/600 of its length  EN 1991-2
                        for reference only (info: EN 1990 gives no cantilever limit)  6.4.6.5(3)
-end_rotation           max |θ| at the decks' end supports under the trains (info)   —
+end_rotation           max |θ| at the decks' end supports under the trains (info:   EN 1990
+                       EN limits the deck end's displacement: not checked)           A2.4.4.2.3,
+                                                                                     EN 1991-2
+                                                                                     6.5.4.5.2
 car_body_acceleration  max |a| of the car bodies, at each centre or over either      EN 1990
                        bogie pivot, while a wheel of the car is on a deck and half   A2.4.4.3.1
                        a period of its lowest mode after, ≤ b_v (Table A2.9)
@@ -59,7 +62,12 @@ i more coarsely than the EN series (:func:`vtsi.speed_grid.coarse_resonances`), 
 above the series' 144 km/h, or that step more coarsely than its 2 km/h over a train without D
 (its resonances unknown), are named in the rows read against speed and in the verdict, and a
 criterion with a limit that passes on them (deck acceleration, deflection, car-body acceleration,
-wheel unloading, contact loss: each peaks at resonance) is not checked (info).
+wheel unloading, contact loss: each peaks at resonance) is not checked (info). A sweep holding an
+HSLM train without every one EN 1991-2 6.4.6.1.1, Table 6.4 loads the bridge's decks with (all
+ten HSLM-A on a continuous deck or a span of 7 m or more: vtsi does not make Annex E's choice of
+a single critical one; HSLM-B on a simply supported span under 7 m) leaves the deck acceleration
+and the deflection, read from the dynamic analysis under them, not checked (info) unless they
+fail (:func:`_load_models`); a sweep of real trains only is a check for those trains.
 
 The verdict (:meth:`CheckResult.verdict`) is FAIL when a criterion fails; else NO VERDICT when
 the sweep is incomplete, when a criterion with a limit could not be held to it (an 'info' row
@@ -479,6 +487,61 @@ def _coarse_speeds(out, coarse):
            if unknown else []))
 
 
+# -- the load models -------------------------------------------------------------------------------
+class LoadModels(NamedTuple):
+    """What the sweep lacks of the HSLM trains EN 1991-2 6.4.6.1.1, Table 6.4 loads the bridge with
+    (:func:`_load_models`)."""
+
+    said: str          # the deck acceleration's note on them ('' when nothing is missing)
+    unchecked: str     # why a row with a limit is not checked, with the remedy ('' when it is checked)
+    remedy: str        # 'sweep again with ...' ('' when nothing is missing)
+
+
+def _load_models(results, bridge):
+    """:class:`LoadModels` of a sweep: which HSLM trains EN 1991-2 6.4.6.1.1, Table 6.4 loads the
+    bridge's decks with (:func:`vtsi.codes.en1991_2.hslm_load_models`) it did not run. A sweep
+    holding an HSLM train without all of them is no EN verification (``unchecked``): its deck
+    acceleration and deflection, read from the dynamic analysis under them (EN 1991-2
+    6.4.6.5(3)), are not checked unless they fail (a train not run can only add to a FAIL). A
+    sweep of real trains only is a check for those trains: ``said`` still asks for HSLM-B on a
+    short span, ``unchecked`` is ''."""
+    spans, of = np.asarray(bridge["span_lengths_m"]), span_decks(bridge)
+    decks = [spans[of == d] for d in sorted(set(of.tolist()))]
+    needs = en1991_2.hslm_load_models(decks)
+    names = {results.train_data(t)["name"] for t in results.trains}
+    hslm = bool(names & {*en1991_2.HSLM_A, en1991_2.HSLM_B})
+    below = en1991_2.HSLM_B_SPAN_RANGE[1]
+    refusal = en1991_2.hslm_b_refusal(decks)           # '' when one sweep's HSLM-B loads every deck
+    said, remedy, lacking = [], [], []
+    if en1991_2.HSLM_B in names and refusal:      # an older vtsi's results file: it built HSLM-B from the first span
+        said.append(f"HSLM-B is not a load model of this bridge: {refusal}")
+    short = [k + 1 for k, need in enumerate(needs) if need == (en1991_2.HSLM_B,)]
+    if short and en1991_2.HSLM_B not in names:
+        own = f"deck{'s' * (len(short) > 1)} {', '.join(map(str, short))} as bridges of their own"
+        said.append(f"EN 1991-2 6.4.6.1.1: a simply supported span under {below:g} m is checked with HSLM-B, which "
+                    "this sweep does not hold" + ("" if not refusal else f" (a sweep runs one HSLM-B on decks of one "
+                                                  f"span length under {below:g} m only: check {own})"))
+        remedy.append("with HSLM-B (--trains HSLM-B)" if not refusal else f"check {own} with HSLM-B")
+        lacking.append(en1991_2.HSLM_B)
+    by_a = [k for k, need in enumerate(needs) if need == en1991_2.HSLM_A]
+    held = [n.removeprefix("HSLM-") for n in en1991_2.HSLM_A if n in names]
+    missing = [n.removeprefix("HSLM-") for n in en1991_2.HSLM_A if n not in names]
+    if by_a and missing and hslm:
+        why = ((["Table 6.4 loads a continuous deck with all ten"] if any(len(decks[k]) > 1 for k in by_a) else [])
+               + (["Table 6.4 lets a single critical train chosen by Annex E stand for them on a simply supported "
+                   "span, a choice vtsi does not make"] if any(len(decks[k]) == 1 for k in by_a) else []))
+        said.append(f"EN 1991-2 6.4.6.1.1: HSLM-A is its ten trains A1 to A10 (a continuous deck, or a span of "
+                    f"{below:g} m or more), and this sweep holds " + (f"{', '.join(held)} only" if held else
+                                                                      "none of them")
+                    + f", without {', '.join(missing)} ({'; '.join(why)})")
+        remedy.insert(0, "with all ten HSLM-A trains (--trains HSLM-A)")
+        lacking.insert(0, f"HSLM-{', '.join(missing)}")
+    again = f"sweep again {' and '.join(remedy)}" if remedy else ""
+    unchecked = (f"not checked: a sweep of HSLM trains verifies the bridge to EN 1991-2 only with every train "
+                 f"Table 6.4 asks for, and this one lacks {', '.join(lacking)}; {again}") if hslm and remedy else ""
+    return LoadModels("; ".join(said), unchecked, again)
+
+
 def _plural_of(n, word):
     return f"{n} {word}{'s' * (n != 1)}"
 
@@ -541,27 +604,13 @@ def _deck_acceleration(results, outputs, bridge, settings):
         if x_peak is not None and abs(x_peak - a) > tol and min(a, b) - tol <= x_peak <= max(a, b) + tol:
             note += (f"; the peak is on the overhang from x = {min(a, b):g} to {max(a, b):g} m (deck: it carries "
                      "the track)")
-    spans, of = np.asarray(bridge["span_lengths_m"]), span_decks(bridge)
-    decks = [spans[of == d] for d in sorted(set(of.tolist()))]
-    hslm_b_below = en1991_2.HSLM_B_SPAN_RANGE[1]
-    refusal = en1991_2.hslm_b_refusal(decks)
-    hslm_b = not refusal                                      # every deck one span, all of one length under 7 m
-    short = [d + 1 for d, s in enumerate(decks) if len(s) == 1 and s[0] < hslm_b_below]
-    swept_b = any(results.train_data(t)["name"] == "HSLM-B" for t in results.trains)
-    if swept_b and refusal:                  # a results file of an older vtsi, which built it from the first span
-        note += f"; HSLM-B is not a load model of this bridge: {refusal}"
-    if short and not swept_b:
-        note += (f"; EN 1991-2 6.4.6.1.1: a simply supported span under {hslm_b_below:g} m is checked with "
-                 "HSLM-B, which this sweep does not hold"
-                 + ("" if hslm_b else f" (a sweep runs one HSLM-B on decks of one span length under {hslm_b_below:g} "
-                    f"m only: check deck{'s' * (len(short) > 1)} {', '.join(map(str, short))} as bridges of their "
-                    "own)"))
-    hslm_a = [f"HSLM-A{k}" for k in range(1, 11)]
-    held = [n for n in hslm_a if n in {results.train_data(t)["name"] for t in results.trains}]
-    if held and len(held) < len(hslm_a) and not hslm_b:
-        note += (f"; EN 1991-2 6.4.6.1.1: HSLM-A is its ten trains A1 to A10 (a continuous deck, or a span of "
-                 f"{hslm_b_below:g} m or more), and this sweep holds {', '.join(t.removeprefix('HSLM-') for t in held)} "
-                 "only: enough only if they are the critical ones by Annex E (simply supported spans)")
+    models = _load_models(results, bridge)
+    if models.said:
+        note += f"; {models.said}"
+    fails = value > limit
+    if models.unchecked:
+        note += f"; {models.unchecked}" if not fails else f"; a FAIL stands: the trains not run can only add to it; " \
+                                                          f"{models.remedy}"
     read = deck & set(np.asarray(columns).tolist())
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
         note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
@@ -586,8 +635,9 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if rings:
         note += (f"; not checked: {RINGING}, and the deck's acceleration grows as dt shrinks (an ICE3 on a 20 m span: "
                  f"2.3 to 13.8 m/s^2 for dt 2 to 0.25 ms); {RINGING_REMEDY}: 2.2 at every dt")
+    unchecked = rings or (models.unchecked and not fails)
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
-                     "info" if rings else ("pass" if value <= limit else "fail"), train, speed, seed,
+                     "info" if unchecked else ("fail" if fails else "pass"), train, speed, seed,
                      node_text(bridge, columns[idx[-1]]), f"{settings.track.replace('_', ' ')} track; {note}")]
 
 
@@ -941,6 +991,7 @@ def _deflection(results, outputs, bridge, settings):
         if nodes is None:
             continue
         share = _design_factors(results, bridge, settings)[3]
+        models = _load_models(results, bridge)
         worst = {"deflection": None, "deflection_overhang": None}
         for n in nodes:
             limit = n.length / en1990_a2.DEFLECTION_SPAN_RATIO
@@ -968,6 +1019,10 @@ def _deflection(results, outputs, bridge, settings):
                         "cantilever")
             if any(m.sw0_missing for m in nodes if m.criterion == key):
                 rule += SW0_MISSING
+            if status != "info" and models.unchecked:
+                status = "info" if status == "pass" else status
+                rule += (f"; {models.unchecked}" if status == "info" else
+                         f"; a FAIL stands: the trains not run can only add to it; {models.remedy}")
             governs = f"{n.model} governs" if case is None else "the dynamic analysis governs"
             who = (n.model, np.nan, -1) if case is None else \
                 (results.trains[case[0]], float(results.speeds_kmh[case[1]]), results.seeds[case[2]])
@@ -975,6 +1030,9 @@ def _deflection(results, outputs, bridge, settings):
                                  f"{governs}: {rule}{'' if case is None else _irregular_note(results)}"))
         return rows
     return []
+
+
+END_ROTATION_CLAUSE = "EN 1990 A2.4.4.2.3, EN 1991-2 6.5.4.5.2"   # where EN limits end rotations (not checked)
 
 
 def _end_rotation(results, outputs, bridge, settings):
@@ -1001,9 +1059,13 @@ def _end_rotation(results, outputs, bridge, settings):
         if np.all(np.isnan(peak)):
             continue
         train, speed, seed, idx = _governing(results, peak, np.nanargmax)
-        return [CheckRow("end_rotation", "-", float(peak[idx]), "rad", train=train, speed_kmh=speed, seed=seed,
-                         where=node_text(bridge, columns[idx[-1]]),
-                         note=f"largest rotation of the deck under the trains {where} (no limit checked)")]
+        return [CheckRow("end_rotation", END_ROTATION_CLAUSE, float(peak[idx]), "rad", train=train, speed_kmh=speed,
+                         seed=seed, where=node_text(bridge, columns[idx[-1]]),
+                         note=f"largest rotation of the deck under the trains {where} (no limit checked: EN 1990 "
+                              "A2.4.4.2.3 leaves the end rotations of a ballasted deck to EN 1991-2 6.5.4.5.2, which "
+                              "limits the vertical displacement of the deck end relative to the adjacent construction: "
+                              "the rotation acting through the geometry of the deck end and its bearings, which the "
+                              "model does not hold; for direct fastening the project sets the limit)")]
     return []
 
 

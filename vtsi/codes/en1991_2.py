@@ -16,6 +16,8 @@ DAMPING_TABLE_6_6 = {
 }
 ADDITIONAL_DAMPING_SPANS = (0.0, 30.0)   # [m] range of Eq. 6.13 (Figure 6.15)
 HSLM_B_SPAN_RANGE = (1.0, 7.0)          # [m] spans L_min <= L < L_max loaded by HSLM-B (§6.4.6.1.1, Fig. 6.13)
+HSLM_A = tuple(f"HSLM-A{k}" for k in range(1, 11))   # the ten universal trains of Table 6.3
+HSLM_B = "HSLM-B"
 SPEED_SERIES_START_KMH = 144.0          # [km/h] 40 m/s: the series of speeds starts there (§6.4.6.2(3))
 
 
@@ -51,6 +53,17 @@ def hslm_b_refusal(decks):
     return ""
 
 
+def hslm_load_models(decks):
+    """The HSLM trains EN 1991-2 6.4.6.1.1, Table 6.4 loads each of ``decks`` with (each deck's
+    span lengths [m], x order), one tuple per deck: (HSLM_B,) for a simply supported span of
+    L_min <= L < L_max (:data:`HSLM_B_SPAN_RANGE`), else :data:`HSLM_A`, all ten: a continuous
+    deck takes them all; a simply supported span of 7 m or more may take a single critical one
+    chosen by Annex E instead, a choice vtsi does not make, so no subset is shown to be enough."""
+    decks = [as_numbers(spans, "EN 1991-2 Table 6.4", "a deck's spans [m]").ravel().tolist() for spans in decks]
+    lo, hi = HSLM_B_SPAN_RANGE
+    return [(HSLM_B,) if len(spans) == 1 and lo <= spans[0] < hi else HSLM_A for spans in decks]
+
+
 def damping_lower_bound(kind, span):
     """EN 1991-2 Table 6.6: the lower bound of the damping ratio [-] of a ``kind`` bridge
     ('steel', 'composite', 'prestressed_concrete', 'filler_beam', 'reinforced_concrete') of span
@@ -64,16 +77,26 @@ def damping_lower_bound(kind, span):
 
 def additional_damping(span):
     """EN 1991-2 Eq. 6.13: the additional damping Δζ [-] that a moving-force analysis (no
-    vehicle-bridge interaction) may add for span ``span`` [m], valid for L < 30 m:
-    Δζ = (0.0187 L − 0.00064 L²) / (1 − 0.0441 L − 0.0044 L² + 0.000255 L³) [%]
+    vehicle-bridge interaction) may add for span ``span`` [m]:
+    Δζ = (0.0187 L − 0.00064 L²) / (1 − 0.0441 L − 0.0044 L² + 0.000255 L³) [%] for L < 30 m
     (largest, about 0.65 %, near L = 15 m). The numerator vanishes at L = 29.2 m; the slightly
-    negative values of the formula between there and 30 m are returned as 0 (no additional
-    damping)."""
+    negative values of the formula between there and 30 m are returned as 0, and so is every
+    L >= 30 m: 6.4.6.3.1(3) and Figure 6.15 give the interaction's extra damping to spans below
+    30 m only (:func:`additional_damping_text` says which)."""
     L = _span(span, "Eq. 6.13")
     if not L < ADDITIONAL_DAMPING_SPANS[1]:
-        raise ModelError(f"EN 1991-2 Eq. 6.13: the additional damping is defined for spans below 30 m, got {L:g} m")
+        return 0.0
     value = (0.0187 * L - 0.00064 * L ** 2) / (1.0 - 0.0441 * L - 0.0044 * L ** 2 + 0.000255 * L ** 3) / 100.0
     return max(value, 0.0)
+
+
+def additional_damping_text(span):
+    """Δζ of :func:`additional_damping` for span ``span`` [m] in words, as a damping source
+    states it: 'Eq. 6.13 Δζ 0.296 %', or 'Δζ = 0 (EN 1991-2 Eq. 6.13: L ≥ 30 m)'."""
+    L = _span(span, "Eq. 6.13")
+    if not L < ADDITIONAL_DAMPING_SPANS[1]:
+        return f"Δζ = 0 (EN 1991-2 Eq. 6.13: L ≥ {ADDITIONAL_DAMPING_SPANS[1]:g} m)"
+    return f"Eq. 6.13 Δζ {100 * additional_damping(L):.3g} %"
 
 
 def _span(span, clause):
