@@ -109,6 +109,40 @@ ops.track(1, '-eleRange', 1, 10)
 
 
 @pytest.fixture(scope="session")
+def own_element_script():
+    """``own_element_script(cls, name)``: the text of an OpenSeesPy bridge script that defines and
+    registers its own element type, class ``cls`` named ``name`` (the elastic beam-column under the
+    script's names: ``element name tag i j A E I -mass rho``), and a function ``deck_mass(span)``
+    [kg/m], then builds a 20 m simply supported deck of ten such elements (lumped mass), track 1."""
+    text = """import vtsi.opensees as ops
+from vtsi.elements import register
+from vtsi.elements.beam_column import ElasticBeamColumn2d
+
+
+@register
+class CLASS(ElasticBeamColumn2d):
+    name = "NAME"
+    command_args = ("A", "E", "I")
+    command_options = {"-mass": "rho"}
+
+
+def deck_mass(span):
+    return 15000.0
+
+
+ops.model("basic", "-ndm", 2, "-ndf", 3)
+for i in range(11):
+    ops.node(i + 1, 2.0 * i, 0.0)
+ops.fix(1, 1, 1, 0)
+ops.fix(11, 0, 1, 0)
+for i in range(10):
+    ops.element("NAME", i + 1, i + 1, i + 2, 5.0, 3.5e10, 1.9, "-mass", deck_mass(20.0))
+ops.track(1, "-eleRange", 1, 10)
+"""
+    return lambda cls, name: text.replace("CLASS", cls).replace("NAME", name)
+
+
+@pytest.fixture(scope="session")
 def deck_tcl():
     """``deck_tcl(tail)``: the deck of :func:`deck_script` with I = 0.6948 m⁴ (f1 = 5 Hz) as a Tcl
     bridge script, then the lines ``tail``."""

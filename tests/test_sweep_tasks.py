@@ -7,7 +7,6 @@ import logging
 import multiprocessing
 import re
 import sys
-import textwrap
 import types
 from pathlib import Path
 
@@ -112,41 +111,17 @@ def test_the_command_line_exits_2_on_it(capsys):
 
 
 # -- 3. what the pool's workers cannot receive --------------------------------------------------
-SCRIPT = """
-import vtsi.opensees as ops
-from vtsi.elements import register
-from vtsi.elements.beam_column import ElasticBeamColumn2d
-
-
-@register
-class TaskBeam(ElasticBeamColumn2d):
-    '''The elastic beam under a name of the script's.'''
-    name = "taskBeam"
-    command_args = ("A", "E", "I")
-    command_options = {"-mass": "rho"}
-
-
-ops.model("basic", "-ndm", 2, "-ndf", 3)
-for i in range(11):
-    ops.node(i + 1, 2.0 * i, 0.0)
-ops.fix(1, 1, 1, 0)
-ops.fix(11, 0, 1, 0)
-for i in range(10):
-    ops.element("taskBeam", i + 1, i + 1, i + 2, 5.0, 3.5e10, 1.9, "-mass", 15000.0)
-ops.track(1, "-eleRange", 1, 10)
-"""
-
-
 def _spawned(monkeypatch, method):
     """The sweep's pool forced to start its workers by ``method``, as when another thread runs."""
     monkeypatch.setattr(sweep_module, "_pool_context", lambda: multiprocessing.get_context(method))
 
 
 @pytest.fixture(scope="module")
-def script_sweep(tmp_path_factory):
-    """A sweep over the bridge of SCRIPT (loaded once: its element type's name is registered)."""
+def script_sweep(tmp_path_factory, own_element_script):
+    """A sweep over a bridge script's deck of its own element type (loaded once: its element
+    type's name is registered)."""
     path = tmp_path_factory.mktemp("script") / "bridge.py"
-    path.write_text(textwrap.dedent(SCRIPT))
+    path.write_text(own_element_script("TaskBeam", "taskBeam"))
     return Sweep(load_bridge(str(path)), ["HSLM-A1"], "250:300:25", MODAL)
 
 
