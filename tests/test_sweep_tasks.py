@@ -170,6 +170,12 @@ def test_only_a_module_made_at_run_time_is_out_of_the_workers_reach(monkeypatch)
     assert sweep_module._unimportable(sweep.runner, "fork") is None
 
 
+def test_large_arrays_pickle_for_the_workers():
+    """Arrays of more than 64 kB reach the pickler's file as a pickle.PickleBuffer (protocol 5),
+    which has no len(): every bridge of realistic size was refused as one that cannot be pickled."""
+    assert sweep_module._pickle_error({"factor": np.zeros((3000, 300)), "rows": np.ones(10_000)})[0] is None
+
+
 def test_what_cannot_be_pickled_is_named_before_anything_runs(monkeypatch):
     """A lambda in the bridge's model raised PicklingError from the pool's feeder thread."""
     sweep = Sweep(beam_bridge([20.0], 3.5e10, 1.9, 15000.0), ["HSLM-A1"], "250:300:25", MODAL)

@@ -793,7 +793,7 @@ class _Discard:
     """A file that keeps nothing written to it (:func:`_unimportable` only reads the pickling)."""
 
     def write(self, data):
-        return len(data)
+        return memoryview(data).nbytes     # (a large array comes as a pickle.PickleBuffer, which has no len)
 
 
 class _PoolPickler(ForkingPickler):
