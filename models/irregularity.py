@@ -206,6 +206,14 @@ class Irregularity:
         self._range = None if extrapolate else (x[0], x[-1])
         self._sampled = True
 
+    def __repr__(self):
+        if not self._sampled:
+            return f"Irregularity(r(x) = {getattr(self._funcs[0], '__qualname__', repr(self._funcs[0]))})"
+        x = self._funcs[0].func.ppoly.x
+        extent = "zero outside" if self._range is not None else "extrapolated outside"
+        return (f"Irregularity({len(x)} samples, x = {x[0]:g} to {x[-1]:g} m ({extent}), "
+                f"max |r| = {1e3 * np.abs(self(x)).max():.3g} mm)")
+
     @property
     def x_range(self):
         """Sampled range ``(x_first, x_last)`` [m] outside which r = 0, or None (defined everywhere)."""

@@ -63,6 +63,14 @@ class MovingLoadConstraint:
         self.x0 = train.wheel_x0(train.contact_wheels)
         self.x0_force = train.wheel_x0(train.force_wheels)
 
+    def __repr__(self):
+        function = getattr(self.irregularity, "__qualname__", None)     # a plain function's name
+        rail = ("smooth rail" if self.irregularity is None else
+                f"rail r(x) = {function}" if function else f"rail {self.irregularity!r}")
+        return (f"MovingLoadConstraint(train {self.train.train.name!r}: {self.n_contact} contact + "
+                f"{len(self.x0_force)} force wheels on track x = {self.track.x_begin:g} to {self.track.x_end:g} m, "
+                f"{self.interpolation} rows, {rail})")
+
     @property
     def n_contact(self):
         return len(self.x0)

@@ -21,6 +21,7 @@ from vtsi.analysis import (
     _integer,
     _pattern_loads,
     _RecorderFeed,
+    _recorders,
     any_nonzero,
     component_labels,
     domain_state,
@@ -42,7 +43,6 @@ from vtsi.errors import AnalysisError, DivergenceError, ModelError, as_flag, as_
 from vtsi.integrators import HHT, make_integrator
 from vtsi.lcp import lcp_workspace
 from vtsi.recorders.moment import add_train_loads, fixed_end_forces
-from vtsi.recorders.sinks import check_own_files
 from vtsi.subdomain import BridgeStageCache, FEStages, stage_key
 from vtsi.timeloop import stage_operators
 from vtsi.vehicle import GRAVITY
@@ -87,8 +87,9 @@ class CoupledAnalysis:
     integrator : name, class or instance ('Newmark', HHT(0.9), 'Bathe', ...); None: Newmark
         (average acceleration) with bilateral contact, HHT(0.9) with contact='lcp', which refuses
         an integrator without numerical dissipation (:func:`coupled_integrator`).
-    dt : time step [s]. ``dt`` and ``integrator`` may be assigned between runs (or :meth:`set_dt`):
-        the next run prepares the factors for them, as a new analysis from the committed state.
+    dt : time step [s] (required: finite, > 0). ``dt`` and ``integrator`` may be assigned
+        between runs (or :meth:`set_dt`): the next run prepares the factors for them, as a new
+        analysis from the committed state.
     contact : 'bilateral' (wheels always on the rail) or 'lcp' (contact loss allowed).
     gravity : g [m/s²] (finite, >= 0) for the bridge's weight ``-g M 1_y`` with
         ``bridge_self_weight`` (the train's weight is its gravity_load, used as built).
@@ -97,7 +98,8 @@ class CoupledAnalysis:
         part a dynamic check of the deck uses; ``load_description`` says which). The
         rail is straight at the deck's self-weight state (the track is laid on the deflected
         deck): the constraint measures the rail from that deflected line.
-    recorders : bridge recorders (:mod:`vtsi.recorders`) and train/contact recorders, whose
+    recorders : a list of bridge recorders (:mod:`vtsi.recorders`) and train/contact recorders
+        (anything else, or one recorder not in a list: an AnalysisError when built), whose
         requests may name 'u', 'v', 'a' (bridge full dof), 'train_u', 'train_v', 'train_a'
         (train dof) or 'contact_force', 'gap' (contact wheel index). The analysis hands them
         ``coupled_loads`` (:class:`CoupledLoads`) when it starts them: reactions and bending
@@ -152,8 +154,7 @@ class CoupledAnalysis:
         self.integrator = integrator
         self.gravity = as_positive(gravity, "CoupledAnalysis", "gravity [m/s²]", AnalysisError, allow_zero=True)
         self.bridge_self_weight = as_flag(bridge_self_weight, "CoupledAnalysis", "bridge_self_weight", AnalysisError)
-        self.recorders = list(recorders)
-        check_own_files("CoupledAnalysis", self.recorders)      # two recorders writing one file
+        self.recorders = _recorders("CoupledAnalysis", recorders)   # also refuses two recorders writing one file
         self.chunk_steps = _integer("CoupledAnalysis", "chunk_steps", chunk_steps, 1)
         self.divergence_limit = as_positive(divergence_limit, "CoupledAnalysis", "divergence_limit", AnalysisError,
                                             finite=False)
@@ -180,6 +181,14 @@ class CoupledAnalysis:
         self.stages = None
         self.coupled_loads = CoupledLoads(constraint)
         self._kept_plan = None     # what a run needs, kept for the runs that follow (_plan)
+
+    def __repr__(self):
+        steps = sum(len(chunk[0]) for chunk in self._records)
+        run = f"{steps} steps to t = {self._records[-1][0][-1]:g} s" if steps else "0 steps"
+        bridge = f", modal bridge of {self.bridge.n_modes} modes" if self.bridge is not None else ""
+        return (f"CoupledAnalysis(train {self.train.train.name!r} on {len(self.constraint.track.elements)} track "
+                f"elements{bridge}, {self.integrator!r}, dt = {self._dt:g} s, contact={self.contact!r}, {run}, "
+                f"{len(self.recorders)} recorders)")
 
     @property
     def dt(self):

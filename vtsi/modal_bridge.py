@@ -151,6 +151,13 @@ class ModalBridge:
             self.track_modes = np.ascontiguousarray(self.shapes[asm.full_of_free[track.free_index]])
             self.track_shapes = shape_polynomials(self.track_modes, track.dofs, track.length)
 
+    def __repr__(self):
+        z, f = self._zeta, self.frequencies
+        ratios = f"ζ = {z[0]:.3g}" if np.all(z == z[0]) else f"ζ = {z.min():.3g} to {z.max():.3g}"
+        kept = "truncated" if self.truncated else "every mode"
+        track = f"track x = {self.track.x_begin:g} to {self.track.x_end:g} m" if self.track is not None else "no track"
+        return f"ModalBridge({self.n_modes} modes, {f[0]:.4g} to {f[-1]:.4g} Hz, {ratios}, {kept}, {track})"
+
     def _ratios(self, zeta):
         n = self.n_modes
         if zeta is None:

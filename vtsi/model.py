@@ -41,6 +41,13 @@ class Model:
         self.rayleigh_factors = (0.0, 0.0)
         self._assembly = None
 
+    def __repr__(self):
+        types = ", ".join(f"{len(et)} {name}" for name, et in self.element_types.items() if len(et))
+        return (f"Model(ndm={self.ndm}, ndf={self.ndf}: {len(self.nodes)} nodes, {len(self._element_owner)} elements"
+                f"{f' ({types})' if types else ''}, {sum(map(any, self.fixities.values()))} fixed nodes, "
+                f"{len(self.mp_constraints)} constrained dofs, {len(self.time_series)} time series, "
+                f"{len(self.patterns)} load patterns)")
+
     # -- definition -----------------------------------------------------------------------
     def _changed(self):
         self._assembly = None

@@ -131,6 +131,10 @@ class Output:
         max(30 Hz, 1.5 n₀, n₃); of several decks the largest of theirs, :func:`en_cutoff_hz`)
         or a frequency [Hz]: the node response in the modes up to it only (modal projection,
         :class:`~vtsi.recorders.modal.ModalNodeRecorder`).
+
+    Each field is checked when the output is made: a :class:`~vtsi.errors.ModelError` ("output
+    'a': ...") naming it and its value (a definition, made before any sweep); a node the bridge
+    lacks is the :class:`~vtsi.sweep.Sweep`'s SweepError.
     """
 
     name: str
@@ -240,6 +244,11 @@ class PassageSettings:
         add the truncated modes' quasi-static response to displacements, rotations and bending
         moments without a cut-off (:mod:`vtsi.modal_bridge`); accelerations keep the modes up to
         ``modal_hz`` only (the cut-off). Passages of cars or with self weight are not corrected.
+
+    Each field is checked when the settings are made: a :class:`~vtsi.errors.ModelError`
+    ("sweep settings: ...") naming it and its value (a definition, made before any sweep); a
+    setting that does not suit the sweep's bridge or trains is the :class:`~vtsi.sweep.Sweep`'s
+    :class:`~vtsi.errors.SettingError`.
     """
 
     dt: float = None

@@ -49,7 +49,7 @@ from vtsi.models.catalogue import train_names
 from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PERIOD, Output, PassageRunner,
                           PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz, resolves)
 from vtsi.signature import HARMONICS
-from vtsi.sweep_results import (ResultsWriter, canonical_train_name, case_key, seeds_text, speed_index,
+from vtsi.sweep_results import (ResultsWriter, canonical_train_name, case_key, cases_text, seeds_text, speed_index,
                                  train_fingerprint)
 from vtsi.track_ends import free_end_text
 from vtsi.train import TrainSubdomain
@@ -357,9 +357,14 @@ class Sweep:
     named twice in any spelling is refused, an axle table named by two paths to one file too
     ('emu.csv' and './emu.csv'); the names stay as given.
 
-    Every input is checked here, before anything runs or any file is written: a
-    :class:`~vtsi.errors.SweepError` naming it, a :class:`~vtsi.errors.BridgeSweepError` (also a
-    SweepError) when the bridge or its track is at fault.
+    Every input is checked before anything runs or any file is written. ``settings`` and
+    ``outputs`` check their own fields when they are made (:class:`~vtsi.passage.PassageSettings`,
+    :class:`~vtsi.passage.Output`: a :class:`~vtsi.errors.ModelError`, as every definition);
+    the rest, and whether the settings and outputs suit this bridge and these trains, is checked
+    here: a :class:`~vtsi.errors.SweepError` naming it, a :class:`~vtsi.errors.SettingError`
+    (also a SweepError, with ``.setting``) for a time step the passages cannot resolve, a
+    :class:`~vtsi.errors.BridgeSweepError` (also a SweepError) when the bridge or its track is at
+    fault.
     """
 
     def __init__(self, bridge, trains, speeds_kmh, settings=None, outputs=DEFAULT_OUTPUTS, seeds=None):
@@ -409,6 +414,13 @@ class Sweep:
         except VtsiError as exc:                 # what is the bridge's stays the bridge's (BridgeError)
             raise (BridgeSweepError if isinstance(exc, BridgeError) else SweepError)(f"sweep: {exc}") from None
         self.outputs = self.runner.outputs
+
+    def __repr__(self):
+        s = self.settings
+        return (f"Sweep({cases_text(self.trains, self.speeds_kmh, self.seeds)}, bridge "
+                f"{self.bridge.description.get('kind', '?')} ({len(self.bridge.track_elements)} track elements), "
+                f"cars={s.cars!r}, contact={s.contact!r}, bridge={s.bridge!r}, dt = {s.dt:g} s, "
+                f"{len(self.outputs)} outputs)")
 
     @property
     def cases(self):

@@ -1037,6 +1037,11 @@ class SweepResults:
                 raise SweepError(f"results file {name}: damaged or incomplete ({exc})") from None
         self._outputs = {o["name"]: o for o in self.identity["outputs"]}
 
+    def __repr__(self):
+        where = self.path or "in memory"
+        return (f"SweepResults({where}: {self.n_done} of {cases_text(self.trains, self.speeds_kmh, self.seeds)} done, "
+                f"n0 = {self.frequencies_hz[0]:.4g} Hz)")
+
     def _open(self):
         return _KeepOpen(self._file) if self._file is not None else open_results(self.path)
 
@@ -1375,6 +1380,16 @@ def speed_index(speeds_kmh, value):
     reading of a case's speed (:class:`SweepResults`, :meth:`vtsi.sweep.Sweep.sweep_cases`)."""
     hit = np.flatnonzero(np.isclose(speeds_kmh, value, rtol=0.0, atol=1e-9))
     return int(hit[0]) if len(hit) else -1
+
+
+def cases_text(trains, speeds_kmh, seeds):
+    """A sweep's cases on one line, for a repr: '2 trains (HSLM-A1, ICE3) x 3 speeds 200 to 300
+    km/h x a smooth rail = 6 cases'."""
+    names = ", ".join(trains) if len(trains) <= 4 else ", ".join(trains[:3]) + ", ..."
+    v = np.asarray(speeds_kmh, dtype=float)
+    rail = "a smooth rail" if list(seeds) == [-1] else f"{len(seeds)} rail samples"
+    return (f"{len(trains)} trains ({names}) x {len(v)} speeds {v.min():g} to {v.max():g} km/h x {rail} = "
+            f"{len(trains) * len(v) * len(seeds)} cases")
 
 
 def seeds_text(seeds):

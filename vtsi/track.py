@@ -30,13 +30,15 @@ the gradient's hint: it is no part of the deck's line (a pier's element)."""
 
 
 class Track:
-    """Wheels run along ``elements`` (tags of 2-node beam elements with uy and rz dofs), which
-    must form a straight horizontal chain (each element level within LEVEL_TOLERANCE of the
-    model's size), ordered along +x and without gaps: otherwise a
+    """Wheels run along ``elements`` (tags of 2-node beam elements with uy and rz dofs, each
+    listed once, in any order: they are sorted along +x, and an element whose nodes run in -x is
+    read from its left end), which must form a straight horizontal chain (each element level
+    within LEVEL_TOLERANCE of the model's size) without gaps or overlaps: otherwise a
     :class:`~vtsi.errors.BridgeModelError` (a ModelError) naming the element.
 
     Attributes
     ----------
+    elements : list of int, the tags sorted along +x.
     x_start, length : (n_el,) element start coordinate and length [m].
     dofs : (n_el, 4) int64 track dof of [uy1, rz1, uy2, rz2] (-1 where fixed).
     free_index : (n_track,) int64 bridge free dof of each track dof.
@@ -104,6 +106,10 @@ class Track:
         self.dofs = np.where(free >= 0, lookup[np.maximum(free, 0)], -1).astype(np.int64)
         self.x_begin = float(self.x_start[0])
         self.x_end = float(self.x_start[-1] + self.length[-1])
+
+    def __repr__(self):
+        return (f"Track({len(self.elements)} elements, x = {self.x_begin:g} to {self.x_end:g} m, "
+                f"{self.n_track} track dofs)")
 
     @property
     def n_track(self):

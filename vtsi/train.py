@@ -38,6 +38,10 @@ class TrainSubdomain:
         self.v = np.zeros(train.n_dof)
         self.a = np.zeros(train.n_dof)
 
+    def __repr__(self):
+        return (f"TrainSubdomain({self.train!r}, x_head0 = {self.x_head0:g} m, {len(self.contact_wheels)} contact "
+                f"wheels, {len(self.force_wheels)} force wheels)")
+
     @property
     def n_dof(self):
         return self.train.n_dof

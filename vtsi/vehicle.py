@@ -60,7 +60,7 @@ def _frozen(values, dtype):
     return a
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Car:
     """An immutable vehicle description: constant matrices over the car's own dofs.
 
@@ -149,6 +149,11 @@ class Car:
         if loads.shape != self.wheel_offsets.shape or not np.all((loads > 0) & np.isfinite(loads)):
             raise ModelError(f"{where}: static wheel loads must be > 0 and finite for every wheel, got {loads}")
         set_(self, 'static_wheel_loads', loads)
+
+    def __repr__(self):
+        """Name, kind, counts and the mass [t] its wheels carry: their static loads over GRAVITY."""
+        return (f"Car({self.name!r}, {self.kind}, {self.n_dof} dofs, {self.n_wheels} wheels, "
+                f"{self.static_wheel_loads.sum() / GRAVITY / 1e3:.4g} t)")
 
     @property
     def n_dof(self) -> int:
@@ -243,7 +248,9 @@ def moving_force(P, name='moving force'):
 
 
 class Train:
-    """A sequence of cars with their offsets and a constant speed; its arrays are read-only.
+    """A sequence of cars with their offsets and a constant speed; its arrays are read-only
+    (the CSR matrices' ``data``, ``indices`` and ``indptr`` too: a train and its
+    :meth:`with_speed` copies share them).
 
     Parameters
     ----------
@@ -346,11 +353,14 @@ class Train:
             matrix = (scipy.sparse.block_diag([getattr(car, attr) for car in blocks], format='csr')
                       if blocks else scipy.sparse.csr_matrix((0, 0)))
             matrix.eliminate_zeros()
+            matrix.sum_duplicates()        # canonical: sorted, so that scipy never rewrites it in place
+            for array in (matrix.data, matrix.indices, matrix.indptr):
+                array.setflags(write=False)
             setattr(self, attr, matrix)
 
     def __repr__(self):
         return (f"Train({self.name!r}, {len(self.cars)} cars, {self.n_wheels} wheels, {self.n_dof} dofs, "
-                f"V = {self.speed} m/s)")
+                f"V = {self.speed:.4g} m/s)")
 
     def with_speed(self, speed):
         """The same train at another constant speed [m/s] (a shallow copy: cars, offsets and
