@@ -32,8 +32,13 @@ The rules, in order (:func:`deck_layout`):
    own is no deck.
 7. **Track ends.** A track end on no support is a free end, unless the deck goes on off the
    track there (a horizontal beam element continuing beyond it): that is refused, for the
-   track would stop mid-deck. With fewer than two support lines the track's ends are the one
-   span's (as before).
+   track would stop mid-deck. A track end on a support is a deck's end, unless the deck's beam
+   goes on from that node off the track over a span: the track extended by the level beams
+   off it beyond its ends (the same node, so rotationally continuous) has that node over a pier
+   of a continuous deck (``pier_nodes``), and it is refused, for the track would leave out a
+   span of its deck. Another deck on the same pier (its own end node), a joint, approaches on
+   the ground and an overhang off the track are no span of the deck: accepted. With fewer than
+   two support lines the track's ends are the one span's (as before).
 
 Units: m.
 """
@@ -92,11 +97,24 @@ class DeckLayout:
 
 def deck_layout(model, track):
     """The :class:`DeckLayout` of ``model`` along ``track`` (a :class:`~vtsi.track.Track`); a
-    BridgeModelError when the track stops mid-deck (rule 7)."""
+    BridgeModelError when the track stops mid-deck or on a support of a continuous deck that goes
+    on over a span off the track (rule 7)."""
     asm = model.build()
+    layout, supports = _layout(model, asm, list(track.elements))
+    beams = _level_beams(model, asm, set(track.elements))
+    for end, outward in ((layout.track_nodes[0], -1.0), (layout.track_nodes[-1], 1.0)):
+        if end not in supports:
+            _refuse_mid_deck_end(model, end, outward, _beam_beyond(model, beams, end, outward))
+    _refuse_span_beyond(model, asm, track, layout, beams)
+    return layout
+
+
+def _layout(model, asm, chain):
+    """(:class:`DeckLayout`, the set of supported track nodes, those on the ground too) of
+    ``model`` along ``chain``, the tags of a track's 2-node beams in x order: rules 1 to 6."""
     x = {}
     ends = []                           # each track element's (left, right) node, in x order
-    for tag in track.elements:
+    for tag in chain:
         b, i = asm.element_location[tag]
         a, c = (int(n) for n in asm.blocks[b][0].nodes[i])
         if model.nodes[a][0] > model.nodes[c][0]:
@@ -105,7 +123,7 @@ def deck_layout(model, track):
         x[a], x[c] = float(model.nodes[a][0]), float(model.nodes[c][0])
     deck = list(dict.fromkeys(n for pair in ends for n in pair))
     place = {n: k for k, n in enumerate(deck)}
-    links = _links(model, set(track.elements))
+    links = _links(model, set(chain))
     fixed_y = {n for n, flags in model.fixities.items() if flags[1]}
     supports = [n for n in deck if n in fixed_y or _stands(model, n, x, set(deck), links, fixed_y)]
     on_structure = _on_a_structure(model, deck, x, supports, links, fixed_y)
@@ -116,15 +134,12 @@ def deck_layout(model, track):
             lines[-1].append(n)
         else:
             lines.append([n])
-    for end in (deck[0], deck[-1]):     # rule 7
-        if not any(end in line for line in lines):
-            _refuse_mid_deck_end(model, asm, track, end, x[end], 1.0 if end == deck[-1] else -1.0)
     n_el = len(ends)
     whole = DeckLayout(tuple(deck), tuple(supports), ((x[deck[0]], x[deck[-1]]),),   # the track's ends are the span's
                        (_middle(deck, x, x[deck[0]], x[deck[-1]]),), (0,), ((x[deck[0]], x[deck[-1]]),),
                        (tuple(deck),), frozenset(), (), on_structure)
     if len(lines) < 2:
-        return whole
+        return whole, set(supports)
 
     adjacent = [place[lines[k + 1][0]] - place[lines[k][-1]] == 1 for k in range(len(lines) - 1)]
     ground_line = [False] * len(lines)  # rule 3
@@ -135,7 +150,7 @@ def deck_layout(model, track):
                 ground_line[start:k] = [True] * (k - start)
             start = k
     kind = ["deck"] * n_el              # per element: 'deck', 'ground' or 'joint'
-    stiffness = _bending_stiffness(asm, track)
+    stiffness = _bending_stiffness(asm, chain, [x[c] - x[a] for a, c in ends])
     segments = []                       # (its left line, its elements, whether it is a span)
     for k in range(len(lines) - 1):
         a, b = lines[k][-1], lines[k + 1][0]
@@ -173,7 +188,7 @@ def deck_layout(model, track):
     spans = [(lines[k][-1], lines[k + 1][0], deck_of[elements[0]])
              for k, elements, is_span in segments if is_span and elements]
     if not spans:                       # no stretch is a span (ground and joints only): as with < 2 supports
-        return whole
+        return whole, set(supports)
     used = sorted({d for *_, d in spans})
     renumber = {d: j for j, d in enumerate(used)}
     deck_ends = tuple((x[ends[runs[d][0]][0]], x[ends[runs[d][-1]][1]]) for d in used)
@@ -186,7 +201,7 @@ def deck_layout(model, track):
                       tuple(_middle(deck, x, x[a], x[b]) for a, b, _ in spans),
                       tuple(renumber[d] for *_, d in spans), deck_ends,
                       tuple(tuple(n for n in deck if n in mine) for mine in members), ground, tuple(piers),
-                      on_structure)
+                      on_structure), set(supports)
 
 
 def _middle(deck, x, a, b):
@@ -253,36 +268,98 @@ def _on_a_structure(model, deck, x, supports, links, fixed_y):
     return len(inner) > 0 and 2 * len(under) > len(inner)
 
 
-def _bending_stiffness(asm, track):
-    """(n_el,) a bending stiffness EI [N·m²] of each track element, from its own stiffness:
-    k_θθ L / 4 (exact for an Euler-Bernoulli beam, a little less with shear flexibility), the
-    mean of its two ends."""
-    out = np.zeros(len(track.elements))
-    for e, tag in enumerate(track.elements):
+def _bending_stiffness(asm, elements, lengths):
+    """(n_el,) a bending stiffness EI [N·m²] of each of the beams ``elements`` (tags; ``lengths``
+    [m]), from its own stiffness: k_θθ L / 4 (exact for an Euler-Bernoulli beam, a little less
+    with shear flexibility), the mean of its two ends."""
+    out = np.zeros(len(elements))
+    for e, tag in enumerate(elements):
         b, i = asm.element_location[tag]
         etype, _, coords, params, _ = asm.blocks[b]
         k = etype.stiffness(coords[i:i + 1], params[i:i + 1])[0]
         rz = [j * len(etype.node_dofs) + list(etype.node_dofs).index(2) for j in range(2)]
-        out[e] = 0.5 * (k[rz[0], rz[0]] + k[rz[1], rz[1]]) * track.length[e] / 4.0
+        out[e] = 0.5 * (k[rz[0], rz[0]] + k[rz[1], rz[1]]) * lengths[e] / 4.0
     return out
 
 
-def _refuse_mid_deck_end(model, asm, track, node, x_end, outward):
-    """A BridgeModelError when the deck goes on off the track beyond its unsupported end ``node``
-    (a horizontal 2-node beam off the track reaching further out, ``outward`` +1 right, -1 left)."""
-    on_track = set(track.elements)
-    y_end = model.nodes[node][1]
+def _level_beams(model, asm, track_elements):
+    """``{node: [(tag, other node), ...]}``: the 2-node elements with an rz dof off the track
+    (``track_elements``) from each node to another at its level (within SUPPORT_X_TOLERANCE):
+    beams that carry a deck on from a track node, rotationally continuous with it."""
+    beams = {}
     for etype, tags, *_ in asm.blocks:
         if etype.n_nodes != 2 or 2 not in tuple(etype.node_dofs):
             continue
         for i, tag in enumerate(tags):
-            if int(tag) in on_track or node not in (int(n) for n in etype.nodes[i]):
+            a, b = (int(n) for n in etype.nodes[i])
+            if int(tag) in track_elements or abs(model.nodes[a][1] - model.nodes[b][1]) > SUPPORT_X_TOLERANCE:
                 continue
-            other = next(int(n) for n in etype.nodes[i] if int(n) != node)
-            ox, oy = model.nodes[other][0], model.nodes[other][1]
-            if abs(oy - y_end) <= SUPPORT_X_TOLERANCE and outward * (ox - x_end) > SUPPORT_X_TOLERANCE:
-                side = "last" if outward > 0 else "first"
-                raise BridgeModelError(f"track: its {side} node {node} (x = {x_end:g} m) carries no support, and the "
-                                       f"deck goes on beyond it off the track (element {int(tag)} to node {other} at "
-                                       f"x = {ox:g} m): a track stopping mid-deck would read that end as a support; run "
-                                       "the track over the whole deck, or end it on a support")
+            beams.setdefault(a, []).append((int(tag), b))
+            beams.setdefault(b, []).append((int(tag), a))
+    return beams
+
+
+def _beam_beyond(model, beams, node, outward, used=()):
+    """(tag, other node) of the first beam of ``beams`` (:func:`_level_beams`), none of ``used``,
+    from ``node`` to a node further out (``outward`` +1 right, -1 left), or None."""
+    x = model.nodes[node][0]
+    return next(((tag, other) for tag, other in beams.get(node, ())
+                 if tag not in used and outward * (model.nodes[other][0] - x) > SUPPORT_X_TOLERANCE), None)
+
+
+def _refuse_mid_deck_end(model, node, outward, beam):
+    """A BridgeModelError when the deck goes on off the track beyond its unsupported end ``node``
+    (``beam``: the horizontal beam off the track reaching further out from it, ``outward`` +1
+    right, -1 left; None: nothing goes on, a free end)."""
+    if beam is None:
+        return
+    tag, other = beam
+    side = "last" if outward > 0 else "first"
+    raise BridgeModelError(f"track: its {side} node {node} (x = {model.nodes[node][0]:g} m) carries no support, and "
+                           f"the deck goes on beyond it off the track (element {tag} to node {other} at x = "
+                           f"{model.nodes[other][0]:g} m): a track stopping mid-deck would read that end as a "
+                           "support; run the track over the whole deck, or end it on a support")
+
+
+def _refuse_span_beyond(model, asm, track, layout, beams):
+    """A BridgeModelError when the track ends on a support of a continuous deck that goes on over
+    a span off the track: the track's end node is a pier node (``pier_nodes``) of the layout of
+    the track extended by the beams off it that carry on at its level from its ends (the same
+    node, rotationally continuous): that span's deck ends there for the track's layout, read
+    without the span (its L_Φ, its checks, the moment over that support)."""
+    chains = []                        # the beams off the track beyond each end, outward
+    for end, outward in ((layout.track_nodes[0], -1.0), (layout.track_nodes[-1], 1.0)):
+        chain, node = {}, end          # (a dict: ordered, and a quick test of a tag in it)
+        while (beam := _beam_beyond(model, beams, node, outward, chain)) is not None:
+            chain[beam[0]] = beam[1]
+            node = beam[1]
+        chains.append(list(chain))
+    if not any(chains):
+        return
+    whole, _ = _layout(model, asm, chains[0][::-1] + list(track.elements) + chains[1])
+    for end, outward in ((layout.track_nodes[0], -1.0), (layout.track_nodes[-1], 1.0)):
+        if end not in whole.pier_nodes:
+            continue
+        x_end = model.nodes[end][0]
+        beyond = [k for k, (a, b) in enumerate(whole.span_ends)      # the spans beyond the support, off the track
+                  if outward * ((a if outward > 0 else b) - x_end) >= -SUPPORT_X_TOLERANCE]
+        k = beyond[0] if outward > 0 else beyond[-1]
+        a, b = whole.span_ends[k]
+        lo, hi = whole.deck_ends[whole.span_decks[k]]
+        deck = set(whole.nodes_by_deck[whole.span_decks[k]])
+        add = [tag for tag in chains[0][::-1] + chains[1] if all(int(n) in deck for n in _nodes(asm, tag))]
+        tags = sorted(set(track.elements) | set(add))
+        fix = (f"elements {tags[0]} to {tags[-1]}, -eleRange {tags[0]} {tags[-1]}"
+               if tags == list(range(tags[0], tags[-1] + 1)) else
+               f"add elements {', '.join(map(str, add[:3]))}{', ...' if len(add) > 3 else ''} ({len(add)})")
+        raise BridgeModelError(f"track: its {'last' if outward > 0 else 'first'} node {end} (x = {x_end:g} m) is on "
+                               f"a support of a continuous deck that goes on beyond it off the track: the deck's span "
+                               f"of {b - a:g} m (x = {a:g} to {b:g} m) is not on the track, which would read that "
+                               "support as the deck's end (its spans, L_Phi and the moment over the support); run "
+                               f"the track over the whole deck (x = {lo:g} to {hi:g} m: {fix})")
+
+
+def _nodes(asm, tag):
+    """The nodes of element ``tag``."""
+    b, i = asm.element_location[tag]
+    return asm.blocks[b][0].nodes[i]
