@@ -608,7 +608,7 @@ def load_factor_table(patterns, starts, dt, load_points, cache=None):
             for theta, weight in points:
                 if weight != 0.0:
                     table[:, s, :] += weight * pattern_factors(patterns, starts + theta * dt, cache)
-    if not np.isfinite(np.sum(table)) and not np.all(np.isfinite(table)):   # a finite sum: every entry finite
+    if not np.isfinite(table.sum()) and not np.isfinite(table).all():   # a finite sum: every entry finite
         raise AnalysisError("transient analysis: a load pattern gives NaN or inf load factors")
     return table
 
@@ -694,9 +694,7 @@ class TransientAnalysis:
         active = moving_dofs(asm, self.model, loaded=loaded)
         if stages is None or stages.assembly is not asm or not same_entries(active, stages.active):
             self.stages = FEStages(asm, active, self.integrator, self.dt)
-            at_rest = np.ones(asm.n_free, dtype=bool)
-            at_rest[active] = False
-            self._rest_full = asm.full_of_free[at_rest]
+            self._rest_full = self.stages.rest_full
         self._loaded_for = loaded
         return asm
 

@@ -79,16 +79,14 @@ def _singular(assembly, what, cause, dof, lost=False):
                                      "mass (fix it or connect it)"))
 
 
-def factor_stage(assembly, active, kv, ku, what, cause=None):
+def factor_stage(assembly, active, rest, kv, ku, what, cause=None):
     """Banded factor of the effective matrix M + kv C + ku K on the moving dofs ``active``
     (:func:`vtsi.analysis.moving_dofs`), with the half bandwidth of K, M and C there (every stage's
-    the same). The dofs at rest are checked too: a dof with neither stiffness nor mass is a
-    modelling error even where nothing moves, and is named as everywhere else."""
+    the same). The dofs at rest, ``rest`` (the other free dofs, ascending), are checked too: a dof
+    with neither stiffness nor mass is a modelling error even where nothing moves, and is named as
+    everywhere else."""
     p = assembly.pattern
     n = assembly.n_free
-    at_rest = np.ones(n, dtype=bool)
-    at_rest[active] = False
-    rest = np.flatnonzero(at_rest)
     for dofs in ((rest, active) if len(rest) else (active,)):
         try:
             lower = ldl_band_of_storage(stage_storage(p.rows, p.cols, p.K, p.C, p.M, dofs, n, kv, ku))
@@ -220,6 +218,9 @@ class FEStages(BridgeStages):
     integrator, dt [s] : the stages; track : vtsi.track.Track or None (transient analyses).
     self_weight_load : (n_free,) [N] or None: the self weight whose static deflection ``track_sag``
         the rail is measured from.
+
+    ``rest_full`` (n_free − n_a,) int64: the full dofs of the free dofs at rest (ascending free
+    index), which a run checks are still at rest.
     """
 
     exact_reload = True         # its coordinates are the moving dofs' values
@@ -229,6 +230,8 @@ class FEStages(BridgeStages):
         self.active_full = assembly.full_of_free[active]        # the full dof of each coordinate
         self.position = np.full(assembly.n_free, -1, dtype=np.int64)
         self.position[active] = np.arange(len(active))
+        rest = np.flatnonzero(self.position < 0)                # the free dofs at rest, ascending
+        self.rest_full = assembly.full_of_free[rest]            # their full dofs (a run checks they stay at rest)
         A = integrator.n_slots
         cause = (f"{integrator.name} is explicit, so every free dof needs mass and that one has none "
                  "(give it mass, fix it, or use an implicit integrator: Newmark, HHT, Bathe)") if integrator.explicit else None
@@ -236,7 +239,7 @@ class FEStages(BridgeStages):
         stages = integrator.checked_stages(dt)       # the contract, once: a broken scheme is named here
         for s, st in enumerate(stages):
             what = f"effective matrix of {integrator.name} stage {s + 1} (M + {st.kv[A]:.3g} C + {st.ku[A]:.3g} K)"
-            factors.append(factor_stage(assembly, active, st.kv[A], st.ku[A], what, cause))
+            factors.append(factor_stage(assembly, active, rest, st.kv[A], st.ku[A], what, cause))
         limit = integrator.stability_limit(dt)
         if limit is not None:
             massless = np.flatnonzero((assembly.M.diagonal() <= 0.0) & (assembly.K.diagonal() > 0.0))

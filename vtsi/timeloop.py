@@ -88,7 +88,7 @@ def stage_operators(k_rows, c_rows, ku, kv, m_rows=None, km=None):
     n_stages, width = ku.shape
     km = np.zeros_like(ku) if km is None else km
     used = [(rows, coef[:, : width - 1]) for rows, coef in ((k_rows, ku), (c_rows, kv), (m_rows, km))
-            if np.any(coef[:, : width - 1]) and np.any(rows)]
+            if coef[:, : width - 1].any() and rows is not None and rows.any()]
     ops = np.zeros((len(used), k_rows.shape[1], k_rows.shape[0]))
     weights = np.zeros((n_stages, len(used), width - 1))
     for m, (rows, coef) in enumerate(used):
