@@ -4,7 +4,6 @@ histories bounded (vtsi.sweep.TASK_HISTORY_BYTES), a lock file that cannot be cr
 as a bad input (status 2), speed ranges that are not finite or far too fine refused in one line,
 record_histories' own remedy for a file of another sweep, and an axle table named by another
 path (a sweep resumed from another folder) continuing its file."""
-import math
 import os
 import re
 import tracemalloc
@@ -23,7 +22,7 @@ from vtsi.influence import InfluenceLines
 from vtsi.models import hslm_a
 from vtsi.models.bridges import continuous_beam
 from vtsi.passage import Output, PassageRunner, PassageSettings
-from vtsi.sweep import MAX_SPEEDS, TASK_HISTORY_BYTES, Sweep, beam_bridge, speeds
+from vtsi.sweep import MAX_SPEEDS, Sweep, beam_bridge, speeds
 from vtsi.sweep_results import ResultsFileRefused, ResultsWriter, SweepResults
 from vtsi.track import Track, row_width
 from vtsi.vehicle import MAX_TRAIN_SPEED

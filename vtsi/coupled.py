@@ -867,11 +867,7 @@ class _CoupledPlan:
                      np.empty((n_c, self.width)))       # a stage's constraint rows: cols, vals, slopes
         self.contact = (np.zeros((n_c, n_c)), np.zeros(n_c), np.zeros(n_c))      # W, q, λ
         self.load_points = [st.load for st in a.integrator.stages(a.dt)]
-        self.rest_full = None           # the full dofs at rest (FE bridge), which a run checks
-        if isinstance(bridge, FEStages):
-            at_rest = np.ones(asm.n_free, dtype=bool)
-            at_rest[bridge.active] = False
-            self.rest_full = asm.full_of_free[at_rest]
+        self.rest_full = bridge.rest_full if isinstance(bridge, FEStages) else None   # the dofs at rest a run checks
         self.info = {"analysis": "coupled", "integrator": repr(a.integrator), "dt": a.dt,
                      "loads": a.load_description, "coupled_loads": a.coupled_loads}
         self.recorders, self.feed = tuple(a.recorders), None
