@@ -382,7 +382,7 @@ class Assembly:
             scatter_add(m_data, positions, me, ones)
             scatter_add(c_data, positions, ce, ones)
             if rayleigh:
-                weights = element_rayleigh_weights(etype, params, tags)
+                weights = ones if model.rayleigh_every_element else element_rayleigh_weights(etype, params, tags)
                 scatter_add(data[3], positions, ke, weights)
                 scatter_add(data[4], positions, me, weights)
         if model.nodal_mass:
@@ -394,7 +394,7 @@ class Assembly:
             for row in data[1::3]:                   # M, and M of the elements taking Rayleigh
                 row[diag] += nodal_mass
         if rayleigh:
-            c_data += alpha_m * data[4] + beta_k * data[3]   # Rayleigh only on elements that take it
+            c_data += alpha_m * data[4] + beta_k * data[3]   # Rayleigh on the elements that take it (or all)
         self._full = (indptr, indices, {"K": k_data, "M": m_data, "C": c_data})
         # the one sparsity pattern of K, M, C (entries where any is nonzero), as (row, column) pairs
         self._used = nonzero_entries(indptr, indices, data[:3])

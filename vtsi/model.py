@@ -9,7 +9,7 @@ import numpy as np
 
 from vtsi.assembly import Assembly
 from vtsi.elements import element_type  # the package: importing it registers the element library
-from vtsi.errors import ModelError, as_number, is_int, number_array
+from vtsi.errors import ModelError, as_flag, as_number, is_int, number_array
 from vtsi.loads import LoadPattern, UniformExcitation
 from vtsi.timeseries import TimeSeries
 
@@ -39,6 +39,7 @@ class Model:
         self.patterns = {}
         self.load_version = 0       # counts the changes of the patterns (their loads, factors, freezing)
         self.rayleigh_factors = (0.0, 0.0)
+        self.rayleigh_every_element = False     # Rayleigh on the elements with do_rayleigh 0 too (rayleigh)
         self._assembly = None
 
     def __repr__(self):
@@ -348,7 +349,7 @@ class Model:
         if pattern.prescribed:      # its sp dofs were constrained: number the dofs again
             self._changed()
 
-    def rayleigh(self, alpha_m, beta_k, beta_k_init=0.0, beta_k_comm=0.0):
+    def rayleigh(self, alpha_m, beta_k, beta_k_init=0.0, beta_k_comm=0.0, *, every_element=False):
         """Rayleigh damping ``C = alpha_m M + (beta_k + beta_k_init + beta_k_comm) K`` (OpenSees
         ``rayleigh αM βK βKinit βKcomm``; a linear model: current, initial and committed
         stiffness coincide, so the three β add up): ``alpha_m`` αM [1/s], the ``beta_*`` βK [s],
@@ -356,12 +357,15 @@ class Model:
         [rad/s] is ζ(ω) = αM/(2ω) + βK ω/2 (:func:`vtsi.damping.rayleigh_coefficients` gives the
         pair for a ratio at two frequencies). Replaces earlier factors. The nodal masses are in
         the αM term; elements with ``do_rayleigh=0`` (the default of ``truss`` and
-        ``zeroLength``) are in neither term, their own dashpots kept."""
+        ``zeroLength``) are in neither term, their own dashpots kept, as in OpenSees; with
+        ``every_element`` every element is in both (C = αM M + βK K of the whole model, each mode
+        damped at exactly ζ(ω): :func:`vtsi.damping.rayleigh_damping`)."""
         given = {"alpha_m": alpha_m, "beta_k": beta_k, "beta_k_init": beta_k_init, "beta_k_comm": beta_k_comm}
         values = np.array([as_number(value, "rayleigh", name) for name, value in given.items()])
         if not np.all(np.isfinite(values)) or np.any(values < 0):
             raise ModelError(f"rayleigh: factors must be finite and >= 0, got {values.tolist()}")
         self.rayleigh_factors = (values[0], values[1] + values[2] + values[3])
+        self.rayleigh_every_element = as_flag(every_element, "rayleigh", "every_element")
         self._changed()
 
     # -- assembly -------------------------------------------------------------------------
