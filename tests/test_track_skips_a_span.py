@@ -9,7 +9,7 @@ import textwrap
 
 import pytest
 
-from models.bridges import continuous_beam
+from vtsi.models.bridges import continuous_beam
 from vtsi import Model
 from vtsi.damping import rayleigh_damping
 from vtsi.deck import deck_layout
