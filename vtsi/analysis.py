@@ -476,7 +476,8 @@ def eigen(model, n_modes):
     entry above 1e-3 of its largest is positive (whichever solver found it). Dofs without mass are
     allowed; ``n_modes='all'``: every mode of finite frequency (as many as the mass matrix' rank; a
     dense solve, up to ALL_MODES_MAX free dofs). LAPACK finds only the modes asked on small
-    problems or for many modes, ARPACK (shift-invert about 0) the others (:func:`_dense_for`).
+    problems or for many modes, ARPACK (shift-invert about 0) the others (:func:`_dense_for`),
+    its modes checked complete by a Sturm count (:func:`_sparse_modes`).
     """
     asm = _model("eigen", model).build()
     n = asm.n_free
@@ -491,6 +492,9 @@ def eigen(model, n_modes):
     if every:
         omega2, vec = _dense_modes(asm)
     elif _dense_for(n, n_modes, n_mass):
+        if n > ALL_MODES_MAX:
+            raise AnalysisError(f"eigen: {n_modes} modes of {n} free dofs, of which {n_mass} carry mass, are a dense "
+                                f"problem beyond {ALL_MODES_MAX} dofs; ask for fewer modes than the dofs with mass")
         omega2, vec = _dense_modes(asm, lowest=n_modes)
     else:
         omega2, vec = _sparse_modes(asm, n_modes, n_mass)
@@ -545,12 +549,44 @@ def _sparse_modes(asm, k, n_mass):
     ARPACK in shift-invert mode about 0 (K positive definite, checked by the caller), its Lanczos
     basis at most ``n_mass`` vectors (the dofs with mass: a larger basis breaks down on a singular
     M; ``k < n_mass - 1``, :func:`_dense_for`), from a fixed start vector (ARPACK's own is random:
-    two runs of one model differed by 1e-12)."""
+    two runs of one model differed by 1e-12). Lanczos from one vector finds the copies of a
+    repeated frequency by round-off only (30 identical decks: 3 of 30 copies of their second
+    frequency were missed, the next frequency standing in for them): the modes found are checked
+    complete below the highest by a Sturm count (:func:`_modes_below`), and found by LAPACK when
+    they are not or when ARPACK does not converge (an AnalysisError beyond ALL_MODES_MAX dofs)."""
     start = np.random.default_rng(0).standard_normal(asm.n_free)
-    omega2, vec = spla.eigsh(asm.K.tocsc(), k=k, M=asm.M.tocsc(), sigma=0.0, which="LM",
-                             ncv=min(n_mass, max(2 * k + 1, 20)), v0=start)
+    try:
+        omega2, vec = spla.eigsh(asm.K.tocsc(), k=k, M=asm.M.tocsc(), sigma=0.0, which="LM",
+                                 ncv=min(n_mass, max(2 * k + 1, 20)), v0=start)
+    except (spla.ArpackNoConvergence, spla.ArpackError):
+        return _dense_instead(asm, k, "ARPACK did not converge")
     order = np.argsort(omega2)
-    return omega2[order], vec[:, order]
+    omega2, vec = omega2[order], vec[:, order]
+    below = omega2[-1] * (1.0 - 1e-8)       # strictly below the highest found (a cluster there may go on)
+    if _modes_below(asm, below) != np.count_nonzero(omega2 < below):
+        return _dense_instead(asm, k, "ARPACK missed modes of a repeated frequency (identical decks?)")
+    return omega2, vec
+
+
+def _modes_below(asm, omega2):
+    """The number of eigenvalues of ``(K, M)`` below ``omega2`` [rad²/s²] (Sturm count): by
+    Sylvester's law of inertia, the negative pivots of a symmetric LDLᵀ of K − ω² M (SuperLU with
+    diagonal pivots); -1 when the factor fails (ω² on an eigenvalue)."""
+    try:
+        lu = spla.splu((asm.K - omega2 * asm.M).tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                       options=dict(SymmetricMode=True))
+    except RuntimeError:
+        return -1
+    return int(np.count_nonzero(lu.U.diagonal() < 0.0))
+
+
+def _dense_instead(asm, k, why):
+    """The lowest ``k`` modes by LAPACK where ARPACK failed (``why``), up to ALL_MODES_MAX free
+    dofs; an AnalysisError beyond."""
+    if asm.n_free > ALL_MODES_MAX:
+        raise AnalysisError(f"eigen: {why} for {k} modes of {asm.n_free} free dofs, and the dense solve is beyond "
+                            f"{ALL_MODES_MAX} dofs")
+    return _dense_modes(asm, lowest=k)
 
 
 def _mode_shapes(asm, vec):
