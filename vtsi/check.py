@@ -524,6 +524,9 @@ def _load_models(results, bridge):
         remedy.append("with HSLM-B (--trains HSLM-B)" if not refusal else f"check {own} with HSLM-B")
         lacking.append(en1991_2.HSLM_B)
     by_a = [k for k, need in enumerate(needs) if need == en1991_2.HSLM_A]
+    if short and not by_a and names & set(en1991_2.HSLM_A):
+        said.append(f"EN 1991-2 6.4.6.1.1, Table 6.4: HSLM-A is not a load model of a simply supported span under "
+                    f"{below:g} m (HSLM-B is); the rows this sweep's HSLM-A trains govern count as a real train's")
     held = [n.removeprefix("HSLM-") for n in en1991_2.HSLM_A if n in names]
     missing = [n.removeprefix("HSLM-") for n in en1991_2.HSLM_A if n not in names]
     if by_a and missing and hslm:
