@@ -18,6 +18,13 @@ oracle = pytest.importorskip("openseespy.opensees")
 
 pytestmark = pytest.mark.usefixtures("fresh_session")
 
+
+def static(ops, system="BandGeneral"):
+    """One load step of a linear static analysis set up as OpenSees scripts do (``system`` as given)."""
+    for command, args in (("system", (system,)), ("numberer", ("Plain",)), ("constraints", ("Plain",)),
+                          ("integrator", ("LoadControl", 1.0)), ("algorithm", ("Linear",)), ("analysis", ("Static",))):
+        getattr(ops, command)(*args)
+
 TYPES = {1: "elasticBeamColumn", 2: "ElasticTimoshenkoBeam", 3: "truss", 4: "zeroLength"}
 NAMES = sorted({"xaxis", "yaxis", "zaxis", "force", "localForce", "basicForce", "deformation", "basicDeformation",
                 "offsets", "rigidOffsets"} | {a for aliases in TYPE_RESPONSE_ALIASES.values() for a in aliases})
@@ -42,9 +49,7 @@ def four_elements(ops, steps=1):
     ops.pattern("Plain", 1, 1)
     ops.load(4, 1e3, 2e3, 0.0)
     ops.load(2, 0.0, -1e3, 10.0)
-    for command, args in (("system", ("BandGeneral",)), ("numberer", ("Plain",)), ("constraints", ("Plain",)),
-                          ("integrator", ("LoadControl", 1.0)), ("algorithm", ("Linear",)), ("analysis", ("Static",))):
-        getattr(ops, command)(*args)
+    static(ops)
 
 
 @pytest.mark.parametrize("tag", sorted(TYPES), ids=TYPES.values())
@@ -108,9 +113,7 @@ def cantilever(ops, *extra):
     ops.timeSeries("Constant", 1)
     ops.pattern("Plain", 1, 1)
     ops.eleLoad("-ele", 1, "-type", "-beamUniform", -5e3, 1e3, *extra)
-    for command, args in (("system", ("BandGeneral",)), ("numberer", ("Plain",)), ("constraints", ("Plain",)),
-                          ("integrator", ("LoadControl", 1.0)), ("algorithm", ("Linear",)), ("analysis", ("Static",))):
-        getattr(ops, command)(*args)
+    static(ops)
     ops.analyze(1)
     return ops.nodeDisp(2) + ops.eleResponse(1, "localForce")
 
@@ -215,9 +218,7 @@ def zero_length(ops, *options):
     ops.timeSeries("Constant", 1)
     ops.pattern("Plain", 1, 1)
     ops.load(2, 1.0, 2.0, 0.0)
-    for command, args in (("system", ("FullGeneral",)), ("numberer", ("Plain",)), ("constraints", ("Plain",)),
-                          ("integrator", ("LoadControl", 1.0)), ("algorithm", ("Linear",)), ("analysis", ("Static",))):
-        getattr(ops, command)(*args)
+    static(ops, "FullGeneral")
     ops.analyze(1)
     return ops.nodeDisp(2)
 
