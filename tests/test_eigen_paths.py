@@ -195,3 +195,24 @@ def test_modes_up_to_on_identical_decks_is_complete():
     dense = np.sqrt(scipy.linalg.eigh(asm.K.toarray(), asm.M.toarray(), eigvals_only=True)) / (2 * np.pi)
     np.testing.assert_allclose(f, dense[dense <= 20.0], rtol=1e-9)
     assert len(f) == 72 and shapes.shape[1] == 72
+
+
+def test_lowest_modes_until_doubles_and_shows_every_pair():
+    """lowest_modes_until asks k, 2k, 4k … modes until ``enough`` holds, and at most one mode per
+    dof with mass (lumped: the 103 rotations of 3 × 30 m in 102 elements are massless); ``enough``
+    sees every pair, the last included, as eigen gives it."""
+    model = viaduct([30.0] * 3, 34, False)
+    asm = model.build()
+    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))
+    ref_omega2, _ = reference(model)
+    seen = []
+
+    def above(limit):
+        return lambda omega2, shapes: seen.append(len(omega2)) or omega2[-1] > limit
+
+    omega2, shapes = analysis.lowest_modes_until(model, 5, above(ref_omega2[30]))
+    assert seen == [5, 10, 20, 40] and shapes.shape[1] == 40
+    np.testing.assert_allclose(omega2, ref_omega2[:40], rtol=1e-10)
+    seen.clear()
+    omega2, _ = analysis.lowest_modes_until(model, 150, above(np.inf))      # never enough: every mode
+    assert seen == [150, n_mass] and 150 < n_mass < 300 and len(omega2) == n_mass == len(ref_omega2)

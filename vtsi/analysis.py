@@ -501,6 +501,22 @@ def eigen(model, n_modes):
     return omega2, _mode_shapes(asm, vec)
 
 
+def lowest_modes_until(model, k, enough):
+    """``(omega2, shapes)`` of :func:`eigen` for the lowest ``k`` modes (an int >= 1), then twice
+    as many, and so on, until ``enough(omega2, shapes)`` is true or every mode of finite frequency
+    is computed (one per free dof with mass): what a search for modes of some kind (vertical, on a
+    deck, moving the track) asks when it cannot know beforehand how many lie below them.
+    ``enough`` sees every pair computed, the last included, so that it may keep what it read."""
+    asm = _model("eigen", model).build()
+    most = int(np.count_nonzero(asm.M.diagonal() > 0.0))     # the modes of finite frequency at most
+    k = max(1, min(k, most))
+    while True:
+        omega2, shapes = eigen(model, "all" if k == most < asm.n_free else k)
+        if enough(omega2, shapes) or k >= most:
+            return omega2, shapes
+        k = min(most, 2 * k)
+
+
 def _dofs_with_mass(who, asm):
     """The number of free dofs with mass (a bound on the modes of finite frequency), after checking
     that K is positive definite (the factor names the mechanism, if any) and that some dof has mass."""

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vtsi.analysis import eigen
+from vtsi.analysis import lowest_modes_until
 from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
 from vtsi.deck import deck_layout
 from vtsi.errors import ModelError, as_number, number_array
@@ -39,13 +39,8 @@ def vertical_frequencies(model, n=3, ground=()):
     than ``n``."""
     n = _count(n)
     modes = _VerticalModes(model, ground)
-    k = min(modes.n_mass, max(3 * n, 12))
-    while True:
-        modes.compute(k)
-        keep = np.flatnonzero(modes.bridge)[:n]
-        if len(keep) == n or k >= modes.n_mass:
-            break
-        k = min(modes.n_mass, 2 * k)
+    lowest_modes_until(model, max(3 * n, 12), lambda *pair: np.count_nonzero(modes.read(*pair)) >= n)
+    keep = np.flatnonzero(modes.bridge)[:n]
     if len(keep) < n:
         approach = int(np.sum(modes.vertical_share & ~modes.bridge))
         raise ModelError(f"vertical frequencies: {n} asked, the model has {len(keep)} vertical modes"
@@ -74,13 +69,12 @@ def deck_frequencies(model, decks, n=3, ground=()):
     if len(decks) == 1:
         return vertical_frequencies(model, n, ground)[0][None, :]
     modes = _VerticalModes(model, ground)
-    k = min(modes.n_mass, max(3 * n * len(decks), 12))
-    while True:
-        modes.compute(k)
-        found = [modes.deck_frequencies(nodes, n) for nodes in decks]
-        if all(len(f) == n for f in found) or k >= modes.n_mass:
-            break
-        k = min(modes.n_mass, 2 * k)
+
+    def every_deck(omega2, shapes):
+        modes.read(omega2, shapes)
+        return all(len(modes.deck_frequencies(nodes, n)) == n for nodes in decks)
+    lowest_modes_until(model, max(3 * n * len(decks), 12), every_deck)
+    found = [modes.deck_frequencies(nodes, n) for nodes in decks]
     for d, f in enumerate(found):
         if len(f) < n:
             raise ModelError(f"vertical frequencies: {n} asked of deck {d + 1} of {len(decks)} (its track nodes "
@@ -96,7 +90,6 @@ class _VerticalModes:
     def __init__(self, model, ground):
         if not isinstance(model, Model):
             raise ModelError(f"vertical frequencies: model must be a vtsi.Model, got {model!r}")
-        self.model = model
         self.asm = asm = model.build()
         self.on_ground = self.mask(ground)
         self.n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))   # at most that many modes of finite frequency
@@ -115,15 +108,18 @@ class _VerticalModes:
         part = self.shapes * mask[:, None]
         return np.einsum("ij,ij->j", part, self.asm.M_full @ part)
 
-    def compute(self, k):
+    def read(self, omega2, shapes):
+        """Take the modes ``(omega2, shapes)`` of :func:`~vtsi.analysis.eigen` and return
+        :attr:`bridge`: True for each vertical mode that is not an approach's."""
         asm = self.asm
-        omega2, self.shapes = eigen(self.model, "all" if k == self.n_mass < asm.n_free else k)
+        self.shapes = shapes
         self.frequencies = np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi)
         dof = np.arange(asm.n_full) % asm.ndf
         self.vertical = self.energy(dof == 1)
         self.ground = self.energy(self.on_ground)
         self.vertical_share = self.vertical > self.energy(dof == 0)
         self.bridge = self.vertical_share & ~(self.ground > 0.5 * self.vertical)     # not an approach's
+        return self.bridge
 
     def deck_frequencies(self, nodes, n):
         """The first (at most ``n``) frequencies of the deck of ``nodes`` (:func:`deck_frequencies`)."""

@@ -28,7 +28,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from vtsi.analysis import eigen, modes_up_to
+from vtsi.analysis import eigen, lowest_modes_until, modes_up_to
 from vtsi.banded import inverse_columns, ldl_band
 from vtsi.damping import bridge_frequencies
 from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, as_number, as_numbers, as_positive, is_count,
@@ -63,21 +63,14 @@ def _mode_count(n_modes):
 
 def _lowest_modes(model, asm, track, n_modes):
     """``(frequencies [Hz], shapes, keep)``: the lowest ``n_modes`` (an int >= 1, or 'all':
-    every mode) modes that move ``track`` (``keep`` their columns), asking :func:`eigen` for
-    twice as many until there are enough; a ModelError naming the most there are when the model
-    has fewer."""
+    every mode) modes that move ``track`` (``keep`` their columns), asking
+    :func:`~vtsi.analysis.lowest_modes_until` for twice as many until there are enough; a
+    ModelError naming the most there are when the model has fewer."""
     if n_modes == "all":
         omega2, shapes = eigen(model, n_modes)
         return np.sqrt(np.maximum(omega2, 0.0)) / (2 * np.pi), shapes, _moving(asm, track, shapes)
-    n_mass = int(np.count_nonzero(asm.M.diagonal() > 0.0))      # dofs with mass: at most that many modes
-    most = min(n_mass, asm.n_free)
-    k = min(n_modes, most)
-    while True:
-        omega2, shapes = eigen(model, "all" if k == n_mass < asm.n_free else k)
-        keep = _moving(asm, track, shapes)
-        if len(keep) >= n_modes or k >= most:
-            break
-        k = min(most, 2 * k)
+    omega2, shapes = lowest_modes_until(model, n_modes, lambda _, shapes: len(_moving(asm, track, shapes)) >= n_modes)
+    keep = _moving(asm, track, shapes)
     if len(keep) < n_modes:                 # every mode computed: len(keep) is the most there are
         which = (f"only {len(keep)} modes of the model move the track (of {shapes.shape[1]}: the others, a straight "
                  "beam's axial modes, load no wheel)" if len(keep) < shapes.shape[1] else
