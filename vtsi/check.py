@@ -191,6 +191,8 @@ class CheckResult:
                                 # (:func:`vtsi.speed_grid.coarse_resonances`), one line; '' when none
     bridge_model: str = ""      # the sweep's bridge model, FE or modal and its basis (:func:`bridge_model_text`),
                                 # one line; '' not known
+    frequency_limits: str = ""  # each deck's n₀ against EN 1991-2 Figure 6.10 (:func:`frequency_limits_text`),
+                                # one line of information; '' not known
 
     @property
     def complete(self):
@@ -273,7 +275,8 @@ class CheckResult:
     def text(self):
         """The bridge as the check read it (one line: its decks, spans, n₀, EN cut-off, L_Φ), the
         settings (one line, :meth:`settings_text`), the sweep's bridge model (one line, as the
-        report's settings give it: :func:`bridge_model_text`), then the table (one line per
+        report's settings give it: :func:`bridge_model_text`), each deck's n₀ against EN 1991-2
+        Figure 6.10 (one line, :func:`frequency_limits_text`), then the table (one line per
         criterion), the verdict and the rows' notes."""
         head = ("criterion", "value", "limit", "util.", "status", "governing case", "where", "clause")
         lines = [head]
@@ -292,7 +295,8 @@ class CheckResult:
         out.insert(1, "  ".join("-" * w for w in widths))
         notes = [f"  {r.criterion}: {r.note}" for r in self.rows if r.note]
         return "\n".join(([self.bridge] if self.bridge else []) + [f"check settings: {self.settings_text()}"]
-                         + ([f"bridge model: {self.bridge_model}"] if self.bridge_model else []) + out
+                         + ([f"bridge model: {self.bridge_model}"] if self.bridge_model else [])
+                         + ([self.frequency_limits] if self.frequency_limits else []) + out
                          + ["", self.verdict()]
                          + (["notes:"] + notes if notes else []))
 
@@ -362,8 +366,10 @@ def stored_check(path):
         cases = (int(g.attrs["cases_done"]), int(g.attrs["cases_total"])) if "cases_total" in g.attrs \
             else (results.n_done, results.n_cases)
         speed_grid = str(g.attrs.get("speed_grid", ""))      # '' in a check stored by an older vtsi
-    return CheckResult(settings, rows, *cases, bridge=bridge_text(results.bridge()), speed_grid=speed_grid,
-                       bridge_model=bridge_model_text(results.identity["settings"], results.bridge()))
+    bridge = results.bridge()
+    return CheckResult(settings, rows, *cases, bridge=bridge_text(bridge), speed_grid=speed_grid,
+                       bridge_model=bridge_model_text(results.identity["settings"], bridge),
+                       frequency_limits=frequency_limits_text(bridge))
 
 
 def bridge_model_text(settings, bridge):
@@ -386,6 +392,25 @@ def bridge_model_text(settings, bridge):
                 f"how many modes), {how}")
     return (f"modal: {_plural_of(modes.size, 'mode')} up to {significant_text(f_max)} Hz ({relation}; the highest at "
             f"{significant_text(modes.max())} Hz), {how}")
+
+
+def frequency_limits_text(bridge):
+    """One line of information: each deck's n₀ [Hz] of the bridge record ``bridge`` (/bridge,
+    :func:`deck_first_frequencies`) against EN 1991-2 Figure 6.10 at its L (its span, or L_Φ of a
+    continuous deck), :func:`vtsi.codes.en1991_2.frequency_limits_text`; decks that read alike
+    are given once ('decks 1, 2: ...'). No verdict reads it; :func:`stored_check` reads it again
+    from the results file, as it does the bridge's line."""
+    spans = np.asarray(bridge["span_lengths_m"], dtype=float).ravel()
+    decks, n0 = span_decks(bridge), deck_first_frequencies(bridge)
+    readings = {}
+    for d in range(len(n0)):
+        if np.any(decks == d):
+            readings.setdefault(en1991_2.frequency_limits_text(n0[d], spans[decks == d]), []).append(d)
+    if len(n0) == 1:
+        return f"EN 1991-2 Figure 6.10: {next(iter(readings))}"
+    return "EN 1991-2 Figure 6.10: " + "; ".join(
+        f"{'deck' if len(ds) == 1 else 'decks'} {', '.join(str(d + 1) for d in ds)}: {text}"
+        for text, ds in readings.items())
 
 
 SELF_WEIGHT_REFUSED = ("check: the sweep's displacements, rotations and moments include the bridge's self weight "
@@ -412,7 +437,8 @@ def check(results, settings=None):
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
     out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases, bridge=bridge_text(bridge),
-                      bridge_model=bridge_model_text(results.identity["settings"], bridge))
+                      bridge_model=bridge_model_text(results.identity["settings"], bridge),
+                      frequency_limits=frequency_limits_text(bridge))
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))

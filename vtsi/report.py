@@ -444,6 +444,8 @@ class _Report:
             blocks.append(Paragraph("INFO rows are not held to a limit and have no utilisation; "
                                     + "; ".join(f"'{k}': {kinds[k]}" for k in shown) + "."))
         blocks.append(Paragraph(f"Check settings: {self.checked.settings_text()}."))
+        if self.checked.frequency_limits:
+            blocks.append(Paragraph(f"{self.checked.frequency_limits}."))
         notes = [f"{_label(r.criterion)}: {r.note}" for r in self.rows if r.note]
         if notes:
             blocks += [Heading("Notes"), Items(notes, "notes")]

@@ -110,9 +110,35 @@ def frequency_limits(span):
     """EN 1991-2 Figure 6.10: the lower and upper limits [Hz] of the first bending frequency n₀ of
     a span of ``span`` [m] inside which the simplified rules of 6.4.4 may apply: lower 80 / L for
     L <= 20 m, 23.58 L^-0.592 above; upper 94.76 L^-0.748 (the figure covers 4 to 100 m; a span
-    outside is taken at its nearest end)."""
+    outside is taken at its nearest end, for a plausibility floor: :func:`frequency_limits_text`
+    says instead that the figure does not cover it)."""
     L = min(max(_span(span, "Figure 6.10"), FREQUENCY_SPANS[0]), FREQUENCY_SPANS[1])
     return (80.0 / L if L <= 20.0 else 23.58 * L ** -0.592), 94.76 * L ** -0.748
+
+
+def frequency_limits_text(n0, spans):
+    """EN 1991-2 Figure 6.10 read for one deck, in words (information: no verdict reads it):
+    ``n0`` [Hz] the deck's first bending frequency, ``spans`` its span lengths [m]. L is the span
+    of a simply supported deck and L_Φ (:func:`determinant_length`) of a continuous one, as 6.4.4
+    takes it for other bridges. The text gives n₀, the limits at L and where n₀ lies; outside
+    them Figure 6.9 asks for a dynamic analysis, inside them its other tests (the line speed, the
+    structure, Annex F) decide, which the check does not read. An L outside 4 to 100 m is said to
+    lie outside the figure, which gives it no limits."""
+    where = "EN 1991-2 Figure 6.10"
+    n0 = as_positive(n0, where, "n0 [Hz]")
+    spans = [_span(s, "Figure 6.10") for s in as_numbers(spans, where, "a deck's spans [m]").ravel()]
+    L = determinant_length(spans)
+    simple = len(spans) == 1
+    deck = f"the {spans[0]:g} m span" if simple else f"the {' + '.join(f'{s:g}' for s in spans)} m continuous deck"
+    at = f"L = {L:.4g} m ({'the span' if simple else 'its L_Phi, 6.4.4'})"
+    if not FREQUENCY_SPANS[0] <= L <= FREQUENCY_SPANS[1]:
+        return (f"n0 {n0:.4g} Hz of {deck}: Figure 6.10 covers L = {FREQUENCY_SPANS[0]:g} to "
+                f"{FREQUENCY_SPANS[1]:g} m, not {at}, and gives it no limits")
+    lower, upper = frequency_limits(L)
+    place = "within" if lower <= n0 <= upper else "below" if n0 < lower else "above"
+    reading = ("Figure 6.9's other tests (line speed, structure, Annex F) decide whether a dynamic analysis is "
+               "needed" if place == "within" else "outside them Figure 6.9 asks for a dynamic analysis")
+    return f"n0 {n0:.4g} Hz of {deck} is {place} the limits, {lower:.4g} to {upper:.4g} Hz at {at}: {reading}"
 
 
 # Table 6.2, case 5.2: L_Φ = k × mean span of a continuous beam of n spans.
