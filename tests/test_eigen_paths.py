@@ -216,3 +216,37 @@ def test_lowest_modes_until_doubles_and_shows_every_pair():
     seen.clear()
     omega2, _ = analysis.lowest_modes_until(model, 150, above(np.inf))      # never enough: every mode
     assert seen == [150, n_mass] and 150 < n_mass < 300 and len(omega2) == n_mass == len(ref_omega2)
+
+
+def test_no_false_alarm_of_missed_modes_on_a_fine_mesh(monkeypatch):
+    """25 + 32 + 25 m in 1200 elements (3598 dofs): ARPACK's lowest ω² is known to about 3e-8
+    only, and a Sturm count 1e-8 below the highest found read modes missing where none were (for
+    2, 4 and 8 modes: refused beyond ALL_MODES_MAX dofs, a 9 s dense solve below). The count is
+    now taken mid-gap: every k on ARPACK's path, each k's modes the lowest of the next."""
+    model = vtsi.Model()
+    continuous_beam(model, [25.0, 32.0, 25.0], 400, 3.5e10, 7.0, 2.0e4, A=8.0)
+    asm = model.build()
+    assert asm.n_free > analysis.ALL_MODES_MAX
+    monkeypatch.setattr(analysis, "_dense_modes", lambda *a, **k: pytest.fail("the dense solve was taken"))
+    previous = None
+    for k in (1, 2, 3, 4, 8):
+        omega2, _ = eigen(model, k)
+        if previous is not None:
+            np.testing.assert_allclose(omega2[:len(previous)], previous, rtol=1e-7)
+        previous = omega2
+    for j in range(1, 8):
+        assert analysis._modes_below(asm, 0.5 * (omega2[j - 1] + omega2[j])) == j
+
+
+def test_a_larger_basis_before_the_dense_solve(monkeypatch):
+    """30 identical decks of 40 elements (3600 dofs), 60 modes: a basis of 121 Lanczos vectors
+    misses copies of the repeated frequencies, and the dense solve is beyond ALL_MODES_MAX; the
+    second run's basis of 241 finds all 30 copies of each of the two lowest frequencies."""
+    model = identical_decks(30, 40)
+    verdicts, complete = [], analysis._found_every_mode
+    monkeypatch.setattr(analysis, "_found_every_mode", lambda asm, omega2: verdicts.append(complete(asm, omega2))
+                        or verdicts[-1])
+    omega2, _ = eigen(model, 60)
+    assert verdicts == [False, True]
+    single = eigen(identical_decks(1, 40), 2)[0]
+    np.testing.assert_allclose(omega2, np.repeat(single, 30), rtol=1e-8)
