@@ -19,7 +19,10 @@ import scipy.linalg
 
 from vtsi.bridge_file import load_bridge
 from vtsi.damping import rayleigh_coefficients, rayleigh_damping, rayleigh_ratio
+from vtsi.model import Model
+from vtsi.models.bridges import simply_supported_beam
 from vtsi.passage import Output, PassageRunner, PassageSettings
+from vtsi.timeseries import Constant, Path
 
 SPANS = (10.0, 13.0, 10.0)      # [m], elements of 1 m
 ZETA = 0.01
@@ -168,3 +171,25 @@ def test_time_stepped_bridges_converge_to_modal_superposition(bridge, fidelity):
         expected = reference(runner, lambda f: np.full_like(f, ZETA))
     assert deflection == pytest.approx(expected[1], rel=1.5e-3)
     assert acceleration == pytest.approx(expected[0], rel=1e-2)
+
+
+def test_the_dead_load_state_takes_the_patterns_at_t_0():
+    """At approach 0 the state is solved with the wheels a step before t = 0, and the model's
+    patterns at t = 0: a Path series starting at 0 (0 before it) held its load out of the dead-load
+    state, which then struck the bridge in the first step (deck acceleration 5.6 against 0.47
+    m/s²). The same passage with the load as a Constant series, or from 1 mm before the track."""
+    outputs = (Output("deflection", "disp", "deck"), Output("acceleration", "accel", "deck"))
+    read = []
+    for series, approach in ((Path([1.0, 1.0], time=[0.0, 100.0]), 0.0), (Constant(), 0.0),
+                             (Path([1.0, 1.0], time=[0.0, 100.0]), 1e-3)):
+        model = Model()
+        beam = simply_supported_beam(model, L=20.0, n_elements=10, E=3.5e10, I=3.0, mu=1.5e4)
+        model.pattern(1, series)
+        model.load(1, beam.midspan_nodes[0], 0.0, -2.0e5, 0.0)
+        result = PassageRunner(model, beam.elements, PassageSettings(damping=0.01, approach=approach),
+                               outputs).run("HSLM-A1", 200.0)
+        read.append((result.envelopes["deflection"][0].min(), result.envelopes["acceleration"][2].max()))
+    (w_path, a_path), (w_constant, a_constant), (w_ahead, a_ahead) = read
+    assert w_path == pytest.approx(w_constant, rel=1e-9) and a_path == pytest.approx(a_constant, rel=1e-9)
+    assert w_path == pytest.approx(w_ahead, rel=1e-4) and a_path == pytest.approx(a_ahead, rel=1e-2)
+    assert a_path < 1.0

@@ -324,11 +324,11 @@ class CoupledAnalysis:
                    else "; not the bridge's self weight (bridge_self_weight=False)"))
 
     # -- dead load ------------------------------------------------------------------------
-    def static(self):
+    def static(self, patterns_at=None):
         """Static equilibrium of bridge and train under the train's weight (and the patterns at the
-        current time; the bridge's own weight only with ``bridge_self_weight``) with the wheels on
-        the rail: sets the committed states and ``static_state`` (whose ``loads`` says what it
-        contains).
+        current time, or at ``patterns_at`` [s] when given; the bridge's own weight only with
+        ``bridge_self_weight``) with the wheels on the rail where they are at the current time:
+        sets the committed states and ``static_state`` (whose ``loads`` says what it contains).
 
         The bridge starts at rest. The wheels move with the rail (ġ = 0: v_w = V N'(x) u_b + ṙ
         where the rail under them is deflected, sloping or irregular), and the rest of the train
@@ -345,7 +345,7 @@ class CoupledAnalysis:
         self._prepare()
         bridge = self.stages
         n_b, n_t, n_c = bridge.stiffness.shape[0], train.n_dof, con.n_contact
-        sol = self._static_solution(asm, t)
+        sol = self._static_solution(asm, t, t if patterns_at is None else patterns_at)
         state.u[:], state.v[:], state.a[:] = 0.0, 0.0, 0.0
         state.u[asm.full_of_free] = bridge.static_free(sol[:n_b])
         train.u[:] = sol[n_b: n_b + n_t]
@@ -433,13 +433,13 @@ class CoupledAnalysis:
                 raise AnalysisError("dead load: a train dof is held by no spring once its wheels are on the rail")
         return v
 
-    def _static_solution(self, asm, t):
-        """``(bridge coordinates, train dofs, contact forces)`` of the static equilibrium at time
-        ``t`` [s] (the wheels where they are then, the patterns' loads then)."""
+    def _static_solution(self, asm, t, t_patterns):
+        """``(bridge coordinates, train dofs, contact forces)`` of the static equilibrium with the
+        wheels where they are at time ``t`` [s] and the patterns' loads at ``t_patterns`` [s]."""
         train, con, track, bridge = self.train, self.constraint, self.constraint.track, self.stages
         p_b = self._bridge_constant_load(asm)
         for pattern in self.model.patterns.values():
-            p_b = p_b + pattern.factors(np.array([t]))[0] * asm.load_vector(pattern)
+            p_b = p_b + pattern.factors(np.array([t_patterns]))[0] * asm.load_vector(pattern)
         if len(con.x0_force):
             cols, vals, _ = track.rows(con.x0_force + train.speed * t)
             for i, f in enumerate(train.wheel_forces):

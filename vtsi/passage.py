@@ -904,15 +904,17 @@ class PassageRunner:
         """Start ``analysis`` from the passage's dead-load state at t = 0, every wheel of ``sub``
         (a TrainSubdomain) on rigid ground (the module docstring), and return it. A wheel at the
         track's first point (approach 0) is on the track's rows at t = 0, so the state is then
-        solved a step earlier (t = −Δt), before that wheel steps on: its load enters in the first
-        step, as every later axle's and as the exact modal passages take it (from rest). Solved
+        solved with the wheels a step earlier (t = −Δt), before that wheel steps on, and the
+        model's patterns at t = 0 (a Path series starting at 0 is 0 before it): the wheel's load
+        enters in the first step, as every later axle's and as the exact modal passages take it
+        (from rest). Solved
         at t = 0, an HSLM-A1's first axle stood on the track's first node from the start: on a
         10 + 13 + 10 m deck on 5 GN/m bearings both time-stepped bridges read the deflection 2 %
         low, whatever Δt, against every mode superposed (tests/test_viaduct_fidelities.py)."""
         if np.all(sub.wheel_x0(np.arange(sub.train.n_wheels)) < self.track.x_begin):
             return analysis.static()
         domain_state(self.model).time = -self.settings.dt
-        static = dict(analysis.static(), time=0.0)
+        static = dict(analysis.static(patterns_at=0.0), time=0.0)
         analysis.start_from(static)
         return static
 
