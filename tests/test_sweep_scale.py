@@ -3,7 +3,8 @@ budget (vtsi.influence.BLOCK_BYTES) whatever the number of responses × axles, a
 histories bounded (vtsi.sweep.TASK_HISTORY_BYTES), a lock file that cannot be created refused
 as a bad input (status 2), speed ranges that are not finite or far too fine refused in one line,
 record_histories' own remedy for a file of another sweep, and an axle table named by another
-path (a sweep resumed from another folder) continuing its file."""
+path (a sweep resumed from another folder) continuing its file, and the static envelopes computed
+once per output."""
 import os
 import re
 import tracemalloc
@@ -26,6 +27,7 @@ from vtsi.sweep import MAX_SPEEDS, Sweep, beam_bridge, speeds
 from vtsi.sweep_results import ResultsFileRefused, ResultsWriter, SweepResults
 from vtsi.track import Track, row_width
 from vtsi.vehicle import MAX_TRAIN_SPEED
+from vtsi.workflow import refuse_before_sweep
 
 MODAL = PassageSettings(damping=0.01, bridge="modal")
 AXLES = "position_m,load_kN\n0,170\n3.0,170\n14.0,170\n17.0,170\n21.0,170\n24.0,170\n"
@@ -264,3 +266,20 @@ def test_an_infinite_span_must_be_finite(tmp_path):
     with pytest.raises(ModelError, match=re.escape("spans_m: every span must be finite [m], got inf")) as excinfo:
         load_bridge(path)
     assert "mm" not in str(excinfo.value)
+
+
+def test_static_envelopes_are_computed_once_per_output(monkeypatch):
+    """A check refuses bad inputs before its sweep by building the results record in memory,
+    /static included, and the sweep's file builds it again: the influence-line envelopes
+    (quadratic in the mesh: 20 s on 10 × 40 elements) were computed twice per output."""
+    sweep = Sweep(beam_bridge([20.0, 20.0], 3.0e11, 1.0, 15000.0, elements_per_span=6), ["HSLM-A1"], "200",
+                  MODAL, outputs=[Output("deflection", "disp"), Output("moment", "moment")])
+    computed = []
+    compute = PassageRunner._static_envelopes
+    monkeypatch.setattr(PassageRunner, "_static_envelopes",
+                        lambda self, o, trains: computed.append(o.name) or compute(self, o, trains))
+    refuse_before_sweep(sweep)
+    results = sweep.run(None, workers=1, progress=False)
+    assert sorted(computed) == ["deflection", "moment"]
+    fresh = compute(sweep.runner, sweep.runner.outputs[0], sweep.trains)
+    np.testing.assert_array_equal(results.static("deflection")[1], fresh.lm71)

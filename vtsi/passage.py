@@ -643,6 +643,7 @@ class PassageRunner:
         self._dead_load = {}
         self._profiles = {}
         self._trains = {}
+        self._static = {}            # static_envelopes by (output, train names)
         self._modes = {}
         self._modal_plans = {}
         self._residuals = {}
@@ -701,9 +702,16 @@ class PassageRunner:
         """The static min and max of a displacement, rotation or moment output under each train's
         static axle loads and under Load Models 71 and SW/0, α = 1
         (:class:`~vtsi.influence.StaticEnvelopes`): what dynamic increments and the comparison
-        with Φ × LM71/SW/0 are measured against. None for other outputs."""
+        with Φ × LM71/SW/0 are measured against. None for other outputs. Computed once per
+        output and trains (a check's refusals before the sweep build the results record too)."""
         if output.response not in ("disp", "rotation", "moment") or output.cutoff is not None:
             return None
+        key = (output, tuple(train_names))
+        if key not in self._static:
+            self._static[key] = self._static_envelopes(output, train_names)
+        return self._static[key]
+
+    def _static_envelopes(self, output, train_names):
         nodes = self.output_nodes(output.nodes)
         if output.response == "moment":
             lines = InfluenceLines(self.model, self.track, moments=nodes)
