@@ -44,7 +44,10 @@ contact_loss           passages in which a wheel lifts on a deck (the mean λ �
 
 LM71/SW/0 is the static reference of EN 1991-2 6.4.6.5(3) (:func:`static_reference`): LM71's
 static value, or on a continuous deck the more unfavourable of LM71's and SW/0's (6.3.3(1)P:
-SW/0 loads continuous beams), both × α; the rows name which one they read.
+SW/0 loads continuous beams), both × α; the rows name which one they read. The moment rows read
+the track elements' moment: where these carry less than :data:`LOCAL_MOMENT_SHARE` of their
+span's free-body moment (a truss's chord, a stringer on cross girders: :func:`moment_shares`),
+it is their own local bending, and the rows keep their values, not checked, with no reference.
 
 The car rows judge what the bridge does: a sweep's vehicle envelopes count a wheel while it is on
 a deck and a car body while a wheel of it is (:meth:`vtsi.passage.PassageRunner.counted`); where
@@ -87,14 +90,17 @@ import numpy as np
 from vtsi.codes import en1990_a2, en1991_2
 from vtsi.deck_record import deck_nodes, intermediate_supports, overhangs, span_columns, support_columns
 from vtsi.errors import ModelError, SweepError, VtsiError
+from vtsi.influence import InfluenceLines
 from vtsi.integrators import make_integrator
 from vtsi.modal_bridge import SUPPORT_MOMENT_HZ
+from vtsi.model import Model
 from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
                           resolves)
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
                                 significant_text, span_decks, x_tolerance)
+from vtsi.track import Track
 from vtsi.track_ends import TrackEnd, free_end_text
 
 MIN, MAX, ABSMAX = (ENVELOPE_ROWS.index(k) for k in ("min", "max", "absmax"))
@@ -104,6 +110,15 @@ WITH_A_VERDICT = ("deck_acceleration", "deflection", "car_body_acceleration", "w
 PEAK_AT_RESONANCE = ("deck_acceleration", "deflection", "dynamic_increment", "dynamic_vs_lm71", "car_body_acceleration",
                      "wheel_unloading", "contact_loss")   # the rows read against speed (prefixes): a speed grid's notes
 STATIC_LOAD_MODELS = ("LM71", "SW/0")   # a deflection row's 'train' where Φ α × its static value governs
+LOCAL_MOMENT_SHARE = 0.1
+"""The least share of its span's free-body moment (:func:`moment_shares`) that the track
+elements' mid-span moment reaches on a deck whose beam they are: below it they are a chord or a
+stringer of a structure that carries the span's bending, and the moment rows, which read their
+local bending, are not checked. Measured under LM71 (SW/0): a simply supported beam 1, the
+middles of a 2 × 20 m beam 0.76 (0.76), of a 4 × 35 m beam 0.79 and 0.65, of an integral 12 m
+portal frame 0.52; a beam clamped at both ends 0.35 to 0.37 (0.33 to 0.41) at 5 to 100 m, and
+with haunches 8 times as stiff over its outer 15 % at each end 0.21 to 0.23 (0.19 to 0.26): the
+least a beam deck reads; the bottom chord of a 40 m truss of 8 panels 0.021."""
 SW0_MISSING = ("; the static reference is LM71 alone: the results file, of an older vtsi, holds no SW/0, which EN "
                "1991-2 6.3.3(1)P adds on a continuous deck (sweep again into a new file to read it)")
 
@@ -674,17 +689,21 @@ def _dynamic_increment(results, outputs, bridge, settings):
     """φ'_dyn and the comparison with Φ × LM71, on the mid-span deflections (downward: the
     envelope's minimum) and, when the sweep kept them, the mid-span bending moments (sagging:
     the maximum) and the bending moments over the intermediate supports of continuous decks
-    (hogging: the minimum; ``_support_moment`` rows, from the first moment output holding them)."""
+    (hogging: the minimum; ``_support_moment`` rows, from the first moment output holding them);
+    the moments of track elements that carry less than :data:`LOCAL_MOMENT_SHARE` of their
+    span's moment are local, not read (:func:`moment_shares`)."""
     rows = []
+    moments = _outputs_of(outputs, "moment", cutoff=False)
+    shares = moment_shares(results, moments, bridge)
     for response, row, suffix, what in (("disp", MIN, "", "mid-span deflection"),
                                         ("moment", MAX, "_moment", "mid-span bending moment")):
         for name in _outputs_of(outputs, response, cutoff=False):
-            rows.extend(_increment_rows(results, name, row, suffix, what, bridge, settings))
-    moments = _outputs_of(outputs, "moment", cutoff=False)
+            rows.extend(_increment_rows(results, name, row, suffix, what, bridge, settings,
+                                        shares=shares if response == "moment" else None))
     held = [n for n in moments if support_columns(results.column_envelopes(n)[1], bridge)]
     if held:                                           # the first moment output holding them (the default's)
         support_rows = _increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
-                                       "intermediate supports", bridge, settings, supports=True)
+                                       "intermediate supports", bridge, settings, supports=True, shares=shares)
         for r in support_rows:
             r.note += _support_basis_note(results, bridge)
         rows.extend(support_rows)
@@ -781,6 +800,91 @@ def _ratios(results, name, row, columns, continuous):
     return StaticRatios(ratio, columns, stat, static_reference(static, row, columns, continuous))
 
 
+class MomentShares(NamedTuple):
+    """The share of its span's moment that the track elements carry at each span's middle
+    (:func:`moment_shares`); NaN (and model '') where not known."""
+
+    share: np.ndarray           # (n_spans,) track / free_body [-]
+    track: np.ndarray           # (n_spans,) [N·m] the track elements' sagging moment under the static reference
+    free_body: np.ndarray       # (n_spans,) [N·m] the span's free-body moment under the same load model
+    models: np.ndarray          # (n_spans,) which load model: 'LM71' or 'SW/0'
+
+
+def moment_shares(results, names, bridge):
+    """:class:`MomentShares` at each span's middle, read from the first of the moment outputs
+    ``names`` that holds it with static values: the track elements' most unfavourable sagging
+    moment there under the static reference (LM71, or SW/0 where a continuous deck takes it:
+    :func:`static_reference`) over the span's free-body moment under the same load model
+    (:func:`free_body_moment`). A beam deck carries all of a section's moment: on a simply
+    supported span the free-body moment, on a continuous deck or a frame less (the support
+    moments take part of it); a share below :data:`LOCAL_MOMENT_SHARE` is a member's own
+    bending. Not known where no output holds the middle, or the middle is on a support."""
+    ends = np.asarray(bridge["span_ends_m"], dtype=float).reshape(-1, 2)
+    deck_x, tol = dict(zip(bridge["deck_nodes"].tolist(), bridge["deck_x_m"].tolist())), x_tolerance(bridge)
+    out = MomentShares(*(np.full(len(ends), np.nan) for _ in range(3)), np.full(len(ends), "", dtype=object))
+    continuous = _continuous_spans(bridge)
+    for name in names:
+        static = results.static(name)
+        columns = results.column_envelopes(name)[1]
+        todo = [(k, c) for k, c in enumerate(span_columns(columns, bridge)) if c >= 0 and not out.models[k]]
+        if static is None or not todo:
+            continue
+        reference = static_reference(static, MAX, [c for _, c in todo], continuous[[k for k, _ in todo]])
+        for (k, c), track, model in zip(todo, reference.values, reference.models):
+            x, (a, b) = deck_x.get(int(columns[c]), np.nan), ends[k]
+            if track > 0.0 and a + tol < x < b - tol:
+                free = free_body_moment(a, b, x, str(model))
+                out.share[k], out.track[k], out.free_body[k], out.models[k] = track / free, track, free, str(model)
+    return out
+
+
+def free_body_moment(a, b, x, model):
+    """The most unfavourable sagging moment [N·m] at ``x`` of a simply supported span from ``a``
+    to ``b`` [m] under load model ``model`` ('LM71' or 'SW/0', α = 1, on the span only): the
+    free-body moment M = R (x − a) − Σ P (x − x_P) over the loads left of x, R the reaction at
+    ``a``, whatever carries it inside the span (a truss, girders under a stringer). Placed by
+    :class:`~vtsi.influence.InfluenceLines` on a beam of two elements meeting at ``x``, whose
+    moment influence line there is that triangle exactly (its stiffness does not enter)."""
+    beam = Model()
+    for tag, at in enumerate((a, x, b), start=1):
+        beam.node(tag, float(at), 0.0)
+    beam.fix(1, 1, 1, 0)
+    beam.fix(3, 0, 1, 0)
+    for tag in (1, 2):
+        beam.element("elasticBeamColumn", tag, (tag, tag + 1), A=1.0, E=1.0, I=1.0, rho=1.0)
+    lines = InfluenceLines(beam, Track(beam, [1, 2]), moments=[2])
+    return float((lines.sw0_envelope() if model == "SW/0" else lines.lm71_envelope())[1, 0])
+
+
+def _local_places(shares, spans):
+    """Whether the track elements' moment at a place is local: the shares (:class:`MomentShares`)
+    at the middles of its ``spans`` (the span of a mid-span place; both spans beside a support)
+    are known for one at least and all below :data:`LOCAL_MOMENT_SHARE`."""
+    known = _known(shares, spans)
+    return bool(known) and all(shares.share[k] < LOCAL_MOMENT_SHARE for k in known)
+
+
+def _known(shares, spans):
+    """The ``spans`` whose middle's share (:class:`MomentShares`) is known."""
+    return [k for k in spans if np.isfinite(shares.share[k])]
+
+
+def _local_text(shares, spans, supports):
+    """Why the track elements' moment at a place is local (:func:`_local_places`), naming the
+    shares at the middles of ``spans``."""
+    known = _known(shares, spans)
+    each = "; ".join(f"span {k + 1}: {100 * shares.share[k]:.3g} %, {shares.track[k] / 1e3:.4g} of "
+                     f"{shares.free_body[k] / 1e3:.5g} kN m under {shares.models[k]}" for k in known)
+    where = ("at the middles of the spans beside the support" if supports else
+             "at the span's middle" if len(known) == 1 else "at the spans' middles")
+    return (f"the track elements carry less than {100 * LOCAL_MOMENT_SHARE:g} % of the span's bending moment "
+            f"{where} ({each}; of the span's free-body moment R x - sum P (x - x_P) as a simply supported span "
+            "under the same load model): they are a chord or a stringer of a structure that carries the span's "
+            "bending (a truss, a track beam on cross girders), and their moment is their own bending between the "
+            f"points that carry them{', over the support too' if supports else ''}, not the span's: the deflection "
+            "and deck acceleration rows read the structure")
+
+
 def _reference_note(reference, j):
     """What a row says of the static reference ``reference`` (:class:`StaticReference`) at its
     place ``j``: that SW/0 was weighed on a continuous deck, or that it could not be."""
@@ -813,12 +917,15 @@ def _of_the_sign(values, row):
     return np.isfinite(values) & (sign * values > 1e-9 * scale) if scale > 0 else np.zeros(values.shape, dtype=bool)
 
 
-def _increment_rows(results, name, row, suffix, what, bridge, settings, supports=False):
+def _increment_rows(results, name, row, suffix, what, bridge, settings, supports=False, shares=None):
     """The ``dynamic_increment<suffix>`` and ``dynamic_vs_lm71<suffix>`` rows of output ``name``'s
     envelope row ``row`` at the spans' middles, or with ``supports`` (a moment output, row MIN)
     over the intermediate supports of continuous decks (Φ and φ'' of the support's deck); the
     second against Φ α × the static reference, LM71 or on a continuous deck the more
-    unfavourable of LM71 and SW/0 (:func:`static_reference`), the note naming which."""
+    unfavourable of LM71 and SW/0 (:func:`static_reference`), the note naming which. With
+    ``shares`` (the moment outputs' :class:`MomentShares`) the places where the track elements'
+    moment is local (:func:`_local_places`) are not read, and where every place is, the rows
+    keep their values, not checked (status info, no reference), their notes saying why."""
     columns = results.column_envelopes(name)[1]
     if supports:
         places = support_columns(columns, bridge)
@@ -844,6 +951,15 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
         gap = (f"; span{'s' if len(lacking) > 1 else ''} {', '.join(s.removeprefix('span ') for s in lacking)} "
                f"not read: {'their middles have' if len(lacking) > 1 else 'its middle has'} no {sense} static value "
                f"under {by} (the node is on a support, or the span is not loaded there)")
+    beside = [[k, k + 1] if supports else [k] for k in kept]     # the spans whose middles tell a place's share
+    local = np.array([shares is not None and _local_places(shares, ks) for ks in beside], dtype=bool)
+    unchecked = ""
+    if local.all():
+        unchecked = _local_text(shares, sorted({k for ks in beside for k in ks}), supports)
+    elif local.any():                                 # read the places where the track carries the span
+        ratio = np.where(local, np.nan, ratio)
+        gap += "".join(f"; {labels[j]} not read: {_local_text(shares, beside[j], supports)}"
+                       for j in np.flatnonzero(local))
     if np.all(np.isnan(ratio)):
         if not lacking or np.all(np.isnan(results.column_envelopes(name)[0][..., row, :])):
             return []          # no finished case
@@ -855,7 +971,8 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
                      speed_kmh=speed, seed=seed, where=node_text(bridge, columns[spans[idx[-1]]]),
                      note=f"phi'_dyn of the {what} ({name}{_places_text(columns, spans, places) if supports else ''})"
                           f" against its static value under the same train"
-                          f"{_truncation_note(results, bridge)}{gap}")]
+                          f"{_truncation_note(results, bridge)}{gap}"
+                          + (f"; not checked: {unchecked}" if unchecked else ""))]
     L_phi, Phi, phi2, share = (f[kept] if np.ndim(f) else f for f in _design_factors(results, bridge, settings))
     ran = ~np.all(np.isnan(ratio), axis=(1, 2))                  # a train with no finished case (incomplete sweep): NaN
     per_train = np.full(ran.shape, np.nan)
@@ -872,16 +989,19 @@ def _increment_rows(results, name, row, suffix, what, bridge, settings, supports
         return rows
     i, j = np.unravel_index(np.nanargmax(r), r.shape)
     value, model = float(r[i, j]), str(reference.models[j])
-    governs = "the dynamic analysis governs" if value > 1.0 else f"Phi x {model} covers the dynamic effects"
+    governs = ("" if unchecked else ": the dynamic analysis governs" if value > 1.0 else
+               f": Phi x {model} covers the dynamic effects")       # local: no reference to hold the value to
     y = "M" if suffix.endswith("moment") else "y"
-    rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-", 1.0, value, "info",
+    rows.append(CheckRow("dynamic_vs_lm71" + suffix, "EN 1991-2 6.4.6.5(3), Annex C", value, "-",
+                         np.nan if unchecked else 1.0, np.nan if unchecked else value, "info",
                          results.trains[i], np.nan, -1, node_text(bridge, columns[spans[j]]),
-                         f"{what}: (1 + phi'dyn + {share:g} phi'') {y}_train / (Phi alpha {y}_{model}) = {value:.3f}: "
+                         f"{what}: (1 + phi'dyn + {share:g} phi'') {y}_train / (Phi alpha {y}_{model}) = {value:.3f}"
                          f"{governs} (L_Phi = {L_phi[j]:.3g} m, Phi = {Phi[j]:.3f}, phi'' = {phi2[j]:.3f}, "
                          f"alpha = {settings.alpha:g}"
                          + (f"; {y}_train = {stat[i, j] / 1e3:.5g} kN m static under {results.trains[i]}, "
                             f"{y}_{model} = {reference.values[j] / 1e3:.5g} kN m" if supports else "")
-                         + f"){_reference_note(reference, j)}{_irregular_note(results)}{gap}"))
+                         + f"){_reference_note(reference, j)}{_irregular_note(results)}{gap}"
+                         + (f"; not checked: {unchecked}" if unchecked else "")))
     return rows
 
 
