@@ -22,6 +22,8 @@ from vtsi.timeloop import run_from_state, run_linear_steps
 
 log = logging.getLogger(__name__)
 QUANTITY_SLOT = {"u": 0, "v": 1, "a": 2}
+RUN_COLUMNS = 4          # a recorder's columns are copied run by run (slices) if its runs of consecutive
+                         # columns hold this many on average, else gathered by index (_part)
 BLOCK_STEPS = 512         # steps of a run's tables (load factors...) evaluated ahead for the runs that follow
 ALL_MODES_MAX = 3000      # free dofs up to which eigen(model, 'all') solves the dense problem
 DENSE_EIGEN_MAX = 200     # free dofs up to which eigen always solves the dense problem (_dense_for)
@@ -270,17 +272,21 @@ def settle_dependent_dofs(assembly, prescribed, state, at):
 class _RecorderFeed:
     """Maps the recorders' requests to output columns and hands chunks over.
 
-    Quantities 'u', 'v', 'a' of a full dof are read by a kernel from its state bank
-    (``rec_slot``, ``rec_index`` over the free dofs; fixed dofs read 0). ``channels`` declares the
-    further quantities an analysis records: ``name -> (group, slot, size, label)`` (a coupled
-    analysis: train dofs from slots 0..2 of the train's bank, contact wheels); :meth:`group`
-    tells the kernel what to record for a group and :meth:`deliver` takes it back by name.
+    Each distinct request is one column of a chunk, in two tables: the *kernel's* columns, the
+    quantities 'u', 'v', 'a' of free dofs, which a kernel reads from its state bank
+    (``rec_slot``, ``rec_index`` over the free dofs), and the *extra* columns, filled here: fixed
+    dofs (read 0), prescribed displacements (sp), equalDOF / rigidLink dofs and the further
+    quantities an analysis records, its ``channels``: ``name -> (group, slot, size, label)`` (a
+    coupled analysis: train dofs from slots 0..2 of the train's bank, contact wheels);
+    :meth:`group` tells the kernel what to record for a group and :meth:`deliver` takes it back
+    by name. A recorder whose columns lie side by side in one table is handed a view of it, the
+    others their columns gathered.
     """
 
     def __init__(self, assembly, model, recorders, info=None, channels=None):
         channels = channels or {}
         self.recorders = list(recorders)
-        keys, self.columns = {}, []
+        keys, requested = {}, []
         for rec in self.recorders:
             cols = []
             for quantity, index in rec.requests(assembly):
@@ -292,12 +298,9 @@ class _RecorderFeed:
                     if not 0 <= index < size:
                         raise ModelError(f"recorder: {label} {index} out of range 0..{size - 1}")
                 cols.append(keys.setdefault((quantity, int(index)), len(keys)))
-            self.columns.append(np.array(cols, dtype=np.int64))
-        # every recorder's columns side by side, gathered by one index per chunk (deliver)
-        self.gather = np.concatenate(self.columns) if self.columns else np.zeros(0, dtype=np.int64)
-        self.bounds = np.cumsum([0] + [len(c) for c in self.columns]).tolist()
-        # a constrained dof (equalDOF / rigidLink) is recorded as its row of T over free dofs
-        self.derived = []
+            requested.append(cols)
+        # a constrained dof (equalDOF / rigidLink) is recorded as its row of T over free and prescribed dofs
+        derived = []
         if assembly.constrained_rows is not None:
             row_of = {int(k): r for r, k in enumerate(assembly.constrained_dofs)}
             for (q, k), i in list(keys.items()):
@@ -306,24 +309,33 @@ class _RecorderFeed:
                     tied = assembly.constrained_prescribed[row_of[k]]
                     sources = [keys.setdefault((q, int(assembly.full_of_free[j])), len(keys)) for j in row.indices]
                     sources += [keys.setdefault((q, int(assembly.prescribed_full[j])), len(keys)) for j in tied.indices]
-                    self.derived.append((i, np.array(sources, dtype=np.int64), np.r_[row.data, tied.data]))
-        self.items = sorted(keys, key=keys.get)
+                    derived.append((i, sources, np.r_[row.data, tied.data]))
+        # the kernel's columns first, then the extra ones, each in the order first requested
+        found = list(keys)
+        on_kernel = np.array([q in QUANTITY_SLOT and assembly.free_of_full[k] >= 0 for q, k in found], dtype=bool)
+        order = np.argsort(~on_kernel, kind="stable")
+        position = np.empty(len(found), dtype=np.int64)
+        position[order] = np.arange(len(found))
+        self.items = [found[i] for i in order]
+        nk = self.n_kernel = int(on_kernel.sum())
+        self.rec_slot = np.array([QUANTITY_SLOT[q] for q, _ in self.items[:nk]], dtype=np.int64)
+        self.rec_index = assembly.free_of_full[np.array([k for _, k in self.items[:nk]], dtype=np.int64)]
+        self.parts = [_part(position[np.array(cols, dtype=np.int64)], nk) for cols in requested]
+        # sources over the kernel and the extra columns, coefficients of each
+        self.derived = []
+        for i, sources, coefficients in derived:
+            sources = position[np.array(sources, dtype=np.int64)]
+            k = sources < nk
+            self.derived.append((position[i] - nk, sources[k], coefficients[k], sources[~k] - nk, coefficients[~k]))
         # a prescribed displacement (sp) is recorded as value × factor(t) (its v and a as 0)
         self.prescribed = []
         self.load_lag = 0.0    # [s] before the record times where the loads apply (HHT: (1 − α)Δt)
         for pattern, dofs, values in assembly.prescribed_dofs(model.patterns.values()):
             for k, value in zip(dofs, values):
                 if ("u", int(k)) in keys:
-                    self.prescribed.append((keys[("u", int(k))], pattern, value))
-        free = [(i, QUANTITY_SLOT[q], assembly.free_of_full[k]) for i, (q, k) in enumerate(self.items)
-                if q in QUANTITY_SLOT and assembly.free_of_full[k] >= 0]
-        self.bridge_cols = np.array([i for i, _, _ in free], dtype=np.int64)
-        # every column a free dof's u, v or a, in order: the kernel's columns are the record's
-        self.bridge_only = len(free) == len(self.items) and not self.prescribed and not self.derived
-        self.rec_slot = np.array([s for _, s, _ in free], dtype=np.int64)
-        self.rec_index = np.array([f for _, _, f in free], dtype=np.int64)
+                    self.prescribed.append((position[keys[("u", int(k))]] - nk, pattern, value))
         groups = {}
-        for i, (q, k) in enumerate(self.items):
+        for i, (q, k) in enumerate(self.items[nk:]):
             if q in channels:
                 group, slot, _, _ = channels[q]
                 for lst, value in zip(groups.setdefault(group, ([], [], [])), (i, slot, k)):
@@ -354,31 +366,27 @@ class _RecorderFeed:
         return self.groups.get(name, (empty, empty, empty))[1:]
 
     def deliver(self, times, out, assembly, **groups):
-        """Hand a chunk over: ``out`` the kernel's bridge columns, ``groups[name]`` the columns of
-        each channel group (as :meth:`group` listed them). A recorder that raises does not keep
-        the others from the chunk (every completed step stays recorded); the first error is
-        raised after all of them were served, with a note naming its recorder (and the others
-        that raised) when there are several."""
+        """Hand a chunk over: ``out (n, n_kernel)`` the kernel's columns, ``groups[name]`` the
+        columns of each channel group (as :meth:`group` listed them). A recorder gets views of
+        these tables where it can (:class:`~vtsi.recorders.base.Recorder` contract, item 3: read
+        only, valid during the call). A recorder that raises does not keep the others from the
+        chunk (every completed step stays recorded); the first error is raised after all of them
+        were served, with a note naming its recorder (and the others that raised) when there are
+        several."""
         if not self.recorders or len(times) == 0:
             return
-        if self.bridge_only:
-            full = out
-        else:
-            full = np.zeros((len(times), len(self.items)))
-            full[:, self.bridge_cols] = out
+        extra = np.zeros((len(times), len(self.items) - self.n_kernel))    # fixed dofs read 0
         for name, values in groups.items():
             if name in self.groups:
-                full[:, self.groups[name][0]] = values
+                extra[:, self.groups[name][0]] = values
         for i, pattern, value in self.prescribed:
-            full[:, i] += value * pattern.factors(times - self.load_lag)
-        for i, sources, coefficients in self.derived:
-            full[:, i] = full[:, sources] @ coefficients
-
-        gathered = full[:, self.gather]     # one index for all: each recorder gets a copy of its part
+            extra[:, i] += value * pattern.factors(times - self.load_lag)
+        for i, kernel, on_kernel, others, on_others in self.derived:
+            extra[:, i] = out[:, kernel] @ on_kernel + extra[:, others] @ on_others
 
         def write(k, rec):
             rec.load_lag = self.load_lag
-            rec.write(times, gathered[:, self.bounds[k]: self.bounds[k + 1]].copy(), assembly)
+            rec.write(times, _columns(self.parts[k], out, extra), assembly)
         self._each(write, lambda: f"on the steps of t = {times[0]:.6g} to {times[-1]:.6g}; the other recorders "
                                   "hold these steps")
 
@@ -407,6 +415,48 @@ class _RecorderFeed:
                 failed.__notes__ = [*getattr(failed, "__notes__", ()), note]   # add_note (3.11+)
         if failed is not None:
             raise failed
+
+
+def _part(columns, n_kernel):
+    """Where a recorder's ``columns`` (positions over the kernel's columns, then the extra ones)
+    are read: ``('runs', [(table, to, start, length), ...])``, runs of consecutive columns of
+    one table (0 the kernel's, 1 the extra), or, when they are scattered (fewer than
+    RUN_COLUMNS a run on average), ``('index', (kernel positions, kernel columns, extra
+    positions, extra columns))``."""
+    runs = []
+    for to, column in enumerate(columns.tolist()):
+        table, start = (0, column) if column < n_kernel else (1, column - n_kernel)
+        if runs and runs[-1][0] == table and runs[-1][2] + runs[-1][3] == start:
+            runs[-1][3] += 1
+        else:
+            runs.append([table, to, start, 1])
+    if len(runs) <= 1 or len(runs) * RUN_COLUMNS <= len(columns):
+        return "runs", [tuple(run) for run in runs]
+    on_kernel = columns < n_kernel
+    return "index", (np.flatnonzero(on_kernel), columns[on_kernel], np.flatnonzero(~on_kernel),
+                     columns[~on_kernel] - n_kernel)
+
+
+def _columns(part, out, extra):
+    """A recorder's columns of a chunk, from the kernel's ``out`` and the ``extra`` table, as
+    :func:`_part` placed them: a read-only view when they are one run, else a copy."""
+    kind, where = part
+    tables = (out, extra)
+    if kind == "runs" and len(where) == 1:
+        table, _, start, length = where[0]
+        view = tables[table][:, start: start + length]
+        view.flags.writeable = False            # shared with the other recorders
+        return view
+    if kind == "runs":
+        values = np.empty((len(out), sum(run[3] for run in where)))
+        for table, to, start, length in where:
+            values[:, to: to + length] = tables[table][:, start: start + length]
+        return values
+    at_kernel, kernel, at_extra, others = where
+    values = np.empty((len(out), len(at_kernel) + len(at_extra)))
+    values[:, at_kernel] = out[:, kernel]
+    values[:, at_extra] = extra[:, others]
+    return values
 
 
 class StaticAnalysis:

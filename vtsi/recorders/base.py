@@ -32,7 +32,10 @@ Contract of a recorder (what an analysis relies on)
    own weight), which a recorder whose values contain the applied loads (reactions, bending
    moments) takes from there.
 3. ``write(times, columns, assembly)``: ``times (n,)`` [s] increasing, ``columns (n,
-   len(requests))`` in the order requested; called after every chunk of steps.
+   len(requests))`` in the order requested; called after every chunk of steps. ``columns`` may
+   be a read-only view of the analysis's table of the chunk, shared with the other recorders
+   and valid during the call only: whoever keeps values past the call keeps a copy
+   (:meth:`Recorder.write` hands its sink values it owns).
 4. ``close()``: flush and release; called when the run ends, also when it fails (files stay
    readable at every flush in between).
 5. ``dt`` (optional, OpenSees ``-dT``): record a step iff ``t - t_next >= -1e-5 dt``, then
@@ -55,7 +58,8 @@ b. ``prepare(assembly, model)``: resolve names to indices (once per run); return
    sink sees it, and completes ``n_columns``, ``response``, ``attrs`` and ``run`` (the run's
    ``info``, its None entries left out).
 c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of the kept steps
-   (checked once per chunk: another shape is a ModelError naming the recorder).
+   (checked once per chunk: another shape is a ModelError naming the recorder); ``columns`` is
+   read, never written (item 3); returning it as it is costs no copy.
 """
 import numpy as np
 
@@ -144,6 +148,7 @@ class Recorder:
         self.sink.open(layout, self)
 
     def write(self, times, columns, assembly):
+        table = columns
         if self.dt:
             keep = self._select(times)
             if not keep.any():
@@ -157,6 +162,8 @@ class Recorder:
                              f"({len(times)}, {self._layout['n_columns']}) was expected")
         if self.envelope is not None:
             self.envelope.update(times, values)
+        if self.history and np.may_share_memory(values, table):
+            values = values.copy()      # the sink may keep it; the chunk's table is the analysis's
         self.sink.write(times, values if self.history else None, self.envelope)
         self.last_time = float(times[-1]) if len(times) else self.last_time
 

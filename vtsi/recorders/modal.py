@@ -1,16 +1,19 @@
 """Node responses restricted to chosen modes (modal projection): what EN 1990 A2.4.4.2.1 means
 by deck accelerations "considering frequencies up to" a cut-off, computed from a FE model.
 
-With mass-normalised modes Φ (Φᵀ M Φ = I), a response x (u, v or a, all free dofs) has the
-modal coordinates q = Φᵀ M x, and its part in those modes at a node dof d is
+With mass-normalised modes Φ (Φᵀ M Φ = I), a response x (u, v or a of the free dofs and of the
+dofs tied to them by equalDOF / rigidLink, whose mass counts too) has the modal coordinates
+q = Φᵀ M x, and its part in those modes at a node dof d is
 
     x_d^Φ = Φ_d q = Φ_d Φᵀ M x,
 
 the exact modal decomposition truncated to Φ: no filter delay, no edge effect, no phase error.
-The projection P = M Φ Φ_dᵀ is formed once per run; each chunk costs one (n, n_req) × (n_req,
-n_columns) product. It equals the response of the modal model with only those modes when the
-loads excite no other mode's static part (for moving forces on a beam: the dynamic part of the
-truncated modes is excluded, their quasi-static part too).
+A chunk of n steps goes through the modal coordinates, q = x (M Φ) then q Φ_dᵀ: (n, n_req) ×
+(n_req, n_modes) and (n, n_modes) × (n_modes, n_nodes) products, linear in the model's size
+(a formed P = M Φ Φ_dᵀ, (n_req, n_nodes), grows with its square). It equals the response of the
+modal model with only those modes when the loads excite no other mode's static part (for moving
+forces on a beam: the dynamic part of the truncated modes is excluded, their quasi-static part
+too).
 """
 import numpy as np
 import scipy.sparse as sp
@@ -56,18 +59,21 @@ class ModalNodeRecorder(Recorder):
             raise ModelError(f"{self.name}: shapes have NaN or inf: row {row}, mode {mode} is "
                              f"{self.shapes[row, mode]}")
         super().__init__(sink=sink, dt=dt, envelope=envelope, history=history, tag=tag)
-        self._projection = None
+        self._weights = self._node_shapes = None     # M Φ rows requested (n_req, n_modes), Φ_dᵀ (n_modes, n_nodes)
 
     def requests(self, assembly):
         if self.shapes.shape[0] != assembly.n_full:
             raise ModelError(f"{self.name}: shapes have {self.shapes.shape[0]} rows, the model {assembly.n_full} dofs")
         weighted = sp.csr_matrix(assembly.M_full) @ self.shapes         # M Φ (n_full, n_modes)
-        rows = np.flatnonzero(np.any(weighted != 0.0, axis=1) & (assembly.free_of_full >= 0))
+        moving = assembly.free_of_full >= 0              # and the tied dofs: without their mass q is not Φᵀ M x
+        if assembly.constrained_dofs is not None:
+            moving[assembly.constrained_dofs] = True
+        rows = np.flatnonzero(np.any(weighted != 0.0, axis=1) & moving)
         try:
             at = [assembly.full_dof(n, self.dof) for n in self.nodes]
         except ModelError as exc:
             raise ModelError(f"{self.name}: {exc}") from None
-        self._projection = weighted[rows] @ self.shapes[at].T                   # (n_req, n_nodes)
+        self._weights, self._node_shapes = weighted[rows], self.shapes[at].T
         quantity = QUANTITIES[self.response]
         return [(quantity, int(r)) for r in rows]
 
@@ -81,4 +87,4 @@ class ModalNodeRecorder(Recorder):
                 "attrs": {"modes": int(self.shapes.shape[1]), "modes_label": self.label}}
 
     def compute(self, times, columns, assembly):
-        return columns @ self._projection
+        return (columns @ self._weights) @ self._node_shapes       # q = x M Φ, then Φ_d q
