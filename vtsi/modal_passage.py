@@ -32,9 +32,12 @@ misses their quasi-static part (for a simply supported span the first omitted sy
 the 5th, carries 1/625 of the first's static mid-span deflection), which
 :func:`add_static_correction` adds back. A bending moment's columns are its elements' end
 moments K_e u_e (:func:`vtsi.recorders.moment.moment_rows`); the fixed-end share of the axles
-standing inside the elements next to its node is no function of the modes, and the caller adds it
-at the same samples (:func:`vtsi.recorders.moment.add_fixed_end_moments`, as
-:meth:`vtsi.passage.PassageRunner.run` does).
+standing inside the elements next to its node is no function of the modes
+(:class:`vtsi.recorders.moment.FixedEndMoments`). Both are quasi-static: Σ over the axles on
+the track of P times a cubic of ξ on the axle's element, piecewise cubic in t between the same
+events, which :func:`add_quasi_static` accumulates per piece as the particular part is (no
+search for the element under each axle at each sample; :meth:`vtsi.passage.PassageRunner.run`
+adds both to every output's columns in one pass).
 
 Peaks are taken on the samples and refined by a parabola through the largest sample and its
 neighbours, where the two samples beyond them bend the same way (not across a jump between
@@ -49,7 +52,6 @@ import numpy as np
 from numba import njit
 
 from vtsi.errors import ModelError
-from vtsi.track import hermite, host_element
 
 POWERS = 64     # samples per block of the free part's table of powers e^(λ i Δt)
 
@@ -117,25 +119,23 @@ def _smooth_around(column, k, r, den):
 @njit(cache=True)
 def _peaks(values, dt, out):
     n, n_c = values.shape
-    extreme = np.empty(3, dtype=np.int64)
     if n == 0:
         out[:, :] = np.nan
         return
-    for c in range(n_c):
-        k_min, k_max, k_abs = 0, 0, 0               # first extreme samples (as numpy's argmin/argmax)
-        low = high = values[0, c]
-        large = abs(low)
-        for i in range(1, n):
+    extreme = np.zeros((n_c, 3), dtype=np.int64)    # first extreme samples (as numpy's argmin/argmax)
+    low, high, large = values[0].copy(), values[0].copy(), np.abs(values[0])
+    for i in range(1, n):                           # row by row: the samples in memory order
+        for c in range(n_c):
             y = values[i, c]
-            if y < low:
-                low, k_min = y, i
-            if y > high:
-                high, k_max = y, i
-            if abs(y) > large:
-                large, k_abs = abs(y), i
-        extreme[0], extreme[1], extreme[2] = k_min, k_max, k_abs
+            if y < low[c]:
+                low[c], extreme[c, 0] = y, i
+            if y > high[c]:
+                high[c], extreme[c, 1] = y, i
+            if abs(y) > large[c]:
+                large[c], extreme[c, 2] = abs(y), i
+    for c in range(n_c):
         for r in range(3):
-            k = extreme[r]
+            k = extreme[c, r]
             y1 = values[k, c] if r < 2 else abs(values[k, c])
             value, shift = y1, 0.0
             if 0 < k < n - 1 and (r < 2 or np.sign(values[k - 1, c]) == np.sign(values[k + 1, c])):
@@ -189,19 +189,33 @@ def _modes(omega, zeta, dt):
 
 
 @njit(cache=True)
+def _tau_cubics(speed, length, shapes):
+    """``shapes (n_el, n, 4)``, cubics of ξ on each element, as cubics of the time τ = ξ ℓ / V
+    since an axle of ``speed`` [m/s] entered the element: ``(n_el, n, 4)``."""
+    out = np.empty(shapes.shape)
+    for e in range(shapes.shape[0]):
+        rate = speed / length[e]
+        for j in range(shapes.shape[1]):
+            out[e, j, 0] = shapes[e, j, 0]
+            out[e, j, 1] = shapes[e, j, 1] * rate
+            out[e, j, 2] = shapes[e, j, 2] * rate * rate
+            out[e, j, 3] = shapes[e, j, 3] * rate * rate * rate
+    return out
+
+
+@njit(cache=True)
 def _unit_axle(speed, length, shapes, omega, zeta, rows):
     """A unit downward axle on each element e (entered at τ = 0): the particular solutions
     ``part (n_el, n_modes, 4)`` of its modal loads −φ_j(Vτ/ℓ) (cubics in τ), and the output
     columns' particular parts ``column (n_el, n_columns, 4)`` (cubics in τ)."""
     n_el, n_modes, n_cols = length.shape[0], omega.shape[0], rows.shape[2]
+    load = _tau_cubics(speed, length, shapes)           # φ_j under the axle, cubics of τ
     part = np.empty((n_el, n_modes, 4))
     column = np.zeros((n_el, n_cols, 4))
     for e in range(n_el):
-        rate = speed / length[e]
         for j in range(n_modes):
-            b0, b1, b2, b3 = _particular(-shapes[e, j, 0], -shapes[e, j, 1] * rate, -shapes[e, j, 2] * rate * rate,
-                                         -shapes[e, j, 3] * rate * rate * rate, omega[j] * omega[j],
-                                         2.0 * zeta[j] * omega[j])
+            b0, b1, b2, b3 = _particular(-load[e, j, 0], -load[e, j, 1], -load[e, j, 2], -load[e, j, 3],
+                                         omega[j] * omega[j], 2.0 * zeta[j] * omega[j])
             part[e, j, 0], part[e, j, 1], part[e, j, 2], part[e, j, 3] = b0, b1, b2, b3
             for col in range(n_cols):
                 r0, r1, r2 = rows[0, j, col], rows[1, j, col], rows[2, j, col]
@@ -213,20 +227,28 @@ def _unit_axle(speed, length, shapes, omega, zeta, rows):
 
 
 @njit(cache=True)
-def _edges(speed, x_start, length, part, lam_re, lam_im, dt):
-    """Per edge b = 0 … n_el (the start of element b; n_el: the track's end): its time from
-    the track's start as β_b dt − η_b (η_b in [0, dt)), and the unit axle's jump of the free
-    part as it crosses the edge (minus the change of the particular solution), as a phasor
-    times e^(λη_b): ``(beta, edge_lag, edge_re, edge_im)``."""
-    n_el, n_modes = length.shape[0], lam_re.shape[0]
+def _edge_times(speed, x_start, length, dt):
+    """Per edge b = 0 … n_el (the start of element b; n_el: the track's end) its time from the
+    track's start as β_b dt − η_b (η_b in [0, dt)): ``(beta, edge_lag)``."""
+    n_el = length.shape[0]
     beta = np.empty(n_el + 1, dtype=np.int64)
     edge_lag = np.empty(n_el + 1)
-    edge_re, edge_im = np.empty((n_el + 1, n_modes)), np.empty((n_el + 1, n_modes))
     for b in range(n_el + 1):
         edge = x_start[b] if b < n_el else x_start[n_el - 1] + length[n_el - 1]
         since_start = (edge - x_start[0]) / speed
         beta[b] = np.int64(math.ceil(since_start / dt))
         edge_lag[b] = beta[b] * dt - since_start
+    return beta, edge_lag
+
+
+@njit(cache=True)
+def _edges(speed, length, part, lam_re, lam_im, edge_lag):
+    """Per edge b (:func:`_edge_times`) the unit axle's jump of the free part as it crosses the
+    edge (minus the change of the particular solution), as a phasor times e^(λη_b):
+    ``(edge_re, edge_im)`` (n_el + 1, n_modes)."""
+    n_el, n_modes = length.shape[0], lam_re.shape[0]
+    edge_re, edge_im = np.empty((n_el + 1, n_modes)), np.empty((n_el + 1, n_modes))
+    for b in range(n_el + 1):
         for j in range(n_modes):
             d0, d1 = 0.0, 0.0
             if b > 0:                                   # leaving element b − 1 at its end
@@ -236,24 +258,31 @@ def _edges(speed, x_start, length, part, lam_re, lam_im, dt):
                 d1 -= part[b, j, 1]
             edge_re[b, j], edge_im[b, j] = _rotate(d0, -(d1 - lam_re[j] * d0) / lam_im[j], lam_re[j], lam_im[j],
                                                    edge_lag[b])
-    return beta, edge_lag, edge_re, edge_im
+    return edge_re, edge_im
 
 
 @njit(cache=True)
-def _axles(x0, loads, speed, x_begin, lam_re, lam_im, dt):
-    """Per axle: its entry time on the track α_i dt − ε_i (ε_i in [0, dt)) and P_i e^(λε_i):
-    ``(alpha, entry_lag, axle_re, axle_im)``."""
-    n_ax, n_modes = x0.shape[0], lam_re.shape[0]
-    alpha = np.empty(n_ax, dtype=np.int64)
-    entry_lag = np.empty(n_ax)
-    axle_re, axle_im = np.empty((n_ax, n_modes)), np.empty((n_ax, n_modes))
-    for i in range(n_ax):
+def _entry_times(x0, speed, x_begin, dt):
+    """Per axle at ``x0`` [m] at t = 0 its entry time on the track (at ``x_begin``) as
+    α_i dt − ε_i (ε_i in [0, dt)): ``(alpha, entry_lag)``."""
+    alpha = np.empty(x0.shape[0], dtype=np.int64)
+    entry_lag = np.empty(x0.shape[0])
+    for i in range(x0.shape[0]):
         entry = (x_begin - x0[i]) / speed
         alpha[i] = np.int64(math.ceil(entry / dt))
         entry_lag[i] = alpha[i] * dt - entry
+    return alpha, entry_lag
+
+
+@njit(cache=True)
+def _axles(loads, entry_lag, lam_re, lam_im):
+    """Per axle P_i e^(λε_i) (:func:`_entry_times`): ``(axle_re, axle_im)`` (n_axles, n_modes)."""
+    n_ax, n_modes = loads.shape[0], lam_re.shape[0]
+    axle_re, axle_im = np.empty((n_ax, n_modes)), np.empty((n_ax, n_modes))
+    for i in range(n_ax):
         for j in range(n_modes):
             axle_re[i, j], axle_im[i, j] = _rotate(loads[i], 0.0, lam_re[j], lam_im[j], entry_lag[i])
-    return alpha, entry_lag, axle_re, axle_im
+    return axle_re, axle_im
 
 
 @njit(cache=True)
@@ -284,6 +313,36 @@ def _events_by_sample(alpha, entry_lag, beta, edge_lag, dt, n_samples):
 
 
 @njit(cache=True)
+def _cross(k, n_el, element, entered, left):
+    """Event k of :func:`_events_by_sample`: axle i = k // (n_el + 1) crosses edge
+    b = k % (n_el + 1) onto element b (n_el: off the track's end). Sets ``element[i] = b`` and
+    returns ``(i, b, entered, left)``, axles left … entered − 1 being those on the track."""
+    i, b = k // (n_el + 1), k % (n_el + 1)
+    element[i] = b
+    entered = max(entered, i + 1) if b == 0 else entered
+    left = max(left, i + 1) if b == n_el else left
+    return i, b, entered, left
+
+
+@njit(cache=True)
+def _piece(ta, x0, loads, speed, x_start, element, left, entered, column, poly):
+    """Set ``poly (n_columns, 4)`` to the share of the axles left … entered − 1 (on ``element``)
+    in the columns from ``ta`` [s] on, cubics of τ = t − ta: Σ_i P_i column[e_i](τ + ta − t_i),
+    ``column (n_el, n_columns, 4)`` a unit axle's cubics of the time since it entered element e,
+    t_i the time axle i entered e_i. Exact until the next event."""
+    poly[:, :] = 0.0
+    for i in range(left, entered):
+        e = element[i]
+        offset = ta - (x_start[e] - x0[i]) / speed    # the axle's time in its element at ta
+        for col in range(poly.shape[0]):
+            c0, c1, c2, c3 = column[e, col, 0], column[e, col, 1], column[e, col, 2], column[e, col, 3]
+            poly[col, 0] += loads[i] * (c0 + offset * (c1 + offset * (c2 + offset * c3)))
+            poly[col, 1] += loads[i] * (c1 + offset * (2.0 * c2 + 3.0 * offset * c3))
+            poly[col, 2] += loads[i] * (c2 + 3.0 * offset * c3)
+            poly[col, 3] += loads[i] * c3
+
+
+@njit(cache=True)
 def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, rows, out):
     """Add to ``out (n_samples, n_columns)`` the columns Σ_j rows[0, j, c] q_j + rows[1, j, c] q̇_j
     + rows[2, j, c] q̈_j at t = dt, 2 dt, … of a passage from rest: axles of downward ``loads`` [N]
@@ -294,8 +353,10 @@ def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, r
     n_samples, n_cols = out.shape
     lam_re, lam_im, power_re, power_im = _modes(omega, zeta, dt)
     part, column = _unit_axle(speed, length, shapes, omega, zeta, rows)
-    beta, edge_lag, edge_re, edge_im = _edges(speed, x_start, length, part, lam_re, lam_im, dt)
-    alpha, entry_lag, axle_re, axle_im = _axles(x0, loads, speed, x_start[0], lam_re, lam_im, dt)
+    beta, edge_lag = _edge_times(speed, x_start, length, dt)
+    edge_re, edge_im = _edges(speed, length, part, lam_re, lam_im, edge_lag)
+    alpha, entry_lag = _entry_times(x0, speed, x_start[0], dt)
+    axle_re, axle_im = _axles(loads, entry_lag, lam_re, lam_im)
     start, order = _events_by_sample(alpha, entry_lag, beta, edge_lag, dt, n_samples)
     back_re = power_re[:, 1] / (power_re[:, 1] ** 2 + power_im[:, 1] ** 2)      # e^(−λ dt)
     back_im = -power_im[:, 1] / (power_re[:, 1] ** 2 + power_im[:, 1] ** 2)
@@ -314,11 +375,7 @@ def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, r
     m = 0
     while m <= n_samples:                                 # m: sample 0, 1, then each with events
         for r in range(start[m], start[m + 1]):           # the events acting from sample m on
-            k = order[r]
-            i, b = k // (n_el + 1), k % (n_el + 1)
-            element[i] = b
-            entered = max(entered, i + 1) if b == 0 else entered
-            left = max(left, i + 1) if b == n_el else left
+            i, b, entered, left = _cross(order[r], n_el, element, entered, left)
             if m == 0:
                 continue                                  # up to t = 0: the axles are only placed
             wrap = entry_lag[i] + edge_lag[b] >= dt        # the test that placed the event
@@ -345,16 +402,7 @@ def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, r
         while last <= n_samples and start[last + 1] == start[last]:
             last += 1
         ta = m * dt
-        poly[:, :] = 0.0
-        for i in range(left, entered):
-            e = element[i]
-            offset = ta - (x_start[e] - x0[i]) / speed    # the axle's time in its element at ta
-            for col in range(n_cols):
-                c0, c1, c2, c3 = column[e, col, 0], column[e, col, 1], column[e, col, 2], column[e, col, 3]
-                poly[col, 0] += loads[i] * (c0 + offset * (c1 + offset * (c2 + offset * c3)))
-                poly[col, 1] += loads[i] * (c1 + offset * (2.0 * c2 + 3.0 * offset * c3))
-                poly[col, 2] += loads[i] * (c2 + 3.0 * offset * c3)
-                poly[col, 3] += loads[i] * c3
+        _piece(ta, x0, loads, speed, x_start, element, left, entered, column, poly)
         k0 = m
         while k0 < last:                                  # blocks of at most POWERS samples
             n_block = min(last - k0, POWERS)
@@ -383,29 +431,48 @@ def exact_response(x0, loads, speed, x_start, length, shapes, omega, zeta, dt, r
 
 
 @njit(cache=True)
+def add_quasi_static(x0, loads, speed, x_start, length, shapes, dt, out):
+    """Add to ``out (n_samples, n_columns)`` at t = dt, 2 dt, … the columns' quasi-static share
+    of a passage, Σ over the axles on the track of P_i s_e(ξ_i(t)): axles of downward ``loads``
+    [N] at ``x0`` [m] at t = 0 (decreasing: the train's order), ``speed`` [m/s]; the track's
+    elements ``x_start``, ``length`` [m]; ``shapes (n_el, n_columns, 4)`` the share of a unit
+    axle at ξ on element e, a cubic of ξ per column (:func:`shape_polynomials`). Piecewise cubic
+    in t between the axles' crossings of the element edges (:func:`exact_response`'s events:
+    an axle on an edge at a sample is on the element after it): one cubic per column and piece,
+    O(pieces × axles on the track × columns + samples × columns)."""
+    n_el = x_start.shape[0]
+    n_samples = out.shape[0]
+    column = _tau_cubics(speed, length, shapes)
+    beta, edge_lag = _edge_times(speed, x_start, length, dt)
+    alpha, entry_lag = _entry_times(x0, speed, x_start[0], dt)
+    start, order = _events_by_sample(alpha, entry_lag, beta, edge_lag, dt, n_samples)
+    element = np.full(x0.shape[0], -1, dtype=np.int64)   # the element under each axle (n_el: left)
+    entered, left = 0, 0                                  # axles left … entered − 1 are on the track
+    poly = np.empty((out.shape[1], 4))
+    m = 0
+    while m <= n_samples:                                 # m: sample 0, 1, then each with events
+        for r in range(start[m], start[m + 1]):           # the events acting from sample m on
+            _, _, entered, left = _cross(order[r], n_el, element, entered, left)
+        if m == 0:                                        # up to t = 0: the axles are only placed
+            m = 1
+            continue
+        last = m + 1                                      # the piece: samples m … last − 1
+        while last <= n_samples and start[last + 1] == start[last]:
+            last += 1
+        if left < entered:
+            ta = m * dt
+            _piece(ta, x0, loads, speed, x_start, element, left, entered, column, poly)
+            for k in range(m, last):
+                tau = k * dt - ta
+                for col in range(out.shape[1]):
+                    out[k - 1, col] += poly[col, 0] + tau * (poly[col, 1] + tau * (poly[col, 2] + tau * poly[col, 3]))
+        m = last
+
+
 def add_static_correction(x0, loads, speed, x_start, length, tdofs, G, dt, out):
     """Add the truncated modes' quasi-static response of a passage to ``out`` (n_samples,
     n_columns) at t = dt, 2 dt, …: Σ over the axles on the track of −P N(x(t)) G, with ``G``
     (n_track, n_columns) the residual flexibility (K⁻¹ − Φ Ω⁻² Φᵀ) from the track dofs to the
-    output columns; x0 decreases (the train's order)."""
-    n_el = x_start.shape[0]
-    x_begin, x_end = x_start[0], x_start[n_el - 1] + length[n_el - 1]
-    n_ax = x0.shape[0]
-    first = 0
-    for k in range(out.shape[0]):
-        t = (k + 1) * dt
-        while first < n_ax and x0[first] + speed * t > x_end:
-            first += 1
-        for i in range(first, n_ax):
-            x = x0[i] + speed * t
-            if x < x_begin:
-                break
-            e = host_element(x, x_start, length)
-            h = hermite((x - x_start[e]) / length[e], length[e])
-            for slot in range(4):
-                d = tdofs[e, slot]
-                if d < 0:
-                    continue
-                w = -loads[i] * h[slot]
-                for c in range(out.shape[1]):
-                    out[k, c] += w * G[d, c]
+    output columns, ``tdofs (n_el, 4)`` each element's track dofs (-1 fixed); x0 decreases (the
+    train's order); :func:`add_quasi_static`."""
+    add_quasi_static(x0, loads, speed, x_start, length, -shape_polynomials(G, tdofs, length), dt, out)

@@ -45,13 +45,13 @@ from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, SettingErr
                          as_numbers, as_positive, is_int, is_number, number_array)
 from vtsi.influence import InfluenceLines, StaticEnvelopes
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
-from vtsi.modal_passage import peaks
+from vtsi.modal_passage import add_quasi_static, peaks, shape_polynomials
 from vtsi.models.catalogue import FIDELITIES, catalogue_train, describe
 from vtsi.models.irregularity import WAVELENGTH_BAND, Irregularity, fra_psd, german_psd, sample_profile
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.envelope import Envelope
 from vtsi.recorders.modal import ModalNodeRecorder
-from vtsi.recorders.moment import BendingMomentRecorder, add_fixed_end_moments, fixed_end_moments, moment_rows
+from vtsi.recorders.moment import BendingMomentRecorder, fixed_end_moments, moment_rows
 from vtsi.subdomain import BridgeStageCache
 from vtsi.track import Track
 from vtsi.track_ends import TrackEnd, end_flexibility
@@ -932,23 +932,22 @@ class PassageRunner:
         s, modal = self.settings, self.modal
         n_steps = self.n_steps(train)
         x_head0 = self.start_position(train)
-        rows, parts = self._modal_plan(outputs)
+        rows, parts, shares = self._modal_plan(outputs)
         values = modal.passage(train.wheel_offsets, train.static_wheel_loads, train.speed, x_head0, n_steps, s.dt, rows)
+        if shares.shape[1]:     # the quasi-static shares of the first columns, one pass for every output
+            add_quasi_static(np.ascontiguousarray(x_head0 - train.wheel_offsets, dtype=np.float64),
+                             np.ascontiguousarray(train.static_wheel_loads, dtype=np.float64), float(train.speed),
+                             self.track.x_start, self.track.length, shares, s.dt, values[:, :shares.shape[1]])
+        envelopes = peaks(values, s.dt)
         result = CaseResult(name, speed_kmh, seed, n_steps, 0.0, x_head0)
         times = s.dt * np.arange(1, n_steps + 1)      # [s], shared by the histories kept
-        for o, columns, nodes, residual in parts:
-            part = values[:, columns]
-            if o.history and part.shape[1] < values.shape[1]:
-                part = part.copy()     # a kept history holds its own columns, not every output's
-            if residual is not None and s.static_correction:   # the truncated modes' quasi-static part
-                part += modal.static_correction(residual, train.wheel_offsets, train.static_wheel_loads,
-                                                train.speed, x_head0, n_steps, s.dt)
-            if o.response == "moment":      # the axles' fixed-end share where they stand inside an element
-                add_fixed_end_moments(self._fixed_end(nodes), x_head0 - train.wheel_offsets, train.static_wheel_loads,
-                                      train.speed, times, part)
-            result.envelopes[o.name] = peaks(part, s.dt)
+        for o, columns, nodes in parts:
+            result.envelopes[o.name] = envelopes[:, columns].copy()
             result.columns[o.name] = nodes
             if o.history:
+                part = values[:, columns]
+                if part.shape[1] < values.shape[1]:
+                    part = part.copy()     # a kept history holds its own columns, not every output's
                 result.histories[o.name] = (times, part)
         result.seconds = time.perf_counter() - clock
         return result
@@ -956,13 +955,21 @@ class PassageRunner:
     def _modal_plan(self, outputs):
         """The node outputs of ``outputs`` as one map of the modal coordinates for
         :meth:`ModalBridge.passage <vtsi.modal_bridge.ModalBridge.passage>`: ``rows (3, n_modes,
-        n_columns)`` and per output (output, its column slice, node tags, residual flexibility
-        of the static correction or None); an output with a cut-off reads the modes up to it
-        only. Computed once per outputs."""
-        key = tuple(outputs)
+        n_columns)``; per output, in the order of ``outputs``, (output, its column slice, node
+        tags); and ``shares (n_el, n_shared, 4)``, the quasi-static share of the first n_shared
+        columns for :func:`~vtsi.modal_passage.add_quasi_static` (a unit axle's on each track
+        element, cubics of ξ): the truncated modes' −N G (G the residual flexibility, with
+        ``static_correction``: displacements, rotations and bending moments without a cut-off)
+        and a bending moment's fixed-end share of the axles inside the elements next to its nodes
+        (:class:`~vtsi.recorders.moment.FixedEndMoments`, the weights of its table on each
+        element's Hermite slots). The outputs with a share take the first columns. An output with
+        a cut-off reads the modes up to it only. Computed once per outputs."""
+        key = (tuple(outputs), self.settings.static_correction)
         if key not in self._modal_plans:
             order = {"accel": 2, "vel": 1}
-            maps, parts, start = [], [], 0
+            track, n_el = self.track, len(self.track.elements)
+            slots = np.arange(4 * n_el).reshape(n_el, 4)       # each element's own Hermite slots
+            planned = []
             for o in outputs:
                 if o.vehicle:
                     continue
@@ -972,14 +979,30 @@ class PassageRunner:
                 weights[order.get(o.response, 0)] = self.modal.shapes[self.model.build().full_of_free].T @ output_map
                 if o.cutoff is not None:       # the modes above the output's cut-off are left out
                     weights[:, self.modal.frequencies > self.cutoff_hz(o.cutoff) * (1.0 + 1e-9)] = 0.0
-                residual = self._residual(o)
-                maps.append(weights)
+                share = None
+                residual = self._residual(o) if self.settings.static_correction else None
+                if residual is not None:
+                    share = -shape_polynomials(residual, track.dofs, track.length)
+                if o.response == "moment":
+                    fixed = self._fixed_end(nodes)
+                    on_slots = np.zeros((4 * n_el, len(nodes)))
+                    element = np.repeat(np.arange(n_el), np.diff(fixed.ptr))
+                    np.add.at(on_slots, (slots[element, fixed.slot], fixed.column), fixed.weight)
+                    fixed_share = shape_polynomials(on_slots, slots, track.length)
+                    share = fixed_share if share is None else share + fixed_share
                 tags = np.array(nodes, dtype=np.int64)
                 tags.flags.writeable = False          # shared by every passage's result
-                parts.append((o, slice(start, start + output_map.shape[1]), tags, residual))
-                start += output_map.shape[1]
-            rows = np.concatenate(maps, axis=2) if maps else np.zeros((3, self.modal.n_modes, 0))
-            self._modal_plans[key] = (np.ascontiguousarray(rows), parts)
+                planned.append((o, tags, weights, share))
+            shared = sorted(planned, key=lambda p: p[3] is None)      # stable: those with a share first
+            columns, start = {}, 0
+            for o, _, weights, _ in shared:
+                columns[o.name] = slice(start, start + weights.shape[2])
+                start += weights.shape[2]
+            rows = np.concatenate([p[2] for p in shared], axis=2) if shared else np.zeros((3, self.modal.n_modes, 0))
+            shares = [p[3] for p in shared if p[3] is not None]
+            shares = np.concatenate(shares, axis=1) if shares else np.zeros((n_el, 0, 4))
+            parts = [(o, columns[o.name], tags) for o, tags, _, _ in planned]
+            self._modal_plans[key] = (np.ascontiguousarray(rows), parts, np.ascontiguousarray(shares))
         return self._modal_plans[key]
 
     def _output_map(self, response, nodes):
