@@ -46,7 +46,7 @@ BRIDGE is a description file (.toml; .yaml/.yml with PyYAML) naming a built-in b
   elements_per_span = 10
   [analysis]          # optional defaults of the options below
   damping = 0.0125
-  dt_s = 0.0005       # optional: the default takes 20 steps a period of the EN cut-off
+  dt_s = 0.0005       # optional: by default Newmark's period error at the EN cut-off <= 0.1 zeta
 or an OpenSees model script (.tcl, or .py using 'import vtsi.opensees as ops') that builds
 the bridge and defines its track ('track 1 -eleRange 1 40'). Scripts must be in SI units
 (N, kg, m, s, Pa): a model lighter than 500 kg/m along its track is refused.
@@ -60,8 +60,8 @@ characteristic length, i = 1..4) and 2 km/h steps within +-10 % of it; rounded t
 at most 10000 speeds.
 
 Prints the table of envelope maxima with the governing train and speed per quantity, and a
-note when dt takes fewer than 20 steps a period of the EN cut-off (what 'vtsi check' calls not
-converged). Exit status: 0 done; 2 bad command line or input (nothing written), or a results file another
+note when dt is coarser than the default's rule at the EN cut-off (20 steps a period and
+Newmark's period error at most 0.1 zeta: what 'vtsi check' calls not converged). Exit status: 0 done; 2 bad command line or input (nothing written), or a results file another
 run is writing or that cannot be created (nor its lock file); 1 a passage failed during the run (finished cases stay in the file); 130
 interrupted (Ctrl-C), 143 terminated (SIGTERM): finished cases stay in the file, --resume
 continues. --overwrite keeps the old file until the new sweep is complete (it is written to
@@ -257,7 +257,8 @@ def _sweep_options(p, check):
     p.add_argument("--workers", type=_int_at_least(1), metavar="N", help="processes (default: every core; 1: serial)")
     p.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
     settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
-    settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001, or finer: 20 steps a period of the EN cut-off frequency)")
+    settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001, or finer: 20 steps a period of the EN cut-off frequency f "
+                          "and Newmark's period error there at most 0.1 zeta: dt <= sqrt(1.2 zeta)/(2 pi f))")
     settings.add_argument("--integrator", metavar="NAME",
                           help="Newmark, HHT(ALPHA) (e.g. 'HHT(0.9)'), GeneralizedAlpha or Bathe, parameters in "
                                "brackets; default: Newmark, or HHT(0.9) with --contact lcp (which refuses an "

@@ -95,7 +95,7 @@ from vtsi.integrators import make_integrator
 from vtsi.modal_bridge import SUPPORT_MOMENT_HZ
 from vtsi.model import Model
 from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
-                          resolves)
+                          resolves, step_error_text, step_ratio, step_rule_text)
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
@@ -659,18 +659,19 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if read != deck:        # EN: the maximum along the track; a subset of nodes may miss it
         note += (f"; read at {len(read)} of the deck's {len(deck)} nodes only (output {name!r}): the deck's "
                  "maximum may lie elsewhere")
-    exact = sweep.get("bridge") == "modal" and sweep.get("cars", "force") == "force"   # (self weight: refused)
+    # the damping ratio the time step must resolve; None: exact modal passages (self weight: refused)
+    zeta = step_ratio(sweep.get("bridge", "fe"), sweep.get("cars", "force"), sweep.get("damping"))
     # the highest frequency EN counts in this output: a modal basis above the cut-off is margin
     f_top, dt = min(counted[name] or en_cutoff, en_cutoff), float(sweep.get("dt", 0.0))
     steps = 1.0 / (f_top * dt) if dt > 0 else math.inf
-    if dt > 0 and not resolves(dt, f_top):
-        finer = dt_resolving(f_top)
+    if dt > 0 and not resolves(dt, f_top, zeta):
+        finer = dt_resolving(f_top, zeta)
         effect = ("the peak may fall between the samples and read low by up to 1 - cos(pi f dt) (exact passages have "
-                  "no step error, but their output is sampled)" if exact else
-                  "the peak is not converged in dt and may be off either way")
-        note += (f"; dt = {1e3 * dt:g} ms {'samples' if exact else 'steps'} the highest counted frequency, {f_top:.4g} Hz, "
-                 f"only {steps:.3g} times a period: {effect}; take dt <= {1e3 * finer:g} ms "
-                 f"({STEPS_PER_CUTOFF_PERIOD} steps a period, the default)")
+                  "no step error, but their output is sampled)" if zeta is None else
+                  f"the peak is not converged in dt and may be off either way ({step_error_text(dt, f_top, zeta)})")
+        note += (f"; dt = {1e3 * dt:g} ms {'samples' if zeta is None else 'steps'} the highest counted frequency, "
+                 f"{f_top:.4g} Hz, {steps:.3g} times a period: {effect}; take dt <= {1e3 * finer:g} ms "
+                 f"({step_rule_text(zeta)}: the default)")
     top, start = float(np.max(results.speeds_kmh)), en1991_2.SPEED_SERIES_START_KMH
     if top < start:
         note += (f"; the sweep's speeds stop at {top:g} km/h, below {start:g} km/h (40 m/s), where EN 1991-2 "

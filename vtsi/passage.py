@@ -64,8 +64,12 @@ MAX_BRIDGE_DAMPING = 0.2        # a sweep's ζ above this is a percentage typed 
 # envelopes that are silently wrong (Δt = 10 s samples nothing but the bridge at rest).
 STEPS_PER_PERIOD = 8            # Δt <= T₁/8: the first mode sampled 8 times a cycle
 DEFAULT_DT = 1e-3               # [s] a passage's default time step ...
-STEPS_PER_CUTOFF_PERIOD = 20    # ... or finer: 20 steps a period of the EN cut-off frequency (Newmark's
-                                # period error there (2π/20)²/12 = 0.8 %, its samples' under-read 1.2 %)
+STEPS_PER_CUTOFF_PERIOD = 20    # ... or finer: 20 steps (samples) a period of the EN cut-off frequency
+                                # (the samples' under-read of a peak there 1 − cos(π/20) = 1.2 %) ...
+PERIOD_ERROR_SHARE = 0.1        # ... and, time-stepped, Newmark's period error at the cut-off (ωΔt)²/12
+                                # at most 0.1 ζ: its resonance moves by a tenth of its half-width
+MIN_STEP_DAMPING = 0.005        # [-] the ζ of that rule when the sweep gives none or less (EN 1991-2 Table 6.6's
+                                # smallest)
 PLAUSIBLE_FREQUENCY_SHARE = 0.2  # a first frequency below this share of EN 1991-2 Fig. 6.10's lower limit: other units
 E_UNITS = (("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9))   # E typed in them as Pa: f1 ∝ √E reads √(factor) times low
 MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one passage
@@ -197,10 +201,13 @@ class PassageSettings:
 
     Parameters
     ----------
-    dt : time step [s]; None: DEFAULT_DT (1 ms), or finer where the bridge's EN cut-off
+    dt : time step [s]; None: DEFAULT_DT (1 ms), or finer where the bridge's EN cut-off f
         max(30 Hz, 1.5 n₀, n₃) (of several decks the largest of theirs) needs it to get
-        STEPS_PER_CUTOFF_PERIOD (20) steps a period (:func:`default_dt`; a 5 m span's n₃ =
-        183 Hz: 0.25 ms, where 1 ms read its deck acceleration 45 % high), and, for cars on an
+        STEPS_PER_CUTOFF_PERIOD (20) steps a period (a 5 m span's n₃ = 183 Hz: 0.25 ms, where 1
+        ms read its deck acceleration 45 % high) and, for time-stepped passages (all but the
+        exact modal ones), Newmark's period error there (2π f Δt)²/12 at most 0.1 ζ, Δt ≤
+        √(1.2 ζ) / (2π f) with ζ ``damping`` (at least 0.5 %, which None takes: :func:`step_ratio`;
+        30 Hz: 0.5 ms at ζ = 1 %, 0.4 ms at 0.5 %; :func:`default_dt`, :func:`dt_resolving`), and, for cars on an
         irregular rail, where the rail's shortest wavelength (3 m) passed at the sweep's top
         speed needs it (:func:`rail_frequency_hz`; 1 ms resolves it up to 540 km/h); the runner
         sets it from the bridge and the sweep's speeds.
@@ -394,11 +401,12 @@ def en_cutoff_hz(bridge):
     return decks_cutoff_hz(rows)
 
 
-def default_dt(bridge, rail_hz=None):
+def default_dt(bridge, rail_hz=None, zeta=None):
     """The default time step [s] of a bridge of record ``bridge`` (:func:`en_cutoff_hz`):
-    :func:`dt_resolving` its EN cut-off, and also ``rail_hz`` [Hz] when given (cars on an
-    irregular rail: :func:`rail_frequency_hz` at the sweep's top speed)."""
-    return dt_resolving(max(en_cutoff_hz(bridge), rail_hz or 0.0))
+    :func:`dt_resolving` its EN cut-off for damping ratio ``zeta`` (:func:`step_ratio`; None:
+    exact modal passages, sampled only), and also ``rail_hz`` [Hz] when given (cars on an
+    irregular rail: :func:`rail_frequency_hz` at the sweep's top speed, sampled)."""
+    return min(dt_resolving(en_cutoff_hz(bridge), zeta), dt_resolving(rail_hz) if rail_hz else DEFAULT_DT)
 
 
 def rail_frequency_hz(irregularity, cars, speed_kmh):
@@ -433,20 +441,78 @@ def e_unit_slip(f1, band=None):
             "times low")
 
 
-def resolves(dt, frequency_hz):
-    """Whether the time step ``dt`` [s] takes at least STEPS_PER_CUTOFF_PERIOD steps a period of
-    ``frequency_hz`` [Hz] (rounding aside): the rule the default Δt keeps (:func:`dt_resolving`)
-    and the notes of a coarser one read (``vtsi sweep``, the check's rows)."""
-    return 1.0 / (frequency_hz * dt) >= STEPS_PER_CUTOFF_PERIOD * (1 - 1e-9)
+def step_ratio(bridge, cars, damping, bridge_self_weight=False):
+    """The damping ratio ζ [-] the time step of a sweep's passages must resolve
+    (:func:`dt_resolving`), from its settings (:class:`PassageSettings` ``bridge``, ``cars``,
+    ``damping``, ``bridge_self_weight``): None for exact modal passages (bridge 'modal', moving
+    forces, no self weight: no step error, Δt only samples them); else the sweep's ``damping``,
+    at least MIN_STEP_DAMPING (0.5 %, EN 1991-2 Table 6.6's smallest), which it also is when
+    ``damping`` is None (the bridge's own damping). The bridge's own ratios are not read: the FE
+    model's damping has no modal ratios without a projection (exact only when classical), and
+    the results file records the settings, not the modal bridge's ratios, so the check's notes
+    could not judge a Δt taken from them; below 0.5 % the rule's Δt would shrink without bound."""
+    if bridge == "modal" and cars == "force" and not bridge_self_weight:
+        return None
+    return max(MIN_STEP_DAMPING, float(damping or 0.0))
 
 
-def dt_resolving(frequency_hz):
-    """DEFAULT_DT [s], or finer for STEPS_PER_CUTOFF_PERIOD steps a period of ``frequency_hz``
-    (finite and > 0, else a ModelError), rounded down to 1, 2, 2.5 or 5 × 10^k s."""
+def period_error(dt, frequency_hz):
+    """Newmark's (trapezoidal rule's) relative period elongation (2π f Δt)²/12 [-] of a mode of
+    ``frequency_hz`` [Hz] stepped by ``dt`` [s] (leading term; 1 ms at 30 Hz: 0.30 %)."""
+    return (2.0 * math.pi * frequency_hz * dt) ** 2 / 12.0
+
+
+def step_error_text(dt, frequency_hz, zeta):
+    """What a time step ``dt`` [s] may cost a time-stepped resonance of a mode of ``frequency_hz``
+    [Hz] and damping ratio ``zeta`` (> 0): Newmark's period error e (:func:`period_error`)
+    moves the mode's resonances by e in speed, e/ζ of their half-width, and the mode's steady
+    resonant share of a peak read at one speed changes by up to 1 − 1/√(1 + (e/ζ)²) (HSLM-A2
+    over a 25+32+25 m viaduct, cut-off 30 Hz, ζ 1 %, at 1 ms: e/ζ = 0.30, 4.1 %; its deck
+    acceleration measured +4.3 % at 334 km/h)."""
+    e = period_error(dt, frequency_hz)
+    r = e / zeta
+    return (f"Newmark's period error there, (2 pi f dt)^2/12 = {100 * e:.2g} %, is {r:.2g} x the damping ratio "
+            f"({100 * zeta:.3g} %): a mode there resonates at a speed {100 * e:.2g} % off, and its share of a peak at "
+            f"one speed may be off by up to {100 * (1 - 1 / math.sqrt(1 + r * r)):.2g} % either way")
+
+
+def step_rule_text(zeta=None):
+    """The rule of :func:`dt_resolving` in words, for the notes of a coarser Δt: for damping
+    ratio ``zeta`` (time-stepped passages) or None (exact modal passages, sampled)."""
+    if zeta is None:
+        return f"{STEPS_PER_CUTOFF_PERIOD} samples a period"
+    return (f"{STEPS_PER_CUTOFF_PERIOD} steps a period and Newmark's period error at most {PERIOD_ERROR_SHARE:g} x the "
+            f"damping ratio ({100 * zeta:.3g} %), dt <= sqrt({12 * PERIOD_ERROR_SHARE:g} zeta) / (2 pi f)")
+
+
+def resolves(dt, frequency_hz, zeta=None):
+    """Whether the time step ``dt`` [s] keeps the rule of :func:`dt_resolving` at
+    ``frequency_hz`` [Hz] for damping ratio ``zeta`` (None: sampling only; rounding aside): the
+    rule the default Δt keeps and the notes of a coarser one read (``vtsi sweep``, the check's
+    rows)."""
+    return dt <= _dt_bound(frequency_hz, zeta) * (1 + 1e-9)
+
+
+def _dt_bound(frequency_hz, zeta):
+    """The largest Δt [s] of the rule of :func:`dt_resolving`, before rounding."""
     frequency_hz = as_positive(frequency_hz, "time step", "frequency [Hz]")
     dt = min(DEFAULT_DT, 1.0 / (STEPS_PER_CUTOFF_PERIOD * frequency_hz))
+    if zeta is not None:
+        dt = min(dt, math.sqrt(12.0 * PERIOD_ERROR_SHARE * zeta) / (2.0 * math.pi * frequency_hz))
+    return dt
+
+
+def dt_resolving(frequency_hz, zeta=None):
+    """DEFAULT_DT [s], or finer: STEPS_PER_CUTOFF_PERIOD steps (samples) a period of
+    ``frequency_hz`` (finite and > 0, else a ModelError) and, for a time-stepped passage
+    (``zeta`` its damping ratio, :func:`step_ratio`; None for exact modal passages), Newmark's
+    period error there at most PERIOD_ERROR_SHARE ζ: Δt ≤ √(1.2 ζ) / (2π f) (:func:`period_error`;
+    30 Hz: 0.5 ms at ζ = 1 %, 0.4 ms at 0.5 %, where 1 ms moved a viaduct's HSLM-A2 resonance
+    enough to read its deck acceleration 4.3 % high at one speed and the HSLM-A envelope over the
+    EN speed series 3.6 % low); rounded down to 1, 2, 2.5, 4 or 5 × 10^k s."""
+    dt = _dt_bound(frequency_hz, zeta)
     decade = 10.0 ** math.floor(math.log10(dt))
-    return max(m for m in (1.0, 2.0, 2.5, 5.0) if m * decade <= dt * (1 + 1e-12)) * decade
+    return max(m for m in (1.0, 2.0, 2.5, 4.0, 5.0) if m * decade <= dt * (1 + 1e-12)) * decade
 
 
 def modal_basis_hz(bridge, modal_hz, record):
@@ -618,7 +684,8 @@ class PassageRunner:
         self.en_cutoff_hz = en_cutoff_hz(self.frequency_record)
         if settings.dt is None:
             rail = rail_frequency_hz(settings.irregularity, settings.cars, top_speed_kmh)
-            settings = replace(settings, dt=default_dt(self.frequency_record, rail))
+            zeta = step_ratio(settings.bridge, settings.cars, settings.damping, settings.bridge_self_weight)
+            settings = replace(settings, dt=default_dt(self.frequency_record, rail, zeta))
         self.settings = settings
         if modal_damping and settings.damping is None and settings.bridge == "fe":
             raise BridgeModelError(f"the bridge's modalDamping ({', '.join(f'{z:g}' for _, z in modal_damping)}) "

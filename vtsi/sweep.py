@@ -46,8 +46,8 @@ from vtsi.errors import (BridgeError, BridgeModelError, BridgeSweepError, ModelE
 from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
 from vtsi.models.catalogue import train_names
-from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, STEPS_PER_CUTOFF_PERIOD, Output, PassageRunner,
-                          PassageSettings, dt_resolving, modal_basis_hz, rail_frequency_hz, resolves)
+from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings, dt_resolving,
+                          modal_basis_hz, rail_frequency_hz, resolves, step_error_text, step_ratio, step_rule_text)
 from vtsi.signature import HARMONICS
 from vtsi.sweep_results import (ResultsWriter, canonical_train_name, case_key, cases_text, seeds_text, speed_index,
                                  train_fingerprint)
@@ -442,8 +442,9 @@ class Sweep:
                 "trains": self.trains, "speeds_kmh": [float(v) for v in self.speeds_kmh], "seeds": self.seeds}
 
     def resolution_note(self):
-        """'' when the sweep's results count every frequency up to the EN cut-off and Δt takes at
-        least STEPS_PER_CUTOFF_PERIOD steps a period of the highest frequency they count; else a
+        """'' when the sweep's results count every frequency up to the EN cut-off and Δt keeps the
+        default's rule at the highest frequency they count (:func:`~vtsi.passage.dt_resolving`:
+        20 steps a period and, time-stepped, Newmark's period error at most 0.1 ζ); else a
         line (two at most, each 'note: …') for each that does not hold:
 
         - a modal bridge whose modes stop at ``modal_hz`` below the EN cut-off: its deck
@@ -451,9 +452,10 @@ class Sweep:
           :func:`vtsi.check.check` refuses;
         - Δt too coarse for the EN cut-off (or the modal bridge's modes, when they stop below it)
           and, for cars on an irregular rail, for the rail's shortest wavelength at the top speed
-          (:func:`~vtsi.passage.rail_frequency_hz`): which is under-resolved and the Δt that
-          resolves it (:func:`~vtsi.passage.dt_resolving`), the rule of the notes of
-          :func:`vtsi.check.check` (its deck acceleration and car rows)."""
+          (:func:`~vtsi.passage.rail_frequency_hz`, 20 steps a period): which is under-resolved,
+          what Newmark's period error may cost a resonance there
+          (:func:`~vtsi.passage.step_error_text`) and the Δt that resolves it, the rule of the
+          notes of :func:`vtsi.check.check` (its deck acceleration and car rows)."""
         s, runner = self.settings, self.runner
         basis = modal_basis_hz(s.bridge, s.modal_hz, runner.frequency_record)
         top = float(self.speeds_kmh[-1])
@@ -463,18 +465,21 @@ class Sweep:
                  f"may read low (the design check refuses them); take modal_hz >= {runner.en_cutoff_hz:.4g} Hz, or leave it "
                  "unset (1.1 x the cut-off)"] if below else []
         deck = (basis, "the modal bridge's highest frequency") if below else (runner.en_cutoff_hz, "the EN cut-off")
-        coarse = [(f, where, what) for (f, where), what in (
-            (deck, "the deck accelerations"),
+        zeta = step_ratio(s.bridge, s.cars, s.damping, s.bridge_self_weight)    # None: exact passages, dt samples them
+        coarse = [(f, where, what, z) for (f, where), what, z in (
+            (deck, "the deck accelerations", zeta),
             ((rail_frequency_hz(s.irregularity, s.cars, top), f"the rail's shortest wavelength at {top:g} km/h"),
-             "the contact forces and car-body accelerations"))
-            if f is not None and not resolves(s.dt, f)]
+             "the contact forces and car-body accelerations", None))
+            if f is not None and not resolves(s.dt, f, z)]
         if coarse:
-            steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period" for f, where, _ in coarse)
-            exact = s.bridge == "modal" and s.cars == "force"        # exact passages: dt only samples them
-            notes.append(f"note: dt = {1e3 * s.dt:g} ms {'samples' if exact else 'steps'} {steps}, fewer than "
-                         f"{STEPS_PER_CUTOFF_PERIOD}: {' and '.join(what for _, _, what in coarse)} "
+            steps = "; ".join(f"{where}, {f:.4g} Hz, {1.0 / (f * s.dt):.3g} times a period"
+                              + (f" ({step_error_text(s.dt, f, z)})" if z is not None else "") for f, where, _, z in coarse)
+            exact = zeta is None
+            notes.append(f"note: dt = {1e3 * s.dt:g} ms {'samples' if exact else 'steps'} {steps}: "
+                         f"{' and '.join(what for _, _, what, _ in coarse)} "
                          f"{'read low between the samples' if exact else 'are not converged in dt'}; take dt <= "
-                         f"{1e3 * dt_resolving(max(f for f, _, _ in coarse)):g} ms (a dt left unset resolves them)")
+                         f"{1e3 * min(dt_resolving(f, z) for f, _, _, z in coarse):g} ms (the default's rule: "
+                         f"{step_rule_text(zeta)}; a dt left unset keeps it)")
         return "\n".join(notes)
 
     def free_end_note(self):
