@@ -106,7 +106,7 @@ def test_b_frequencies_have_no_trailing_dot(checked, monkeypatch):
 # -- c. the deflection chart draws the checked quantity --------------------------------------------
 def test_c_the_deflection_chart_draws_what_the_row_checks(checked, monkeypatch):
     """The chart's curves are max |y_dyn| + φ''/2 |y_stat,train| over the spans' nodes: the
-    governing train's curve at the governing speed is the row's value (33.81 mm in
+    governing train's curve at the governing speed is the row's value (33.82 mm in
     examples/design_check.py, where the raw |y_dyn| read ≈ 33.7); the star sits at the row's
     value with the value in its label. Its max |y_dyn| alone, φ''/2 |y_stat| = 0.11 mm under its
     curve on a 35 mm axis, would hide under it: it is not drawn, and the train's legend entry and
