@@ -250,3 +250,16 @@ def test_a_larger_basis_before_the_dense_solve(monkeypatch):
     assert verdicts == [False, True]
     single = eigen(identical_decks(1, 40), 2)[0]
     np.testing.assert_allclose(omega2, np.repeat(single, 30), rtol=1e-8)
+
+
+def test_a_mode_missing_just_below_the_highest_is_found_missing():
+    """The Sturm count sits just below the highest cluster (CLUSTER under it), not in the middle
+    of the gap below it, which let a mode missing in the gap's upper half pass: the lowest modes
+    of a 3 × 30 m beam with the fifth left out."""
+    model = viaduct([30.0] * 3, 10, True)
+    asm = model.build()
+    omega2, _ = eigen(model, 8)
+    assert analysis._found_every_mode(asm, omega2[:6])
+    found = np.delete(omega2[:6], 4)
+    assert omega2[4] > 0.5 * (omega2[3] + omega2[5])          # the fifth lies in the gap's upper half
+    assert not analysis._found_every_mode(asm, found)
