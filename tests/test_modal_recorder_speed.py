@@ -10,6 +10,7 @@ import pytest
 import vtsi
 from vtsi.modal_bridge import ModalBridge
 from vtsi.recorders import NodeRecorder
+from vtsi.recorders.base import Recorder
 from vtsi.recorders.modal import ModalNodeRecorder
 
 NODES = tuple(range(1, 12))
@@ -123,3 +124,35 @@ def test_every_recorder_gets_its_columns(chunk_steps):
         assert not any(np.shares_memory(a, b) for b in kept[i + 1:])
     same.values[:] = 0.0                    # a user's change of one record leaves the others as they were
     assert np.array_equal(every.values, values) and values.any()
+
+
+class Millimetres(Recorder):
+    """A user's recorder (of another package than vtsi) that scales the columns it is handed in
+    place: the uy displacement [mm] of its nodes."""
+
+    def __init__(self, nodes, **kwargs):
+        self.nodes = list(nodes)
+        super().__init__(**kwargs)
+
+    def requests(self, assembly):
+        return [("u", assembly.full_dof(n, 2)) for n in self.nodes]
+
+    def prepare(self, assembly, model):
+        return {"units": ["mm"] * len(self.nodes), "columns": {"node": np.array(self.nodes)}, "quantity": "disp"}
+
+    def compute(self, times, columns, assembly):
+        columns *= 1e3
+        return columns
+
+
+def test_a_users_recorder_gets_columns_of_its_own():
+    """vtsi's own recorders read views of the chunk's table; another package's recorder gets its
+    columns as its own, as the contract always gave them: one that scaled them in place raised
+    numpy's 'output array is read-only' (with no -dT only), and must not change what vtsi's
+    recorder of the same dofs reads."""
+    model = tied_frame()
+    mine = NodeRecorder([4, 5], [2], "disp")
+    theirs = Millimetres([4, 5])
+    vtsi.TransientAnalysis(model, "Newmark", 0.0025, recorders=[mine, theirs]).run(30)
+    assert np.abs(mine.values).max() > 0
+    np.testing.assert_array_equal(theirs.values, 1e3 * mine.values)

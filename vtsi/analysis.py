@@ -321,6 +321,9 @@ class _RecorderFeed:
         self.rec_slot = np.array([QUANTITY_SLOT[q] for q, _ in self.items[:nk]], dtype=np.int64)
         self.rec_index = assembly.free_of_full[np.array([k for _, k in self.items[:nk]], dtype=np.int64)]
         self.parts = [_part(position[np.array(cols, dtype=np.int64)], nk) for cols in requested]
+        # vtsi's own recorders read the chunk's table (a view); another package's get their own copy, as the
+        # contract has always given them, which they may keep or change
+        self.shared = [type(rec).__module__.split('.')[0] == 'vtsi' for rec in self.recorders]
         # sources over the kernel and the extra columns, coefficients of each
         self.derived = []
         for i, sources, coefficients in derived:
@@ -367,9 +370,10 @@ class _RecorderFeed:
 
     def deliver(self, times, out, assembly, **groups):
         """Hand a chunk over: ``out (n, n_kernel)`` the kernel's columns, ``groups[name]`` the
-        columns of each channel group (as :meth:`group` listed them). A recorder gets views of
-        these tables where it can (:class:`~vtsi.recorders.base.Recorder` contract, item 3: read
-        only, valid during the call). A recorder that raises does not keep the others from the
+        columns of each channel group (as :meth:`group` listed them). vtsi's own recorders get
+        views of these tables where they can (read only, valid during the call), another
+        package's recorder a copy of its own (:class:`~vtsi.recorders.base.Recorder` contract,
+        item 3). A recorder that raises does not keep the others from the
         chunk (every completed step stays recorded); the first error is raised after all of them
         were served, with a note naming its recorder (and the others that raised) when there are
         several."""
@@ -386,7 +390,7 @@ class _RecorderFeed:
 
         def write(k, rec):
             rec.load_lag = self.load_lag
-            rec.write(times, _columns(self.parts[k], out, extra), assembly)
+            rec.write(times, _columns(self.parts[k], out, extra, self.shared[k]), assembly)
         self._each(write, lambda: f"on the steps of t = {times[0]:.6g} to {times[-1]:.6g}; the other recorders "
                                   "hold these steps")
 
@@ -437,14 +441,17 @@ def _part(columns, n_kernel):
                      columns[~on_kernel] - n_kernel)
 
 
-def _columns(part, out, extra):
+def _columns(part, out, extra, shared):
     """A recorder's columns of a chunk, from the kernel's ``out`` and the ``extra`` table, as
-    :func:`_part` placed them: a read-only view when they are one run, else a copy."""
+    :func:`_part` placed them: with ``shared`` (vtsi's own recorders) a read-only view when they
+    are one run, else a copy of its own."""
     kind, where = part
     tables = (out, extra)
     if kind == "runs" and len(where) == 1:
         table, _, start, length = where[0]
         view = tables[table][:, start: start + length]
+        if not shared:
+            return view.copy()
         view.flags.writeable = False            # shared with the other recorders
         return view
     if kind == "runs":

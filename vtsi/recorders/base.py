@@ -32,9 +32,10 @@ Contract of a recorder (what an analysis relies on)
    own weight), which a recorder whose values contain the applied loads (reactions, bending
    moments) takes from there.
 3. ``write(times, columns, assembly)``: ``times (n,)`` [s] increasing, ``columns (n,
-   len(requests))`` in the order requested; called after every chunk of steps. ``columns`` may
-   be a read-only view of the analysis's table of the chunk, shared with the other recorders
-   and valid during the call only: whoever keeps values past the call keeps a copy
+   len(requests))`` in the order requested; called after every chunk of steps. A recorder of
+   another package gets ``columns`` of its own, to keep or change; vtsi's own recorders (of
+   the ``vtsi`` package) are handed a read-only view of the analysis's table of the chunk,
+   shared with the other recorders, and keep a copy of what they keep past the call
    (:meth:`Recorder.write` hands its sink values it owns).
 4. ``close()``: flush and release; called when the run ends, also when it fails (files stay
    readable at every flush in between).
@@ -58,8 +59,9 @@ b. ``prepare(assembly, model)``: resolve names to indices (once per run); return
    sink sees it, and completes ``n_columns``, ``response``, ``attrs`` and ``run`` (the run's
    ``info``, its None entries left out).
 c. ``compute(times, columns, assembly)`` -> ``(n, n_columns)`` float64 values of the kept steps
-   (checked once per chunk: another shape is a ModelError naming the recorder); ``columns`` is
-   read, never written (item 3); returning it as it is costs no copy.
+   (checked once per chunk: another shape is a ModelError naming the recorder); vtsi's own
+   ``compute`` reads ``columns`` and never writes them (item 3); returning them as they are
+   costs no copy.
 """
 import numpy as np
 
