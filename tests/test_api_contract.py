@@ -153,7 +153,7 @@ def test_sweep_and_results_reprs_name_their_cases():
     sweep = Sweep(bridge, ["A1", "HSLM-A2", "A3", "A4", "A5"], "200:300:50")
     assert repr(sweep) == ("Sweep(5 trains (HSLM-A1, HSLM-A2, HSLM-A3, ...) x 3 speeds 200 to 300 km/h x a smooth "
                            "rail = 15 cases, bridge beam (10 track elements), cars='force', contact='bilateral', "
-                           "bridge='fe', dt = 0.001 s, 6 outputs)")
+                           "bridge='fe', dt = 0.00025 s, 6 outputs)")     # 45 Hz at ζ = 0.5 %: √0.006/(2π 45) s
     results = Sweep(bridge, ["A1"], [250.0]).run(None, workers=1)
     n0 = results.frequencies_hz[0]
     assert repr(results) == ("SweepResults(in memory: 1 of 1 trains (HSLM-A1) x 1 speeds 250 to 250 km/h x a smooth "
