@@ -317,6 +317,9 @@ class Assembly:
         no negative diagonal, mass and damping semi-definite) and kept here for the element
         recorders (``K_e u_e + C_e v_e`` without calling a kernel again). Memory: 3 · n_el · ndof²
         float64 (2000 beams: 1.7 MB).
+    derived : dict, what a reader of the assembly derives from it once, by the reader's own key
+        (the bending moment recorders' rows, :mod:`vtsi.recorders.moment`): a sweep's passages
+        share the model's assembly, and a changed model builds a new one.
     """
 
     def __init__(self, model):
@@ -328,6 +331,7 @@ class Assembly:
         if self.n_full == 0:
             raise ModelError("model has no nodes")
         self._matrices = {}
+        self.derived = {}
         self._equivalent_loads = {}     # id(pattern) -> (pattern, its version, element_equivalent_loads)
         self._element_data(model)
         self._assemble(model)

@@ -60,6 +60,7 @@ own weight as −g M 1_y (``bridge_self_weight``) is such a load: with a consist
 fixed-end moments, μ g ℓ²/12, are not taken off either (49 kN·m, 0.7 % of μgL²/8 there).
 """
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -83,12 +84,12 @@ def _ends_by_node(asm, track):
     return ends
 
 
-def _node_ends(asm, track, node):
-    """The track elements meeting at ``node``, a node of the track (:func:`_ends_by_node`; a
-    ModelError for any other node)."""
+def _node_ends(asm, ends_by_node, node):
+    """The track elements meeting at ``node``, a node of the track (``ends_by_node``: the
+    :func:`_ends_by_node` of the track; a ModelError for any other node)."""
     if node not in asm.node_index:
         raise ModelError(f"bending moment: node {node} does not exist")
-    ends = _ends_by_node(asm, track).get(node, [])
+    ends = ends_by_node.get(node, [])
     if not ends:
         x = float(asm.coords[asm.node_index[node], 0])
         raise ModelError(f"bending moment: node {node} (x = {x:g} m) is not a node of the track")
@@ -112,8 +113,9 @@ def moment_rows(asm, track, nodes):
     M = u[free_dofs] @ P [N·m]; loads standing inside the elements next to the nodes add their
     :class:`FixedEndMoments` (module docstring)."""
     coefficients = {}
+    ends_by_node = _ends_by_node(asm, track)
     for j, node in enumerate(nodes):
-        ends = _node_ends(asm, track, node)
+        ends = _node_ends(asm, ends_by_node, node)
         for e, sign in ends:
             where = _dof_index(asm, track, e, node)
             b, i = asm.element_location[track.elements[e]]
@@ -191,8 +193,9 @@ def fixed_end_moments(asm, track, nodes):
     """The :class:`FixedEndMoments` of the bending moments at ``nodes`` of ``track``."""
     entries = []
     node_x = np.empty(len(nodes))
+    ends_by_node = _ends_by_node(asm, track)
     for j, node in enumerate(nodes):
-        ends = _node_ends(asm, track, node)
+        ends = _node_ends(asm, ends_by_node, node)
         node_x[j] = float(asm.coords[asm.node_index[node], 0])
         for e, sign in ends:
             entries.append((e, j, 1 if sign < 0 else 3, sign / len(ends), _dof_index(asm, track, e, node)))
@@ -364,6 +367,27 @@ def _add_fixed_end(x0, loads, speed, times, knot, x_start, length, ptr, column, 
                     _add_load(x0[i] + shift, p, k, knot, x_start, length, ptr, column, slot, weight, out)
 
 
+class _Resolved(NamedTuple):
+    """What a :class:`BendingMomentRecorder` reads, resolved once per assembly, track and nodes."""
+    requests: tuple             # ("u", full dof) of the free dofs the moments read
+    projection: np.ndarray      # (len(requests), n_nodes) [N·m per m or rad], read-only: M = u @ projection
+    fixed: FixedEndMoments
+
+
+def _resolve(asm, track, nodes):
+    """The :class:`_Resolved` of the moments at ``nodes`` (a tuple of tags) of ``track`` on the
+    assembly ``asm``, computed on the first request for them on ``asm`` and kept in its
+    ``derived``: a sweep's passages share the model's assembly, and a changed model has a new one
+    (:meth:`vtsi.model.Model.build`)."""
+    key = ("bending moment", track, nodes)
+    if key not in asm.derived:
+        free, projection = moment_rows(asm, track, nodes)
+        projection.flags.writeable = False
+        requests = tuple(("u", int(f)) for f in asm.full_of_free[free])
+        asm.derived[key] = _Resolved(requests, projection, fixed_end_moments(asm, track, nodes))
+    return asm.derived[key]
+
+
 class BendingMomentRecorder(Recorder):
     """Bending moment M [N·m] (sagging positive) at ``nodes`` of ``track`` (see the module
     docstring), one column per node, with the fixed-end share of the element loads of the load
@@ -375,7 +399,9 @@ class BendingMomentRecorder(Recorder):
     partly). ``constraint``: None, or the analysis's :class:`~vtsi.constraint.MovingLoadConstraint`
     (checked: another is a ModelError when the analysis starts; the recorder then records in
     coupled analyses only). ``sink``, ``dt``, ``envelope``, ``history``, ``tag``: see
-    :class:`~vtsi.recorders.base.Recorder`."""
+    :class:`~vtsi.recorders.base.Recorder`. What it reads (the moment rows, the fixed-end table)
+    is resolved once per assembly and shared by every recorder of the same nodes on it (a
+    sweep's passages); a changed model has a new assembly, resolved anew."""
 
     name = "bending moment recorder"
 
@@ -397,9 +423,9 @@ class BendingMomentRecorder(Recorder):
         self._coupled = None        # the CoupledLoads of the analysis running
 
     def requests(self, assembly):
-        free, self._projection = moment_rows(assembly, self.track, self.nodes)
-        self._fixed = fixed_end_moments(assembly, self.track, self.nodes)
-        return [("u", int(f)) for f in assembly.full_of_free[free]]
+        resolved = _resolve(assembly, self.track, tuple(self.nodes))
+        self._projection, self._fixed = resolved.projection, resolved.fixed
+        return list(resolved.requests)
 
     def start(self, assembly, model, info=None):
         coupled = (info or {}).get("coupled_loads")
