@@ -53,17 +53,11 @@ def peak_bytes(call):
 
 
 # -- 1. the static envelopes' memory -------------------------------------------------------------
-def test_each_block_gathers_at_most_the_budget(monkeypatch):
-    """A position's row gathers (width, n_responses) float64 from the lines: a block of
-    positions takes BLOCK_BYTES // (8 (width + 1) n_responses) of them (its output row too), and
-    a block of heads BLOCK_BYTES // (8 n_axles n_responses), whatever the number of either."""
+def test_blocks_split_the_budget():
+    """A scan takes BLOCK_BYTES // (bytes per position) positions a block, whatever their number
+    (the axle sums need no blocks: a compiled kernel adds each axle's row in place)."""
     lines, train = three_spans()
-    width, n = row_width(lines.track.length.min(), 0.0), lines.n_responses
-    sizes = []
-    gather = InfluenceLines._lines
-    monkeypatch.setattr(InfluenceLines, "_lines", lambda self, x: sizes.append(len(x)) or gather(self, x))
-    lines.train_envelope(train.wheel_offsets, train.static_wheel_loads)
-    assert max(sizes) == influence.BLOCK_BYTES // (8 * (width + 1) * n)
+    n = lines.n_responses
     heads = influence._blocks(10 ** 6, 8 * train.wheel_offsets.size * n)
     assert {s.stop - s.start for s in heads[:-1]} == {influence.BLOCK_BYTES // (8 * train.wheel_offsets.size * n)}
     assert heads[-1].stop >= 10 ** 6 and influence._blocks(3, 10 ** 12) == [slice(0, 1), slice(1, 2), slice(2, 3)]

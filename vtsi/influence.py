@@ -35,11 +35,12 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse.linalg as spla
+from numba import njit
 from scipy.optimize import brentq
 
 from vtsi.errors import ModelError, as_number, as_numbers, is_int
 from vtsi.recorders.moment import fixed_end_moments, moment_rows
-from vtsi.track import Track, row_width
+from vtsi.track import Track, hermite, host_element
 
 LM71_AXLE = 250e3        # [N], EN 1991-2 §6.3.2(3), Figure 6.1
 LM71_SPACING = 1.6       # [m] between the four axles
@@ -49,17 +50,15 @@ SW0_LENGTH = 15.0        # [m] a: each of its two loaded lengths
 SW0_GAP = 5.3            # [m] c: between them
 SCAN_PER_ELEMENT = 20
 BLOCK_BYTES = 4 * 2 ** 20
-"""[B] The temporaries of one block of a scan (the rows of its positions gathered from the lines;
-each axle's line at a block of head positions): a scan takes its positions that many bytes at a
-time, so that a static envelope holds at most about 2 × BLOCK_BYTES beyond its scan's
-(positions, n_responses) arrays, whatever the number of responses × axles (a fixed block of 2048
-heads of HSLM-A1's 50 axles took 4.3 GB at 601 responses). Measured on 10 to 30 spans of 30 m
-(101 to 601 responses): blocks of 0.5 to 8 MB ran fastest (in cache; HSLM-A1's envelope at 601
-responses 1.8 s at 4 MB, 4.1 s at 32 MB, 13 s with the fixed block)."""
+"""[B] The temporaries of one block of a scan of LM71's and SW/0's distributed loads (the line's
+primitive at a block of positions): a scan takes its positions that many bytes at a time, so that
+it holds at most about 2 × BLOCK_BYTES beyond its (positions, n_responses) arrays, whatever the
+number of responses. The axle loads (:meth:`InfluenceLines.train_envelope`, LM71's axles) and
+the lines themselves are summed in place by a compiled kernel, with no temporaries per position."""
 PRIMITIVE_ARRAYS = 8
 """(n_responses,) float64 arrays that evaluating a line's primitive (``InfluenceLines._primitive``)
-holds per position at its peak (measured: 8.2, with the line's four-entry rows gathered): what
-sizes the blocks of LM71's and SW/0's scans."""
+holds per position at its peak (measured: 8.2 when the lines gathered their four-entry rows per
+position, which they no longer do: a bound now): what sizes the blocks of LM71's and SW/0's scans."""
 
 
 class StaticEnvelopes(NamedTuple):
@@ -128,29 +127,13 @@ class InfluenceLines:
             w = spla.splu(asm.K.tocsc()).solve(rhs)
         except RuntimeError:
             raise ModelError("influence lines: the bridge's stiffness matrix is singular (a mechanism)") from None
-        self._w_track = w[track.free_index]           # (n_track, n_responses): w_d on the track dofs
-        lengths = track.length
-        self.step = float(lengths.min()) / SCAN_PER_ELEMENT
+        self._element_lines = _element_lines(track, w[track.free_index], self._fixed)
+        self.step = float(track.length.min()) / SCAN_PER_ELEMENT
 
     def __call__(self, x):
-        """IL (len(x), n_responses) [response units per N] at positions x [m] (0 off the track),
-        their rows gathered from the lines :data:`BLOCK_BYTES` at a time."""
+        """IL (len(x), n_responses) [response units per N] at positions x [m] (0 off the track)."""
         x = _finite_array("positions x [m]", x)
-        il = np.empty((x.size, self.n_responses))
-        for part in _blocks(x.size, 8 * (row_width(self.track.length.min(), 0.0) + 1) * self.n_responses):
-            il[part] = self._lines(x[part])
-        return il
-
-    def _lines(self, x):
-        """IL (len(x), n_responses) at finite positions x [m], at once: the rows of x gathered from
-        the lines (len(x), width, n_responses) are its temporaries (:meth:`__call__` blocks them)."""
-        cols, vals, _ = self.track.rows(x)
-        w = self._w_track[np.maximum(cols, 0)]          # (n_x, width, n_resp)
-        w[cols < 0] = 0.0
-        il = np.einsum("ij,ijk->ik", -vals, w)
-        if self._fixed is not None:
-            il += self._fixed.at(x)
-        return il
+        return self._axle_response(x.ravel(), np.zeros(1), np.ones(1), 0.0)
 
     def kinks(self):
         """Where each response's influence line kinks [m], ``(n_kinks, n_responses)``: a bending
@@ -184,13 +167,22 @@ class InfluenceLines:
         return out
 
     def _train_response(self, heads, offsets, loads):
-        """The static response ``(len(heads), n_responses)`` of the axles with the head at ``heads``
-        (heads taken :data:`BLOCK_BYTES` of their axles' lines at a time)."""
-        response = np.empty((heads.size, self.n_responses))
-        for part in _blocks(heads.size, 8 * offsets.size * self.n_responses):
-            x = self._on_the_ends(heads[part, None] - offsets[None, :])
-            response[part] = np.einsum("j,ijk->ik", loads, self(x.ravel()).reshape(x.shape + (self.n_responses,)))
-        return response
+        """The static response ``(len(heads), n_responses)`` of the axles with the head at ``heads``,
+        an axle within round-off (1e-6 of :attr:`step`) of a track end put on it: a scan places a
+        load on an end as a sum (head − offset), which may fall 1e-14 m off the track, where the
+        line is 0 (an overhang's tip then lost LM71's axle on it: 0.823 mm for 0.841)."""
+        return self._axle_response(heads, offsets, loads, 1e-6 * self.step)
+
+    def _axle_response(self, heads, offsets, loads, snap):
+        """Σ_i loads_i IL(heads − offsets_i), ``(len(heads), n_responses)``, positions within
+        ``snap`` [m] of a track end put on it (:func:`_add_axle_loads`)."""
+        order = np.argsort(offsets, kind="stable")
+        out = np.zeros((heads.size, self.n_responses))
+        _add_axle_loads(np.ascontiguousarray(heads, dtype=np.float64),
+                        np.ascontiguousarray(offsets[order], dtype=np.float64),
+                        np.ascontiguousarray(loads[order], dtype=np.float64), float(snap), self.track.x_start,
+                        self.track.length, self._element_lines, out)
+        return out
 
     def lm71_envelope(self, alpha=1.0):
         """Static min and max (2, n_responses) of Load Model 71 × ``alpha`` (the classification
@@ -263,15 +255,6 @@ class InfluenceLines:
         """The track's ends [m], ``(2,)``."""
         return np.array([self.track.x_begin, self.track.x_end])
 
-    def _on_the_ends(self, x):
-        """Positions ``x`` [m] with those within round-off (1e-6 of :attr:`step`) of a track end put
-        on it: a scan places a load on an end as a sum (centre + offset), which may fall 1e-14 m
-        off the track, where the line is 0 (an overhang's tip then lost LM71's axle on it: 0.823
-        mm for 0.841)."""
-        ends = self._ends()
-        near = np.abs(x[..., None] - ends) <= 1e-6 * self.step
-        return np.where(near.any(axis=-1), ends[np.argmax(near, axis=-1)], x)
-
     def _primitive(self, part=None):
         """F(x) = ∫ part(IL) from the track's start to each of ``x`` (n,) [response units per N/m],
         ``(n, n_responses)``, as a function of x (clipped to the track): Simpson's rule on a
@@ -300,6 +283,51 @@ class InfluenceLines:
             return cumulative[below] + (ends - x[below])[:, None] / 6.0 * (
                 il[below] + 4.0 * part(self(0.5 * (x[below] + ends))) + part(self(ends)))
         return at
+
+
+def _element_lines(track, w, fixed):
+    """The lines element by element, ``(n_el, 4, n_responses)`` [response units per N]: a unit
+    downward load at ξ in track element e gives Σ_a h_a(ξ) G[e, a] with h = [H₁, ℓH₂, H₃, ℓH₄]
+    (:func:`vtsi.track.hermite`), G[e, a] = −w on e's track dof a (0 where fixed, ``w``
+    (n_track, n_responses)) plus the fixed-end share of slot a (:class:`FixedEndMoments`
+    ``fixed``, or None)."""
+    table = np.zeros((len(track.length), 4, w.shape[1]))
+    present = track.dofs >= 0
+    table[present] = -w[track.dofs[present]]
+    if fixed is not None:
+        for e in range(len(track.length)):
+            for k in range(fixed.ptr[e], fixed.ptr[e + 1]):
+                table[e, fixed.slot[k], fixed.column[k]] += fixed.weight[k]
+    return table
+
+
+@njit(cache=True)
+def _add_axle_loads(heads, offsets, loads, snap, x_start, length, element_lines, out):
+    """Add to ``out (n_heads, n_responses)`` the response Σ_i loads_i IL(x_i) of downward axle
+    loads [N] at x_i = heads_k − offsets_i [m] (``offsets`` increasing), an x_i within ``snap``
+    [m] of a track end put on it: per head, the axles on the track only (found by binary search),
+    each adding its load × its element's Hermite row · ``element_lines`` (:func:`_element_lines`)."""
+    n_el = x_start.shape[0]
+    x_begin, x_end = x_start[0], x_start[n_el - 1] + length[n_el - 1]
+    reach = snap + 1e-9 * (abs(x_begin) + abs(x_end) + 1.0)         # beyond round-off of head − offset
+    n_resp = out.shape[1]
+    for k in range(heads.shape[0]):
+        first = np.searchsorted(offsets, heads[k] - x_end - reach, side="left")
+        last = np.searchsorted(offsets, heads[k] - x_begin + reach, side="right")
+        for i in range(first, last):
+            x = heads[k] - offsets[i]
+            if abs(x - x_begin) <= snap:
+                x = x_begin
+            elif abs(x - x_end) <= snap:
+                x = x_end
+            e = host_element(x, x_start, length)
+            if e < 0:
+                continue
+            h = hermite((x - x_start[e]) / length[e], length[e])
+            for a in range(4):
+                c = loads[i] * h[a]
+                for r in range(n_resp):
+                    out[k, r] += c * element_lines[e, a, r]
 
 
 def _classification_factor(alpha, model):
