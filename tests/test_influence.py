@@ -1,6 +1,8 @@
 """Static responses along the track (vtsi.influence) against the closed forms of a simply
 supported Euler-Bernoulli beam (Hermite elements give exact nodal displacements under loads
 anywhere on an element)."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -121,19 +123,7 @@ def test_bad_influence_input_is_named(bridge, bad, match):
         bad(*bridge)
 
 
-OVERHANG = """import vtsi.opensees as ops
-ops.wipe()
-ops.model('basic', '-ndm', 2, '-ndf', 3)
-xs = [-4.0 + 1.0*i for i in range(4)] + [0.0 + 2.0*i for i in range(11)]
-for k, x in enumerate(xs, start=1):
-    ops.node(k, x, 0.0)
-ops.fix(5, 1, 1, 0)
-ops.fix(15, 0, 1, 0)
-ops.geomTransf('Linear', 1)
-for k in range(1, len(xs)):
-    ops.element('elasticBeamColumn', k, k, k+1, 5.0, 3.5e10, 1.9, 1, '-mass', 15000.0, '-cMass')
-ops.track(1, '-eleRange', 1, len(xs)-1)
-"""
+OVERHANG = Path(__file__).parent / "scripts" / "overhang.py"   # a 20 m span, a 4 m overhang carrying the track
 
 
 def test_an_axle_on_the_tip_of_an_overhang_loads_it(tmp_path):
@@ -145,8 +135,7 @@ def test_an_axle_on_the_tip_of_an_overhang_loads_it(tmp_path):
     tip, the 80 kN/m beyond the axles both off the track or on the span, which lifts the tip)
     gives 0.84114 mm, as OpenSeesPy does. A train's scan alike: two axles 1.23 m apart, the rear
     one on the tip."""
-    (tmp_path / "overhang.py").write_text(OVERHANG)
-    b = load_bridge(tmp_path / "overhang.py")
+    b = load_bridge(OVERHANG)
     lines = InfluenceLines(b.model, Track(b.model, b.track_elements), dofs=[(1, 2)])
     c, span, ei = 4.0, 20.0, 3.5e10 * 1.9
 

@@ -6,6 +6,8 @@ a position within 1e-6 of the scan step of a track end put on it. Equal to 1e-12
 largest value: the lines, the train, LM71 and SW/0 envelopes, on a simply supported beam, a
 3-span continuous deck, a deck with an overhang and a deck between approaches on zeroLength
 springs, for deflections, rotations and bending moments."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
@@ -19,21 +21,7 @@ from vtsi.recorders.moment import fixed_end_moments, moment_rows
 from vtsi.track import Track
 
 E, I, MU = 3.5e10, 0.6948, 15000.0
-OVERHANG = """import vtsi.opensees as ops
-ops.wipe()
-ops.model('basic', '-ndm', 2, '-ndf', 3)
-xs = [-4.0 + 1.0*i for i in range(4)] + [0.0 + 2.0*i for i in range(11)]
-for k, x in enumerate(xs, start=1):
-    ops.node(k, x, 0.0)
-ops.fix(5, 1, 1, 0)
-ops.fix(15, 0, 1, 0)
-ops.geomTransf('Linear', 1)
-for k in range(1, len(xs)):
-    ops.element('elasticBeamColumn', k, k, k+1, 5.0, 3.5e10, 1.9, 1, '-mass', 15000.0, '-cMass')
-ops.track(1, '-eleRange', 1, len(xs)-1)
-"""
-"""A 20 m span (nodes 5 to 15) with a 4 m overhang (nodes 1 to 5) carrying the track from its tip
-(as tests/test_influence.py's)."""
+OVERHANG = Path(__file__).parent / "scripts" / "overhang.py"   # a 20 m span, a 4 m overhang carrying the track
 
 
 class Reference(InfluenceLines):
@@ -95,7 +83,8 @@ def bridge(request, tmp_path, approaches_tcl):
     if request.param == "three spans":
         return three_spans()
     if request.param == "overhang":
-        return script(OVERHANG, "overhang.py", tmp_path, list(range(1, 16)))       # its track's nodes
+        b = load_bridge(OVERHANG)
+        return b.model, b.track_elements, list(range(1, 16))                      # its track's nodes
     return script(approaches_tcl, "approaches.tcl", tmp_path, list(range(1, 32)))
 
 
