@@ -456,6 +456,8 @@ MEANINGLESS = [   # (label, call, error class, the whole message)
      ModelError, r"contact force mean: dt \[s\] must be > 0 and finite, got 0.0"),
     ("time step of 0 Hz (was a ZeroDivisionError)", lambda: dt_resolving(0.0), ModelError,
      r"time step: frequency \[Hz\] must be > 0 and finite, got 0.0"),
+    ("time step at damping 0 (was Python's math domain error)", lambda: dt_resolving(30.0, 0.0), ModelError,
+     r"time step: damping ratio must be > 0 and finite, got 0.0"),
     ("sweep modal damping NaN", lambda: runner(modal_damping=[(NAN, 0.02)]), ModelError,
      r"sweep: modal damping \(nan Hz, 0.02\): the frequency must be > 0 and the ratio >= 0, both finite"),
     ("sweep modal damping as text", lambda: runner(modal_damping=[("5", "0.02")]), ModelError,

@@ -498,6 +498,7 @@ def _dt_bound(frequency_hz, zeta):
     frequency_hz = as_positive(frequency_hz, "time step", "frequency [Hz]")
     dt = min(DEFAULT_DT, 1.0 / (STEPS_PER_CUTOFF_PERIOD * frequency_hz))
     if zeta is not None:
+        zeta = as_positive(zeta, "time step", "damping ratio")
         dt = min(dt, math.sqrt(12.0 * PERIOD_ERROR_SHARE * zeta) / (2.0 * math.pi * frequency_hz))
     return dt
 
@@ -505,7 +506,7 @@ def _dt_bound(frequency_hz, zeta):
 def dt_resolving(frequency_hz, zeta=None):
     """DEFAULT_DT [s], or finer: STEPS_PER_CUTOFF_PERIOD steps (samples) a period of
     ``frequency_hz`` (finite and > 0, else a ModelError) and, for a time-stepped passage
-    (``zeta`` its damping ratio, :func:`step_ratio`; None for exact modal passages), Newmark's
+    (``zeta`` its damping ratio, finite and > 0, :func:`step_ratio`; None for exact modal passages), Newmark's
     period error there at most PERIOD_ERROR_SHARE ζ: Δt ≤ √(1.2 ζ) / (2π f) (:func:`period_error`;
     30 Hz: 0.5 ms at ζ = 1 %, 0.4 ms at 0.5 %, where 1 ms moved a viaduct's HSLM-A2 resonance
     enough to read its deck acceleration 4.3 % high at one speed and the HSLM-A envelope over the
