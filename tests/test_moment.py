@@ -186,6 +186,23 @@ def test_element_loads_of_the_patterns_are_corrected():
     assert np.asarray(rec.values)[0] == pytest.approx([w * L ** 2 / 8, w * 4.0 * 16.0 / 2, 0.0], rel=1e-9, abs=1e-6)
 
 
+def test_the_rows_are_resolved_once_per_track_however_many_track_objects():
+    """Each runner builds its own Track: the rows it resolves on the model's assembly are kept once
+    per track's elements and nodes, not once per Track object (a notebook's hundred sweeps of a
+    viaduct kept a hundred copies of its rows)."""
+    model, b, _ = beam(10)
+    series = model.add_time_series(vtsi.Constant(1.0, tag=1))
+    model.pattern(1, series)
+    model.load(1, b.midspan_nodes[0], 0.0, -P, 0.0)
+    values = []
+    for _ in range(3):
+        rec = BendingMomentRecorder(Track(model, b.elements), [b.midspan_nodes[0]])
+        vtsi.StaticAnalysis(model, recorders=[rec]).run(1)
+        values.append(np.asarray(rec.values)[0, 0])
+    assert values == [pytest.approx(P * L / 4, rel=1e-9)] * 3
+    assert [key[0] for key in model.build().derived].count("bending moment") == 1
+
+
 def test_a_timoshenko_deck_gives_its_end_moments_not_ei_times_the_hermite_curvature():
     """A simply supported Timoshenko beam (G = 1.46e10 Pa, shear area 3 m², I = 1 m⁴, 1 m
     elements, φ = 12EI/(G A_v ℓ²) = 9.6): the mid-span moment line is x/2 … at every x,

@@ -378,8 +378,9 @@ def _resolve(asm, track, nodes):
     """The :class:`_Resolved` of the moments at ``nodes`` (a tuple of tags) of ``track`` on the
     assembly ``asm``, computed on the first request for them on ``asm`` and kept in its
     ``derived``: a sweep's passages share the model's assembly, and a changed model has a new one
-    (:meth:`vtsi.model.Model.build`)."""
-    key = ("bending moment", track, nodes)
+    (:meth:`vtsi.model.Model.build`). Keyed by the track's elements, not the :class:`Track`
+    object, which each runner builds anew: one entry per track, however many sweeps."""
+    key = ("bending moment", tuple(track.elements), nodes)
     if key not in asm.derived:
         free, projection = moment_rows(asm, track, nodes)
         projection.flags.writeable = False
