@@ -257,8 +257,13 @@ def _sweep_options(p, check):
     p.add_argument("--workers", type=_int_at_least(1), metavar="N", help="processes (default: every core; 1: serial)")
     p.add_argument("--track", type=int, metavar="TAG", help="the track of a model script that defines several")
     settings = p.add_argument_group("passage settings (default: the bridge file's [analysis], else as shown)")
-    settings.add_argument("--dt", type=float, metavar="S", help="time step [s] (default 0.001, or finer: 20 steps a period of the EN cut-off frequency f "
-                          "and Newmark's period error there at most 0.1 zeta: dt <= sqrt(1.2 zeta)/(2 pi f))")
+    settings.add_argument("--dt", type=float, metavar="S",
+                          help="time step [s]; default 0.001 or finer: 20 steps a period of the EN cut-off frequency f "
+                               "and, time-stepped, Newmark's period error there at most 0.1 zeta, dt <= sqrt(1.2 "
+                               "zeta)/(2 pi f) (zeta the damping, at least 0.005; exact modal passages of moving "
+                               "forces take the 20 samples a period only), with --cars full on an irregular rail also "
+                               "20 steps a period of its shortest wavelength, 3 m, passed at the top speed; rounded down "
+                               "to 1, 2, 2.5, 4 or 5 x 10^k s. A coarser dt is noted")
     settings.add_argument("--integrator", metavar="NAME",
                           help="Newmark, HHT(ALPHA) (e.g. 'HHT(0.9)'), GeneralizedAlpha or Bathe, parameters in "
                                "brackets; default: Newmark, or HHT(0.9) with --contact lcp (which refuses an "
@@ -277,13 +282,18 @@ def _sweep_options(p, check):
                           help="the modal bridge's highest frequency [Hz] (default: 1.1 x the EN cut-off)")
     settings.add_argument("--damping", type=float, metavar="ZETA",
                           help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh through n0 and the EN cut-off; with "
-                               "--bridge-model modal: on every mode); "
-                               "default: the bridge as built (a beam: undamped)")
+                               "--bridge-model modal: on every mode); " + (
+                                   "required unless --bridge-type or the bridge file's [analysis] damping gives it "
+                                   "(a bridge script's own damping is replaced, with a note)" if check else
+                                   "default: the bridge as built (a beam: undamped)"))
     settings.add_argument("--irregularity", metavar="NAME",
                           help=f"rail irregularity spectrum: {', '.join(_irregularities())} (default: smooth rail)")
     settings.add_argument("--seeds", metavar="S1,S2,...",
                           help="rail samples with --irregularity: 0,1,2 or FIRST:LAST (default 0)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar (shown on standard error when a terminal)")
+    p.add_argument("--quiet", action="store_true",
+                   help="on standard error no progress bar (else shown when a terminal), no "
+                        "line of an axle table's D, " + ("no line of what the damping replaces, " if check else "")
+                        + "no closing 'results in' line (errors and what a bridge script prints still show)")
 
 
 def _int_at_least(low):
