@@ -8,7 +8,7 @@ import pytest
 
 import vtsi
 from vtsi.__main__ import main
-from vtsi.errors import BridgeSweepError, SweepError
+from vtsi.errors import BridgeModelError, BridgeSweepError, SweepError
 from vtsi.passage import PassageSettings
 from vtsi.sweep import Sweep, SweepBridge, beam_bridge
 
@@ -74,6 +74,19 @@ def test_beam_bridge_in_tonnes_per_metre_is_refused():
         Sweep(beam_bridge([20.0], E=3.5e10, I=0.6948, mu=15.0), ["HSLM-A1"], "300")
     # a laboratory model, knowingly light: the opt-out
     Sweep(beam_bridge([20.0], E=3.5e10, I=0.6948, mu=15.0, min_mass_per_metre=0), ["HSLM-A1"], "300")
+
+
+@pytest.mark.parametrize("spans, words", [([25000.0], "a span of 25000 m is not a railway span (1 to 1000 m); is "
+                                                      "spans in mm?"),
+                                          ([20.0, 0.025], "a span of 0.025 m is not a railway span (1 to 1000 m); "
+                                                          "is spans in km?")])
+def test_beam_bridge_in_mm_is_refused_as_a_bridge_file_is(spans, words):
+    """beam_bridge([25000.0], E=3.5e10, I=3.0, mu=18000.0) was accepted, and the Sweep then blamed
+    E, I or the mass; a bridge file's spans_m = [25000.0] says 'is spans_m in mm?'."""
+    with pytest.raises(BridgeModelError) as excinfo:
+        beam_bridge(spans, E=3.5e10, I=3.0, mu=18000.0, elements_per_span=10)
+    assert str(excinfo.value) == "beam_bridge: spans: " + words
+    assert beam_bridge([1.0, 1000.0], E=3.5e10, I=3.0, mu=18000.0).description["spans_m"] == [1.0, 1000.0]
 
 
 def _user_deck(rho):

@@ -49,7 +49,7 @@ from vtsi.commands.tcl import Interpreter, script_line
 from vtsi.errors import BridgeModelError, CommandError, ModelError, VtsiError, is_int
 from vtsi.models.bridges import MAX_ELEMENTS_PER_SPAN
 from vtsi.passage import PassageSettings
-from vtsi.sweep import SweepBridge, beam_bridge, check_deck_mass
+from vtsi.sweep import SweepBridge, beam_bridge, check_deck_mass, check_span_lengths
 from vtsi.track import Track
 from vtsi.units import MIN_MASS_PER_METRE, Units, deck_mass_per_length
 
@@ -65,7 +65,6 @@ for their meaning and units), besides ``seeds`` (rail samples, a list of ints >=
 
 SCRIPT_SUFFIXES = (".tcl", ".py")
 DESCRIPTION_SUFFIXES = (".toml", ".yaml", ".yml")
-SPAN_RANGE_M = (1.0, 1000.0)    # a beam's spans [m]: outside, spans_m is taken to be in mm or km
 
 
 @dataclass(frozen=True)
@@ -260,11 +259,7 @@ def _beam(table, base_dir):
     endless = next((s for s in spans if not math.isfinite(s)), None)
     if endless is not None:
         raise ModelError(f"spans_m: every span must be finite [m], got {endless:g}")
-    lo, hi = SPAN_RANGE_M
-    odd = next((s for s in spans if not lo <= s <= hi), None)
-    if odd is not None:
-        raise ModelError(f"spans_m: a span of {odd:g} m is not a railway span ({lo:g} to {hi:g} m); "
-                         f"is spans_m in {'mm' if odd > hi else 'km'}?")
+    check_span_lengths(spans, "spans_m")
     E, mu = _number(table, "E_Pa"), _number(table, "mu_kg_m")
     if ("I_m4" in table) == ("f1_Hz" in table):
         raise ModelError("give either I_m4 or f1_Hz (the first span's first bending frequency)")

@@ -282,15 +282,36 @@ def check_deck_mass(model, track_elements, what, minimum=MIN_MASS_PER_METRE):
     return mu
 
 
+SPAN_RANGE_M = (1.0, 1000.0)    # a beam's spans [m]: outside, they are taken to be in mm or km
+
+
+def check_span_lengths(spans, name):
+    """A :class:`~vtsi.errors.BridgeModelError` naming ``name`` (the spans' argument or key) when
+    a span of ``spans`` (positive finite lengths [m]) is outside SPAN_RANGE_M, no railway span:
+    lengths typed in mm (above) or km (below). The one check of a beam's spans, whichever way the
+    beam came (:func:`beam_bridge`, a bridge file's ``spans_m``)."""
+    lo, hi = SPAN_RANGE_M
+    odd = next((s for s in spans if not lo <= s <= hi), None)
+    if odd is not None:
+        raise BridgeModelError(f"{name}: a span of {odd:g} m is not a railway span ({lo:g} to {hi:g} m); "
+                               f"is {name} in {'mm' if odd > hi else 'km'}?")
+
+
 def beam_bridge(spans, E, I, mu, elements_per_span=10, A=1.0, damping=None, min_mass_per_metre=MIN_MASS_PER_METRE):
     """A continuous Euler-Bernoulli beam over ``spans`` [m] (pin, then rollers) as a sweep
     bridge; its track is the beam. E [Pa], I [m⁴], mu [kg/m], A [m²] (axial only); ``damping``:
     a ratio ζ [-] as Rayleigh damping through n₀ and the EN cut-off (or the sweep's settings).
-    A sweep refuses ``mu`` below ``min_mass_per_metre`` [kg/m] (:func:`check_deck_mass`; 15 t/m
-    is ``mu=15000.0``; 0 accepts any mass)."""
+    A span outside SPAN_RANGE_M is refused (:func:`check_span_lengths`: a span in mm). A sweep
+    refuses ``mu`` below ``min_mass_per_metre`` [kg/m] (:func:`check_deck_mass`; 15 t/m is
+    ``mu=15000.0``; 0 accepts any mass)."""
     model = Model()
     beam = continuous_beam(model, spans, elements_per_span, E, I, mu, A=A, damping=damping)
-    description = {"kind": "beam", "spans_m": [float(s) for s in spans], "E_Pa": float(E), "I_m4": float(I),
+    lengths = [float(s) for s in spans]
+    try:
+        check_span_lengths(lengths, "spans")
+    except BridgeModelError as exc:
+        raise BridgeModelError(f"beam_bridge: {exc}") from None
+    description = {"kind": "beam", "spans_m": lengths, "E_Pa": float(E), "I_m4": float(I),
                    "mu_kg_m": float(mu), "elements_per_span": int(elements_per_span), "A_m2": float(A)}
     if damping is not None:
         description["damping"] = float(damping)
