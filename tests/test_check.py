@@ -20,7 +20,7 @@ EI = MU * (2 * np.pi * F1 * (L / np.pi) ** 2) ** 2
 def hslm(tmp_path_factory):
     path = tmp_path_factory.mktemp("check") / "hslm.h5"
     sweep = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=10), ["HSLM-A1", "HSLM-A4", "HSLM-A8"],
-                  "200:420:20", PassageSettings(dt=2e-3, damping=0.013))
+                  "200:420:20", PassageSettings(dt=1e-3, damping=0.013))
     return path, sweep.run(path, workers=1, progress=False)
 
 

@@ -127,3 +127,27 @@ def test_a_rail_on_pads_over_a_deck_keeps_the_decks_spans(height):
     layout = deck_layout(model, Track(model, list(range(101, 121))))
     assert layout.support_nodes == (101, 111, 121) and layout.span_lengths == [20.0, 20.0]
     assert layout.pier_nodes == (111,) and layout.track_on_a_structure
+
+
+def test_a_second_girder_tied_at_the_decks_level_is_no_support():
+    """A 20 m track girder pinned at its ends and, at the same level, an off-track second girder on
+    piers at its ends, tied to it by one diaphragm at mid-span: the diaphragm's walk along the
+    second girder is no pier cap (a first version of the level rule read 2 × 10 m spans, a probe's
+    twin girders). Only one arm from a node reached to a column's top counts at the deck's level."""
+    deck = dict(A=6.0, E=3.5e10, I=3.0, rho=18000.0)
+    model = vtsi.Model()
+    for i in range(11):
+        model.node(1 + i, 2.0 * i, 0.0)
+        model.node(101 + i, 2.0 * i, 0.0)
+    for e in range(10):
+        model.element("elasticBeamColumn", 1 + e, (1 + e, 2 + e), cmass=1, **deck)
+        model.element("elasticBeamColumn", 101 + e, (101 + e, 102 + e), cmass=1, **deck)
+    model.fix(1, 1, 1, 0)
+    model.fix(11, 0, 1, 0)
+    for k, n in ((201, 101), (202, 111)):                  # the second girder on 8 m piers
+        model.node(k, model.nodes[n][0], -8.0)
+        model.fix(k, 1, 1, 1)
+        model.element("elasticBeamColumn", k, (k, n), A=4.0, E=3.5e10, I=2.0, rho=10000.0)
+    model.element("zeroLength", 500, (6, 106), kx=1e9, ky=1e9)
+    layout = deck_layout(model, Track(model, list(range(1, 11))))
+    assert layout.support_nodes == (1, 11) and layout.span_ends == ((0.0, 20.0),) and layout.pier_nodes == ()

@@ -156,8 +156,11 @@ def test_markdown_references_the_written_pngs(files, tmp_path):
 
 def test_the_settings_name_the_bridge_model(files, tmp_path):
     """The reader must know which bridge model the envelopes come from: FE, or modal with the
-    frequency of its basis (default 1.1 × the EN cut-off, 49.53 Hz here), and how it is damped
-    (Rayleigh on the FE bridge, the ratio on every mode of the modal one)."""
+    frequency of its basis (by default, with the sweep's bending moments, 1.1 × twice the
+    frequency at which HSLM-A1's bogie axles, 2 m apart, pass at 300 km/h: 1.1 × 2 × 41.67 =
+    91.67 Hz, above 1.1 × the EN cut-off 45.02 Hz; the span's modes 5.01 × j²: 4 of them, the
+    highest 80.13 Hz), and how it is damped (Rayleigh on the FE bridge, the ratio on every mode
+    of the modal one)."""
     fe = write_report(files / "sweep.h5", tmp_path / "fe")["markdown"].read_text(encoding="utf-8")
     assert "| bridge model | FE model, time-stepped |" in fe
     assert "| damping | ζ = 1.3 % (Rayleigh, through n₀ and the EN cut-off) |" in fe
@@ -166,8 +169,9 @@ def test_the_settings_name_the_bridge_model(files, tmp_path):
                   PassageSettings(dt=1e-3, damping=0.013, bridge="modal"))
     check(modal.run(path, workers=1, progress=False)).store(path)
     text = write_report(path, tmp_path / "modal")["markdown"].read_text(encoding="utf-8")
-    assert ("| bridge model | modal: 3 modes up to 49.53 Hz (1.1 × the EN cut-off 45.02 Hz, the default; the highest "
-            "at 45.02 Hz), exact passages of moving forces, cars time-stepped |") in text
+    assert ("| bridge model | modal: 4 modes up to 91.67 Hz (2.04 × the EN cut-off 45.02 Hz, the default for the "
+            "moments: 1.1 × twice the 41.67 Hz at which the trains' closest axles pass at 300 km/h; the highest at "
+            "80.13 Hz), exact passages of moving forces, cars time-stepped |") in text
     assert "| damping | ζ = 1.3 % on every mode (modal damping) |" in text
 
 

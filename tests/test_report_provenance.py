@@ -101,17 +101,21 @@ def test_design_check_captions_the_scene_and_names_the_gif(tmp_path, monkeypatch
 
 # -- N8: the modal basis ---------------------------------------------------------------------------
 def test_a_modal_sweep_stores_and_reports_its_number_of_modes(tmp_path):
-    """The modal bridge's modes (their frequencies) are in /bridge; the report says '3 modes up
-    to 50.4 Hz' (5, 20 and 45.8 Hz below 1.1 × the cut-off n₃ = 45.82 Hz); an FE sweep has none."""
+    """The modal bridge's modes (their frequencies) are in /bridge; the report says '4 modes up
+    to 103.9 Hz' (5, 20, 45.8 and 88.8 Hz below the moments' default basis, 1.1 × twice the
+    47.22 Hz at which HSLM-A1's bogie axles, 2 m apart, pass at 340 km/h); an FE sweep has none."""
     path = tmp_path / "m.h5"
     sweep = _sweep(bridge="modal")
     check(sweep.run(path, workers=1, progress=False)).store(path)
     modes = SweepResults(os.fspath(path)).bridge()["modal_frequencies_hz"]
     np.testing.assert_allclose(modes, sweep.runner.modal.frequencies)
-    assert len(modes) == 3 and modes.max() < 1.1 * 45.82
+    basis = 1.1 * 2 * (340 / 3.6) / 2.0
+    assert len(modes) == 4 and modes.max() < basis == pytest.approx(sweep.settings.modal_hz, rel=1e-12)
     text = write_report(path, tmp_path / "rep")["markdown"].read_text(encoding="utf-8")
-    assert ("| bridge model | modal: 3 modes up to 50.4 Hz (1.1 × the EN cut-off 45.82 Hz, the default; the highest "
-            f"at {modes.max():.4g} Hz), exact passages of moving forces") in text
+    default = (f"{basis:.4g} Hz ({basis / 45.82:.3g} × the EN cut-off 45.82 Hz, the default for the moments: 1.1 × twice "
+               f"the {340 / 3.6 / 2.0:.4g} Hz at which the trains' closest axles pass at 340 km/h")
+    assert (f"| bridge model | modal: 4 modes up to {default}; the highest at {modes.max():.4g} Hz), exact passages "
+            "of moving forces") in text
     fe = tmp_path / "fe.h5"
     _sweep().run(fe, workers=1, progress=False)
     assert "modal_frequencies_hz" not in SweepResults(os.fspath(fe)).bridge()
@@ -125,8 +129,7 @@ def test_a_modal_sweep_stores_and_reports_its_number_of_modes(tmp_path):
                                                     if k not in ("damping_source", "line_speed_kmh")})
     assert stored_check(older).settings == CheckSettings()
     text = write_report(older, tmp_path / "old")["markdown"].read_text(encoding="utf-8")
-    assert "modal: its modes up to 50.4 Hz (1.1 × the EN cut-off 45.82 Hz, the default; the results file does not " \
-           "hold how many modes)" in text
+    assert f"modal: its modes up to {default}; the results file does not hold how many modes)" in text
     rows = _settings_rows(text)
     assert "damping from" not in rows and "line speed" not in rows
 

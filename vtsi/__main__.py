@@ -279,7 +279,9 @@ def _sweep_options(p, check):
                                "damping ratio on every mode: exact passages for moving forces, time-stepped for "
                                "cars) or modal-stepped (the modes, time-stepped for moving forces too)")
     settings.add_argument("--modal-hz", type=float, metavar="HZ",
-                          help="the modal bridge's highest frequency [Hz] (default: 1.1 x the EN cut-off)")
+                          help="the modal bridge's highest frequency [Hz] (default: 1.1 x the EN cut-off; with a "
+                               "bending-moment output 1.1 x the larger of the cut-off and twice the trains' closest "
+                               "axles' frequency at the top speed)")
     settings.add_argument("--damping", type=float, metavar="ZETA",
                           help="damping ratio of the bridge, e.g. 0.0125 (Rayleigh through n0 and the EN cut-off; with "
                                "--bridge-model modal: on every mode); " + (

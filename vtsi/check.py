@@ -92,10 +92,11 @@ from vtsi.deck_record import deck_nodes, intermediate_supports, overhangs, span_
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.influence import InfluenceLines
 from vtsi.integrators import make_integrator
-from vtsi.modal_bridge import SUPPORT_MOMENT_HZ
+from vtsi.modal_bridge import CUTOFF_MARGIN
 from vtsi.model import Model
-from vtsi.passage import (STEPS_PER_CUTOFF_PERIOD, dt_resolving, en_cutoff_hz, modal_basis_hz, rail_frequency_hz,
-                          resolves, step_error_text, step_ratio, step_rule_text)
+from vtsi.passage import (AXLE_PAIR_HARMONICS, STEPS_PER_CUTOFF_PERIOD, default_modal_hz, dt_resolving, en_cutoff_hz,
+                          modal_basis_hz, rail_frequency_hz, resolves, step_effect, step_error_text, step_ratio,
+                          step_rule_text)
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
@@ -383,24 +384,34 @@ def stored_check(path):
         speed_grid = str(g.attrs.get("speed_grid", ""))      # '' in a check stored by an older vtsi
     bridge = results.bridge()
     return CheckResult(settings, rows, *cases, bridge=bridge_text(bridge), speed_grid=speed_grid,
-                       bridge_model=bridge_model_text(results.identity["settings"], bridge),
+                       bridge_model=bridge_model_text(results, bridge),
                        frequency_limits=frequency_limits_text(bridge))
 
 
-def bridge_model_text(settings, bridge):
+def bridge_model_text(results, bridge):
     """The sweep's bridge model in words, as the check's text and the report's settings give it:
-    FE, or modal with the frequency of its basis [Hz] against the EN cut-off and, where the
-    results file holds them (``modal_frequencies_hz``), how many modes and the highest one's
-    frequency (``settings`` the sweep's settings as stored, ``bridge`` the results file's bridge
-    record)."""
+    FE, or modal with the frequency of its basis [Hz] against the EN cut-off (whether it is the
+    default, :func:`default_basis_hz`, and what set it) and, where the results file holds them
+    (``modal_frequencies_hz``), how many modes and the highest one's frequency (``results`` the
+    :class:`~vtsi.sweep_results.SweepResults`, ``bridge`` its bridge record)."""
+    settings = results.identity["settings"]
     kind = settings.get("bridge", "fe")
     if kind == "fe":
         return "FE model, time-stepped"
     f_max = modal_basis_hz(kind, settings.get("modal_hz"), bridge)
     how = "time-stepped" if kind == "modal-stepped" else "exact passages of moving forces, cars time-stepped"
     en = en_cutoff_hz(bridge)
-    relation = (f"{f_max / en:.3g} × the EN cut-off {significant_text(en)} Hz" + ("" if settings.get("modal_hz") else
-                ", the default") if f_max >= en * (1 - 1e-9) else f"below the EN cut-off {significant_text(en)} Hz")
+    default = default_basis_hz(results, bridge)
+    relation = f"{f_max / en:.3g} × the EN cut-off {significant_text(en)} Hz"
+    if not settings.get("modal_hz"):                   # a file of an older vtsi: the default of then
+        relation += ", the default of an older vtsi"
+    elif abs(f_max - default) <= 1e-9 * default:
+        relation += (", the default" if default <= CUTOFF_MARGIN * en * (1 + 1e-9) else
+                     f", the default for the moments: {CUTOFF_MARGIN:g} × twice the "
+                     f"{significant_text(default / CUTOFF_MARGIN / AXLE_PAIR_HARMONICS)} Hz at which the trains' "
+                     f"closest axles pass at {max(results.identity['speeds_kmh']):g} km/h")
+    if f_max < en * (1 - 1e-9):
+        relation = f"below the EN cut-off {significant_text(en)} Hz"
     modes = np.ravel(np.asarray(bridge.get("modal_frequencies_hz", []), dtype=float))
     if not modes.size:                                  # a file of an older vtsi
         return (f"modal: its modes up to {significant_text(f_max)} Hz ({relation}; the results file does not hold "
@@ -452,7 +463,7 @@ def check(results, settings=None):
     outputs = {o["name"]: o for o in results.identity["outputs"]}
     bridge = results.bridge()
     out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases, bridge=bridge_text(bridge),
-                      bridge_model=bridge_model_text(results.identity["settings"], bridge),
+                      bridge_model=bridge_model_text(results, bridge),
                       frequency_limits=frequency_limits_text(bridge))
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
@@ -664,6 +675,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     # the highest frequency EN counts in this output: a modal basis above the cut-off is margin
     f_top, dt = min(counted[name] or en_cutoff, en_cutoff), float(sweep.get("dt", 0.0))
     steps = 1.0 / (f_top * dt) if dt > 0 else math.inf
+    too_coarse = False
     if dt > 0 and not resolves(dt, f_top, zeta):
         finer = dt_resolving(f_top, zeta)
         effect = ("the peak may fall between the samples and read low by up to 1 - cos(pi f dt) (exact passages have "
@@ -672,6 +684,16 @@ def _deck_acceleration(results, outputs, bridge, settings):
         note += (f"; dt = {1e3 * dt:g} ms {'samples' if zeta is None else 'steps'} the highest counted frequency, "
                  f"{f_top:.4g} Hz, {steps:.3g} times a period: {effect}; take dt <= {1e3 * finer:g} ms "
                  f"({step_rule_text(zeta)}: the default)")
+        bound = step_effect(dt, f_top, zeta)
+        unresolved = steps < MIN_STEPS_PER_PERIOD
+        too_coarse = unresolved and not value * (1.0 - bound) > limit      # a FAIL beyond what dt may cost stands
+        if unresolved and not too_coarse:
+            note += (f"; fewer than {MIN_STEPS_PER_PERIOD} steps a period, the peak may be off by up to "
+                     f"{100 * bound:.3g} %, and {100 * (1 - bound):.3g} % of it still exceeds the limit: the FAIL stands")
+        if too_coarse:
+            note += (f"; not checked: fewer than {MIN_STEPS_PER_PERIOD} {'samples' if zeta is None else 'steps'} a "
+                     f"period do not represent the modes up to the cut-off (the peak may be off by up to "
+                     f"{100 * bound:.3g} %)")
     top, start = float(np.max(results.speeds_kmh)), en1991_2.SPEED_SERIES_START_KMH
     if top < start:
         note += (f"; the sweep's speeds stop at {top:g} km/h, below {start:g} km/h (40 m/s), where EN 1991-2 "
@@ -680,7 +702,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if rings:
         note += (f"; not checked: {RINGING}, and the deck's acceleration grows as dt shrinks (an ICE3 on a 20 m span: "
                  f"2.3 to 13.8 m/s^2 for dt 2 to 0.25 ms); {RINGING_REMEDY}: 2.2 at every dt")
-    unchecked = rings or (models.unchecked and not fails)
+    unchecked = rings or too_coarse or (models.unchecked and not fails)
     return [CheckRow("deck_acceleration", "EN 1990 A2.4.4.2.1(4)P", value, "m/s^2", limit, value / limit,
                      "info" if unchecked else ("fail" if fails else "pass"), train, speed, seed,
                      node_text(bridge, columns[idx[-1]]), f"{settings.track.replace('_', ' ')} track; {note}")]
@@ -703,11 +725,12 @@ def _dynamic_increment(results, outputs, bridge, settings):
                                         shares=shares if response == "moment" else None))
     held = [n for n in moments if support_columns(results.column_envelopes(n)[1], bridge)]
     if held:                                           # the first moment output holding them (the default's)
-        support_rows = _increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
-                                       "intermediate supports", bridge, settings, supports=True, shares=shares)
-        for r in support_rows:
-            r.note += _support_basis_note(results, bridge)
-        rows.extend(support_rows)
+        rows.extend(_increment_rows(results, held[0], MIN, "_support_moment", "hogging bending moment over the "
+                                    "intermediate supports", bridge, settings, supports=True, shares=shares))
+    basis_note = _moment_basis_note(results, bridge)
+    for r in rows:
+        if r.criterion.endswith("_moment"):
+            r.note += basis_note
     piers = [n for _, _, nodes in intermediate_supports(bridge) for n in nodes[:1]]
     if moments and piers and not held:                 # a continuous deck whose sweep kept no moment over its piers
         for r in rows:
@@ -1048,17 +1071,30 @@ def _truncation_note(results, bridge):
     return f" (in the modal bridge's modes up to {basis:.4g} Hz, without the higher modes' static share)"
 
 
-def _support_basis_note(results, bridge):
-    """'' unless the sweep ran a modal bridge whose basis stops below SUPPORT_MOMENT_HZ, the basis
-    docs/modal.md recommends for support moments (many modes make them): then that it may read
-    them low, and what to take."""
+def default_basis_hz(results, bridge):
+    """The default modal basis [Hz] of the sweep of ``results`` as vtsi takes it now
+    (:func:`~vtsi.passage.default_modal_hz`: from the bridge record's cut-off, the outputs' kinds,
+    the top speed and the trains' stored axles)."""
+    ident = results.identity
+    offsets = [results.train_data(t)["axle_offsets_m"] for t in results.trains]
+    return default_modal_hz(bridge, [o["response"] for o in ident["outputs"]], max(ident["speeds_kmh"]), offsets)
+
+
+def _moment_basis_note(results, bridge):
+    """'' unless the sweep ran a modal bridge whose basis stops below the moments' default
+    (:func:`default_basis_hz`: 1.1 × twice the frequency at which the trains' closest axles pass
+    at the top speed, where above the cut-off's): then that the moments may read low, and what
+    to take."""
     sweep = results.identity["settings"]
     basis = modal_basis_hz(sweep.get("bridge", "fe"), sweep.get("modal_hz"), bridge)
-    if basis is None or basis >= SUPPORT_MOMENT_HZ * (1 - 1e-9):
+    needed = None if basis is None else default_basis_hz(results, bridge)
+    if basis is None or basis >= needed * (1 - 1e-9):
         return ""
-    return (f"; the modal bridge's modes stop at {basis:.4g} Hz, below the {SUPPORT_MOMENT_HZ:g} Hz docs/modal.md "
-            f"recommends for support moments, which many modes make: the hogging moment may read low; sweep with "
-            f"modal_hz >= {SUPPORT_MOMENT_HZ:g} Hz or the FE bridge")
+    return (f"; the modal bridge's modes stop at {basis:.4g} Hz, below the {needed:.4g} Hz that holds the modes the "
+            f"trains' closest axles drive at {max(results.identity['speeds_kmh']):g} km/h: the static correction "
+            "puts back only the higher modes' quasi-static share, and the moments may read low (over the pier of a "
+            "2 x 20 m deck on bearings and piers, modes to 33 Hz: 6.3 % low); sweep with modal_hz >= "
+            f"{needed:.4g} Hz (the default) or the FE bridge")
 
 
 @dataclass
@@ -1180,6 +1216,9 @@ def _deflection(results, outputs, bridge, settings):
                                  f"{governs}: {rule}{'' if case is None else _irregular_note(results)}"))
         return rows
     return []
+
+
+MIN_STEPS_PER_PERIOD = 4     # a dt with fewer steps (samples) a period of the cut-off: the deck acceleration not checked
 
 
 END_ROTATION_CLAUSE = "EN 1990 A2.4.4.2.3, EN 1991-2 6.5.4.5.2"   # where EN limits end rotations (not checked)

@@ -8,13 +8,14 @@ The rules, in order (:func:`deck_layout`):
 1. **Supports.** A track node carries the deck when its uy is fixed, or when it stands on a
    vertical line of other elements (bearings, springs, piers: every node of the line within
    SUPPORT_X_TOLERANCE of its x, off the track) that reaches a node with uy fixed, or when it
-   stands on a structure of its own that reaches one: off-track elements going from it to a
-   node below it (or under it, at its x: a bearing's lower node), and on from there to nodes
-   at or below its level (within SUPPORT_X_TOLERANCE), none of them tied to another track node
-   (one at its x excepted), down to a node with uy fixed, at any x (arms to bearings beside the
-   node, a pier cap below the deck or at its level, a V-pier). Hangers and stays (going up), a
-   deck going on at the track's level off the track (a level beam from the track node itself),
-   the chords of a truss and the deck under a rail on pads (tied to other track nodes) are not.
+   stands on a structure of its own that reaches one: off-track elements going from it to
+   nodes below it (or under it, at its x: a bearing's lower node), none of them tied to another
+   track node (one at its x excepted), down to a node with uy fixed, at any x (arms to bearings
+   beside the node, a pier cap, a V-pier); at its level only a pier cap's arm: one element from
+   a node so reached to a node with an element going down (a column's top). Hangers and stays
+   (going up), a deck going on at the track's level off the track (a level beam from the track
+   node itself, or a second girder tied to it), the chords of a truss and the deck under a
+   rail on pads (tied to other track nodes) are not.
 2. **Support lines.** Supported nodes within SUPPORT_X_TOLERANCE of each other's x are one
    support (two deck ends on one pier).
 3. **Ground.** Three or more support lines in a row, one element apart, are ground (an approach
@@ -238,20 +239,29 @@ def _stands(model, node, x, on_track, links, fixed_y):
             seen.add(m)
             stack.append(m)
     level = nodes[node][1]
-    seen, stack = {node}, [node]                  # a structure of its own, never above it
+
+    def below(m):
+        return nodes[m][1] < level - SUPPORT_X_TOLERANCE
+
+    def under(m):
+        return abs(nodes[m][0] - x[node]) <= SUPPORT_X_TOLERANCE and nodes[m][1] <= level + SUPPORT_X_TOLERANCE
+
+    seen, stack = {node}, [node]                  # a structure of its own below it
     while stack:
         here = stack.pop()
         for m in links.get(here, ()):
-            if m in seen or m in on_track or nodes[m][1] > level + SUPPORT_X_TOLERANCE:
+            if m in seen or m in on_track:
                 continue
-            if here == node and not (nodes[m][1] < level - SUPPORT_X_TOLERANCE
-                                     or abs(nodes[m][0] - x[node]) <= SUPPORT_X_TOLERANCE):
-                continue                          # its first step: below it, or under it at its x
+            # a pier cap at its level: one level arm from a node already reached to a column's top
+            cap = (here != node and not below(m) and nodes[m][1] <= level + SUPPORT_X_TOLERANCE
+                   and any(below(k) for k in links.get(m, ()) if k not in on_track))
+            if not (below(m) or under(m) or cap):
+                continue
             seen.add(m)
             if any(k in on_track and k != node and abs(x[k] - x[node]) > SUPPORT_X_TOLERANCE
                    for k in links.get(m, ())):
                 continue                          # shared with another track node: not its own
-            if m in fixed_y:
+            if m in fixed_y and not cap:
                 return True
             stack.append(m)
     return False

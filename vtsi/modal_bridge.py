@@ -38,8 +38,6 @@ from vtsi.subdomain import BridgeStages, factor, rows_times
 from vtsi.track import Track
 
 CUTOFF_MARGIN = 1.1     # modes up to 1.1 × the cut-off: a mode that sits on the cut-off stays in
-SUPPORT_MOMENT_HZ = 60.0    # [Hz] the basis docs/modal.md recommends for support moments (many modes make them; its
-                            # measurements there): the check's support-moment rows say when a modal sweep's is lower
 
 
 def _moving(asm, track, shapes):

@@ -246,7 +246,9 @@ class PassageSettings:
         (:mod:`vtsi.modal_passage`, sampled every ``dt``); cars, contact loss and self weight are
         time-stepped on the modal bridge (:class:`~vtsi.coupled.CoupledAnalysis` ``bridge=``);
         'modal-stepped' time-steps every passage on the modal bridge (the work-precision study).
-    modal_hz : the modal bridge's highest frequency [Hz]; None: 1.1 × the EN cut-off.
+    modal_hz : the modal bridge's highest frequency [Hz]; None: :func:`default_modal_hz` (1.1 × the
+        EN cut-off, or with a bending-moment output 1.1 × twice the frequency of the trains' closest
+        axles at the top speed where higher), set by the :class:`PassageRunner` as it sets ``dt``.
     static_correction : passages of moving forces on the modal bridge (exact or 'modal-stepped')
         add the truncated modes' quasi-static response to displacements, rotations and bending
         moments without a cut-off (:mod:`vtsi.modal_bridge`); accelerations keep the modes up to
@@ -470,10 +472,20 @@ def step_error_text(dt, frequency_hz, zeta):
     over a 25+32+25 m viaduct, cut-off 30 Hz, ζ 1 %, at 1 ms: e/ζ = 0.30, 4.1 %; its deck
     acceleration measured +4.3 % at 334 km/h)."""
     e = period_error(dt, frequency_hz)
-    r = e / zeta
-    return (f"Newmark's period error there, (2 pi f dt)^2/12 = {100 * e:.2g} %, is {r:.2g} x the damping ratio "
+    return (f"Newmark's period error there, (2 pi f dt)^2/12 = {100 * e:.2g} %, is {e / zeta:.2g} x the damping ratio "
             f"({100 * zeta:.3g} %): a mode there resonates at a speed {100 * e:.2g} % off, and its share of a peak at "
-            f"one speed may be off by up to {100 * (1 - 1 / math.sqrt(1 + r * r)):.2g} % either way")
+            f"one speed may be off by up to {100 * step_effect(dt, frequency_hz, zeta):.2g} % either way")
+
+
+def step_effect(dt, frequency_hz, zeta):
+    """The most a time step ``dt`` [s] may cost the peak of a mode of ``frequency_hz`` [Hz] [-]:
+    sampled (``zeta`` None, exact passages) 1 − cos(π f Δt), 1 from two samples a period down;
+    time-stepped (damping ratio ``zeta`` > 0) the steady resonant share's change
+    1 − 1/√(1 + (e/ζ)²), e Newmark's period error (:func:`period_error`, :func:`step_error_text`)."""
+    if zeta is None:
+        return 1.0 - math.cos(math.pi * min(frequency_hz * dt, 0.5))
+    r = period_error(dt, frequency_hz) / zeta
+    return 1.0 - 1.0 / math.sqrt(1.0 + r * r)
 
 
 def step_rule_text(zeta=None):
@@ -516,11 +528,46 @@ def dt_resolving(frequency_hz, zeta=None):
     return max(m for m in (1.0, 2.0, 2.5, 4.0, 5.0) if m * decade <= dt * (1 + 1e-12)) * decade
 
 
+AXLE_GAP_TOLERANCE = 1e-3     # [m] axles closer than this are one (coincident wheels)
+AXLE_PAIR_HARMONICS = 2       # the moments' default modal basis holds the closest axles' first two harmonics
+
+
+def axle_pair_hz(top_speed_kmh, axle_offsets):
+    """[Hz] v_max / d_min: how often the trains' two closest axles, d_min apart, pass a point at
+    the top speed [km/h] (``axle_offsets``: each train's axle offsets [m]; gaps under
+    AXLE_GAP_TOLERANCE are one axle); None when no train has two axles. A mode at k v/d
+    (k = 1, 2, …) is loaded by both axles of every such pair in phase (|1 + e^(-2πi f d/v)| = 2)
+    and resonates with the coaches' repeated bogies at the speeds near it: HSLM-A's bogies
+    (d_BA = 2.0 m, EN 1991-2 Table E.1) at 420 km/h, 58.3 Hz."""
+    gaps = [g for x in axle_offsets for g in np.diff(np.sort(np.asarray(x, dtype=float).ravel()))
+            if g > AXLE_GAP_TOLERANCE]
+    return top_speed_kmh / 3.6 / min(gaps) if gaps else None
+
+
+def default_modal_hz(record, responses=(), top_speed_kmh=None, axle_offsets=()):
+    """A sweep's modal basis by default [Hz]: CUTOFF_MARGIN × the EN cut-off of the bridge's
+    ``record`` (:func:`en_cutoff_hz`: its accelerations need no more) and, when ``responses``
+    (the outputs' kinds) hold a 'moment', CUTOFF_MARGIN × AXLE_PAIR_HARMONICS ×
+    :func:`axle_pair_hz` of the trains' ``axle_offsets`` at ``top_speed_kmh`` where that is
+    higher (HSLM-A at 420 km/h: 128.3 Hz). A bending moment takes a share from every mode, and
+    the static correction puts back only the truncated modes' quasi-static share: a mode above
+    the cut-off driven to resonance by the bogies is missed. Over the pier of a 2 × 20 m deck on
+    bearings and piers (modes at 33.9 and 58.0 Hz, just above the 33 Hz of 1.1 × the cut-off),
+    HSLM-A1..A10 at 150–420 km/h, ζ 1 %, against every mode: the hogging moment's envelope read
+    6.3 % low with the cut-off's basis (a train's 10.2 %, a passage's 19 %), 0.7 % with this one
+    (1.9 %, 2.9 %); at 1.1 v/d, 0.5 % (2.1 %, 5.7 %) (docs/modal.md)."""
+    f = en_cutoff_hz(record)
+    if "moment" in responses and top_speed_kmh is not None:
+        f = max(f, AXLE_PAIR_HARMONICS * (axle_pair_hz(top_speed_kmh, axle_offsets) or 0.0))
+    return CUTOFF_MARGIN * f
+
+
 def modal_basis_hz(bridge, modal_hz, record):
     """The highest frequency [Hz] of a sweep's modal bridge (``bridge`` 'modal' or
-    'modal-stepped'): ``modal_hz``, or by default CUTOFF_MARGIN × the EN cut-off of the bridge's
-    ``record`` (:func:`en_cutoff_hz`); None for the FE bridge ('fe'). Every output of a modal
-    sweep counts the frequencies up to it at most."""
+    'modal-stepped'): ``modal_hz`` (the runner sets it, :func:`default_modal_hz`), or for a
+    results file of an older vtsi, which left it None, the default of then: CUTOFF_MARGIN × the
+    EN cut-off of the bridge's ``record`` (:func:`en_cutoff_hz`); None for the FE bridge ('fe').
+    Every output of a modal sweep counts the frequencies up to it at most."""
     if bridge == "fe":
         return None
     return float(modal_hz) if modal_hz else CUTOFF_MARGIN * en_cutoff_hz(record)
@@ -620,6 +667,8 @@ class PassageRunner:
         ``settings.damping``; the FE bridge, which steps Rayleigh damping, refuses them.
     top_speed_kmh : the sweep's top speed [km/h]; with cars on an irregular rail the default Δt
         also resolves the rail's shortest wavelength at it (:func:`rail_frequency_hz`).
+    trains : the sweep's train names: with ``top_speed_kmh`` and a bending-moment output, the
+        default modal basis also holds the modes their closest axles drive (:func:`default_modal_hz`).
 
     Attributes
     ----------
@@ -644,7 +693,8 @@ class PassageRunner:
         nodes (a rail on its pads over the deck): the deck outputs are the track's.
     """
 
-    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=(), top_speed_kmh=None):
+    def __init__(self, model, track_elements, settings, outputs=DEFAULT_OUTPUTS, modal_damping=(), top_speed_kmh=None,
+                 trains=()):
         if top_speed_kmh is not None:
             top_speed_kmh = as_positive(top_speed_kmh, "sweep", "top speed [km/h]")
         modal_damping = _modal_damping(modal_damping)
@@ -697,9 +747,14 @@ class PassageRunner:
             rayleigh_damping(self.model, settings.damping,
                              settings.damping_hz or (self.frequencies[0], self.en_cutoff_hz))
         self.cache = BridgeStageCache()
+        self._trains = {}
         self.modal = None
         if settings.bridge != "fe":      # damping None: the model's own (classical) damping on its modes
-            f_max = modal_basis_hz(settings.bridge, settings.modal_hz, self.frequency_record)
+            if settings.modal_hz is None:
+                offsets = [self.train(name, 1.0).wheel_offsets for name in trains]
+                self.settings = settings = replace(settings, modal_hz=default_modal_hz(
+                    self.frequency_record, [o.response for o in self.outputs], top_speed_kmh, offsets))
+            f_max = settings.modal_hz
             if f_max < self.frequencies[0]:
                 raise ModelError(f"modal_hz = {f_max:g} Hz is below the bridge's first frequency "
                                  f"({self.frequencies[0]:.4g} Hz): no mode to keep")
@@ -710,7 +765,6 @@ class PassageRunner:
                 self.modal.check_underdamped()
         self._dead_load = {}
         self._profiles = {}
-        self._trains = {}
         self._static = {}            # static_envelopes by (output, train names)
         self._modes = {}
         self._modal_plans = {}

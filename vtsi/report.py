@@ -529,7 +529,7 @@ class _Report:
                    if o.get("cutoff_hz") is not None]
         irregularity = s.get("irregularity")
         cars = s.get("cars") != "force"
-        rows = [["bridge model", bridge_model_text(s, res.bridge())],
+        rows = [["bridge model", bridge_model_text(res, res.bridge())],
                 ["time step dt", f"{s['dt']:g} s"],
                 ["integrator", str(s["integrator"])],
                 ["cars (fidelity)", "force (moving axle loads)" if not cars else str(s["cars"])],

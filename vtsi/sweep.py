@@ -426,8 +426,8 @@ class Sweep:
         try:
             check_deck_mass(bridge.model, bridge.track_elements, "bridge", bridge.min_mass_per_metre)
             self.runner = PassageRunner(bridge.model, bridge.track_elements, settings, outputs, bridge.modal_damping,
-                                        top_speed_kmh=float(self.speeds_kmh[-1]))
-            self.settings = self.runner.settings       # dt set from the bridge when it was None
+                                        top_speed_kmh=float(self.speeds_kmh[-1]), trains=self.trains)
+            self.settings = self.runner.settings       # dt (and modal_hz) set from the bridge when None
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
                     self.runner.check_resolution(name, float(speed))

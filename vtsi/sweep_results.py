@@ -86,6 +86,7 @@ from vtsi.version import __version__
 from vtsi.codes.en1991_2 import determinant_length
 from vtsi.errors import SweepError, as_number
 from vtsi.influence import StaticEnvelopes
+from vtsi.modal_bridge import CUTOFF_MARGIN
 from vtsi.models.catalogue import train_names
 from vtsi.passage import body_runout, en_cutoff_hz
 
@@ -515,6 +516,20 @@ def _axle_tables_as_stored(identity, stored):
                 train_fingerprints={names.get(t, t): p for t, p in mine.items()}), names
 
 
+def _modal_default_as_stored(identity, stored, cutoff_hz):
+    """The file's identity ``stored`` with the modal_hz that a modal sweep of an older vtsi left
+    None made the number it took, CUTOFF_MARGIN × the EN cut-off ``cutoff_hz`` [Hz] (or this
+    sweep's ``identity``'s modal_hz where it equals that to 1e-9: the value the refusal names,
+    given, continues the file); ``stored`` itself otherwise."""
+    there = stored.get("settings")
+    if not isinstance(there, dict) or there.get("bridge", "fe") == "fe" or there.get("modal_hz") is not None:
+        return stored
+    old = CUTOFF_MARGIN * cutoff_hz
+    mine = (identity.get("settings") or {}).get("modal_hz")
+    value = mine if isinstance(mine, float) and abs(mine - old) <= 1e-9 * old else old
+    return dict(stored, settings=dict(there, modal_hz=value))
+
+
 def _item_names(items):
     """A list's items as :func:`_describe` names them: an output by its name, others as they are."""
     return [x.get("name") if isinstance(x, dict) else x for x in items]
@@ -574,6 +589,8 @@ def _describe(diff, runner):
     hint = ""
     if path == ("settings", "dt") and there is not None:     # the default dt follows the bridge's cut-off
         hint = f" (to continue that file, give its dt = {there:g} s)"
+    if path == ("settings", "modal_hz") and there is not None:   # the default basis follows the outputs and trains
+        hint = f" (to continue that file, give its modal_hz = {there:.10g} Hz)"
     return f"it differs in {where} ({show(here)} here, {show(there)} in the file){hint}"
 
 
@@ -773,7 +790,7 @@ class ResultsWriter:
             raise SweepError(f"results file {path} is of format {version}, this vtsi writes format {FORMAT_VERSION}: "
                              f"it cannot be resumed; {self._remedy()}")
         here, renamed = _axle_tables_as_stored(self.identity, stored)
-        diff = _first_difference(here, stored)
+        diff = _first_difference(here, _modal_default_as_stored(here, stored, self.runner.en_cutoff_hz))
         if diff:
             raise SweepError(f"results file {path} holds a different sweep ({_describe(diff, self.runner)}); "
                              f"{self._remedy(diff)}")
