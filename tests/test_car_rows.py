@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from vtsi.check import check, stored_check
-from vtsi.passage import (CONTACT_FORCE_WINDOW, HISTORY_OUTPUTS, Output, PassageSettings, body_runout,
+from vtsi.passage import (CAR_APPROACH, CONTACT_FORCE_WINDOW, HISTORY_OUTPUTS, Output, PassageSettings, body_runout,
                           contact_force_mean, contact_force_reach, rail_frequency_hz, windowed_envelope)
 from vtsi.places import car_label, wheel_label
 from vtsi.recorders.envelope import Envelope
@@ -20,7 +20,11 @@ def _bridge(f1=5.0, elements=10):
 
 
 def _irregular(dt=1e-3, rail="german-high", **kwargs):
-    return PassageSettings(dt=dt, damping=0.013, cars="full", contact="lcp", irregularity=rail, **kwargs)
+    """The probe's settings, and its 25 m approach (CAR_APPROACH; the default on an irregular rail
+    is now far longer, tests/test_car_approach.py): the rows' counting, not the cars' start, is
+    what these tests read."""
+    return PassageSettings(dt=dt, damping=0.013, cars="full", contact="lcp", irregularity=rail,
+                           **{"approach": CAR_APPROACH, **kwargs})
 
 
 @pytest.fixture(scope="module")

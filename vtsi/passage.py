@@ -74,7 +74,9 @@ PLAUSIBLE_FREQUENCY_SHARE = 0.2  # a first frequency below this share of EN 1991
 E_UNITS = (("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9))   # E typed in them as Pa: f1 ∝ √E reads √(factor) times low
 MAX_PASSAGE_STEPS = 10_000_000  # steps (or exact passages' samples) of one passage
 TAPER = 20.0            # [m] the irregularity fades in over this length ahead of the first wheel
-CAR_APPROACH = 25.0     # [m] default approach of trains of cars (covers the taper)
+CAR_APPROACH = 25.0     # [m] default approach of trains of cars on a smooth rail (covers the taper)
+SETTLE_DECAYS = math.log(20.0) / 2.0   # [-] σ t after which a stationary response's variance is within 5 % of its
+                                       # own (e^(−2σt) = 1/20, σ the slowest decay rate): ~1.5
 PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
 PROFILE_MARGIN = 5.0    # [m] the profile is sampled this far beyond the wheels' travel, ...
 SPLINE_REACH_STEPS = 4  # ... plus the B-spline rows' reach, 2 knots of 2 V Δt (MovingLoadConstraint.check_travel)
@@ -233,7 +235,8 @@ class PassageSettings:
     irregularity : None (smooth rail) or 'german-low', 'german-high', 'fra-1' … 'fra-6'; each
         case's seed selects the sample. Only with cars='full' (moving forces do not feel it).
     approach : distance of the first wheel before the track at t = 0 [m]; None: 0 for moving
-        forces, CAR_APPROACH for cars.
+        forces, CAR_APPROACH for cars on a smooth rail, and for cars on an irregular rail TAPER
+        plus the run in which their bodies settle (:meth:`PassageRunner.approach`).
     free_vibration : the bridge's free vibration, time after the last wheel leaves the track [s];
         None: FREE_VIBRATION_PERIODS periods of the first vertical mode. A sweep reading car
         bodies runs longer where a car body still counts then (its last wheel off the decks
@@ -622,6 +625,16 @@ def contact_force_reach(dt):
     return max(1, int(math.floor(0.5 * CONTACT_FORCE_WINDOW / dt + 0.5))) * dt
 
 
+def _wheels_held(car):
+    """A car's K [N/m], M [kg] and C [N s/m] (rotations: N m/rad, kg m², N m s/rad) on its dofs
+    other than the wheels' (its body and bogies on their suspensions, the wheels held at rest),
+    or None for a car without such dofs."""
+    free = car.body_dofs
+    if not free.size:
+        return None
+    return tuple(np.asarray(m, dtype=float)[np.ix_(free, free)] for m in (car.K, car.M, car.C))
+
+
 def body_runout(car):
     """How long [s] a car body's acceleration still counts after its last wheel left a deck:
     BODY_RUNOUT_PERIODS (½) periods of the car's lowest mode with its wheels held (its body and
@@ -629,12 +642,10 @@ def body_runout(car):
     the body carries off the deck is a decaying free vibration, whose largest |a| comes within
     half a period; counting longer reads the ground's rail. 0 for a car without such dofs;
     infinite (the rest of the run) for one whose lowest mode has no stiffness."""
-    held = set(np.asarray(car.wheel_dofs).tolist())
-    free = [i for i in range(car.n_dof) if i not in held]
-    if not free:
+    held = _wheels_held(car)
+    if held is None:
         return 0.0
-    dense = [m.toarray() if hasattr(m, "toarray") else np.asarray(m, dtype=float) for m in (car.K, car.M)]
-    K, M = (m[np.ix_(free, free)] for m in dense)
+    K, M, _ = held
     try:
         lowest = float(np.min(scipy.linalg.eigh(K, M, eigvals_only=True)))       # ω² [rad²/s²]
     except (np.linalg.LinAlgError, ValueError):      # a mass matrix that is not positive definite
@@ -643,6 +654,30 @@ def body_runout(car):
     if not lowest > 1e-12 * scale:                   # a rigid-body mode: no stiffness to end its motion
         return math.inf
     return BODY_RUNOUT_PERIODS * 2.0 * math.pi / math.sqrt(lowest)
+
+
+def body_decay_rate(car):
+    """The slowest decay rate σ [1/s] of a car's free vibration with its wheels held (the dofs of
+    :func:`body_runout`): the least −Re λ over the eigenvalues λ of its state matrix
+    [[0, I], [−M⁻¹K, −M⁻¹C]] (an ICE3 coach: 0.649 1/s, its 0.807 Hz mode at ζ = 12.8 %). inf for a
+    car without such dofs (nothing to settle). A mode that does not decay (σ = 0: undamped, or a
+    rigid-body mode without damping) never reaches a steady state on an irregular rail: a
+    :class:`~vtsi.errors.ModelError` naming the car and the mode."""
+    held = _wheels_held(car)
+    if held is None:
+        return math.inf
+    K, M, C = held
+    n = len(K)
+    eye, zero = np.eye(n), np.zeros((n, n))
+    lam = scipy.linalg.eig(np.block([[zero, eye], [-K, -C]]), np.block([[eye, zero], [zero, M]]), right=False)
+    decay = -lam.real
+    slowest = int(np.argmin(decay))
+    if not decay[slowest] > 1e-9 * float(np.max(np.abs(lam))):
+        raise ModelError(f"car {car.name!r}: its mode at {abs(lam[slowest].imag) / (2 * math.pi):.4g} Hz with the "
+                         f"wheels held does not decay (decay rate {decay[slowest]:.3g} 1/s: no damping on it), so its "
+                         "body never reaches a steady state on the irregular rail and no default approach brings it "
+                         "there: give the car damping, or the sweep's settings an approach [m]")
+    return float(decay[slowest])
 
 
 def _psd(name):
@@ -771,6 +806,7 @@ class PassageRunner:
         self._residuals = {}
         self._fixed_ends = {}
         self._runouts = {}
+        self._settle_times = {}
         self._end_flexibility = None
 
     # -- the bridge -------------------------------------------------------------------------
@@ -864,11 +900,31 @@ class PassageRunner:
         return self._trains[name].with_speed(speed)
 
     def approach(self, train):
-        """The first wheel's distance before the track at t = 0 [m]."""
+        """The first wheel's distance before the track at t = 0 [m]: the settings' ``approach``, or
+        by default 0 for moving forces, CAR_APPROACH for cars on a smooth rail (nothing moves them
+        before the deck) and, for cars on an irregular rail, the TAPER over which it fades in plus
+        the run at the train's speed V [m/s] in which its car bodies reach their steady response
+        there, V × :meth:`settle_time` (an ICE3 at 300 km/h: 20 + 192 m; with 25 m its car-body
+        accelerations on a 20 m span read 9-23 % low), never less than CAR_APPROACH."""
         s = self.settings
         if s.approach is not None:
             return s.approach
-        return 0.0 if train.n_dof == 0 else CAR_APPROACH
+        if train.n_dof == 0:
+            return 0.0
+        if s.irregularity is None:
+            return CAR_APPROACH
+        return max(CAR_APPROACH, TAPER + train.speed * self.settle_time(train))
+
+    def settle_time(self, train):
+        """SETTLE_DECAYS / σ [s], σ the least :func:`body_decay_rate` of ``train``'s cars (each
+        distinct car computed once per train): the time after which a car body's stationary
+        response to the rail has come within 5 % in variance (an ICE3: 2.31 s); 0 for a train
+        whose cars have no suspended dofs."""
+        key = id(train.cars)               # the cars a train shares with its copies at every speed
+        if key not in self._settle_times or self._settle_times[key][0] is not train.cars:
+            rates = {id(car): body_decay_rate(car) for car in train.cars}
+            self._settle_times[key] = (train.cars, SETTLE_DECAYS / min(rates.values(), default=math.inf))
+        return self._settle_times[key][1]
 
     def start_position(self, train):
         """x_head0 [m]: the train's head at t = 0 (its first wheel ``approach`` before the track)."""
