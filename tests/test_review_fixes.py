@@ -58,7 +58,8 @@ def test_another_run_length_is_not_blamed_on_car_bodies(tmp_path):
     text = str(info.value)
     assert text.startswith(f"results file {path}: its passage of HSLM-A1 at 200 km/h ran {written + 7} steps, this "
                            f"vtsi runs {written}: the file was written by a vtsi whose passages ran another length "
-                           "(since 2026-11-27, for one, a sweep reading car bodies runs until")
+                           "(since 2026-11-27 a sweep reading car bodies runs until the last car body stops "
+                           "counting; since 2026-11-28 cars on an irregular rail start far enough")
     assert "use another file, or overwrite=True (--overwrite)" in text
 
 

@@ -815,8 +815,10 @@ class ResultsWriter:
             if lengths[key] != int(n):
                 raise SweepError(f"results file {path}: its passage of {names[key[0]]} at {key[1]:g} km/h ran "
                                  f"{int(n)} steps, this vtsi runs {lengths[key]}: the file was written by a vtsi whose "
-                                 "passages ran another length (since 2026-11-27, for one, a sweep reading car bodies "
-                                 "runs until the last car body stops counting: vtsi.passage.PassageRunner.n_steps), "
+                                 "passages ran another length (since 2026-11-27 a sweep reading car bodies runs until "
+                                 "the last car body stops counting; since 2026-11-28 cars on an irregular rail start "
+                                 "far enough before the bridge for their bodies to settle, PassageRunner.approach, or "
+                                 "give the file's approach: vtsi.passage.PassageRunner.n_steps), "
                                  f"and resuming would mix passages of both; {self._remedy()}")
 
     def _remedy(self, diff=None):
