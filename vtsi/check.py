@@ -1253,8 +1253,9 @@ def _end_rotation(results, outputs, bridge, settings):
                          note=f"largest rotation of the deck under the trains {where} (no limit checked: EN 1990 "
                               "A2.4.4.2.3 leaves the end rotations of a ballasted deck to EN 1991-2 6.5.4.5.2, which "
                               "limits the vertical displacement of the deck end relative to the adjacent construction: "
-                              "the rotation acting through the geometry of the deck end and its bearings, which the "
-                              "model does not hold; for direct fastening the project sets the limit)")]
+                              "the rotation acting through the geometry of the deck end and its bearings (or a frame's "
+                              "corner), which the model does not hold; for direct fastening the project sets the "
+                              "limit)")]
     return []
 
 
