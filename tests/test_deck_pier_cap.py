@@ -129,11 +129,13 @@ def test_a_rail_on_pads_over_a_deck_keeps_the_decks_spans(height):
     assert layout.pier_nodes == (111,) and layout.track_on_a_structure
 
 
-def test_a_second_girder_tied_at_the_decks_level_is_no_support():
+@pytest.mark.parametrize("diaphragms", [(6,), (2, 6, 10)])
+def test_a_second_girder_tied_at_the_decks_level_is_no_support(diaphragms):
     """A 20 m track girder pinned at its ends and, at the same level, an off-track second girder on
     piers at its ends, tied to it by one diaphragm at mid-span: the diaphragm's walk along the
-    second girder is no pier cap (a first version of the level rule read 2 × 10 m spans, a probe's
-    twin girders). Only one arm from a node reached to a column's top counts at the deck's level."""
+    second girder is no pier cap (a first version of the level rule read 2 × 10 m spans, a second
+    2 + 16 + 2 m with diaphragms at 2, 10 and 18 m: a probe's twin girders). Level steps count
+    within CAP_REACH (1.5 m) of the track node's x only."""
     deck = dict(A=6.0, E=3.5e10, I=3.0, rho=18000.0)
     model = vtsi.Model()
     for i in range(11):
@@ -148,6 +150,42 @@ def test_a_second_girder_tied_at_the_decks_level_is_no_support():
         model.node(k, model.nodes[n][0], -8.0)
         model.fix(k, 1, 1, 1)
         model.element("elasticBeamColumn", k, (k, n), A=4.0, E=3.5e10, I=2.0, rho=10000.0)
-    model.element("zeroLength", 500, (6, 106), kx=1e9, ky=1e9)
+    for n in diaphragms:            # at 2 m from the second girder's pier: beyond a cap's reach
+        model.element("zeroLength", 500 + n, (n, 100 + n), kx=1e9, ky=1e9)
     layout = deck_layout(model, Track(model, list(range(1, 11))))
     assert layout.support_nodes == (1, 11) and layout.span_ends == ((0.0, 20.0),) and layout.pier_nodes == ()
+
+
+@pytest.mark.parametrize("arm_elements", [1, 2])
+def test_a_cap_arm_of_several_elements_carries_the_decks(arm_elements):
+    """Two 20 m decks on zeroLength bearings whose lower nodes reach a column's top at x = 21 m by
+    1 m level arms, meshed in one or two elements: two spans (the rule of one arm element read one
+    42 m span from a two-element arm, a probe's hammerhead)."""
+    deck = dict(A=6.0, E=3.5e10, I=3.0, rho=18000.0)
+    model, track = vtsi.Model(), []
+    for first, x0 in ((1, 0.0), (21, 22.0)):
+        for i in range(11):
+            model.node(first + i, x0 + 2.0 * i, 0.0)
+        for i in range(10):
+            model.element("elasticBeamColumn", first + i, (first + i, first + i + 1), cmass=1, **deck)
+            track.append(first + i)
+    model.element("elasticBeamColumn", 12, (11, 21), A=0.0077, E=2.1e11, I=3e-5, rho=120.0)   # the rail's joint
+    track.append(12)
+    for n, low in ((1, 301), (31, 302)):
+        model.node(low, model.nodes[n][0], 0.0)
+        model.fix(low, 1, 1, 1)
+        model.element("zeroLength", low, (low, n), kx=5e6, ky=5e9)
+    model.node(400, 21.0, 0.0)                       # the column's top, at the deck's level
+    model.node(401, 21.0, -8.0)
+    model.fix(401, 1, 1, 1)
+    model.element("elasticBeamColumn", 400, (401, 400), A=4.0, E=3.5e10, I=2.0, rho=10000.0)
+    for n, low, side in ((11, 311, -1.0), (21, 321, 1.0)):
+        model.node(low, model.nodes[n][0], 0.0)
+        model.element("zeroLength", low, (low, n), kx=5e6, ky=5e9)
+        chain = [low] + [330 + low + k for k in range(arm_elements - 1)] + [400]
+        for k, tag in enumerate(chain[1:-1], start=1):
+            model.node(tag, 21.0 + side * (1.0 - k / arm_elements), 0.0)
+        for a, b in zip(chain[:-1], chain[1:]):
+            model.element("elasticBeamColumn", 1000 + a, (a, b), A=4.0, E=3.5e10, I=2.0)
+    layout = deck_layout(model, Track(model, track))
+    assert layout.span_ends == ((0.0, 20.0), (22.0, 42.0))

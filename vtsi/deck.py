@@ -11,11 +11,13 @@ The rules, in order (:func:`deck_layout`):
    stands on a structure of its own that reaches one: off-track elements going from it to
    nodes below it (or under it, at its x: a bearing's lower node), none of them tied to another
    track node (one at its x excepted), down to a node with uy fixed, at any x (arms to bearings
-   beside the node, a pier cap, a V-pier); at its level only a pier cap's arm: one element from
-   a node so reached to a node with an element going down (a column's top). Hangers and stays
-   (going up), a deck going on at the track's level off the track (a level beam from the track
-   node itself, or a second girder tied to it), the chords of a truss and the deck under a
-   rail on pads (tied to other track nodes) are not.
+   beside the node, a pier cap, a V-pier); at its level only a pier cap's arms: level elements
+   from a node so reached, within CAP_REACH of its x, on to a node with uy fixed below it.
+   Hangers and stays (going up), a deck going on at the track's level off the track (a level
+   beam from the track node itself, or a second girder tied to it farther than CAP_REACH from
+   that girder's support), the chords of a truss and the deck under a rail on pads (tied to
+   other track nodes) are not. A cap at the deck's level reaching farther is not read either:
+   model it below the deck.
 2. **Support lines.** Supported nodes within SUPPORT_X_TOLERANCE of each other's x are one
    support (two deck ends on one pier).
 3. **Ground.** Three or more support lines in a row, one element apart, are ground (an approach
@@ -53,6 +55,7 @@ from vtsi.errors import BridgeModelError
 SUPPORT_X_TOLERANCE = 0.01    # [m] how far off a node's x a vertical line under it may reach; supports as close: one
 MIN_SPAN_LENGTH = 1.0         # [m] the shortest span: EN 1991-2's HSLM-B loads spans from 1 m (6.4.6.1.1, Fig. 6.13)
 JOINT_STIFFNESS_SHARE = 0.01  # a track element this much less stiff in bending than the deck on both sides is a joint
+CAP_REACH = 1.5               # [m] how far off a track node's x a pier cap at the deck's level may reach (its arms)
 
 
 @dataclass(frozen=True)
@@ -246,24 +249,25 @@ def _stands(model, node, x, on_track, links, fixed_y):
     def under(m):
         return abs(nodes[m][0] - x[node]) <= SUPPORT_X_TOLERANCE and nodes[m][1] <= level + SUPPORT_X_TOLERANCE
 
-    seen, stack = {node}, [node]                  # a structure of its own below it
+    seen, stack = {node}, [(node, False)]         # a structure of its own below it
     while stack:
-        here = stack.pop()
+        here, levelled = stack.pop()
         for m in links.get(here, ()):
             if m in seen or m in on_track:
                 continue
-            # a pier cap at its level: one level arm from a node already reached to a column's top
-            cap = (here != node and not below(m) and nodes[m][1] <= level + SUPPORT_X_TOLERANCE
-                   and any(below(k) for k in links.get(m, ()) if k not in on_track))
-            if not (below(m) or under(m) or cap):
+            # a pier cap at its level: level steps from a node already reached, within CAP_REACH of its x
+            level_step = (here != node and not (below(m) or under(m)) and nodes[m][1] <= level + SUPPORT_X_TOLERANCE
+                          and abs(nodes[m][0] - x[node]) <= CAP_REACH)
+            if not (below(m) or under(m) or level_step):
                 continue
             seen.add(m)
             if any(k in on_track and k != node and abs(x[k] - x[node]) > SUPPORT_X_TOLERANCE
                    for k in links.get(m, ())):
                 continue                          # shared with another track node: not its own
-            if m in fixed_y and not cap:
+            levelled = levelled or level_step     # past a level step, only a fixed node below it counts
+            if m in fixed_y and (below(m) or not levelled):
                 return True
-            stack.append(m)
+            stack.append((m, levelled))
     return False
 
 
