@@ -159,8 +159,10 @@ def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=No
     phase = np.random.default_rng(rng).uniform(0.0, 2.0 * np.pi, omega.size)
     flat = x.ravel()
     r = np.zeros(flat.size)
-    # fixed blocks of waves and points (a 16 MB work array): each r(x) is summed in the same order
-    # whatever the other points are, so a seed's profile at x does not depend on the range sampled
+    # fixed blocks of waves and points (a 16 MB work array): each r(x) sums the same waves in the same
+    # blocks whatever the other points are, so a seed's profile at x does not depend on the range
+    # sampled but to round-off (the BLAS may group a product's sums by the points' count: 4e-18 m);
+    # a sweep samples fixed blocks of points (vtsi.passage.PROFILE_BLOCK), the same to the bit
     for p in range(0, flat.size, POINTS_PER_BLOCK):
         at = slice(p, p + POINTS_PER_BLOCK)
         for s in range(0, omega.size, WAVES_PER_BLOCK):

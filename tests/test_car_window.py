@@ -142,6 +142,6 @@ def test_a_file_of_the_old_run_length_is_not_resumed(tmp_path):
         f["cases/n_steps"][0] = old
     with pytest.raises(SweepError, match=f"results file {path}: its passage of ICE3 at 300 km/h ran {old} steps, "
                                          f"this vtsi runs {new}: the file was written by a vtsi whose passages ran "
-                                         r"another length \(since 2026-11-27, for one, a sweep reading car bodies .*\), "
+                                         r"another length \(since 2026-11-27 a sweep reading car bodies runs .*\), "
                                          "and resuming would mix passages of both"):
         Sweep(_bridge(), ["ICE3"], "300", CARS, outputs=BODIES).run(path, workers=1, progress=False, resume=True)

@@ -47,7 +47,8 @@ from vtsi.influence import InfluenceLines, StaticEnvelopes
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import add_quasi_static, peaks, shape_polynomials
 from vtsi.models.catalogue import FIDELITIES, catalogue_train, describe
-from vtsi.models.irregularity import WAVELENGTH_BAND, Irregularity, fra_psd, german_psd, sample_profile
+from vtsi.models.irregularity import (POINTS_PER_BLOCK, WAVELENGTH_BAND, Irregularity, fra_psd, german_psd,
+                                      sample_profile)
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
 from vtsi.recorders.envelope import Envelope
 from vtsi.recorders.modal import ModalNodeRecorder
@@ -78,6 +79,7 @@ CAR_APPROACH = 25.0     # [m] default approach of trains of cars on a smooth rai
 SETTLE_DECAYS = math.log(20.0) / 2.0   # [-] σ t after which a stationary response's variance is within 5 % of its
                                        # own (e^(−2σt) = 1/20, σ the slowest decay rate): ~1.5
 PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
+PROFILE_BLOCK = POINTS_PER_BLOCK   # samples of the profile computed at once (409.6 m), each block once per seed
 PROFILE_MARGIN = 5.0    # [m] the profile is sampled this far beyond the wheels' travel, ...
 SPLINE_REACH_STEPS = 4  # ... plus the B-spline rows' reach, 2 knots of 2 V Δt (MovingLoadConstraint.check_travel)
 BODY_RUNOUT_PERIODS = 0.5   # a car body counts this many periods of its lowest mode after its last wheel leaves a deck
@@ -985,18 +987,21 @@ class PassageRunner:
                                f"{MAX_PASSAGE_STEPS:.0e}: raise the speed or dt", "dt")
 
     def _irregularity(self, seed, x_first, x_last, start):
-        """The seed's profile over [x_first, x_last], faded in over TAPER metres from ``start``
-        (the first wheel's position at t = 0); cached per seed and grown when a case needs more."""
-        cached = self._profiles.get(seed)
-        if cached is None or cached[0] > x_first or cached[1] < x_last:
-            lo = min(x_first, cached[0]) if cached else x_first
-            hi = max(x_last, cached[1]) if cached else x_last
-            # samples at whole multiples of PROFILE_STEP and n_waves from a fixed length, so that a
-            # seed's profile, and so a case's result, does not depend on the range (the cases before it)
-            x = PROFILE_STEP * np.arange(math.floor((lo - 1.0) / PROFILE_STEP), math.ceil((hi + 1.0) / PROFILE_STEP) + 1)
-            r = sample_profile(_psd(self.settings.irregularity), x, n_waves=4000, rng=seed)
-            cached = self._profiles[seed] = (lo, hi, x, r)
-        _, _, x, r = cached
+        """The seed's profile over [x_first, x_last] (at least), faded in over TAPER metres from
+        ``start`` (the first wheel's position at t = 0). Sampled at whole multiples of
+        PROFILE_STEP in fixed blocks of PROFILE_BLOCK points on that grid (n_waves from a fixed
+        length), each block computed once per seed and kept: a case's profile is the same to the
+        bit whatever range the cases before it asked (a sweep's speeds each asked a few metres
+        more and re-sampled the whole profile: 0.5 s of a 0.9 s passage)."""
+        blocks = self._profiles.setdefault(seed, {})
+        first = math.floor((x_first - 1.0) / PROFILE_STEP) // PROFILE_BLOCK
+        last = math.ceil((x_last + 1.0) / PROFILE_STEP) // PROFILE_BLOCK
+        for j in range(first, last + 1):
+            if j not in blocks:
+                x = PROFILE_STEP * np.arange(j * PROFILE_BLOCK, (j + 1) * PROFILE_BLOCK)
+                blocks[j] = sample_profile(_psd(self.settings.irregularity), x, n_waves=4000, rng=seed)
+        x = PROFILE_STEP * np.arange(first * PROFILE_BLOCK, (last + 1) * PROFILE_BLOCK)
+        r = np.concatenate([blocks[j] for j in range(first, last + 1)])
         ramp = np.clip((x - start) / TAPER, 0.0, 1.0)
         return Irregularity(x, r * 0.5 * (1.0 - np.cos(np.pi * ramp)))
 
