@@ -124,11 +124,15 @@ def test_the_time_step_resolves_the_rails_shortest_wavelength():
     assert Sweep(_bridge(elements=4), ["ICE3"], "600", PassageSettings(cars="full", damping=0.08)).settings.dt == 1e-3
     assert Sweep(_bridge(elements=4), ["ICE3"], "600", PassageSettings(cars="full")).settings.dt == 2.5e-4  # ζ 0.5 %
     coarse = Sweep(_bridge(elements=4), ["ICE3"], "300", _irregular(dt=5e-3, rail="german-low"), seeds=[0])
+    default = Sweep(_bridge(elements=4), ["ICE3"], "300", _irregular(dt=None, rail="german-low"), seeds=[0]).settings.dt
+    assert default < 1e-3                               # the deck's cut-off asks more than the rail
     result = check(coarse.run(None, workers=1, progress=False))
     for criterion in ("car_body_acceleration", "wheel_unloading", "contact_loss"):
         assert "not converged in dt: dt = 5 ms steps the rail's shortest wavelength (3 m) at the top speed, 300 " \
                "km/h (27.8 Hz), 7.2 times a period" in result.row(criterion).note, criterion
-        assert result.row(criterion).note.endswith("take dt <= 1 ms (the default)")
+        assert result.row(criterion).note.endswith(
+            "take dt <= 1 ms (the rail's 20 steps a period; the default of this bridge and sweep, "
+            f"{1e3 * default:g} ms, is finer: it also resolves the deck's cut-off)")
 
 
 def test_a_coarse_step_on_an_irregular_rail_runs():

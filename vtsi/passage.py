@@ -78,6 +78,8 @@ TAPER = 20.0            # [m] the irregularity fades in over this length ahead o
 CAR_APPROACH = 25.0     # [m] default approach of trains of cars on a smooth rail (covers the taper)
 SETTLE_DECAYS = math.log(20.0) / 2.0   # [-] σ t after which a stationary response's variance is within 5 % of its
                                        # own (e^(−2σt) = 1/20, σ the slowest decay rate): ~1.5
+MAX_SETTLE_TIME = 10.0  # [s] the longest settle time a default approach takes (ten periods of a 1 Hz car body, a
+                        # mode at ζ ≈ 2.4 %; an ICE3 coach: 2.3 s): longer is a car whose damping is missing
 PROFILE_STEP = 0.1      # [m] sampling of the irregular profile
 PROFILE_BLOCK = POINTS_PER_BLOCK   # samples of the profile computed at once (409.6 m), each block once per seed
 PROFILE_MARGIN = 5.0    # [m] the profile is sampled this far beyond the wheels' travel, ...
@@ -665,21 +667,30 @@ def body_decay_rate(car):
     car without such dofs (nothing to settle). A mode that does not decay (σ = 0: undamped, or a
     rigid-body mode without damping) never reaches a steady state on an irregular rail: a
     :class:`~vtsi.errors.ModelError` naming the car and the mode."""
+    return _slowest_mode(car)[0]
+
+
+def _slowest_mode(car):
+    """(σ [1/s], f [Hz]) of the slowest-decaying mode of ``car`` with its wheels held
+    (:func:`body_decay_rate`, which says what σ is and when it refuses; f = |Im λ| / 2π, 0 for an
+    overdamped mode); (inf, nan) for a car without such dofs."""
     held = _wheels_held(car)
     if held is None:
-        return math.inf
+        return math.inf, math.nan
     K, M, C = held
     n = len(K)
     eye, zero = np.eye(n), np.zeros((n, n))
     lam = scipy.linalg.eig(np.block([[zero, eye], [-K, -C]]), np.block([[eye, zero], [zero, M]]), right=False)
     decay = -lam.real
     slowest = int(np.argmin(decay))
+    frequency = abs(float(lam[slowest].imag)) / (2 * math.pi)
     if not decay[slowest] > 1e-9 * float(np.max(np.abs(lam))):
-        raise ModelError(f"car {car.name!r}: its mode at {abs(lam[slowest].imag) / (2 * math.pi):.4g} Hz with the "
-                         f"wheels held does not decay (decay rate {decay[slowest]:.3g} 1/s: no damping on it), so its "
-                         "body never reaches a steady state on the irregular rail and no default approach brings it "
-                         "there: give the car damping, or the sweep's settings an approach [m]")
-    return float(decay[slowest])
+        shown = max(float(decay[slowest]), 0.0) + 0.0          # a rounding's -1e-17 or -0.0 read as 0
+        raise ModelError(f"car {car.name!r}: its mode at {frequency:.4g} Hz with the wheels held does not decay "
+                         f"(decay rate {shown:.3g} 1/s: no damping on it), so its body never reaches a steady "
+                         "state on the irregular rail and no default approach brings it there: give the car "
+                         "damping, or the sweep's settings an approach [m]")
+    return float(decay[slowest]), frequency
 
 
 def _psd(name):
@@ -907,7 +918,10 @@ class PassageRunner:
         before the deck) and, for cars on an irregular rail, the TAPER over which it fades in plus
         the run at the train's speed V [m/s] in which its car bodies reach their steady response
         there, V × :meth:`settle_time` (an ICE3 at 300 km/h: 20 + 192 m; with 25 m its car-body
-        accelerations on a 20 m span read 9-23 % low), never less than CAR_APPROACH."""
+        accelerations on a 20 m span read 9-23 % low), never less than CAR_APPROACH. A settle time
+        beyond MAX_SETTLE_TIME is refused (a :class:`~vtsi.errors.SettingError`, setting
+        'approach', naming the car, its mode and the approach it would take): such a car lacks
+        damping, and the default would run kilometres before the bridge."""
         s = self.settings
         if s.approach is not None:
             return s.approach
@@ -915,17 +929,34 @@ class PassageRunner:
             return 0.0
         if s.irregularity is None:
             return CAR_APPROACH
-        return max(CAR_APPROACH, TAPER + train.speed * self.settle_time(train))
+        settle = self.settle_time(train)
+        needed = max(CAR_APPROACH, TAPER + train.speed * settle)
+        if settle > MAX_SETTLE_TIME:
+            car, sigma, frequency = self._slowest_car(train)
+            raise SettingError(
+                f"car {car.name!r} of {train.name} at {3.6 * train.speed:.4g} km/h: its {frequency:.4g} Hz mode with "
+                f"the wheels held decays at {sigma:.3g} 1/s, so its body takes {settle:.3g} s to reach its steady "
+                f"response on the irregular rail and the default approach would be {needed:.4g} m ({TAPER:g} m "
+                f"taper + {train.speed:.4g} m/s x {settle:.3g} s), beyond the {MAX_SETTLE_TIME:g} s the default "
+                "takes (an ICE3 coach: 2.3 s): give the car damping (its suspension's), or the sweep's settings "
+                "an approach [m] (approach_m in a bridge file's [analysis])", "approach")
+        return needed
 
     def settle_time(self, train):
         """SETTLE_DECAYS / σ [s], σ the least :func:`body_decay_rate` of ``train``'s cars (each
         distinct car computed once per train): the time after which a car body's stationary
         response to the rail has come within 5 % in variance (an ICE3: 2.31 s); 0 for a train
         whose cars have no suspended dofs."""
+        return SETTLE_DECAYS / self._slowest_car(train)[1]
+
+    def _slowest_car(self, train):
+        """(car, σ [1/s], f [Hz]) of ``train``'s car whose mode with the wheels held decays slowest
+        (:func:`body_decay_rate`; (None, inf, nan) without suspended dofs), once per train."""
         key = id(train.cars)               # the cars a train shares with its copies at every speed
         if key not in self._settle_times or self._settle_times[key][0] is not train.cars:
-            rates = {id(car): body_decay_rate(car) for car in train.cars}
-            self._settle_times[key] = (train.cars, SETTLE_DECAYS / min(rates.values(), default=math.inf))
+            modes = {id(car): (car, *_slowest_mode(car)) for car in train.cars}
+            slowest = min(modes.values(), key=lambda m: m[1], default=(None, math.inf, math.nan))
+            self._settle_times[key] = (train.cars, slowest)
         return self._settle_times[key][1]
 
     def start_position(self, train):
@@ -983,8 +1014,12 @@ class PassageRunner:
                                "lower the speed or dt", "dt")
         n = self.n_steps(train)
         if n > MAX_PASSAGE_STEPS:
+            given = self.settings.approach is not None         # the default's is at most V x MAX_SETTLE_TIME
             raise SettingError(f"{name} at {speed_kmh:g} km/h needs {n:.3g} steps of dt = {dt:g} s, more than "
-                               f"{MAX_PASSAGE_STEPS:.0e}: raise the speed or dt", "dt")
+                               f"{MAX_PASSAGE_STEPS:.0e} (its first wheel starts {self.approach(train):.4g} m before "
+                               f"the {length:g} m track): raise the speed or dt"
+                               + (", or shorten the settings' approach" if given else ""),
+                               "approach" if given and self.approach(train) > length + train.length else "dt")
 
     def _irregularity(self, seed, x_first, x_last, start):
         """The seed's profile over [x_first, x_last] (at least), faded in over TAPER metres from
