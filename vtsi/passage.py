@@ -1015,11 +1015,12 @@ class PassageRunner:
         n = self.n_steps(train)
         if n > MAX_PASSAGE_STEPS:
             given = self.settings.approach is not None         # the default's is at most V x MAX_SETTLE_TIME
+            start = self.approach(train)
+            where = f" (its first wheel starts {start:.4g} m before the {length:g} m track)" if start > 0 else ""
             raise SettingError(f"{name} at {speed_kmh:g} km/h needs {n:.3g} steps of dt = {dt:g} s, more than "
-                               f"{MAX_PASSAGE_STEPS:.0e} (its first wheel starts {self.approach(train):.4g} m before "
-                               f"the {length:g} m track): raise the speed or dt"
+                               f"{MAX_PASSAGE_STEPS:.0e}{where}: raise the speed or dt"
                                + (", or shorten the settings' approach" if given else ""),
-                               "approach" if given and self.approach(train) > length + train.length else "dt")
+                               "approach" if given and start > length + train.length else "dt")
 
     def _irregularity(self, seed, x_first, x_last, start):
         """The seed's profile over [x_first, x_last] (at least), faded in over TAPER metres from
