@@ -62,7 +62,8 @@ def test_a_modal_hz_below_the_cut_off_is_noted_with_the_frequencies_the_accelera
     assert low.resolution_note() == (
         f"note: the modal bridge's modes stop at modal_hz = 40 Hz, below the EN cut-off {cutoff:.4g} Hz: the deck "
         f"accelerations count frequencies up to 40 Hz only and may read low (the design check refuses them); take "
-        f"modal_hz >= {cutoff:.4g} Hz, or leave it unset (1.1 x the cut-off)")
+        f"modal_hz >= {cutoff:.4g} Hz, or leave it unset (the default: 1.1 x the cut-off, or more with moment "
+        "outputs)")
     assert full.resolution_note() == ""
     coarse = Sweep(_span10(), ["HSLM-A1"], "250", PassageSettings(modal_hz=40.0, dt=4e-3, **settings), ACCEL)
     lines = coarse.resolution_note().splitlines()             # with a coarse dt: both notes, one line each

@@ -628,7 +628,8 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if not name:
         if short:
             remedy = (f"the modal bridge's modes stop at modal_hz: take modal_hz >= {en_cutoff:.4g} Hz, or leave it "
-                      "unset (1.1 x the cut-off)" if basis is not None and basis < en_cutoff else
+                      "unset (the default: 1.1 x the cut-off, or more with moment outputs)"
+                      if basis is not None and basis < en_cutoff else
                       "keep an output with cutoff='en' (or none: the full response)")
             raise SweepError(f"check: the deck acceleration output {short[0]!r} counts frequencies up to "
                              f"{counted[short[0]]:.4g} Hz, below the EN 1990 A2.4.4.2.1(4)P cut-off "

@@ -485,7 +485,7 @@ class Sweep:
         notes = [f"note: the modal bridge's modes stop at modal_hz = {basis:.4g} Hz, below the EN cut-off "
                  f"{runner.en_cutoff_hz:.4g} Hz: the deck accelerations count frequencies up to {basis:.4g} Hz only and "
                  f"may read low (the design check refuses them); take modal_hz >= {runner.en_cutoff_hz:.4g} Hz, or leave it "
-                 "unset (1.1 x the cut-off)"] if below else []
+                 "unset (the default: 1.1 x the cut-off, or more with moment outputs)"] if below else []
         deck = (basis, "the modal bridge's highest frequency") if below else (runner.en_cutoff_hz, "the EN cut-off")
         zeta = step_ratio(s.bridge, s.cars, s.damping, s.bridge_self_weight)    # None: exact passages, dt samples them
         coarse = [(f, where, what, z) for (f, where), what, z in (
