@@ -936,7 +936,7 @@ class PassageRunner:
             raise SettingError(
                 f"car {car.name!r} of {train.name} at {3.6 * train.speed:.4g} km/h: its {frequency:.4g} Hz mode with "
                 f"the wheels held decays at {sigma:.3g} 1/s, so its body takes {settle:.3g} s to reach its steady "
-                f"response on the irregular rail and the default approach would be {needed:.4g} m ({TAPER:g} m "
+                f"response on the irregular rail and the default approach would be {needed:.0f} m ({TAPER:g} m "
                 f"taper + {train.speed:.4g} m/s x {settle:.3g} s), beyond the {MAX_SETTLE_TIME:g} s the default "
                 "takes (an ICE3 coach: 2.3 s): give the car damping (its suspension's), or the sweep's settings "
                 "an approach [m] (approach_m in a bridge file's [analysis])", "approach")
