@@ -1,0 +1,71 @@
+"""The check's deck-acceleration row names a deck whose n₀ Rayleigh damping damps less than the
+ζ it states (vtsi.check._rayleigh_note): on a bridge of several decks the anchors (the model's
+n₀ and the largest cut-off) leave a short deck's n₀ between them. A probe's three decks on one
+track (a 10 m slab, a 30 m span, a 2 × 20 m deck), ζ 1 %: the slab's n₀ got 0.44 %, its
+acceleration read 5.52 m/s² where the modal bridge, ζ on every mode, read 3.27 (FAIL against PASS),
+and the check said ζ = 1 %."""
+import numpy as np
+import pytest
+
+from vtsi.bridge_file import load_bridge
+from vtsi.check import check
+from vtsi.damping import rayleigh_coefficients, rayleigh_ratio
+from vtsi.passage import Output, PassageSettings
+from vtsi.sweep import Sweep, beam_bridge
+
+ACC = (Output("acceleration", "accel", cutoff="en"),)
+
+
+def _deck(lines, first, x0, spans, n, inertia, mu, pinned=False):
+    """Nodes and elements of a deck from ``x0`` [m] over ``spans`` [m], ``n`` elements a span."""
+    tags, x = [first], x0
+    lines.append(f"node {first} {x0} 0.0")
+    lines.append(f"fix {first} {1 if pinned else 0} 1 0")
+    for length in spans:
+        for _ in range(n):
+            x += length / n
+            tags.append(tags[-1] + 1)
+            lines.append(f"node {tags[-1]} {x:.6g} 0.0")
+            lines.append(f"element elasticBeamColumn {tags[-2]} {tags[-2]} {tags[-1]} 5.0 3.5e10 {inertia} 1 "
+                         f"-mass {mu} -cMass")
+        lines.append(f"fix {tags[-1]} 0 1 0")
+    return tags
+
+
+@pytest.fixture(scope="module")
+def three_decks(tmp_path_factory):
+    lines = ["model basic -ndm 2 -ndf 3", "geomTransf Linear 1"]
+    slab = _deck(lines, 1, 0.0, [10.0], 4, 0.3, 15000.0, pinned=True)
+    span = _deck(lines, 101, 10.6, [30.0], 6, 4.0, 20000.0)
+    continuous = _deck(lines, 201, 41.2, [20.0, 20.0], 4, 2.0, 18000.0)
+    for a, b, tag in ((slab[-1], span[0], 901), (span[-1], continuous[0], 902)):     # the rail across each gap
+        lines.append(f"element elasticBeamColumn {tag} {a} {b} 0.0154 2.1e11 6.1e-5 1 -mass 120.0 -cMass")
+    track = slab[:-1] + [901] + span[:-1] + [902] + continuous[:-1]
+    lines.append("track 1 -ele " + " ".join(map(str, track)))
+    path = tmp_path_factory.mktemp("decks") / "three.tcl"
+    path.write_text("\n".join(lines) + "\n")
+    return load_bridge(path)
+
+
+def test_a_deck_whose_n0_rayleigh_damps_less_is_named(three_decks):
+    sweep = Sweep(three_decks, ["HSLM-A2"], "300", PassageSettings(damping=0.01), ACC)
+    results = sweep.run(None, workers=1, progress=False)
+    bridge = results.bridge()
+    n0 = np.asarray(bridge["deck_frequencies_hz"]).reshape(-1, 3)[:, 0]
+    anchors = (sweep.runner.frequencies[0], sweep.runner.en_cutoff_hz)
+    ratios = rayleigh_ratio(n0, *rayleigh_coefficients(0.01, *anchors))
+    deck = int(np.argmin(ratios))
+    assert len(n0) == 3 and ratios[deck] < 0.9 * 0.01                       # the slab, between the anchors
+    said = (f"; Rayleigh damping through {anchors[0]:.4g} and {anchors[1]:.4g} Hz gives deck {deck + 1}'s n0 "
+            f"({n0[deck]:.4g} Hz) zeta = {100 * ratios[deck]:.2g} %, not the 1 % stated")
+    assert said in check(results).row("deck_acceleration").note
+    modal = Sweep(three_decks, ["HSLM-A2"], "300", PassageSettings(damping=0.01, bridge="modal"), ACC)
+    assert "Rayleigh damping through" not in check(modal.run(None, workers=1, progress=False)).row(
+        "deck_acceleration").note                                            # ζ on every mode
+
+
+def test_a_single_deck_anchored_at_its_n0_is_not_named():
+    bridge = beam_bridge([20.0], 3.5e10, 0.6948, 15000.0, elements_per_span=6)
+    results = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(damping=0.013), ACC).run(None, workers=1,
+                                                                                       progress=False)
+    assert "Rayleigh damping through" not in check(results).row("deck_acceleration").note
