@@ -1300,10 +1300,11 @@ def _rail_step_note(results, bridge, value, limit, status):
     or 'info'): the note '' unless the sweep ran cars on an irregular rail with a Δt giving the
     rail's shortest wavelength at its top speed fewer than STEPS_PER_CUTOFF_PERIOD steps a period
     (:func:`vtsi.passage.rail_frequency_hz`): then that the row is not converged in Δt. With fewer
-    than MIN_STEPS_PER_PERIOD steps a period (the deck row's rule) the row is not checked ('info'),
-    unless a FAIL stands beyond the sampling bound 1 − cos(π f Δt) (:func:`vtsi.passage.step_effect`;
-    the rail's wave is an input the steps sample, not a mode with a damping ratio; measured: ΔQ/Q
-    0.094 at 10 ms, 3.6 steps a period, 39 % below 0.154 at 0.25 ms, where the bound says 36 %)."""
+    than MIN_STEPS_PER_PERIOD steps a period (the deck row's rule) the row is not checked ('info')
+    unless it fails (:func:`_coarse_step`): a rail sampled so coarsely reads the rows low, by about
+    1 − cos(π f Δt) (:func:`vtsi.passage.step_effect`; the rail's wave is an input the steps
+    sample, not a mode with a damping ratio; measured: ΔQ/Q 0.094 at 10 ms, 3.6 steps a period,
+    39 % below 0.154 at 0.25 ms, where the bound says 36 %)."""
     sweep = results.identity["settings"]
     top = float(np.max(results.speeds_kmh))
     f = rail_frequency_hz(sweep.get("irregularity"), sweep.get("cars", "force"), top)
