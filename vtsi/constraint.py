@@ -115,29 +115,41 @@ class MovingLoadConstraint:
 
     def irregularity_at(self, t, dt, nu=0):
         """``r̃`` (or r; ``nu = 1``: its rate dr̃/dt = V dr̃/dx) under the contact wheels at times
-        ``t`` -> ``(..., n_c)`` [m, m/s]."""
-        x = self.positions(t)
+        ``t`` (any shape) -> ``(..., n_c)`` [m, m/s]; a smoothed rail in one compiled pass over
+        all times and wheels (:func:`_bspline_under_wheels`)."""
+        t = np.asarray(t, dtype=float)
         if self.irregularity is None:
-            return np.zeros_like(x)
+            return np.zeros_like(self.positions(t))
         knot = self.knot(dt)
         if knot == 0.0:
+            x = self.positions(t)
             r = self._profile(x, nu)
+            bad = np.flatnonzero(~np.isfinite(r))
+            bad = bad[0] if bad.size else -1
         else:
-            r = self._smoothed_profile(float(x.min()), float(x.max()), knot)(x, nu)
-        if not np.all(np.isfinite(r)):
-            where = np.argwhere(~np.isfinite(r))[0]
-            raise ModelError(f"MovingLoadConstraint: the irregularity gives {r[tuple(where)]} under contact wheel "
-                             f"{where[-1]} at x = {x[tuple(where)]:g} m")
+            # positions are monotone in t (rounding is), so the ends of the travel are those of t's
+            ends = self.positions(np.array([t.min(), t.max()])) if t.size else np.zeros(1)
+            profile = self._smoothed_profile(float(ends.min()), float(ends.max()), knot)
+            r = np.empty(t.shape + (self.n_contact,))
+            bad = _bspline_under_wheels(profile.coef, profile.first, profile.origin, profile.inv_step, self.x0,
+                                        self.train.speed, np.ascontiguousarray(t).ravel(), nu, r.reshape(-1, self.n_contact))
+        if bad >= 0:
+            where = np.unravel_index(bad, r.shape)
+            x = self.positions(t)
+            raise ModelError(f"MovingLoadConstraint: the irregularity gives {r[where]} under contact wheel "
+                             f"{where[-1]} at x = {x[where]:g} m")
         return r * self.train.speed ** nu
 
     def _smoothed_profile(self, x_lo, x_hi, knot):
         """r̃ for knot spacing ``knot`` [m] over [x_lo, x_hi] [m] (a :class:`SmoothedProfile`
-        anchored at the track's start; cached, tabulated anew over a range that grows)."""
+        anchored at the track's start; cached, and grown by the nodes it lacks when a block of
+        steps asks beyond it: each node is tabulated once in a run)."""
+        lo, hi = x_lo - TABLE_MARGIN * knot, x_hi + TABLE_MARGIN * knot
         cached = getattr(self, "_smoothed", None)
-        if cached is not None and cached.covers(knot, x_lo, x_hi):
-            return cached
-        self._smoothed = SmoothedProfile(lambda x: self._profile(x, 0), knot, self.track.x_begin,
-                                         x_lo - TABLE_MARGIN * knot, x_hi + TABLE_MARGIN * knot)
+        if cached is None or cached.knot != knot:
+            self._smoothed = SmoothedProfile(lambda x: self._profile(x, 0), knot, self.track.x_begin, lo, hi)
+        elif not cached.covers(knot, x_lo, x_hi):
+            cached.grow(lambda x: self._profile(x, 0), lo, hi)
         return self._smoothed
 
     def rows_at(self, t, dt):
@@ -157,25 +169,48 @@ class SmoothedProfile:
     c_j = (8 r̃_j − r̃_{j−1} − r̃_{j+1}) / 6, the quasi-interpolant that reproduces cubics: C², error
     O(s⁴ d⁴r̃/dx⁴) (at a node −s⁴ d⁴r̃/dx⁴ / 36). The value at x in [x_j, x_j+1] depends on the
     nodes j − 2 … j + 3 only, each computed from its own position, so not on the range
-    tabulated: a run's rows are the same whichever block of steps asked for them.
+    tabulated: a run's rows are the same whichever block of steps asked for them, and
+    :meth:`grow` extends a table by the nodes it lacks only.
     """
 
     def __init__(self, r, knot, origin, x_lo, x_hi):
         self.knot, self.origin = float(knot), float(origin)
         self.step = self.knot / NODES_PER_KNOT
         self.inv_step = NODES_PER_KNOT / self.knot
-        first = math.floor((x_lo - self.origin) * self.inv_step) - 2    # the nodes x_lo and x_hi need
-        last = math.ceil((x_hi - self.origin) * self.inv_step) + 3
-        grid = self.origin + np.arange(first - 1, last + 2, dtype=float) * self.step
+        first, last = self._nodes_for(x_lo, x_hi)
+        self._set(first, last, self._node_values(r, first - 1, last + 1))
+
+    def _nodes_for(self, x_lo, x_hi):
+        """``(first, last)``: the nodes whose coefficients the values in [x_lo, x_hi] [m] need."""
+        return (math.floor((x_lo - self.origin) * self.inv_step) - 2,
+                math.ceil((x_hi - self.origin) * self.inv_step) + 3)
+
+    def _node_values(self, r, j_lo, j_hi):
+        """r̃ of the profile ``r`` at the nodes j_lo .. j_hi (each from its own position only)
+        -> (j_hi - j_lo + 1,) [m]."""
+        grid = self.origin + np.arange(j_lo, j_hi + 1, dtype=float) * self.step
         values = np.zeros_like(grid)
         for k in range(4):    # kernel pieces [(k-2) knot, (k-1) knot], 4-point Gauss each
             for z, w in zip(GAUSS_POINTS, GAUSS_WEIGHTS):
                 xi = (k - 1.5 + 0.5 * z) * self.knot
                 values += 0.5 * w * bspline_kernel(xi / self.knot) * np.asarray(r(grid - xi), dtype=float)
-        self.first = first                         # the node of coef[0]
+        return values
+
+    def _set(self, first, last, values):
+        """The table of the coefficients of nodes first .. last from r̃ at nodes first - 1 .. last + 1."""
+        self.first, self.last, self.values = first, last, values      # first: the node of coef[0]
         self.coef = (8.0 * values[1:-1] - values[:-2] - values[2:]) / 6.0
         self.x_lo = self.origin + (first + 2) * self.step
         self.x_hi = self.origin + (last - 3) * self.step
+
+    def grow(self, r, x_lo, x_hi):
+        """Extend the table of the profile ``r`` (the one it was built from) to hold [x_lo, x_hi]
+        [m], tabulating only the nodes it lacks: its values are a table's built over the whole
+        range, to the bit."""
+        first, last = self._nodes_for(x_lo, x_hi)
+        first, last = min(first, self.first), max(last, self.last)
+        self._set(first, last, np.concatenate([self._node_values(r, first - 1, self.first - 2), self.values,
+                                               self._node_values(r, self.last + 2, last + 1)]))
 
     def covers(self, knot, x_lo, x_hi):
         """Whether the table is for ``knot`` [m] and holds [x_lo, x_hi] [m]."""
@@ -188,28 +223,45 @@ class SmoothedProfile:
         return out.reshape(x.shape)
 
 
+@njit(cache=True, inline='always')
+def _bspline_value(coef, first, origin, inv_step, x, nu):
+    """The uniform cubic B-spline Σ coef[k] B₃(u − (first + k)), u = (x − origin)·inv_step, or its
+    derivative ``nu`` in x, at ``x`` (NaN outside the nodes held or at a NaN)."""
+    u = (x - origin) * inv_step
+    if not np.isfinite(u):
+        return np.nan
+    j = math.floor(u)
+    t = u - j
+    k = j - first            # the piece [x_j, x_j+1] takes coef[k - 1 .. k + 2]
+    if k < 1 or k + 2 >= coef.shape[0]:
+        return np.nan
+    c0, c1, c2, c3 = coef[k - 1], coef[k], coef[k + 1], coef[k + 2]
+    s = 1.0 - t
+    if nu == 0:
+        return (c0 * s * s * s + c1 * (4.0 - 6.0 * t * t + 3.0 * t * t * t)
+                + c2 * (1.0 + 3.0 * t + 3.0 * t * t - 3.0 * t * t * t) + c3 * t * t * t) / 6.0
+    if nu == 1:
+        return (-c0 * s * s + c1 * (3.0 * t * t - 4.0 * t) + c2 * (1.0 + 2.0 * t - 3.0 * t * t)
+                + c3 * t * t) * (0.5 * inv_step)
+    return (c0 * s + c1 * (3.0 * t - 2.0) + c2 * (1.0 - 3.0 * t) + c3 * t) * (inv_step * inv_step)
+
+
 @njit(cache=True)
 def _bspline_values(coef, first, origin, inv_step, x, nu, out):
-    """The uniform cubic B-spline Σ coef[k] B₃(u − (first + k)), u = (x − origin)·inv_step, or its
-    derivative ``nu`` in x, at each ``x`` (NaN outside the nodes held or at a NaN)."""
+    """:func:`_bspline_value` at each ``x``."""
     for i in range(x.shape[0]):
-        u = (x[i] - origin) * inv_step
-        if not np.isfinite(u):
-            out[i] = np.nan
-            continue
-        j = math.floor(u)
-        t = u - j
-        k = j - first            # the piece [x_j, x_j+1] takes coef[k - 1 .. k + 2]
-        if k < 1 or k + 2 >= coef.shape[0]:
-            out[i] = np.nan
-            continue
-        c0, c1, c2, c3 = coef[k - 1], coef[k], coef[k + 1], coef[k + 2]
-        s = 1.0 - t
-        if nu == 0:
-            out[i] = (c0 * s * s * s + c1 * (4.0 - 6.0 * t * t + 3.0 * t * t * t)
-                      + c2 * (1.0 + 3.0 * t + 3.0 * t * t - 3.0 * t * t * t) + c3 * t * t * t) / 6.0
-        elif nu == 1:
-            out[i] = (-c0 * s * s + c1 * (3.0 * t * t - 4.0 * t) + c2 * (1.0 + 2.0 * t - 3.0 * t * t)
-                      + c3 * t * t) * (0.5 * inv_step)
-        else:
-            out[i] = (c0 * s + c1 * (3.0 * t - 2.0) + c2 * (1.0 - 3.0 * t) + c3 * t) * (inv_step * inv_step)
+        out[i] = _bspline_value(coef, first, origin, inv_step, x[i], nu)
+
+
+@njit(cache=True)
+def _bspline_under_wheels(coef, first, origin, inv_step, x0, speed, t, nu, out):
+    """:func:`_bspline_value` under wheel i at x0[i] + speed·t[k] [m] into ``out[k, i]``
+    (``(n_t, n_c)``); the flat index of the first non-finite value, or -1."""
+    bad = -1
+    for k in range(t.shape[0]):
+        for i in range(x0.shape[0]):
+            value = _bspline_value(coef, first, origin, inv_step, x0[i] + speed * t[k], nu)
+            out[k, i] = value
+            if bad < 0 and not np.isfinite(value):
+                bad = k * x0.shape[0] + i
+    return bad

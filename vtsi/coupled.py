@@ -937,9 +937,11 @@ class _CoupledPlan:
         starts = t_c + a.dt * np.arange(i, i + m, dtype=float)
         table = np.concatenate([load_factor_table(self.patterns, starts, a.dt, self.load_points, a._path_tables),
                                 np.tile(a.mass_weight[None, :, None], (m, 1, 1))], axis=2)
-        r_table, rate_table = (np.ascontiguousarray(np.stack(
-            [con.irregularity_at(starts + th * a.dt, a.dt, nu) - a._rail_sag(starts + th * a.dt, nu)
-             for th in a.stage_theta], axis=1)) for nu in (0, 1))
+        times = starts[:, None] + a.stage_theta[None, :] * a.dt      # (m, n_stages) stage times [s]
+        r_table, rate_table = (con.irregularity_at(times, a.dt, nu) for nu in (0, 1))
+        if a._sag is not None:          # the rail is measured from the deck's self-weight sag
+            r_table -= a._rail_sag(times, 0)
+            rate_table -= a._rail_sag(times, 1)
         self.block, self.ahead = (t_c, i, table, r_table, rate_table), BLOCK_STEPS
         return table[:n], r_table[:n], rate_table[:n]
 
