@@ -56,9 +56,13 @@ def test_a_deck_whose_n0_rayleigh_damps_less_is_named(three_decks):
     ratios = rayleigh_ratio(n0, *rayleigh_coefficients(0.01, *anchors))
     deck = int(np.argmin(ratios))
     assert len(n0) == 3 and ratios[deck] < 0.9 * 0.01                       # the slab, between the anchors
-    said = (f"; Rayleigh damping through {anchors[0]:.4g} and {anchors[1]:.4g} Hz gives deck {deck + 1}'s n0 "
-            f"({n0[deck]:.4g} Hz) zeta = {100 * ratios[deck]:.2g} %, not the 1 % stated")
-    assert said in check(results).row("deck_acceleration").note
+    off = [d for d in range(3) if abs(ratios[d] - 0.01) > 0.1 * 0.01]
+    assert off == [0, 2]                                   # the slab (0.44 %) and the 2 x 20 m deck (0.64 %)
+    said = (f"; Rayleigh damping through {anchors[0]:.4g} and {anchors[1]:.4g} Hz gives "
+            + ", ".join(f"deck {d + 1}'s n0 ({n0[d]:.4g} Hz) zeta = {100 * ratios[d]:.2g} %" for d in off)
+            + ", not the 1 % stated: a deck damped less reads its resonances high (on the safe side)")
+    row = check(results).row("deck_acceleration")
+    assert said in row.note and row.status != "info"
     modal = Sweep(three_decks, ["HSLM-A2"], "300", PassageSettings(damping=0.01, bridge="modal"), ACC)
     assert "Rayleigh damping through" not in check(modal.run(None, workers=1, progress=False)).row(
         "deck_acceleration").note                                            # ζ on every mode
@@ -69,3 +73,19 @@ def test_a_single_deck_anchored_at_its_n0_is_not_named():
     results = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(damping=0.013), ACC).run(None, workers=1,
                                                                                        progress=False)
     assert "Rayleigh damping through" not in check(results).row("deck_acceleration").note
+
+
+def test_a_deck_damped_above_the_ratio_stated_leaves_a_pass_unchecked():
+    """damping_hz (12, 45) above a 20 m span's n₀ (5 Hz) damps it at 1.98 % for the 1 % stated: its
+    resonance reads low, on the unsafe side (a probe's 3.34 m/s² PASS read 5.19, FAIL, at ζ on
+    every mode): the note names it, and a PASS of the deck acceleration is not checked."""
+    bridge = beam_bridge([20.0], 3.5e10, 0.6948, 15000.0, elements_per_span=6)
+    sweep = Sweep(bridge, ["HSLM-A1"], "250", PassageSettings(damping=0.01, damping_hz=(12.0, 45.0)), ACC)
+    results = sweep.run(None, workers=1, progress=False)
+    n0 = sweep.runner.frequencies[0]
+    ratio = float(rayleigh_ratio(n0, *rayleigh_coefficients(0.01, 12.0, 45.0)))
+    assert ratio > 1.1 * 0.01
+    row = check(results).row("deck_acceleration")
+    assert f"gives n0 ({n0:.4g} Hz) zeta = {100 * ratio:.2g} %, not the 1 % stated" in row.note
+    assert row.value <= row.limit and row.status == "info"
+    assert "not checked: a PASS with a deck damped above the ratio stated is not sure" in row.note
