@@ -101,7 +101,7 @@ from vtsi.passage import (AXLE_PAIR_HARMONICS, STEPS_PER_CUTOFF_PERIOD, default_
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
-                                significant_text, span_decks, x_tolerance)
+                                deck_frequencies_table, significant_text, span_decks, x_tolerance)
 from vtsi.track import Track
 from vtsi.track_ends import TrackEnd, free_end_text
 
@@ -1244,10 +1244,8 @@ def _rayleigh_note(sweep, bridge):
         return "", False
     pair = sweep.get("damping_hz") or (float(np.ravel(bridge["frequencies_hz"])[0]), en_cutoff_hz(bridge))
     alpha, beta = rayleigh_coefficients(zeta, *pair)
-    n0, cut = deck_first_frequencies(bridge), en_cutoff_hz(bridge)
-    rows = (np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
-            if "deck_frequencies_hz" in bridge and len(np.ravel(bridge["deck_frequencies_hz"])) == 3 * len(n0)
-            else n0[:, None])
+    rows, cut = deck_frequencies_table(bridge), en_cutoff_hz(bridge)
+    n0 = rows[:, 0]
     decks = "" if len(n0) == 1 else "deck {}'s "
     less = [f"{decks.format(d + 1)}n0 ({f:.4g} Hz) zeta = {100 * r:.3g} %"
             for d, (f, r) in enumerate(zip(n0, rayleigh_ratio(n0, alpha, beta))) if r < (1 - RAYLEIGH_SPREAD) * zeta]

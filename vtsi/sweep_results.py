@@ -148,15 +148,20 @@ def span_decks(bridge):
     return np.array([int(np.flatnonzero((decks[:, 0] - tol <= m) & (m <= decks[:, 1] + tol))[0]) for m in middle])
 
 
-def deck_first_frequencies(bridge):
-    """(n_decks,) each deck's first vertical frequency n₀ [Hz] (/bridge/deck_frequencies_hz);
-    in a results file of an older vtsi, which kept none, the bridge's n₀ for every deck."""
+def deck_frequencies_table(bridge):
+    """(n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (/bridge/deck_frequencies_hz); in a results file
+    of an older vtsi, which kept none, the bridge's first three for every deck."""
     n_decks = len(deck_ranges(bridge))
     if "deck_frequencies_hz" in bridge:
-        n0 = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)[:, 0]
-        if len(n0) == n_decks:
-            return n0
-    return np.full(n_decks, float(np.ravel(bridge["frequencies_hz"])[0]))
+        rows = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
+        if len(rows) == n_decks:
+            return rows
+    return np.tile(np.asarray(bridge["frequencies_hz"], dtype=float).ravel()[:3], (n_decks, 1))
+
+
+def deck_first_frequencies(bridge):
+    """(n_decks,) each deck's first vertical frequency n₀ [Hz] (:func:`deck_frequencies_table`)."""
+    return deck_frequencies_table(bridge)[:, 0]
 
 
 def bridge_text(bridge):
