@@ -104,6 +104,11 @@ def test_a_coarser_dt_is_noted_with_what_it_may_cost():
     assert "take dt <= 0.25 ms (the default's rule: 20 steps a period and Newmark's period error at most 0.1 x the " \
            "damping ratio (1 %)" in text
     assert note(damping=0.01) == note(damping=0.01, dt=2.5e-4) == note(damping=0.01, bridge="modal", dt=1e-3) == ""
+    assert "floor" not in text                     # the sweep's own ζ: no floor to explain
+    own = note(dt=1e-3)                            # the bridge's own damping: the rule takes 0.5 %, and says so
+    assert f"is {e / MIN_STEP_DAMPING:.2g} x the damping ratio (0.5 %)" in own
+    assert own.endswith("; 0.5 % is the rule's floor (EN 1991-2 Table 6.6's smallest ratio): the bridge's own "
+                        "damping is not read"), own
     sweep = Sweep(bridge, ["HSLM-A1"], "300", PassageSettings(damping=0.01, dt=1e-3), ACC)
     row = check(sweep.run(None, workers=1, progress=False)).row("deck_acceleration")
     assert f"dt = 1 ms steps the highest counted frequency, {f:.4g} Hz, {1 / (f * 1e-3):.3g} times a period: " \

@@ -142,7 +142,8 @@ def test_csv_tables_from_spreadsheets_and_their_slips(tmp_path):
     """Excel's 'CSV' is an 8-bit code page and its 'Unicode text' UTF-16: both read (before, a
     UnicodeDecodeError traceback, exit 1 at the command line). A negative load is named in the
     table's kN (it said -200000.0); a header naming a column twice, a row with more cells than
-    the header (a decimal comma) and a missing file are refused, naming the file and line."""
+    the header (a decimal comma), a decimal comma in a ';'-separated table (said so) and a
+    missing file are refused, naming the file and line."""
     table = 'Fahrzeug;position_m;load_kN\nTriebkopf;0;200\nTriebkopf;3;200\nWagen;14,5;150\n'
     for encoding in ('cp1252', 'utf-16'):
         path = tmp_path / f'{encoding}.csv'
@@ -156,7 +157,12 @@ def test_csv_tables_from_spreadsheets_and_their_slips(tmp_path):
     bad = tmp_path / 'bad.csv'
     for text, message in (('position_m,load_kN\n0,200\n3,-200\n', r"bad\.csv line 3: load must be > 0 \[kN\], got -200$"),
                           ('position_m,load_kN,position_m\n0,200,0\n', "line 1: the header names column 'position_m' twice"),
-                          ('position_m,load_kN\n0,200\n3,170,5\n', r"line 3: 3 cells under a header of 2 .*decimal comma")):
+                          ('position_m,load_kN\n0,200\n3,170,5\n', r"line 3: 3 cells under a header of 2 .*decimal comma"),
+                          ('name;position_m;load_kN\nx;0;170\ny;2,65;170\n',     # ';'-separated, decimal comma
+                           r"line 3: cannot read position_m and load_kN from \['y', '2,65', '170'\]: a decimal comma\? "
+                           r"write 2\.65, not 2,65$"),
+                          ('position_m;load_kN\n0;abc\n', r"line 2: cannot read position_m and load_kN from "
+                                                         r"\['0', 'abc'\]$")):
         bad.write_text(text)
         with pytest.raises(ModelError, match=message):
             Train.from_csv(bad, speed=50.0)

@@ -501,7 +501,10 @@ class Sweep:
                          f"{' and '.join(what for _, _, what, _ in coarse)} "
                          f"{'read low between the samples' if exact else 'are not converged in dt'}; take dt <= "
                          f"{1e3 * min(dt_resolving(f, z) for f, _, _, z in coarse):g} ms (the default's rule: "
-                         f"{step_rule_text(zeta)}; a dt left unset keeps it)")
+                         f"{step_rule_text(zeta)}; a dt left unset keeps it)"
+                         + (f"; {100 * zeta:.3g} % is the rule's floor (EN 1991-2 Table 6.6's smallest ratio): "
+                            "the bridge's own damping is not read"
+                            if s.damping is None and zeta is not None else ""))
         return "\n".join(notes)
 
     def free_end_note(self):

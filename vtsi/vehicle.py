@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import copy
 import csv
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -42,6 +43,7 @@ CSV_AXLE_LOAD_KN = (30.0, 500.0)     # [kN]: 3 t to 51 t per axle
 CSV_AXLE_SPACING_M = (0.5, 100.0)    # [m] between consecutive axles
 CSV_LOAD_UNITS = (("tonnes", "t", GRAVITY), ("kg", "kg", GRAVITY / 1e3), ("daN", "daN", 1e-2), ("N", "N", 1e-3))
 CSV_LENGTH_UNITS = (("cm", "cm", 1e-2), ("mm", "mm", 1e-3), ("km", "km", 1e3))
+DECIMAL_COMMA = re.compile(r"[-+]?\d*,\d+")   # '2,65': a spreadsheet's decimal comma in a ';'-separated table
 DEFINITE_TOL = 1e-9
 """How far below 0 (relative to the largest) an eigenvalue of a car's M, C or K scaled to a unit
 diagonal (D^-1/2 A D^-1/2: the signs of A's eigenvalues without its units, which differ by 10⁹
@@ -475,7 +477,10 @@ class Train:
             try:
                 values.append([float(row[c]) for c in columns])
             except (ValueError, IndexError) as err:
-                raise ModelError(f"{path} line {line}: cannot read position_m and load_kN from {row}") from err
+                comma = [row[c].strip() for c in columns if c < len(row) and DECIMAL_COMMA.fullmatch(row[c].strip())]
+                raise ModelError(f"{path} line {line}: cannot read position_m and load_kN from {row}"
+                                 + (f": a decimal comma? write {comma[0].replace(',', '.')}, not {comma[0]}"
+                                    if comma else "")) from err
             labels.append(f"{path} line {line}")
         if not values:
             raise ModelError(f"{path}: no axles below the header")
