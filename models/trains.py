@@ -184,13 +184,48 @@ def hslm_b_parameters(span):
     return N, d
 
 
-def hslm_b(span, speed):
+HSLM_B_MAX_FORCES = 100
+"""The most forces an HSLM-B given by hand may have (Figure 6.13's N are some tens at most)."""
+HSLM_B_MAX_SPACING = 100.0
+"""[m] The spacing d an HSLM-B given by hand stays below (Figure 6.13's d are a few metres: a d
+of 100 or more is in mm)."""
+
+
+def hslm_b_given(value, where="hslm_b"):
+    """HSLM-B's N and d read from EN 1991-2 Figure 6.13 by the user, checked: ``value`` a pair
+    (N, d), N a whole number of forces, 1 <= N <= HSLM_B_MAX_FORCES, d their spacing [m],
+    0 < d < HSLM_B_MAX_SPACING. Returns ``(int N, float d)``.
+
+    Raises
+    ------
+    ModelError
+        Naming ``where`` (the setting or option) and the value; a d of 100 or more is taken to be
+        in mm and the message says so.
+    """
+    pair = tuple(value) if isinstance(value, (tuple, list, np.ndarray)) else None
+    if pair is None or len(pair) != 2:
+        raise ModelError(f"{where}: expected HSLM-B's (N, d), N forces at spacing d [m] read from EN 1991-2 "
+                         f"Figure 6.13 for the span, e.g. (15, 3.0); got {value!r}")
+    n, d = pair
+    if not is_count(n, 1) or n > HSLM_B_MAX_FORCES:
+        raise ModelError(f"{where}: N = {n!r} must be a whole number of forces, 1 <= N <= {HSLM_B_MAX_FORCES} "
+                         f"(HSLM-B's N from EN 1991-2 Figure 6.13)")
+    if not (is_number(d) and np.isfinite(float(d)) and float(d) > 0):
+        raise ModelError(f"{where}: d = {d!r} must be a spacing > 0 [m] (HSLM-B's d from EN 1991-2 Figure 6.13)")
+    if float(d) >= HSLM_B_MAX_SPACING:
+        raise ModelError(f"{where}: d = {d!r} m is no spacing of HSLM-B's forces (a few metres): d is in m; "
+                         f"{float(d):g} mm would be {float(d) / 1e3:g} m")
+    return int(n), float(d)
+
+
+def hslm_b(span, speed, parameters=None):
     """The HSLM-B high-speed load model of EN 1991-2 for a simply supported span L < 7 m.
 
     N point forces of 170 kN at uniform spacing d (EN 1991-2 §6.4.6.1.1(2)), N and d functions of
-    the span L read from Figure 6.13 (:func:`hslm_b_parameters`: linear in L from N = 20,
-    d = 2.5 m at L = 1 m to N = 10, d = 3.5 m at L = 7 m; N rounded to the nearest integer, halves
-    up). Forces at offsets 0, d, …, (N − 1) d behind the head.
+    the span L in Figure 6.13: ``parameters`` (N, d) as read from the figure by the user
+    (:func:`hslm_b_given`), or None for vtsi's reading (:func:`hslm_b_parameters`: linear in L
+    from N = 20, d = 2.5 m at L = 1 m to N = 10, d = 3.5 m at L = 7 m; N rounded to the nearest
+    integer, halves up; **not verified**). Forces at offsets 0, d, …, (N − 1) d behind the head.
 
     Parameters
     ----------
@@ -198,6 +233,8 @@ def hslm_b(span, speed):
         L [m], 1 <= L < 7.
     speed : float
         [m/s]
+    parameters : (int, float) or None
+        (N, d [m]) from Figure 6.13 for this span; None: :func:`hslm_b_parameters`.
 
     Returns
     -------
@@ -207,20 +244,23 @@ def hslm_b(span, speed):
     Raises
     ------
     ModelError
-        For a span outside 1 m <= L < 7 m, naming the span and the range.
+        For a span outside 1 m <= L < 7 m, naming the span and the range; bad ``parameters``
+        (:func:`hslm_b_given`).
 
     Notes
     -----
     Source of the N(L), d(L) law: **not verified** against EN 1991-2 (see
-    :func:`hslm_b_parameters` and docs/trains.md). Searches of public stores (pages, docs, code)
-    for a statement of Figure 6.13's values found none; the only figures found were the MIDAS
-    Civil default HSLM-B vehicle, N = 10 and d = 3.5 m.
+    :func:`hslm_b_parameters` and docs/trains.md); give the figure's N and d as ``parameters``
+    (a sweep's ``PassageSettings(hslm_b=(N, d))``, ``--hslm-b N,d``). Searches of public stores
+    (pages, docs, code) for a statement of Figure 6.13's values found none; the only figures
+    found were the MIDAS Civil default HSLM-B vehicle, N = 10 and d = 3.5 m.
 
     References
     ----------
     EN 1991-2:2003, §6.4.6.1.1(2) and Figure 6.13 (HSLM-B), Table 6.4 (HSLM-B for simply
     supported spans L < 7 m).
     """
-    N, d = hslm_b_parameters(span)
+    law = hslm_b_parameters(span)                    # the span is checked either way
+    N, d = law if parameters is None else hslm_b_given(parameters)
     return Train.from_axle_table(d * np.arange(N), np.full(N, _HSLM_B_P), speed, name='HSLM-B',
                                  characteristic_length=d)

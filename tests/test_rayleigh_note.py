@@ -63,6 +63,11 @@ def test_a_deck_whose_n0_rayleigh_damps_less_is_named(three_decks):
             + ": damped less, their resonances read high (on the safe side); the modal bridge")
     row = check(results).row("deck_acceleration")
     assert said in row.note and row.status != "info"
+    # the remedy: no Rayleigh pair through n0 and the cut-off serves decks of n0 4.6 to 13.3 Hz (through
+    # the slab's 13.25 Hz the 30 m span's n0 gets 2.61 %): the modal bridge alone, and why
+    assert row.note.endswith(f"the modal bridge (--bridge-model modal) damps every mode at zeta: one Rayleigh pair "
+                             f"cannot damp decks of n0 {n0.min():.4g} to {n0.max():.4g} Hz alike")
+    assert "damping_hz through" not in row.note
     modal = Sweep(three_decks, ["HSLM-A2"], "300", PassageSettings(damping=0.01, bridge="modal"), ACC)
     assert "Rayleigh damping through" not in check(modal.run(None, workers=1, progress=False)).row(
         "deck_acceleration").note                                            # ζ on every mode
@@ -105,3 +110,50 @@ def test_a_higher_mode_damped_above_the_ratio_stated_is_named():
     row = check(results).row("deck_acceleration")
     assert f", n3 ({n3:.4g} Hz) zeta = {100 * ratio:.3g} %: damped more" in row.note and "n0 (" not in row.note
     assert row.value > row.limit or row.status == "info"
+    cut = float(results.bridge()["en_cutoff_hz"])          # one deck: anchors through n0 and the cut-off serve
+    assert f"damps every mode at zeta, or take damping_hz through n0 and the cut-off ({f0:.4g} and {cut:.4g} Hz)" \
+        in row.note
+
+
+def test_every_mode_up_to_the_cut_off_damped_above_the_ratio_stated_is_named(tmp_path):
+    """2 × 40 m through its n₀ and n₃ (2.6 and 10.39 Hz), cut-off 30 Hz (the floor): the deck's
+    n₀, n₂, n₃ get at most ζ, but its 13.15, 23.39 and 27.46 Hz modes, which the deck acceleration
+    counts, 1.17, 1.89 and 2.19 %: the results file keeps every vertical frequency up to the
+    cut-off (not the 4.77, 14.35, 24.02 Hz axial modes), and the note names each; a file of an
+    older vtsi, without them, reads the decks' n₀, n₂, n₃ only, as it did."""
+    import h5py
+
+    from vtsi.sweep_results import SweepResults
+
+    bridge = beam_bridge([40.0, 40.0], 3.5e10, 3.0, 15000.0, elements_per_span=10)
+    rows = Sweep(bridge, ["HSLM-A1"], "250", PassageSettings(damping=0.01), ACC).runner.deck_frequencies
+    pair = (rows[0, 0], rows[0, 2])
+    sweep = Sweep(bridge, ["HSLM-A1"], "250", PassageSettings(damping=0.01, damping_hz=pair), ACC)
+    results = sweep.run(tmp_path / "r.h5", workers=1, progress=False)
+    modes = np.asarray(results.bridge()["frequencies_to_cutoff_hz"])
+    assert modes == pytest.approx([2.597, 4.058, 10.39, 13.15, 23.39, 27.46], abs=0.01)
+    assert modes[:3] == pytest.approx(rows[0], rel=1e-9) and results.bridge()["en_cutoff_hz"] == 30.0
+    ratios = rayleigh_ratio(modes[3:], *rayleigh_coefficients(0.01, *pair))
+    assert ratios == pytest.approx([0.0117, 0.0189, 0.0219], abs=5e-5)
+    row = check(results).row("deck_acceleration")
+    assert ("gives " + ", ".join(f"mode {k + 4} ({f:.4g} Hz) zeta = {100 * r:.3g} %" for k, (f, r) in
+                                 enumerate(zip(modes[3:], ratios))) + ": damped more") in row.note
+    assert "n0 (" not in row.note and "n3 (" not in row.note
+    assert f"or take damping_hz through n0 and the cut-off ({rows[0, 0]:.4g} and 30 Hz)" in row.note
+    assert row.value > row.limit or row.status == "info"
+    with h5py.File(results.path, "a") as f:          # as an older vtsi wrote it
+        del f["bridge/frequencies_to_cutoff_hz"]
+    assert "Rayleigh damping through" not in check(SweepResults(results.path)).row("deck_acceleration").note
+
+
+def test_the_command_line_bridge_line_says_the_rayleigh_anchors(tmp_path, capsys, beam_toml):
+    """A bridge file's [analysis] damping_hz = [5, 10]: the bridge line of vtsi sweep's summary says
+    'Rayleigh, through 5 and 10 Hz', as the report's table does (before: the ratio and its source only)."""
+    from vtsi.__main__ import main
+
+    path = beam_toml(tmp_path / "b.toml", {"elements_per_span": 10}, damping=0.01, damping_hz=[5.0, 10.0])
+    status = main(["sweep", str(path), "--trains", "HSLM-A1", "--speeds", "250", "--workers", "1", "--quiet",
+                   "--out", str(tmp_path / "out.h5")])
+    line = capsys.readouterr().out.splitlines()[1]
+    assert status == 0 and line.startswith("bridge: 1 deck; span 20 m")
+    assert line.endswith("; damping ζ = 1 % (Rayleigh, through 5 and 10 Hz; the bridge file's [analysis] damping)")

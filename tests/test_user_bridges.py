@@ -414,13 +414,13 @@ def test_decks_of_15_and_30_m_get_their_own_n0(tmp_path):
 
 def test_the_check_and_the_sweep_summary_say_what_bridge_they_read(tmp_path):
     """One line names the decks, spans, n₀, EN cut-off and L_Φ read from the model (before,
-    only the HTML report showed the spans and frequencies, and no cut-off); a results file of an
-    older vtsi (no /bridge/deck_frequencies_hz) reads the cut-off of /bridge/frequencies_hz."""
+    only the HTML report showed the spans and frequencies, and no cut-off); a results file
+    without /bridge/deck_frequencies_hz (damaged: every file of the format read holds it) is
+    refused when opened."""
     import h5py
 
     from vtsi.check import check, stored_check
-    from vtsi.codes.en1990_a2 import acceleration_cutoff_hz
-    from vtsi.passage import en_cutoff_hz
+    from vtsi.errors import SweepError
     from vtsi.sweep_results import SweepResults, bridge_text
 
     line = "bridge: 2 decks; spans 15 + 15 m; n0 10.66 Hz; EN cut-off 96.03 Hz; L_Phi 15 m"
@@ -434,11 +434,10 @@ def test_the_check_and_the_sweep_summary_say_what_bridge_they_read(tmp_path):
     pair, _ = _checked(_bridge(tmp_path, SHORT_AND_LONG, "pair.tcl"), tmp_path / "pair")
     assert bridge_text(pair.bridge()) == ("bridge: 2 decks; spans 15 + 30 m; n0 10.66, 2.666 Hz; EN cut-off 96.03 Hz; "
                                           "L_Phi 15, 30 m")
-    with h5py.File(results.path, "a") as f:          # as an older vtsi wrote it
-        del f["bridge/deck_frequencies_hz"], f["bridge/en_cutoff_hz"]
-    old = SweepResults(results.path).bridge()
-    assert en_cutoff_hz(old) == acceleration_cutoff_hz(old["frequencies_hz"]) == pytest.approx(42.661, abs=1e-3)
-    assert bridge_text(old) == "bridge: 2 decks; spans 15 + 15 m; n0 10.66 Hz; EN cut-off 42.66 Hz; L_Phi 15 m"
+    with h5py.File(results.path, "a") as f:          # every file of the format read holds each deck's n0, n2, n3
+        del f["bridge/deck_frequencies_hz"]
+    with pytest.raises(SweepError, match=r"damaged or incomplete .*deck_frequencies_hz"):
+        SweepResults(results.path)
 
 
 def test_the_command_line_names_the_bridge_file_of_an_error_in_its_analysis(tmp_path, capsys, deck_script):

@@ -292,6 +292,10 @@ def _sweep_options(p, check):
                           help=f"rail irregularity spectrum: {', '.join(_irregularities())} (default: smooth rail)")
     settings.add_argument("--seeds", metavar="S1,S2,...",
                           help="rail samples with --irregularity: 0,1,2 or FIRST:LAST (default 0)")
+    settings.add_argument("--hslm-b", type=_hslm_b_pair, metavar="N,d",
+                          help="HSLM-B's N forces and their spacing d [m] for the span, read from EN 1991-2 Figure "
+                               "6.13, e.g. 15,3.0 (default: vtsi's straight-line reading of the figure, not verified "
+                               "against it, which the check says)")
     p.add_argument("--quiet", action="store_true",
                    help="on standard error no progress bar (else shown when a terminal), no "
                         "line of an axle table's D, " + ("no line of what the damping replaces, " if check else "")
@@ -309,6 +313,26 @@ def _int_at_least(low):
             raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {text!r}")
         return value
     return parse
+
+
+def _hslm_b_pair(text):
+    """The argparse type of ``--hslm-b N,d``: (N, d [m]) checked (:func:`vtsi.models.trains.hslm_b_given`),
+    else argparse's one-line error naming the value."""
+    from vtsi.errors import ModelError
+    from vtsi.models.trains import hslm_b_given
+
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        pair = tuple(float(part) for part in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected N,d (N forces, spacing d in m, from EN 1991-2 Figure 6.13), e.g. "
+                                         f"15,3.0; got {text!r}") from None
+    try:
+        return hslm_b_given(pair, "N,d")
+    except ModelError as exc:
+        raise argparse.ArgumentTypeError(f"{exc} (got {text!r})") from None
 
 
 def _irregularities():
@@ -427,7 +451,8 @@ def _prepare_sweep(ns, out):
         source = read_bridge_file(ns.bridge, ns.track)
     values = dict(source.settings)
     given = {name: getattr(ns, name) for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping",
-                                                  "irregularity", "modal_hz") if getattr(ns, name) is not None}
+                                                  "irregularity", "modal_hz", "hslm_b")
+             if getattr(ns, name) is not None}
     if ns.bridge_model is not None:
         given["bridge"] = ns.bridge_model
     values.update(given)
@@ -567,8 +592,11 @@ def _damping_text(sweep, ns):
     """The damping a sweep's passages had, in words for the bridge line of ``vtsi sweep``'s
     summary and of ``vtsi check``'s table: the ratio ζ of its settings and where it came from
     (``vtsi check``: ``ns.damping_source``, as its report says it; ``vtsi sweep``: --damping or
-    the bridge file's [analysis] damping), else the bridge script's own (:func:`_script_damping`),
-    else none."""
+    the bridge file's [analysis] damping), with the Rayleigh anchors of the FE bridge's
+    ``damping_hz`` when given, as the report's table says them; else the bridge script's own
+    (:func:`_script_damping`), else none."""
+    from vtsi.sweep_results import significant_text
+
     zeta = sweep.settings.damping
     in_script = _script_damping(sweep.bridge, sweep.runner)
     if zeta is not None:
@@ -576,7 +604,9 @@ def _damping_text(sweep, ns):
         if not where:
             where = ("--damping" if ns.damping is not None else "the bridge file's [analysis] damping") + (
                 ", over the script's own" if in_script else "")
-        return f"damping ζ = {_percent(zeta)} ({where})"
+        pair = sweep.settings.damping_hz if sweep.settings.bridge == "fe" else None
+        anchors = f"Rayleigh, through {significant_text(pair[0])} and {significant_text(pair[1])} Hz; " if pair else ""
+        return f"damping ζ = {_percent(zeta)} ({anchors}{where})"
     if in_script:
         return f"damping: {in_script}"
     script = sweep.bridge.description.get("kind") == "script"

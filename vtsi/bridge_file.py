@@ -59,6 +59,7 @@ ANALYSIS_KEYS = {
     "irregularity": "irregularity", "approach_m": "approach", "free_vibration_s": "free_vibration",
     "exact_events": "exact_events", "bridge_self_weight": "bridge_self_weight",
     "bridge_model": "bridge", "modal_hz": "modal_hz", "static_correction": "static_correction",
+    "hslm_b": "hslm_b",
 }
 """Keys of the ``[analysis]`` table -> :class:`~vtsi.passage.PassageSettings` fields (see there
 for their meaning and units), besides ``seeds`` (rail samples, a list of ints >= 0)."""

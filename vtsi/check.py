@@ -88,7 +88,7 @@ import h5py
 import numpy as np
 
 from vtsi.codes import en1990_a2, en1991_2
-from vtsi.damping import rayleigh_coefficients, rayleigh_ratio
+from vtsi.damping import deck_frequencies_table, rayleigh_coefficients, rayleigh_ratio
 from vtsi.deck_record import deck_nodes, intermediate_supports, overhangs, span_columns, support_columns
 from vtsi.errors import ModelError, SweepError, VtsiError
 from vtsi.influence import InfluenceLines
@@ -101,7 +101,7 @@ from vtsi.passage import (AXLE_PAIR_HARMONICS, STEPS_PER_CUTOFF_PERIOD, default_
 from vtsi.places import car_label, decks_text, node_text, wheel_or_car_place
 from vtsi.speed_grid import UnknownResonances, coarse_resonances, coarse_text
 from vtsi.sweep_results import (ENVELOPE_ROWS, ResultsFileLock, SweepResults, bridge_text, deck_first_frequencies,
-                                deck_frequencies_table, significant_text, span_decks, x_tolerance)
+                                significant_text, span_decks, x_tolerance)
 from vtsi.track import Track
 from vtsi.track_ends import TrackEnd, free_end_text
 
@@ -210,6 +210,8 @@ class CheckResult:
                                 # one line; '' not known
     frequency_limits: str = ""  # each deck's n₀ against EN 1991-2 Figure 6.10 (:func:`frequency_limits_text`),
                                 # one line of information; '' not known
+    hslm_b: str = ""            # the sweep's HSLM-B from vtsi's unverified reading of EN 1991-2 Figure 6.13
+                                # (:func:`hslm_b_text`), one sentence the verdict carries; '' when none
 
     @property
     def complete(self):
@@ -266,6 +268,8 @@ class CheckResult:
             text += f" (not evaluated, the sweep kept no output for them: {', '.join(map(label, self.not_evaluated))})"
         if self.speed_grid:
             text += f"; {self.speed_grid}"
+        if self.hslm_b:
+            text += f"; {self.hslm_b}"
         return text
 
     def settings_text(self):
@@ -386,7 +390,7 @@ def stored_check(path):
     bridge = results.bridge()
     return CheckResult(settings, rows, *cases, bridge=bridge_text(bridge), speed_grid=speed_grid,
                        bridge_model=bridge_model_text(results, bridge),
-                       frequency_limits=frequency_limits_text(bridge))
+                       frequency_limits=frequency_limits_text(bridge), hslm_b=hslm_b_text(results, bridge))
 
 
 def bridge_model_text(results, bridge):
@@ -465,7 +469,7 @@ def check(results, settings=None):
     bridge = results.bridge()
     out = CheckResult(settings, cases_done=results.n_done, cases_total=results.n_cases, bridge=bridge_text(bridge),
                       bridge_model=bridge_model_text(results, bridge),
-                      frequency_limits=frequency_limits_text(bridge))
+                      frequency_limits=frequency_limits_text(bridge), hslm_b=hslm_b_text(results, bridge))
     for rule in (_deck_acceleration, _dynamic_increment, _deflection, _end_rotation, _car_body,
                  _wheel_unloading):
         out.rows.extend(rule(results, outputs, bridge, settings))
@@ -596,6 +600,35 @@ def _load_models(results, bridge):
     unchecked = (f"not checked: a sweep of HSLM trains verifies the bridge to EN 1991-2 only with every train "
                  f"Table 6.4 asks for, and this one lacks {', '.join(lacking)}; {again}") if hslm and remedy else ""
     return LoadModels("; ".join(said), unchecked, again)
+
+
+def hslm_b_source(results):
+    """Where the N and d of the sweep's HSLM-B came from, in words for the report's train table:
+    'given by the user' (the settings' ``hslm_b``) or 'as read by vtsi, not verified'
+    (``results`` a :class:`~vtsi.sweep_results.SweepResults`; a file without the setting ran
+    vtsi's reading, :func:`vtsi.models.trains.hslm_b_parameters`)."""
+    if results.identity["settings"].get("hslm_b") is not None:
+        return "given by the user (EN 1991-2 Figure 6.13)"
+    return "EN 1991-2 Figure 6.13 as read by vtsi, not verified (--hslm-b N,d gives the figure's)"
+
+
+def hslm_b_text(results, bridge):
+    """One sentence when the sweep ran HSLM-B with the N and d of vtsi's straight-line reading of
+    EN 1991-2 Figure 6.13 (not verified against the printed figure), which every verdict on it
+    then rests on: the N and d it ran (the stored train's forces and spacing) and the span L [m]
+    they were read at, and how to give the figure's own; '' when the sweep holds no HSLM-B or the
+    user gave its N and d (``hslm_b``)."""
+    if results.identity["settings"].get("hslm_b") is not None:
+        return ""
+    runs = [t for t in results.trains if results.train_data(t)["name"] == en1991_2.HSLM_B]
+    if not runs:
+        return ""
+    data = results.train_data(runs[0])
+    n, d = len(data["axle_offsets_m"]), float(data["characteristic_length_m"])
+    span = float(np.asarray(bridge["span_lengths_m"], dtype=float).ravel()[0])
+    return (f"HSLM-B's N = {n} and d = {d:.4g} m (L = {span:g} m) are vtsi's straight-line reading of EN 1991-2 "
+            "Figure 6.13, not verified against the printed figure: give the figure's with --hslm-b N,d "
+            "(PassageSettings(hslm_b=(N, d)))")
 
 
 def _plural_of(n, word):
@@ -1230,35 +1263,62 @@ def _rayleigh_note(sweep, bridge):
     the FE bridge with its own ζ as Rayleigh damping and (a) a deck's n₀ gets a ratio more than
     RAYLEIGH_SPREAD below ζ: between the anchors (``damping_hz``, by default the model's n₀ and
     the largest cut-off: a short deck among longer ones), its resonances read high, on the safe
-    side; or (b) a deck's n₀, n₂ or n₃ up to the cut-off gets more than RAYLEIGH_SPREAD above ζ:
-    outside the anchors (a ``damping_hz`` above n₀, or below the cut-off), its resonances read
-    low, on the unsafe side, and a PASS of the deck acceleration is not sure. A deck's higher
-    modes between the anchors get less than ζ with any anchors (docs/sweeps.md, "Damping"): not
-    named. Three decks on one track (10 m slab, 30 m span, 2 × 20 m), ζ 1 % through 4.635 and
-    118.5 Hz: the slab's n₀, 13.25 Hz, got 0.44 %, and its acceleration read 5.52 m/s² where the
-    modal bridge at ζ on every mode read 3.27 (a probe's); a 20 m span of n₀ 5 Hz through 12 and
-    45 Hz: 1.98 %, 3.34 m/s² PASS where ζ on every mode reads 5.19, FAIL; through 5 and 10 Hz its
-    n₃ (45.2 Hz) got 3.1 % and its acceleration read 8.5 % low."""
+    side; or (b) a mode up to the cut-off gets more than RAYLEIGH_SPREAD above ζ: outside the
+    anchors (a ``damping_hz`` above n₀, or below the cut-off), its resonances read low, on the
+    unsafe side, and a PASS of the deck acceleration is not sure. A deck's higher modes between
+    the anchors get less than ζ with any anchors (docs/sweeps.md, "Damping"): not named. The
+    remedy: the modal bridge, or anchors through the lowest n₀ and the cut-off where those leave
+    nothing to note (one deck; decks of n₀ that close), else why no anchors can. Three decks on
+    one track (10 m slab, 30 m span, 2 × 20 m), ζ 1 % through 4.635 and 118.5 Hz: the slab's n₀,
+    13.25 Hz, got 0.44 %, and its acceleration read 5.52 m/s² where the modal bridge at ζ on every
+    mode read 3.27 (a probe's); through the slab's n₀ and the cut-off, the 30 m span's n₀ got
+    2.61 %, and the deck acceleration read 4.07 m/s² against 4.85; a 20 m span of n₀ 5 Hz
+    through 12 and 45 Hz: 1.98 %, 3.34 m/s² PASS where ζ on every mode reads 5.19, FAIL; through
+    5 and 10 Hz its n₃ (45.2 Hz) got 3.1 % and its acceleration read 8.5 % low."""
     zeta = sweep.get("damping")
     if sweep.get("bridge", "fe") != "fe" or not zeta:
         return "", False
-    pair = sweep.get("damping_hz") or (float(np.ravel(bridge["frequencies_hz"])[0]), en_cutoff_hz(bridge))
-    alpha, beta = rayleigh_coefficients(zeta, *pair)
     rows, cut = deck_frequencies_table(bridge), en_cutoff_hz(bridge)
-    n0 = rows[:, 0]
-    decks = "" if len(n0) == 1 else "deck {}'s "
-    less = [f"{decks.format(d + 1)}n0 ({f:.4g} Hz) zeta = {100 * r:.3g} %"
-            for d, (f, r) in enumerate(zip(n0, rayleigh_ratio(n0, alpha, beta))) if r < (1 - RAYLEIGH_SPREAD) * zeta]
-    more = [f"{decks.format(d + 1)}n{(0, 2, 3)[k]} ({f:.4g} Hz) zeta = {100 * r:.3g} %"
-            for d, row in enumerate(rows) for k, (f, r) in enumerate(zip(row, rayleigh_ratio(row, alpha, beta)))
-            if f <= cut * (1 + 1e-9) and r > (1 + RAYLEIGH_SPREAD) * zeta]
+    pair = sweep.get("damping_hz") or (float(np.ravel(bridge["frequencies_hz"])[0]), cut)
+    modes = np.ravel(bridge.get("frequencies_to_cutoff_hz", []))     # not in a file of an older vtsi
+    less, more = _rayleigh_off(zeta, pair, rows, modes)
     if not (less or more):
         return "", False
     said = [f"{', '.join(less)}: damped less, their resonances read high (on the safe side)" if less else "",
             f"{', '.join(more)}: damped more, their resonances read low (on the unsafe side)" if more else ""]
+    anchors = (float(rows[:, 0].min()), cut)          # the remedy, where it leaves nothing to note
+    still_less, still_more = _rayleigh_off(zeta, anchors, rows, modes)
+    if not (still_less or still_more):
+        remedy = (f", or take damping_hz through {'n0' if len(rows) == 1 else 'the lowest n0'} and the cut-off "
+                  f"({anchors[0]:.4g} and {anchors[1]:.4g} Hz)")
+    elif still_less:
+        remedy = (f": one Rayleigh pair cannot damp decks of n0 {rows[:, 0].min():.4g} to {rows[:, 0].max():.4g} Hz "
+                  "alike")
+    else:
+        remedy = f": through the lowest n0 and the cut-off, {', '.join(still_more)}"
     return (f"; Rayleigh damping through {pair[0]:.4g} and {pair[1]:.4g} Hz, not the {100 * zeta:.3g} % stated, "
             f"gives {'; '.join(p for p in said if p)}; the modal bridge (--bridge-model modal) damps every mode at "
-            "zeta, or take damping_hz through the deck's n0 and the cut-off"), bool(more)
+            f"zeta{remedy}"), bool(more)
+
+
+def _rayleigh_off(zeta, pair, rows, modes):
+    """(less, more): what Rayleigh damping of ratio ``zeta`` through ``pair`` [Hz] gives more than
+    RAYLEIGH_SPREAD off ζ, as 'name (f Hz) zeta = r %': less, of each deck's n₀ (``rows``
+    (n_decks, 3) each deck's n₀, n₂, n₃ [Hz]); more, of those and of the bridge's ``modes`` up to
+    the cut-off [Hz] (each not a deck's n₀, n₂, n₃ named 'mode k', its place among them), in
+    ascending frequency."""
+    alpha, beta = rayleigh_coefficients(zeta, *pair)
+    deck = "" if len(rows) == 1 else "deck {}'s "
+    less = [f"{deck.format(d + 1)}n0 ({f:.4g} Hz) zeta = {100 * r:.3g} %"
+            for d, (f, r) in enumerate(zip(rows[:, 0], rayleigh_ratio(rows[:, 0], alpha, beta)))
+            if r < (1 - RAYLEIGH_SPREAD) * zeta]
+    named = [(f, f"{deck.format(d + 1)}n{(0, 2, 3)[k]}") for d, row in enumerate(rows) for k, f in enumerate(row)]
+    named += [(f, f"mode {k + 1}") for k, f in enumerate(modes) if not np.any(np.isclose(f, rows, rtol=1e-6, atol=0))]
+    named.sort(key=lambda item: item[0])
+    more = [f"{name} ({f:.4g} Hz) zeta = {100 * r:.3g} %"
+            for (f, name), r in zip(named, rayleigh_ratio([f for f, _ in named], alpha, beta))
+            if r > (1 + RAYLEIGH_SPREAD) * zeta]
+    return less, more
 
 
 MIN_STEPS_PER_PERIOD = 4     # fewer steps (samples) a period of the cut-off, or of the rail: a row is held only when sure

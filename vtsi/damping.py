@@ -179,6 +179,23 @@ def decks_cutoff_hz(deck_frequencies_hz):
     return max(acceleration_cutoff_hz(f) for f in rows.reshape(-1, 3))
 
 
+def deck_frequencies_table(record):
+    """(n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (:func:`deck_frequencies`) of a bridge record
+    ``record``: a results file's /bridge (:meth:`SweepResults.bridge()
+    <vtsi.sweep_results.SweepResults.bridge>`, every file of the format vtsi reads holds them)
+    or :attr:`PassageRunner.frequency_record <vtsi.passage.PassageRunner.frequency_record>`.
+    The one reading of the table: the cut-off, the check, the report and the speed grid call it."""
+    return np.asarray(record["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
+
+
+def bridge_modes(model, frequencies, shapes, ground=()):
+    """(n,) bool: which of the modes ``(frequencies (n,) [Hz], shapes (n_full, n))`` of ``model``
+    are the bridge's vertical modes as :func:`vertical_frequencies` keeps them (more uy than ux
+    motion, at most half their vertical kinetic energy at the ``ground`` nodes): a beam's axial
+    modes and an approach's are not."""
+    return _VerticalModes(model, ground).read((2 * np.pi * np.asarray(frequencies, dtype=float)) ** 2, shapes)
+
+
 @dataclass(frozen=True)
 class BridgeFrequencies:
     """A bridge's vertical frequencies as a sweep's passage reads them (:func:`bridge_frequencies`).

@@ -39,7 +39,8 @@ from vtsi.analysis import domain_state, modes_up_to
 from vtsi.codes.en1991_2 import frequency_limits, hslm_b_refusal
 from vtsi.constraint import INTERPOLATIONS, MovingLoadConstraint
 from vtsi.coupled import CONTACT_STRATEGIES, STEPS_ON_TRACK, CoupledAnalysis, coupled_integrator
-from vtsi.damping import decks_cutoff_hz, deck_frequencies, rayleigh_damping, vertical_frequencies
+from vtsi.damping import (bridge_modes, deck_frequencies, deck_frequencies_table, decks_cutoff_hz, rayleigh_damping,
+                           vertical_frequencies)
 from vtsi.deck import deck_layout
 from vtsi.errors import (AnalysisError, BridgeModelError, ModelError, SettingError, VtsiError, as_flag, as_number,
                          as_numbers, as_positive, is_int, is_number, number_array)
@@ -47,6 +48,7 @@ from vtsi.influence import InfluenceLines, StaticEnvelopes
 from vtsi.modal_bridge import CUTOFF_MARGIN, ModalBridge
 from vtsi.modal_passage import add_quasi_static, peaks, shape_polynomials
 from vtsi.models.catalogue import FIDELITIES, catalogue_train, describe
+from vtsi.models.trains import hslm_b, hslm_b_given
 from vtsi.models.irregularity import (POINTS_PER_BLOCK, WAVELENGTH_BAND, Irregularity, fra_psd, german_psd,
                                       sample_profile)
 from vtsi.recorders import ContactRecorder, NodeRecorder, TrainRecorder
@@ -260,6 +262,11 @@ class PassageSettings:
         add the truncated modes' quasi-static response to displacements, rotations and bending
         moments without a cut-off (:mod:`vtsi.modal_bridge`); accelerations keep the modes up to
         ``modal_hz`` only (the cut-off). Passages of cars or with self weight are not corrected.
+    hslm_b : (N, d [m]) of HSLM-B for the bridge's span, as read from EN 1991-2 Figure 6.13 by
+        the user (:func:`~vtsi.models.trains.hslm_b_given`: N a whole number >= 1, d > 0 [m]);
+        None: vtsi's straight-line reading of the figure (:func:`~vtsi.models.trains.hslm_b_parameters`,
+        not verified against it, which the check says). A sweep without HSLM-B refuses it. Stored
+        only when given (a results file without it ran vtsi's reading).
 
     Each field is checked when the settings are made: a :class:`~vtsi.errors.ModelError`
     ("sweep settings: ...") naming it and its value (a definition, made before any sweep); a
@@ -282,6 +289,7 @@ class PassageSettings:
     bridge: str = "fe"
     modal_hz: object = None
     static_correction: bool = True
+    hslm_b: object = None
 
     def __post_init__(self):
         def positive(name, allow_none=False, allow_zero=False):
@@ -332,6 +340,8 @@ class PassageSettings:
             integrator = coupled_integrator(self.integrator, self.contact, "sweep settings")
         except VtsiError as exc:
             raise ModelError(f"sweep settings: {exc}" if not str(exc).startswith("sweep settings") else str(exc)) from None
+        if self.hslm_b is not None:
+            object.__setattr__(self, "hslm_b", hslm_b_given(self.hslm_b, "sweep settings: hslm_b"))
         if self.integrator is None:      # the contact strategy's default, by name where it has one
             object.__setattr__(self, "integrator", "Newmark" if self.contact == "bilateral" else integrator)
         if integrator.explicit:
@@ -342,6 +352,8 @@ class PassageSettings:
         """The settings as JSON-able values (the integrator by its repr)."""
         out = asdict(self)
         out["integrator"] = self.integrator if isinstance(self.integrator, str) else repr(self.integrator)
+        if self.hslm_b is None:          # as a file of a vtsi before the setting: vtsi's reading of Fig. 6.13
+            del out["hslm_b"]
         return out
 
 
@@ -398,16 +410,11 @@ def en_cutoff_hz(bridge):
     results file's /bridge, :meth:`SweepResults.bridge() <vtsi.sweep_results.SweepResults.bridge>`,
     or :attr:`PassageRunner.frequency_record`): the largest of its decks' cut-offs max(30 Hz,
     1.5 n₀, n₃), each deck's from its own first vertical frequencies (``deck_frequencies_hz``
-    (n_decks, 3), :func:`~vtsi.damping.deck_frequencies`). Counting every frequency up to the
-    largest is on the safe side for each deck (the EN asks at least its own). A record without
-    ``deck_frequencies_hz`` (an older results file): the cut-off of ``frequencies_hz``. The one
+    (n_decks, 3), :func:`~vtsi.damping.deck_frequencies_table`). Counting every frequency up to
+    the largest is on the safe side for each deck (the EN asks at least its own). The one
     reading of the cut-off: the passage's default Δt, 'en' outputs, Rayleigh damping and modal
     basis, the check and the report all call it."""
-    if "deck_frequencies_hz" in bridge:
-        rows = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
-    else:
-        rows = np.asarray(bridge["frequencies_hz"], dtype=float).ravel()[None, :3]
-    return decks_cutoff_hz(rows)
+    return decks_cutoff_hz(deck_frequencies_table(bridge))
 
 
 def default_dt(bridge, rail_hz=None, zeta=None):
@@ -863,11 +870,22 @@ class PassageRunner:
     def modes_up_to(self, cutoff):
         """``(cutoff [Hz], shapes (n_full, n))``: every mode of the bridge up to the cut-off
         (mass-normalised; at least one; a mode within 1e-9 above it too: the other of a
-        degenerate pair on the cut-off, two identical decks' n₃), computed once per cut-off."""
+        degenerate pair on the cut-off, two identical decks' n₃), computed once per cut-off
+        (with their frequencies, :attr:`frequencies_to_cutoff`)."""
         f_max = self.cutoff_hz(cutoff)
         if f_max not in self._modes:
-            self._modes[f_max] = modes_up_to(self.model, f_max * (1.0 + 1e-9))[1]
-        return f_max, self._modes[f_max]
+            self._modes[f_max] = modes_up_to(self.model, f_max * (1.0 + 1e-9))
+        return f_max, self._modes[f_max][1]
+
+    @property
+    def frequencies_to_cutoff(self):
+        """(n,) the bridge's vertical frequencies [Hz] up to its EN cut-off (:meth:`modes_up_to`
+        'en', the modes an 'en' output counts, without a beam's axial modes and the approaches':
+        :func:`~vtsi.damping.bridge_modes`), as a results file records them
+        (/bridge/frequencies_to_cutoff_hz): the modes the Rayleigh note reads."""
+        f_max, shapes = self.modes_up_to("en")
+        f = self._modes[f_max][0]
+        return f[bridge_modes(self.model, f, shapes, self.ground_nodes)]
 
     def static_envelopes(self, output, train_names):
         """The static min and max of a displacement, rotation or moment output under each train's
@@ -901,15 +919,19 @@ class PassageRunner:
         per name, then copied at each speed). HSLM-B is built from the span of a bridge whose
         decks are each one simply supported span, all of one length under 7 m, and refused
         (ModelError) on any other (:func:`~vtsi.codes.en1991_2.hslm_b_refusal`: a continuous
-        deck takes HSLM-A1 to A10)."""
+        deck takes HSLM-A1 to A10); its N and d are the settings' ``hslm_b`` when given."""
         if name not in self._trains:
             decks = [[L for L, d in zip(self.span_lengths, self.span_decks) if d == k]
                      for k in range(len(self.deck_ends))]                    # each deck's spans [m]
             refusal = hslm_b_refusal(decks)
-            if refusal and describe(name) == describe("HSLM-B"):     # the catalogue's HSLM-B, by any of its names
+            is_b = describe(name) == describe("HSLM-B")              # the catalogue's HSLM-B, by any of its names
+            if refusal and is_b:
                 raise ModelError(refusal)
-            self._trains[name] = catalogue_train(name, speed, fidelity=self.settings.cars,
-                                                 span=None if refusal else float(self.span_lengths[0]))
+            span = None if refusal else float(self.span_lengths[0])
+            train = catalogue_train(name, speed, fidelity=self.settings.cars, span=span)   # name, fidelity, span
+            if is_b and self.settings.hslm_b is not None:
+                train = hslm_b(span, speed, self.settings.hslm_b)
+            self._trains[name] = train
         return self._trains[name].with_speed(speed)
 
     def approach(self, train):

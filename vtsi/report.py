@@ -63,9 +63,11 @@ from pathlib import Path
 import numpy as np
 
 from vtsi.version import __version__
-from vtsi.check import (ABSMAX, STATIC_LOAD_MODELS, bridge_model_text, mid_span_ratios, node_deflections,
-                        stored_check)
+from vtsi.check import (ABSMAX, STATIC_LOAD_MODELS, bridge_model_text, hslm_b_source, mid_span_ratios,
+                        node_deflections, stored_check)
 from vtsi.codes.en1990_a2 import DEFLECTION_SPAN_RATIO
+from vtsi.codes.en1991_2 import HSLM_B
+from vtsi.damping import deck_frequencies_table
 from vtsi.deck_record import deck_nodes
 from vtsi.errors import SweepError
 from vtsi.passage import FREE_VIBRATION_PERIODS, HISTORY_OUTPUTS, contact_force_reach, en_cutoff_hz
@@ -74,8 +76,8 @@ from vtsi.scene3d import car_body_offsets, check_scene_case, deck_spline, nodes_
 from vtsi.signature import HARMONICS
 from vtsi.speed_grid import en_series
 from vtsi.sweep import resonance_speeds
-from vtsi.sweep_results import (ENVELOPE_ROWS, SweepResults, case_key, deck_first_frequencies, deck_ranges,
-                                open_results, significant_text, span_decks, x_tolerance)
+from vtsi.sweep_results import (ENVELOPE_ROWS, SweepResults, case_key, deck_ranges, open_results, significant_text,
+                                span_decks, x_tolerance)
 
 SECTIONS = ("summary", "checks", "bridge", "trains", "settings", "envelopes", "histories", "scene")
 RESONANCE_ORDERS = tuple(range(1, HARMONICS + 1))   # v = n0 D / i marked: the orders of the EN series' resonances
@@ -482,11 +484,10 @@ class _Report:
         rows += [["mid-span nodes", ", ".join(str(int(n)) for n in b["midspan_nodes"])],
                  ["first vertical frequencies" + (" of the model" if several else ""),
                   ", ".join(significant_text(f) for f in freqs) + " Hz"]]
-        if several and "deck_frequencies_hz" in b:      # each deck's n₀, n₂, n₃
-            deck_freqs = np.reshape(b["deck_frequencies_hz"], (-1, 3))
+        if several:                                     # each deck's n₀, n₂, n₃
             rows += [[f"deck {d + 1} (x = {a:g} … {e:g} m): n₀, n₂, n₃",
                       ", ".join(significant_text(f) for f in row) + " Hz"]
-                     for d, ((a, e), row) in enumerate(zip(deck_ranges(b), deck_freqs))]
+                     for d, ((a, e), row) in enumerate(zip(deck_ranges(b), deck_frequencies_table(b)))]
         rows += [["EN cut-off max(30 Hz, 1.5 n₀, n₃)",
                   f"{significant_text(en_cutoff_hz(b))} Hz" + (" (the largest of the decks')" if several else "")],
                  ["damping", _damping_text(self.settings)]]
@@ -518,10 +519,14 @@ class _Report:
                          Cell(_length(d["length_m"]), cls="num"), Cell(_length(D), cls="num"), Cell(fidelity)])
             attrs.append({"data-train": t})
         head = ["", "train", "axles", "total static load kN", "length m", "D m", "fidelity"]
+        hslm_b = [f"{t}: N = {len(d['axle_offsets_m'])} forces of {float(d['static_wheel_loads_N'][0]) / 1e3:g} kN at "
+                  f"d = D = {_length(float(d['characteristic_length_m']))} m; N and d: {hslm_b_source(self.results)}."
+                  for t, d in self.trains.items() if d["name"] == HSLM_B]
         return Section("trains", "Trains", [
             Table(head, rows, attrs, "train-table", "trains"),
             Paragraph("Length: from the first to the last axle. D: the characteristic length (coach length) "
-                      "of EN 1991-2 §6.4.6.2, used for the resonance speeds v = n₀ D / i.")])
+                      "of EN 1991-2 §6.4.6.2, used for the resonance speeds v = n₀ D / i.")]
+            + [Paragraph(text) for text in hslm_b])
 
     def settings_section(self):
         s, res = self.settings, self.results
@@ -774,13 +779,9 @@ class _Report:
         n₂ of each continuous deck (of several spans), whose second mode is a bending mode of
         its own near n₀ (a simply supported deck's n₂ = 4 n₀ puts its resonances far above the
         swept speeds). EN 1991-2 6.4.6.2 names n₀; vtsi's EN series also resolves n₂ and n₃."""
-        n0 = np.unique(deck_first_frequencies(self.bridge))     # each deck's: its own resonances
-        n2 = []
-        if "deck_frequencies_hz" in self.bridge:
-            table = np.asarray(self.bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
-            decks = span_decks(self.bridge)
-            n2 = [float(table[d, 1]) for d in range(len(table)) if np.sum(decks == d) > 1 and np.isfinite(table[d, 1])]
-        return n0, np.unique(n2)
+        table, decks = deck_frequencies_table(self.bridge), span_decks(self.bridge)
+        n2 = [float(table[d, 1]) for d in range(len(table)) if np.sum(decks == d) > 1 and np.isfinite(table[d, 1])]
+        return np.unique(table[:, 0]), np.unique(n2)       # each deck's n₀: its own resonances
 
     def acceleration_caption(self, name):
         """The acceleration chart's caption: its curves and which resonances it marks."""

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from vtsi.codes import en1991_2
+from vtsi.damping import deck_frequencies_table
 from vtsi.sweep import en_speed_grid, resonance_speeds
-from vtsi.sweep_results import deck_first_frequencies
 
 
 @dataclass(frozen=True)
@@ -66,15 +66,11 @@ COARSE_LISTED = 4           # resonances a note or the verdict names (then: 'and
 
 
 def _grid_frequencies(bridge):
-    """``[(f [Hz], mode)]``: each deck's n₀, n₂, n₃ (/bridge/deck_frequencies_hz, mode 0, 1, 2),
-    the frequencies whose resonances the EN series of ``vtsi sweep --speeds en:V`` resolves; in a
-    results file of an older vtsi each deck's n₀ only."""
-    if "deck_frequencies_hz" in bridge:
-        table = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
-    else:
-        table = deck_first_frequencies(bridge)[:, None]
+    """``[(f [Hz], mode)]``: each deck's n₀, n₂, n₃ (:func:`~vtsi.damping.deck_frequencies_table`,
+    mode 0, 1, 2), the frequencies whose resonances the EN series of ``vtsi sweep --speeds en:V``
+    resolves."""
     found = {}
-    for row in table:
+    for row in deck_frequencies_table(bridge):
         for mode, f in enumerate(row):
             if np.isfinite(f) and f > 0:
                 found.setdefault(round(float(f), 9), mode)

@@ -46,7 +46,7 @@ from vtsi.errors import (BridgeError, BridgeModelError, BridgeSweepError, ModelE
                          SweepError, VtsiError, is_int)
 from vtsi.model import Model
 from vtsi.models.bridges import continuous_beam
-from vtsi.models.catalogue import train_names
+from vtsi.models.catalogue import describe, train_names
 from vtsi.passage import (DEFAULT_OUTPUTS, HISTORY_OUTPUTS, Output, PassageRunner, PassageSettings, dt_resolving,
                           modal_basis_hz, rail_frequency_hz, resolves, step_error_text, step_ratio, step_rule_text)
 from vtsi.signature import HARMONICS
@@ -431,6 +431,11 @@ class Sweep:
             for name in self.trains:             # every name, fidelity, span and resolution is checked now
                 for speed in (self.speeds_kmh[0], self.speeds_kmh[-1]):
                     self.runner.check_resolution(name, float(speed))
+            if settings.hslm_b is not None and not any(describe(t) == describe("HSLM-B") for t in self.trains):
+                raise SettingError(f"hslm_b = {settings.hslm_b} (--hslm-b) is HSLM-B's N and d, and the sweep runs "
+                                   "no HSLM-B "
+                                   f"(trains {', '.join(self.trains)}): add HSLM-B to the trains, or leave hslm_b "
+                                   "unset", "hslm_b")
         except SettingError as exc:              # a setting's refusal keeps its setting (a file names its key)
             raise SettingError(f"sweep: {exc}", exc.setting) from None
         except VtsiError as exc:                 # what is the bridge's stays the bridge's (BridgeError)

@@ -8,7 +8,10 @@ Layout (docs/sweeps.md)::
     /bridge/               frequencies_hz (3,: the first vertical frequencies n₀, n₂, n₃ of a
                            single deck; of several, the model's first three), deck_frequencies_hz
                            (n_decks, 3: each deck's n₀, n₂, n₃), en_cutoff_hz (the EN 1990 A2 cut-off:
-                           the largest of the decks', vtsi.passage.en_cutoff_hz), deck_nodes and
+                           the largest of the decks', vtsi.passage.en_cutoff_hz),
+                           frequencies_to_cutoff_hz (every vertical frequency of the model up to
+                           en_cutoff_hz, the approaches' and axial modes left out; not in a file
+                           of an older vtsi), deck_nodes and
                            deck_x_m (every node of the track, in x order, and its x: the approaches'
                            too; those on a deck lie within deck_ends_m, vtsi.deck_record.deck_nodes),
                            midspan_nodes, span_lengths_m, span_ends_m (n_spans, 2: each
@@ -84,6 +87,7 @@ import numpy as np
 
 from vtsi.version import __version__
 from vtsi.codes.en1991_2 import determinant_length
+from vtsi.damping import deck_frequencies_table
 from vtsi.errors import SweepError, as_number
 from vtsi.influence import StaticEnvelopes
 from vtsi.modal_bridge import CUTOFF_MARGIN
@@ -148,19 +152,8 @@ def span_decks(bridge):
     return np.array([int(np.flatnonzero((decks[:, 0] - tol <= m) & (m <= decks[:, 1] + tol))[0]) for m in middle])
 
 
-def deck_frequencies_table(bridge):
-    """(n_decks, 3) each deck's n₀, n₂, n₃ [Hz] (/bridge/deck_frequencies_hz); in a results file
-    of an older vtsi, which kept none, the bridge's first three for every deck."""
-    n_decks = len(deck_ranges(bridge))
-    if "deck_frequencies_hz" in bridge:
-        rows = np.asarray(bridge["deck_frequencies_hz"], dtype=float).reshape(-1, 3)
-        if len(rows) == n_decks:
-            return rows
-    return np.tile(np.asarray(bridge["frequencies_hz"], dtype=float).ravel()[:3], (n_decks, 1))
-
-
 def deck_first_frequencies(bridge):
-    """(n_decks,) each deck's first vertical frequency n₀ [Hz] (:func:`deck_frequencies_table`)."""
+    """(n_decks,) each deck's first vertical frequency n₀ [Hz] (:func:`~vtsi.damping.deck_frequencies_table`)."""
     return deck_frequencies_table(bridge)[:, 0]
 
 
@@ -705,6 +698,7 @@ class ResultsWriter:
                 b = f.create_group("bridge")
                 b["frequencies_hz"] = runner.frequencies
                 b["deck_frequencies_hz"] = np.asarray(runner.deck_frequencies, dtype=float).reshape(-1, 3)
+                b["frequencies_to_cutoff_hz"] = runner.frequencies_to_cutoff
                 b["en_cutoff_hz"] = float(runner.en_cutoff_hz)
                 # every node of the track (as every vtsi wrote them), those on a deck within deck_ends_m
                 b["deck_nodes"] = np.asarray(runner.track_nodes, dtype=np.int64)
@@ -1053,6 +1047,7 @@ class SweepResults:
                 self.speeds_kmh = f["speed_kmh"][()]
                 self.seeds = [int(s) for s in f["seed"][()]]
                 self.frequencies_hz = f["bridge/frequencies_hz"][()]
+                deck_frequencies_table(f["bridge"])     # each deck's n0, n2, n3, which every reader of the decks takes
                 self.quantities = {q: units for q, _, _, units in quantities(self.identity["outputs"])}
                 self._tables = {q: (f["envelopes"][q][()], f["envelopes"][q + "_where"][()],
                                     f["envelopes"][q + "_time"][()]) for q in self.quantities}
@@ -1260,8 +1255,9 @@ class SweepResults:
                                             "body_runout_s")}}
 
     def bridge(self):
-        """The stored bridge data: frequencies_hz, deck_frequencies_hz (n_decks, 3) and en_cutoff_hz
-        (not in a file of an older vtsi: :func:`~vtsi.passage.en_cutoff_hz` reads either), deck_nodes
+        """The stored bridge data: frequencies_hz, deck_frequencies_hz (n_decks, 3), en_cutoff_hz,
+        frequencies_to_cutoff_hz (n,) (every vertical frequency up to the cut-off [Hz]:
+        :attr:`~vtsi.passage.PassageRunner.frequencies_to_cutoff`; not in a file of an older vtsi), deck_nodes
         and deck_x_m (every node of the track and its x [m], x order; those on a deck:
         :func:`vtsi.deck_record.deck_nodes`), midspan_nodes, span_lengths_m, span_ends_m (n_spans,
         2), deck_ends_m (n_decks, 2; not in a file of an older vtsi), mode_shapes_uy (at
