@@ -20,6 +20,7 @@ from __future__ import annotations
 import functools
 
 import numpy as np
+import scipy.fft
 import scipy.interpolate
 
 from vtsi.errors import ModelError, as_numbers, is_count, is_int
@@ -97,13 +98,44 @@ def fra_psd(omega, fra_class=6):
     return 1e-4 * _FRA_K * _FRA_AV[int(fra_class) - 1] * _FRA_OMEGA_C ** 2 / (w2 * (w2 + _FRA_OMEGA_C ** 2))
 
 
+def _even_step(x):
+    """The step [m] of positions ``x`` (n,) evenly spaced to round-off (each within 4 ulp of max |x|
+    of x[0] + j step), else None (fewer than 2)."""
+    if x.size < 2:
+        return None
+    step = (x[-1] - x[0]) / (x.size - 1)
+    tol = 4.0 * np.finfo(float).eps * float(np.max(np.abs(x)))
+    return step if np.all(np.abs(x - (x[0] + step * np.arange(x.size))) <= tol) else None
+
+
+def _chirp_sum(amplitude, omega, phase, d_omega, x0, step, n):
+    """Σ_k a_k cos(Ω_k x_j + φ_k) at x_j = x0 + j step, j < n, for Ω_k = Ω_0 + k ΔΩ: a chirp
+    z-transform, X_j = Σ_k c_k e^{i k j ΔΩ step} with c_k = a_k e^{i(Ω_k x0 + φ_k)}, by Bluestein's
+    FFT convolution (k j = (k² + j² − (j − k)²)/2). The chirp e^{i θ k²/2} is computed from its
+    phase (scipy.signal.czt's w**(k²/2) drifts in modulus: 2e-11 of a 4000-wave profile, here
+    1e-13, the round-off of Ω_k x itself)."""
+    half = 0.5 * d_omega * step
+    size = scipy.fft.next_fast_len(omega.size + n - 1)
+    k = np.arange(max(omega.size, n), dtype=float)
+    chirp = np.exp(1j * half * k * k)
+    kernel = np.zeros(size, dtype=complex)
+    kernel[:n] = chirp[:n].conj()
+    kernel[size - omega.size + 1:] = chirp[1:omega.size][::-1].conj()
+    waves = amplitude * np.exp(1j * (omega * x0 + phase)) * chirp[:omega.size]
+    y = scipy.fft.ifft(scipy.fft.fft(waves, size) * scipy.fft.fft(kernel))[:n]
+    return (y * np.exp(1j * k[:n] * (omega[0] * step + half * k[:n]))).real
+
+
 def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=None):
     """A random profile with one-sided spectrum ``psd`` over a wavelength band.
 
     r(x) = Σ_k √(2 S(Ω_k) ΔΩ) cos(Ω_k x + φ_k), with n_waves frequencies Ω_k at the midpoints of
     equal intervals ΔΩ spanning [2π/λ_max, 2π/λ_min], and phases φ_k uniform in [0, 2π). Its
     variance over x is Σ S(Ω_k) ΔΩ ≈ ∫ S dΩ over the band. The profile repeats its pattern with
-    period 2π/ΔΩ; the default n_waves keeps that period at least as long as the span of x.
+    period 2π/ΔΩ; the default n_waves keeps that period at least as long as the span of x. The
+    points are summed in fixed blocks of POINTS_PER_BLOCK: an evenly spaced block (a sweep's) as a
+    chirp z-transform through FFTs (4096 points of 4000 waves in 1 ms, 0.35 s summed directly;
+    the two agree to 1e-13 of the profile), any other directly.
 
     Parameters
     ----------
@@ -159,13 +191,16 @@ def sample_profile(psd, x, wavelength_band=WAVELENGTH_BAND, n_waves=None, rng=No
     phase = np.random.default_rng(rng).uniform(0.0, 2.0 * np.pi, omega.size)
     flat = x.ravel()
     r = np.zeros(flat.size)
-    # fixed blocks of waves and points (a 16 MB work array): each r(x) sums the same waves in the same
-    # blocks whatever the other points are, so a seed's profile at x does not depend on the range
-    # sampled but to round-off (the BLAS may group a product's sums by the points' count: 4e-18 m);
-    # a sweep samples fixed blocks of points (vtsi.passage.PROFILE_BLOCK), the same to the bit
+    # fixed blocks of points: each r(x) is computed from its block's points only, so a seed's
+    # profile at x does not depend on the range sampled but to round-off (1e-13 of the profile); a
+    # sweep samples fixed blocks of points (vtsi.passage.PROFILE_BLOCK), the same to the bit
     for p in range(0, flat.size, POINTS_PER_BLOCK):
         at = slice(p, p + POINTS_PER_BLOCK)
-        for s in range(0, omega.size, WAVES_PER_BLOCK):
+        step = _even_step(flat[at])
+        if step is not None:
+            r[at] = _chirp_sum(amplitude, omega, phase, d_omega, flat[p], step, flat[at].size)
+            continue
+        for s in range(0, omega.size, WAVES_PER_BLOCK):     # a work array of 512 waves x the block
             k = slice(s, s + WAVES_PER_BLOCK)
             r[at] += amplitude[k] @ np.cos(np.outer(omega[k], flat[at]) + phase[k, None])
     return r.reshape(x.shape)
