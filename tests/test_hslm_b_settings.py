@@ -107,7 +107,8 @@ def test_a_sweep_without_hslm_b_refuses_the_setting():
 
 def test_the_results_file_keeps_it_and_a_resume_uses_it(files):
     """The file's settings hold [12, 2.8] and its train the 12 offsets; a resume with the setting
-    continues it (every case done: nothing runs), one without it is refused naming the setting;
+    continues it (every case done: nothing runs), one without it is refused naming the setting and
+    what continues the file (and one with it, a file of vtsi's reading);
     vtsi's reading leaves no hslm_b in the file (as an older vtsi's file)."""
     user = SweepResults(files["user"])
     assert user.identity["settings"]["hslm_b"] == [12, 2.8]
@@ -118,7 +119,12 @@ def test_the_results_file_keeps_it_and_a_resume_uses_it(files):
     assert again.n_done == again.n_cases == 2
     with pytest.raises(SweepError) as info:
         Sweep(bridge(), ["HSLM-B"], SPEEDS, settings()).run(files["user"], resume=True, workers=1, progress=False)
-    assert "it differs in settings.hslm_b (none here, [12, 2.8] in the file)" in str(info.value)
+    assert ("it differs in settings.hslm_b (none here, [12, 2.8] in the file) (to continue that file, give its "
+            "--hslm-b 12,2.8)); use another file") in str(info.value)
+    with pytest.raises(SweepError) as info:
+        Sweep(bridge(), ["HSLM-B"], SPEEDS, settings(USER)).run(files["law"], resume=True, workers=1, progress=False)
+    assert ("it differs in settings.hslm_b ([12, 2.8] here, none in the file) (to continue that file, give no "
+            "--hslm-b: it ran vtsi's reading of EN 1991-2 Figure 6.13)); use another file") in str(info.value)
 
 
 def test_the_check_says_the_verdict_rests_on_vtsis_reading(files):

@@ -589,6 +589,9 @@ def _describe(diff, runner):
         hint = f" (to continue that file, give its dt = {there:g} s)"
     if path == ("settings", "modal_hz") and there is not None:   # the default basis follows the outputs and trains
         hint = f" (to continue that file, give its modal_hz = {there:.10g} Hz)"
+    if path == ("settings", "hslm_b"):                           # none: vtsi's reading of EN 1991-2 Figure 6.13
+        hint = (" (to continue that file, give no --hslm-b: it ran vtsi's reading of EN 1991-2 Figure 6.13)"
+                if there is None else f" (to continue that file, give its --hslm-b {there[0]},{there[1]:g})")
     return f"it differs in {where} ({show(here)} here, {show(there)} in the file){hint}"
 
 
