@@ -1138,8 +1138,10 @@ class PassageRunner:
             if output in averaged:
                 history = (history[0], contact_force_mean(history[1], s.dt))
             kept = history
+            counted = (self.counted(output, train, x_head0, history[0])
+                       if output in averaged or output in bodies else None)
             if output in bodies:       # envelopes of the largest point, the history of the governing one
-                points = self._body_points(train, history[1], self.counted(output, train, x_head0, history[0]))
+                points = self._body_points(train, history[1], counted)
                 history, kept = (history[0], points.largest), (history[0], points.governing)
             if output in processed:
                 env = Envelope(history[1].shape[1])
@@ -1148,8 +1150,7 @@ class PassageRunner:
                                                       env.time_of_max, env.time_of_absmax])
             if output in averaged or output in bodies:     # what the bridge does: on its decks only
                 result.whole_run[output.name] = result.envelopes[output.name]
-                result.envelopes[output.name] = windowed_envelope(
-                    *history, self.counted(output, train, x_head0, history[0]))
+                result.envelopes[output.name] = windowed_envelope(*history, counted)
             result.columns[output.name] = self.columns(output, train)
             if output.history:
                 result.histories[output.name] = kept
