@@ -12,13 +12,17 @@ import numpy as np
 import pytest
 from scipy.ndimage import convolve1d
 
-from vtsi.constraint import SmoothedProfile
+import vtsi
+from vtsi.constraint import MovingLoadConstraint, SmoothedProfile
 from vtsi.errors import ModelError
 from vtsi.models.irregularity import WAVELENGTH_BAND, Irregularity, german_psd, sample_profile
 from vtsi.passage import (BODY_ON_TWO_SUPPORTS, PROFILE_BLOCK, PROFILE_STEP, Output, PassageSettings,
                           contact_force_mean, contact_force_reach, windowed_envelope)
 from vtsi.sweep import Sweep, beam_bridge
-from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, bspline_kernel
+from vtsi.models import Train, four_dof_car
+from vtsi.models.bridges import simply_supported_beam
+from vtsi.track import GAUSS_POINTS, GAUSS_WEIGHTS, Track, bspline_kernel
+from vtsi.train import TrainSubdomain
 
 PSD = functools.partial(german_psd, level="high")
 
@@ -171,3 +175,24 @@ def test_smoothed_rail_nodes_are_one_call_per_gauss_point():
             xi = (k - 1.5 + 0.5 * z) * table.knot
             ref += 0.5 * w * bspline_kernel(xi / table.knot) * np.asarray(profile(grid - xi), dtype=float)
     assert np.array_equal(table._node_values(profile, -1000, 5000), ref)
+
+
+@pytest.mark.parametrize("interpolation", ["bspline", "hermite"])
+def test_a_profile_of_one_value_holds_everywhere_and_another_shape_is_named(interpolation):
+    """A plain callable giving one number (a constant rail, ``lambda x: 0.001``) holds at every
+    position, as before the smoothed rail's nodes were read in one call (which raised numpy's
+    reshape error); one of another shape is refused naming both shapes."""
+    model = vtsi.Model()
+    bridge = simply_supported_beam(model, L=30.0, n_elements=10, E=3.5e10, I=7.0, mu=3.0e4)
+    car = four_dof_car(m_c=47800, J_c=1.96e6, m_w=7100, k_s=1.4e6, c_s=8e4, l_c=17.375)
+    train = TrainSubdomain(Train([car], [0.0], speed=30.0), x_head0=-5.0)
+
+    def tie(rail):
+        return MovingLoadConstraint(Track(model, bridge.elements), train, interpolation=interpolation,
+                                    irregularity=rail)
+
+    rail = tie(lambda x: 0.001).irregularity_at(np.array([0.1, 0.2]), 1e-3)
+    assert rail.shape == (2, 2) and np.max(np.abs(rail - 0.001)) <= 1e-15       # the B-spline's weights sum to 1
+    with pytest.raises(ModelError, match=r"the irregularity gives values of shape \(3,\) for positions of shape "
+                                         r"\((\d+,|2, 2)\): it must give one value \[m\] per position"):
+        tie(lambda x: np.zeros(3)).irregularity_at(np.array([0.1, 0.2]), 1e-3)

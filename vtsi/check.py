@@ -1265,7 +1265,9 @@ def _rayleigh_note(sweep, bridge):
     the largest cut-off: a short deck among longer ones), its resonances read high, on the safe
     side; or (b) a mode up to the cut-off gets more than RAYLEIGH_SPREAD above ζ: outside the
     anchors (a ``damping_hz`` above n₀, or below the cut-off), its resonances read low, on the
-    unsafe side, and a PASS of the deck acceleration is not sure. A deck's higher modes between
+    unsafe side, and a PASS of the deck acceleration is not sure (a results file of an older vtsi
+    lists no modes above each deck's n₃: those may be, where the ratio at the cut-off is more than
+    RAYLEIGH_SPREAD above ζ). A deck's higher modes between
     the anchors get less than ζ with any anchors (docs/sweeps.md, "Damping"): not named. The
     remedy: the modal bridge, or anchors through the lowest n₀ and the cut-off where those leave
     nothing to note (one deck; decks of n₀ that close), else why no anchors can. Three decks on
@@ -1282,6 +1284,10 @@ def _rayleigh_note(sweep, bridge):
     pair = sweep.get("damping_hz") or (float(np.ravel(bridge["frequencies_hz"])[0]), cut)
     modes = np.ravel(bridge.get("frequencies_to_cutoff_hz", []))     # not in a file of an older vtsi
     less, more = _rayleigh_off(zeta, pair, rows, modes)
+    at_cut = float(rayleigh_ratio(cut, *rayleigh_coefficients(zeta, *pair)))
+    if "frequencies_to_cutoff_hz" not in bridge and at_cut > (1 + RAYLEIGH_SPREAD) * zeta:
+        more.append(f"any mode between a deck's n3 and the cut-off, which a results file of an older vtsi does not "
+                    f"list, up to zeta = {100 * at_cut:.3g} % at the cut-off ({cut:.4g} Hz)")
     if not (less or more):
         return "", False
     said = [f"{', '.join(less)}: damped less, their resonances read high (on the safe side)" if less else "",

@@ -101,17 +101,22 @@ class MovingLoadConstraint:
         return self.x0 + self.train.speed * np.asarray(t, dtype=float)[..., None]
 
     def _profile(self, x, nu):
-        """r (nu = 0), dr/dx (1) or d²r/dx² (2) at x; a plain callable r(x) gets central differences."""
+        """r (nu = 0), dr/dx (1) or d²r/dx² (2) at positions x (any shape; a profile's single value
+        holds at all of them, any other shape is a ModelError); a plain callable r(x) gets central
+        differences."""
+        x = np.asarray(x, dtype=float)
         try:
-            return np.asarray(self.irregularity(x, nu=nu), dtype=float)
+            r = np.asarray(self.irregularity(x, nu=nu), dtype=float)
         except TypeError:
-            r = lambda z: np.asarray(self.irregularity(z), dtype=float)
-            if nu == 0:
-                return r(x)
+            rail = lambda z: np.asarray(self.irregularity(z), dtype=float)
             h = 1e-4 if nu == 1 else 1e-3
-            if nu == 1:
-                return (r(x + h) - r(x - h)) / (2 * h)
-            return (r(x + h) - 2.0 * r(x) + r(x - h)) / (h * h)
+            r = (rail(x) if nu == 0 else (rail(x + h) - rail(x - h)) / (2 * h) if nu == 1 else
+                 (rail(x + h) - 2.0 * rail(x) + rail(x - h)) / (h * h))
+        try:
+            return np.broadcast_to(r, x.shape)
+        except ValueError:
+            raise ModelError(f"MovingLoadConstraint: the irregularity gives values of shape {r.shape} for positions of "
+                             f"shape {x.shape}: it must give one value [m] per position (or one for all)") from None
 
     def irregularity_at(self, t, dt, nu=0):
         """``r̃`` (or r; ``nu = 1``: its rate dr̃/dt = V dr̃/dx) under the contact wheels at times

@@ -664,6 +664,7 @@ class ResultsWriter:
                     raise exc from None
                 raise SweepError(f"{exc}; {staged} holds this sweep, begun with overwrite=True (--overwrite): "
                                  "overwrite=True (--overwrite) continues it") from None
+            self._add_modes()
         else:                    # the old file stays until the new sweep is complete (commit)
             self.path = staging_path(self.target)
             if os.path.exists(self.path):
@@ -673,6 +674,16 @@ class ResultsWriter:
                 except SweepError:
                     pass                       # another sweep's, or unreadable: begun anew
             self._create()
+
+    def _add_modes(self):
+        """A resumed file of an older vtsi gets /bridge/frequencies_to_cutoff_hz (the Rayleigh note
+        reads them), the same as this sweep's (its bridge is the file's)."""
+        with open_results(self.path) as f:
+            missing = "frequencies_to_cutoff_hz" not in f["bridge"]
+        if missing:
+            modes = self.runner.frequencies_to_cutoff
+            self._atomic(lambda f: f["bridge"].create_dataset("frequencies_to_cutoff_hz", data=modes),
+                         "cannot add the bridge's frequencies up to the cut-off", "the file is as it was")
 
     def commit(self):
         """Once the sweep is complete: the new file in place of the one it overwrites."""
