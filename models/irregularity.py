@@ -242,10 +242,13 @@ class Irregularity:
         self._funcs = tuple(functools.partial(spline, nu=nu) for nu in range(3))
         self._range = None if extrapolate else (x[0], x[-1])
         self._sampled = True
+        self._kinks = ()
 
     def __repr__(self):
         if not self._sampled:
-            return f"Irregularity(r(x) = {getattr(self._funcs[0], '__qualname__', repr(self._funcs[0]))})"
+            more = f", ... ({len(self._kinks)} kinks)" if len(self._kinks) > 4 else ""
+            kinks = f", kinks at x = {', '.join(f'{x:g}' for x in self._kinks[:4])}{more} m" if self._kinks else ""
+            return f"Irregularity(r(x) = {getattr(self._funcs[0], '__qualname__', repr(self._funcs[0]))}{kinks})"
         x = self._funcs[0].func.ppoly.x
         extent = "zero outside" if self._range is not None else "extrapolated outside"
         return (f"Irregularity({len(x)} samples, x = {x[0]:g} to {x[-1]:g} m ({extent}), "
@@ -256,14 +259,42 @@ class Irregularity:
         """Sampled range ``(x_first, x_last)`` [m] outside which r = 0, or None (defined everywhere)."""
         return None if self._range is None else (float(self._range[0]), float(self._range[1]))
 
+    @property
+    def kinks(self):
+        """Positions [m] where r' jumps (r continuous), increasing: those :meth:`from_function`
+        was told of; none for a sampled profile (a C² spline)."""
+        return self._kinks
+
     @classmethod
-    def from_function(cls, f, df=None, d2f=None):
+    def from_function(cls, f, df=None, d2f=None, kinks=()):
         """A profile given by vectorised functions r = f(x), r' = df(x), r'' = d2f(x) (m, m/m, 1/m);
-        the derivatives are optional, needed only if asked for."""
+        the derivatives are optional, needed only if asked for.
+
+        ``kinks``: the positions [m] where r' jumps (a ramp's start, a crest, the corners of a
+        trapezoidal bump), finite and distinct, in any order (kept sorted). A coupled analysis
+        with 'hermite' rows and ``exact_events=True`` takes each kink on rigid ground or at a
+        support as an event, a wheel's velocity jump V Δr' by a perfectly inelastic impulse at
+        its own time; with contact='lcp' and 'hermite' rows it refuses declared kinks without
+        ``exact_events`` and kinks within a span (docs/theory/contact.md §4). A kink not declared
+        cannot be seen: the analysis samples f, df, d2f at its stage times only, and under
+        contact='lcp' an undeclared upward kink throws the wheel off the rail (a false flight that
+        does not shrink with Δt). r itself must be continuous: a step in r is no kink."""
+        values = as_numbers(kinks, "Irregularity.from_function", "kinks [m]")
+        if values.ndim != 1:
+            raise ModelError(f"Irregularity.from_function: kinks must be a sequence of positions [m], "
+                             f"got an array of shape {values.shape}")
+        if not np.all(np.isfinite(values)):
+            bad = float(values[~np.isfinite(values)][0])
+            raise ModelError(f"Irregularity.from_function: kinks must be finite, got {bad} m")
+        values = np.sort(values)
+        twice = values[1:][np.diff(values) == 0.0]
+        if twice.size:
+            raise ModelError(f"Irregularity.from_function: kink x = {twice[0]:g} m is given twice")
         self = cls.__new__(cls)
         self._funcs = (f, df, d2f)
         self._range = None
         self._sampled = False
+        self._kinks = tuple(float(x) for x in values)
         return self
 
     @classmethod

@@ -109,13 +109,17 @@ class CoupledAnalysis:
         less high is put back on the rail. A round-off guard: 0 to vtsi.contact.MAX_GAP_TOL (1e-6 m, far
         below a lift-off of interest, >= 0.1 mm).
     exact_events : kinks of the rail line ('hermite' rows: a span's end on a support next to rigid
-        ground or to another span's end). False (default): a wheel takes the kink at the end of
+        ground or to another span's end, and the kinks the rail profile declares,
+        :meth:`~vtsi.models.Irregularity.from_function`). False (default): a wheel takes the kink at the end of
         the step that contains it, a first-order error in the train's response (its dampers see
         the wheel's velocity jump at the wrong time). True: that step keeps the wheel on its old
         line, then its velocity jump (a perfectly inelastic impulse, as R1) is applied with a
         timing correction and a consistent restart of its car: second order, no extra
         factorisation; the impulse is recorded as impulse/Δt in that step's λ, and Newmark's
-        λ no longer rings after a kink (docs/theory/coupled_step.md §6).
+        λ no longer rings after a kink (docs/theory/coupled_step.md §6). contact='lcp' with
+        'hermite' rows refuses a profile that declares kinks without it (an AnalysisError naming
+        them): the LCP would take a kink's impulse as a force of one step, and the integrator's
+        memory of it throws the wheel off (docs/theory/contact.md §4).
     bridge_cache : a :class:`~vtsi.subdomain.BridgeStageCache` shared by analyses of one bridge
         (a sweep's passages): the bridge's factors and track flexibilities are computed once per
         model version, integrator, Δt, track and set of moving dofs, whatever train crosses, and a
@@ -169,6 +173,13 @@ class CoupledAnalysis:
         if not isinstance(exact_events, (bool, np.bool_)):
             raise AnalysisError(f"CoupledAnalysis: exact_events must be True or False, got {exact_events!r}")
         self.exact_events = bool(exact_events)
+        kinks = _declared_kinks(constraint)
+        if contact == "lcp" and len(kinks) and constraint.interpolation == "hermite" and not self.exact_events:
+            shown = ", ".join(f"{x:g}" for x in kinks[:4]) + (f", ... ({len(kinks)} kinks)" if len(kinks) > 4 else "")
+            raise AnalysisError(f"CoupledAnalysis: the rail profile kinks at x = {shown} m; contact='lcp' with "
+                                "'hermite' rows would take each kink's impulse as a force of one step and throw "
+                                "the wheels off the rail: give exact_events=True (each kink an event) or "
+                                "interpolation='bspline'")
         self.in_contact = np.ones(constraint.n_contact)
         if bridge_cache is None:
             bridge_cache = BridgeStageCache()
@@ -301,7 +312,7 @@ class CoupledAnalysis:
             for q, (theta, w) in enumerate(st.load):
                 self.load_theta[s, q], self.load_weight[s, q] = theta, w
         self._sag = bridge.track_sag
-        self._kinks = self._kink_positions()
+        self._kinks, self._profile_kinks = self._kink_positions()
         self._cars = {}
         self._prepared = asm
         return asm
@@ -645,23 +656,42 @@ class CoupledAnalysis:
             feed.close()
         return state
 
-    # -- kinks of the rail line (span entry and exit), exact_events ------------------------
+    # -- kinks of the rail line (span entry and exit, the profile's), exact_events ----------
     def _kink_positions(self):
-        """Positions [m] where the rail line kinks and a bilateral wheel's velocity jumps: the
-        track chain's ends and the interior element ends whose rotation dofs differ (two spans
-        on their own nodes), where the rail's uy is fixed (a support: the rows have no free
-        entry there, so the bridge takes no impulse). Only with ``exact_events`` and 'hermite'
-        rows ('bspline' smooths the kink)."""
+        """``(kinks, profile_kinks)``: positions [m] (increasing) where the rail line kinks and a
+        bilateral wheel's velocity jumps: the track chain's ends and the interior element ends
+        whose rotation dofs differ (two spans on their own nodes), where the rail's uy is fixed
+        (a support: the rows have no free entry there, so the bridge takes no impulse); and the
+        rail profile's declared kinks where the rail is held (:func:`_declared_kinks`: on the
+        rigid ground before and after the track, where the wheels follow the profile too, or at
+        a support; :meth:`_events` keeps those a run reaches), also given alone. A profile kink
+        where the rail moves would share its impulse with the bridge, which :meth:`_cross` does
+        not model: with contact='lcp' an AnalysisError, bilateral the step takes it as without
+        events. Only with ``exact_events`` and 'hermite' rows ('bspline' smooths the kink)."""
         con, track = self.constraint, self.constraint.track
         if not self.exact_events or con.interpolation != "hermite" or con.n_contact == 0:
-            return np.zeros(0)
+            return np.zeros(0), np.zeros(0)
         d = track.dofs
         kinks = [track.x_begin] if d[0, 0] < 0 else []
         kinks += [track.x_start[e + 1] for e in range(len(d) - 1)
                   if d[e, 3] != d[e + 1, 1] and d[e, 2] < 0 and d[e + 1, 0] < 0]
         if d[-1, 2] < 0:
             kinks.append(track.x_end)
-        return np.array(kinks)
+        profile = _declared_kinks(con)
+        if len(profile):        # (a run without them keeps the track's list as it was)
+            x_node = np.append(track.x_start, track.x_end)
+            held = np.append(d[:, 0], d[-1, 2]) < 0       # nodes whose uy is fixed
+            on_span = (profile > track.x_begin) & (profile < track.x_end) & ~np.isin(profile, x_node[held])
+            if np.any(on_span):
+                x = profile[on_span]
+                if self.contact == "lcp":
+                    raise AnalysisError(f"CoupledAnalysis: the rail profile kinks at x = {x[0]:g} m on the track where "
+                                        "the rail moves (not at a support); exact_events takes a kink's impulse on "
+                                        "the wheel's car alone, the bridge's share missing: use "
+                                        "interpolation='bspline' (which smooths the kink)")
+                profile = profile[~on_span]     # bilateral: the step takes them, the bridge sharing the impulse
+            return np.union1d(kinks, profile), profile
+        return np.array(kinks), profile
 
     def _events(self, t0, n):
         """Kink crossings in the steps (t0, t0 + n Δt]: sorted (step k, θ in (0, 1], wheel, x),
@@ -677,18 +707,22 @@ class CoupledAnalysis:
         return sorted(out)
 
     def _old_line(self, crossing, t_step, r_step, rate_step):
-        """Wheel start positions and rail data (self weight) of a step in which the wheels of
-        ``crossing`` stay on their old line to the step's end: each is moved back by the
-        V (1 - θ) Δt it travels past its kink (and a hair)."""
+        """Wheel start positions and rail data of a step in which the wheels of ``crossing`` stay
+        on their old line to the step's end: each is moved back by the V (1 - θ) Δt it travels
+        past its kink (and a hair), its rows and the self weight's sag with it, and at a kink of
+        the profile the profile's r, V r' too (the side before the kink)."""
         con, V = self.constraint, self.train.speed
         x0_c, r_step, rate_step = con.x0.copy(), r_step.copy(), rate_step.copy()
         for _, theta, i, x in crossing:
             shift = (1.0 - theta) * self.dt * V + 1e-9 * max(1.0, abs(x))
             x0_c[i] -= shift
+            xs = con.x0[i] + V * (t_step + self.stage_theta * self.dt)
             if self._sag is not None:
-                xs = con.x0[i] + V * (t_step + self.stage_theta * self.dt)
                 r_step[0, :, i] += self._sag_at(xs, 0) - self._sag_at(xs - shift, 0)
                 rate_step[0, :, i] += self._sag_at(xs, 1) - self._sag_at(xs - shift, 1)
+            if x in self._profile_kinks:
+                r_step[0, :, i] += con._profile(xs - shift, 0) - con._profile(xs, 0)
+                rate_step[0, :, i] += V * (con._profile(xs - shift, 1) - con._profile(xs, 1))
         return x0_c, r_step, rate_step
 
     def _car(self, i):
@@ -709,9 +743,10 @@ class CoupledAnalysis:
 
     def _cross(self, bank_b, bank_t, kd_b, kd_t, i, x, tau, prev):
         """Wheel ``i`` crossed the kink at ``x`` a time ``tau`` before the state in the banks,
-        which kept it on its old line. Onto the new line (docs/theory/coupled_step.md §6): its
-        position; its car's momentum from the dampers since the crossing, -C e_w Δv tau; its
-        velocity jump by a perfectly inelastic impulse along e_w (its car only: the bridge takes
+        which kept it on its old line. Onto the new line (docs/theory/coupled_step.md §6), the
+        rows and the profile's r, r', r'' past the kink: its position; its car's momentum from the
+        dampers since the crossing, -C e_w Δv tau; its velocity jump by a perfectly inelastic
+        impulse along e_w (its car only: the bridge takes
         none at a support; lumped car masses); consistent accelerations (the wheel's from the
         new rail line, the rest of the car from its equations) and λ (HHT carries it). With
         contact='lcp' a new line that falls away (an impulse that would pull) leaves the wheel
@@ -944,6 +979,12 @@ class _CoupledPlan:
             rate_table -= a._rail_sag(times, 1)
         self.block, self.ahead = (t_c, i, table, r_table, rate_table), BLOCK_STEPS
         return table[:n], r_table[:n], rate_table[:n]
+
+
+def _declared_kinks(constraint):
+    """The kinks [m] (increasing, (n,)) the rail profile of ``constraint`` declares (its
+    ``kinks``, :meth:`~vtsi.models.Irregularity.from_function`); none for a plain callable."""
+    return np.asarray(getattr(constraint.irregularity, "kinks", ()), dtype=np.float64).reshape(-1)
 
 
 def check_train_stability(train, integrator, dt, bridge=None, track=None):
