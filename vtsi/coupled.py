@@ -710,17 +710,23 @@ class CoupledAnalysis:
         """Wheel start positions and rail data of a step in which the wheels of ``crossing`` stay
         on their old line to the step's end: each is moved back by the V (1 - θ) Δt it travels
         past its kink (and a hair), its rows and the self weight's sag with it, and at a kink of
-        the profile the profile's r, V r' too (the side before the kink)."""
+        the profile the profile's r, V r' too (the side before the kink). A wheel crossing two
+        kinks in the step goes back before the first once (the shifts summed put a wheel over a
+        3 cm ramp at 30 m/s, Δt = 1 ms, 6 cm back: its car's velocity 26 % off)."""
         con, V = self.constraint, self.train.speed
         x0_c, r_step, rate_step = con.x0.copy(), r_step.copy(), rate_step.copy()
+        shifts, profile = {}, set()
         for _, theta, i, x in crossing:
-            shift = (1.0 - theta) * self.dt * V + 1e-9 * max(1.0, abs(x))
+            shifts[i] = max(shifts.get(i, 0.0), (1.0 - theta) * self.dt * V + 1e-9 * max(1.0, abs(x)))
+            if x in self._profile_kinks:
+                profile.add(i)
+        for i, shift in shifts.items():
             x0_c[i] -= shift
             xs = con.x0[i] + V * (t_step + self.stage_theta * self.dt)
             if self._sag is not None:
                 r_step[0, :, i] += self._sag_at(xs, 0) - self._sag_at(xs - shift, 0)
                 rate_step[0, :, i] += self._sag_at(xs, 1) - self._sag_at(xs - shift, 1)
-            if x in self._profile_kinks:
+            if i in profile:
                 r_step[0, :, i] += con._profile(xs - shift, 0) - con._profile(xs, 0)
                 rate_step[0, :, i] += V * (con._profile(xs - shift, 1) - con._profile(xs, 1))
         return x0_c, r_step, rate_step
