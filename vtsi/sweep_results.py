@@ -42,12 +42,14 @@ Layout (docs/sweeps.md)::
                            n_columns) of a vehicle output (-1 pads a train with fewer; none: the
                            train does not produce it)
     /cases/                one table of every case, appended batch by batch: train (n,) (its
-                           index in /train), speed_kmh, seed, n_steps, seconds, x_head0 [m] (n,)
-                           and per output <name> (n, 6, n_columns), each case's envelope (rows
-                           min, max, absmax, time_of_min, time_of_max, time_of_absmax; NaN in the
-                           columns its train does not have; a vehicle output's counts the bridge
-                           only, vtsi.passage.PassageRunner.counted, and <name>_whole_run holds
-                           its envelope over the whole run); with a history,
+                           index in /train), speed_kmh, seed, n_steps, seconds, x_head0 [m],
+                           deck_flights (n,) (contact wheels that flew on a deck, raw contact;
+                           -1: not counted, contact other than 'lcp'; absent in a file of an
+                           older vtsi) and per output <name> (n, 6, n_columns), each case's
+                           envelope (rows min, max, absmax, time_of_min, time_of_max,
+                           time_of_absmax; NaN in the columns its train does not have; a vehicle
+                           output's counts the bridge only, vtsi.passage.PassageRunner.counted,
+                           and <name>_whole_run holds its envelope over the whole run); with a history,
                            histories/<train>/<speed>kmh/<seed>/<name>_time (m,) [s] and
                            <name>_values (m, n_columns) (attrs response, units, kind, cutoff_hz
                            as /outputs; group attrs train, speed_kmh, seed, x_head0, n_steps)
@@ -900,12 +902,15 @@ class ResultsWriter:
         cases, outputs = f["cases"], f["outputs"]
         n = len(results)
         train_index = np.array([trains.index(r.train) for r in results], dtype=np.int64)
+        if "train" in cases and "deck_flights" not in cases:     # a file of an older vtsi: its cases not counted
+            _append(cases, "deck_flights", np.full(cases["train"].shape[0], -1), np.int64)
         for name, dtype, values in (("train", np.int64, train_index),
                                     ("speed_kmh", float, [r.speed_kmh for r in results]),
                                     ("seed", np.int64, [r.seed for r in results]),
                                     ("n_steps", np.int64, [r.n_steps for r in results]),
                                     ("seconds", float, [r.seconds for r in results]),
-                                    ("x_head0", float, [r.x_head0 for r in results])):
+                                    ("x_head0", float, [r.x_head0 for r in results]),
+                                    ("deck_flights", np.int64, [r.deck_flights for r in results])):
             _append(cases, name, values, dtype)
         stacked = {}
         for o in ident["outputs"]:                  # a row per case; NaN where its train has no column
@@ -1230,13 +1235,29 @@ class SweepResults:
     def start_positions(self):
         """(n_train, n_speed, n_seed) x_head0 [m] of every case, the train's head at t = 0 (wheel
         i is at x_head0 + V t − axle_offsets_m[i]; NaN where a case is not in the file)."""
+        return self._per_case("x_head0")
+
+    def deck_flights(self):
+        """(n_train, n_speed, n_seed) how many contact wheels of each case flew on a deck (raw
+        contact, however briefly: :attr:`vtsi.passage.CaseResult.deck_flights`), NaN where a case
+        is not in the file or was not counted (contact other than 'lcp'); None for a file of an
+        older vtsi, which did not count them."""
+        with self._open() as f:
+            if "train" in f["cases"] and "deck_flights" not in f["cases"]:
+                return None
+        flights = self._per_case("deck_flights")
+        return np.where(flights < 0, np.nan, flights)
+
+    def _per_case(self, name):
+        """(n_train, n_speed, n_seed) the case table's column ``name`` as floats, NaN where a case
+        is not in the file."""
         out = np.full((len(self.trains), len(self.speeds_kmh), len(self.seeds)), np.nan)
         with self._open() as f:
             g = f["cases"]
             if "train" in g:
                 speed = np.argmin(np.abs(self.speeds_kmh[None, :] - g["speed_kmh"][()][:, None]), axis=1)
                 seed = np.array([self.seeds.index(int(k)) for k in g["seed"][()]], dtype=np.int64)
-                out[g["train"][()], speed, seed] = g["x_head0"][()]
+                out[g["train"][()], speed, seed] = g[name][()]
         return out
 
     def static(self, output):
