@@ -4,11 +4,13 @@ n₀ and the largest cut-off) leave a short deck's n₀ between them. A probe's 
 track (a 10 m slab, a 30 m span, a 2 × 20 m deck), ζ 1 %: the slab's n₀ got 0.44 %, its
 acceleration read 5.52 m/s² where the modal bridge, ζ on every mode, read 3.27 (FAIL against PASS),
 and the check said ζ = 1 %."""
+import shutil
+
 import numpy as np
 import pytest
 
 from vtsi.bridge_file import load_bridge
-from vtsi.check import check
+from vtsi.check import _rayleigh_note, check
 from vtsi.damping import rayleigh_coefficients, rayleigh_ratio
 from vtsi.passage import Output, PassageSettings
 from vtsi.sweep import Sweep, beam_bridge
@@ -113,6 +115,10 @@ def test_a_higher_mode_damped_above_the_ratio_stated_is_named():
     cut = float(results.bridge()["en_cutoff_hz"])          # one deck: anchors through n0 and the cut-off serve
     assert f"damps every mode at zeta, or take damping_hz through n0 and the cut-off ({f0:.4g} and {cut:.4g} Hz)" \
         in row.note
+    # a file of an older vtsi lists no modes above n3, but here n3 is the cut-off: nothing between to say
+    older = {k: v for k, v in results.bridge().items() if k != "frequencies_to_cutoff_hz"}
+    assert _rayleigh_note(results.identity["settings"], older) == _rayleigh_note(results.identity["settings"],
+                                                                                results.bridge())
 
 
 def test_every_mode_up_to_the_cut_off_damped_above_the_ratio_stated_is_named(tmp_path):
@@ -124,7 +130,7 @@ def test_every_mode_up_to_the_cut_off_damped_above_the_ratio_stated_is_named(tmp
     not sure; before, nothing), and its resume lists them."""
     import h5py
 
-    from vtsi.sweep_results import SweepResults
+    from vtsi.sweep_results import SweepResults, staging_path
 
     bridge = beam_bridge([40.0, 40.0], 3.5e10, 3.0, 15000.0, elements_per_span=10)
     rows = Sweep(bridge, ["HSLM-A1"], "250", PassageSettings(damping=0.01), ACC).runner.deck_frequencies
@@ -149,6 +155,11 @@ def test_every_mode_up_to_the_cut_off_damped_above_the_ratio_stated_is_named(tmp
     assert old.status == "info" and (f"gives any mode between a deck's n3 and the cut-off, which a results file of "
                                      f"an older vtsi does not list, up to zeta = {100 * at_cut:.3g} % at the cut-off "
                                      f"(30 Hz): damped more") in old.note
+    shutil.copy(results.path, staging_path(results.path))    # an older vtsi's overwrite, stopped
+    resumed = sweep.run(tmp_path / "r.h5", overwrite=True, workers=1, progress=False)   # continued: lists them
+    assert np.array_equal(resumed.bridge()["frequencies_to_cutoff_hz"], modes)
+    with h5py.File(results.path, "a") as f:
+        del f["bridge/frequencies_to_cutoff_hz"]
     resumed = sweep.run(tmp_path / "r.h5", resume=True, workers=1, progress=False)   # lists them again
     assert np.array_equal(resumed.bridge()["frequencies_to_cutoff_hz"], modes)
     assert check(resumed).row("deck_acceleration").note == row.note

@@ -1285,7 +1285,8 @@ def _rayleigh_note(sweep, bridge):
     modes = np.ravel(bridge.get("frequencies_to_cutoff_hz", []))     # not in a file of an older vtsi
     less, more = _rayleigh_off(zeta, pair, rows, modes)
     at_cut = float(rayleigh_ratio(cut, *rayleigh_coefficients(zeta, *pair)))
-    if "frequencies_to_cutoff_hz" not in bridge and at_cut > (1 + RAYLEIGH_SPREAD) * zeta:
+    if ("frequencies_to_cutoff_hz" not in bridge and at_cut > (1 + RAYLEIGH_SPREAD) * zeta
+            and cut > rows[:, 2].max() * (1 + 1e-9)):          # modes between a deck's n3 and the cut-off
         more.append(f"any mode between a deck's n3 and the cut-off, which a results file of an older vtsi does not "
                     f"list, up to zeta = {100 * at_cut:.3g} % at the cut-off ({cut:.4g} Hz)")
     if not (less or more):
@@ -1533,11 +1534,13 @@ def _flight_note(sweep, flown, done, status):
     """(status, note) of the wheel-unloading row when ``flown`` of the ``done`` passages had a
     wheel fly on a deck: with 'bspline' rows the unloading at a kink of the rail depends on dt
     and reads low (:data:`KINK_FLIGHT`): a PASS is not checked (info), a FAIL stands; with
-    'hermite' rows without exact events a note (within 8 %); with exact events nothing."""
-    if not flown or sweep.get("exact_events"):
+    'hermite' rows without exact events a note (within 8 %); with 'hermite' rows and exact events
+    nothing (with 'bspline' rows exact events take no kink)."""
+    hermite = sweep.get("interpolation") == "hermite"     # None, with cars: 'bspline'
+    if not flown or (hermite and sweep.get("exact_events")):      # events take kinks with 'hermite' rows only
         return status, ""
     said = f"; {flown} of {done} passages had a wheel fly on a deck (raw contact, however briefly): {KINK_FLIGHT}"
-    if sweep.get("interpolation") == "hermite":
+    if hermite:
         return status, (f"{said}; with 'hermite' rows and no exact events within 8 % of the converged value (low "
                         "at 0.4 ms): exact_events=True takes each kink at its own time")
     unsure = status == "pass"

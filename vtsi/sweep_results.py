@@ -672,6 +672,7 @@ class ResultsWriter:
             if os.path.exists(self.path):
                 try:
                     self._check(self.path)     # an overwrite of this same sweep that was stopped: go on
+                    self._add_modes()
                     return
                 except SweepError:
                     pass                       # another sweep's, or unreadable: begun anew
