@@ -132,3 +132,18 @@ def test_an_older_file_resumed_counts_only_its_new_cases(tmp_path):
     resumed = _sweep("160,360").run(path, workers=1, progress=False, resume=True)
     assert resumed.n_done == 2
     np.testing.assert_array_equal(resumed.deck_flights().ravel(), [np.nan, 12.0])   # the old case: not counted
+
+
+def test_the_command_line_takes_exact_events(tmp_path, beam_toml):
+    """--exact-events (the flight note's remedy, with --interpolation hermite) reaches the sweep's
+    settings; left out, the bridge file's [analysis] exact_events stands, and absent both, off."""
+    from vtsi.__main__ import main
+
+    def ran(*options, **analysis):
+        path = beam_toml(tmp_path / "b.toml", **analysis)
+        out = tmp_path / f"s{len(list(tmp_path.iterdir()))}.h5"
+        assert main(["sweep", str(path), "--trains", "ICE3", "--speeds", "200", "--cars", "full", "--contact", "lcp",
+                     "--interpolation", "hermite", "--workers", "1", "--quiet", "--out", str(out), *options]) == 0
+        return SweepResults(out).identity["settings"]["exact_events"]
+
+    assert ran("--exact-events") is True and ran(exact_events=True) is True and ran() is False

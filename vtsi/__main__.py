@@ -274,6 +274,10 @@ def _sweep_options(p, check):
     settings.add_argument("--interpolation", choices=("hermite", "bspline"),
                           help="rail shape functions: hermite or bspline (default: bspline with --cars full, "
                                "hermite for moving forces)")
+    settings.add_argument("--exact-events", action="store_const", const=True, default=None,
+                          help="take each kink of the rail line (a span's end next to rigid ground, the rail "
+                               "profile's declared kinks) at its own time, with hermite rows (default: the step "
+                               "that holds it takes it)")
     settings.add_argument("--bridge-model", choices=_bridge_models(),
                           help="fe (the FE bridge, time-stepped; default), modal (its modes up to --modal-hz, the "
                                "damping ratio on every mode: exact passages for moving forces, time-stepped for "
@@ -451,7 +455,7 @@ def _prepare_sweep(ns, out):
         source = read_bridge_file(ns.bridge, ns.track)
     values = dict(source.settings)
     given = {name: getattr(ns, name) for name in ("dt", "integrator", "cars", "contact", "interpolation", "damping",
-                                                  "irregularity", "modal_hz", "hslm_b")
+                                                  "irregularity", "modal_hz", "hslm_b", "exact_events")
              if getattr(ns, name) is not None}
     if ns.bridge_model is not None:
         given["bridge"] = ns.bridge_model

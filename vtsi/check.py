@@ -1514,8 +1514,7 @@ KINK_FLIGHT = ("an ICE3 at 360 km/h over a 15 m, 5.5 Hz span (smooth rail, its w
                "the span's ends) read Delta Q / Q 0.26, 0.31, 0.39, 0.42 at dt 0.8, 0.4, 0.2, 0.1 ms with 'bspline' "
                "rows, 0.47, 0.41, 0.44, 0.43 with 'hermite' rows, 0.55, 0.45, 0.46, 0.44 and 0.45 at 0.05 ms with "
                "'hermite' rows and exact events")
-KINK_REMEDY = ("take interpolation='hermite' with exact_events=True (on the command line --interpolation hermite, "
-               "with exact_events = true in the bridge file's [analysis] table)")
+KINK_REMEDY = ("take interpolation='hermite' with exact_events=True (--interpolation hermite --exact-events)")
 
 
 def _flights(results, lifting):
