@@ -56,3 +56,16 @@ def s5_viaduct(model, elements_per_span=20):
     μ = 30 t/m, as S3's span)."""
     p = S3
     return continuous_beam(model, [30.0, 30.0, 30.0], elements_per_span, p["E"], p["I"], p["mu"])
+
+
+def rigid_ground(model):
+    """A model's only track for wheels that run on rigid ground (the contact-loss scenes of
+    docs/theory/contact.md §8 and the rail profiles' kinks): a short stiff beam far ahead, nodes 1
+    and 2 at x = 1000 and 1001 m, element 1 (a wheel before it has a zero row, and its constraint
+    is u_w = r(x)). Returns the track's elements, [1]."""
+    model.node(1, 1000.0, 0.0)
+    model.node(2, 1001.0, 0.0)
+    model.fix(1, 1, 1, 0)
+    model.fix(2, 0, 1, 0)
+    model.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=2e11, I=1.0, rho=100.0, cmass=1)
+    return [1]

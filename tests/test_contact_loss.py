@@ -46,7 +46,7 @@ from vtsi.errors import AnalysisError, DivergenceError
 from vtsi.integrators import HHT, Newmark
 from vtsi.models import GRAVITY, Irregularity, Train, four_dof_car, ice3, moving_mass, sprung_mass
 from vtsi.models.bridges import simply_supported_beam
-from vtsi.models.scenes import S3, s5_viaduct
+from vtsi.models.scenes import S3, rigid_ground, s5_viaduct
 from vtsi.passage import PassageSettings
 from vtsi.recorders.vehicle import ContactRecorder
 from vtsi.track import Track
@@ -158,23 +158,12 @@ def s6_closed_form(m, V, h, length, x_b, x0, g=GRAVITY):
     return dict(t_lift=t_lift, x_lift=x_lift, t_land=t_land, x_land=x0 + V * t_land, flight=flight, r=r)
 
 
-def rigid_ground_model():
-    """A model whose only track is a short stiff beam far ahead (x = 1000 m): a wheel before it
-    runs on rigid ground, where its row is zero and its constraint is u_w = r(x)."""
-    model = vtsi.Model()
-    model.node(1, 1000.0, 0.0)
-    model.node(2, 1001.0, 0.0)
-    model.fix(1, 1, 1, 0)
-    model.fix(2, 0, 1, 0)
-    model.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=2e11, I=1.0, rho=100.0, cmass=1)
-    return model
-
-
 def s6_analysis(dt, integrator, t_end=0.22):
     """S6 in vtsi: the wheel runs on rigid ground (off the track chain a wheel's row is zero and
     its constraint is u_w = r(x)); the only track is a short stiff beam far ahead (x = 1000 m)."""
     p = S6
-    model = rigid_ground_model()
+    model = vtsi.Model()
+    rigid_ground(model)
     train = Train([moving_mass(p["m"])], [0.0], p["V"])
     con = MovingLoadConstraint(Track(model, [1]), TrainSubdomain(train, p["x0"]),
                                irregularity=sin4_bump(p["h"], p["length"], p["x_b"]))
@@ -600,7 +589,8 @@ def cosine_bump_closed_form(V, m, h, length, x_b, g=GRAVITY):
 def cosine_bump_run(V, dt, interpolation="hermite", **kwargs):
     """The wheel of BUMP['m'] on rigid ground (the only track a stiff beam far ahead) over the
     bump, contact='lcp', until 0.1 s after it is past the bump."""
-    model = rigid_ground_model()
+    model = vtsi.Model()
+    rigid_ground(model)
     train = Train([moving_mass(BUMP["m"])], [0.0], V)
     con = MovingLoadConstraint(Track(model, [1]), TrainSubdomain(train, 0.0), interpolation=interpolation,
                                irregularity=cosine_bump(BUMP["h"], BUMP["length"], BUMP["x_b"]))

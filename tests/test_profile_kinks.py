@@ -16,7 +16,7 @@ from vtsi.coupled import CoupledAnalysis
 from vtsi.errors import AnalysisError, ModelError
 from vtsi.integrators import HHT, GeneralizedAlpha
 from vtsi.models import GRAVITY, Irregularity, Train, moving_mass, sprung_mass
-from vtsi.models.scenes import s3_model
+from vtsi.models.scenes import rigid_ground, s3_model
 from vtsi.track import Track
 from vtsi.train import TrainSubdomain
 
@@ -51,12 +51,7 @@ def _crest(s, x1, xc):
 def _rigid_ground(car, profile, integrator, dt, t_end, contact="lcp", **kwargs):
     """``car`` from x = 0 at V over ``profile`` on rigid ground (the track, 1 m long, at x = 1000 m)."""
     model = vtsi.Model()
-    model.node(1, 1000.0, 0.0)
-    model.node(2, 1001.0, 0.0)
-    model.fix(1, 1, 1, 0)
-    model.fix(2, 0, 1, 0)
-    model.element("elasticBeamColumn", 1, (1, 2), A=1.0, E=2e11, I=1.0, rho=100.0, cmass=1)
-    con = MovingLoadConstraint(Track(model, [1]), TrainSubdomain(Train([car], [0.0], V), 0.0), irregularity=profile)
+    con = MovingLoadConstraint(Track(model, rigid_ground(model)), TrainSubdomain(Train([car], [0.0], V), 0.0), irregularity=profile)
     analysis = CoupledAnalysis(model, con, integrator, dt=dt, contact=contact, **kwargs)
     analysis.static()
     analysis.run(int(round(t_end / dt)))
