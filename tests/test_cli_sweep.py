@@ -125,6 +125,25 @@ def test_trains_lists_the_catalogue(capsys):
     assert rows["HSLM-A1"].split()[1] == "force" and "kN" in rows["HSLM-A1"]
 
 
+def test_trains_reads_axle_tables_as_a_sweep_does(tmp_path, capsys):
+    """vtsi trains TABLE.csv: one line per table, its axles, total and per-axle load, length and
+    where its D comes from (a CSV train's were seen only inside a sweep); a bad table exits 2
+    with one line naming the file and line."""
+    table = tmp_path / "talgo.csv"
+    table.write_text("position_m,load_kN\n" + "".join(f"{13.14 * k:.2f},{170 if k < 2 else 120}\n" for k in range(8)))
+    assert main(["trains", str(table)]) == 0
+    line, = capsys.readouterr().out.splitlines()
+    assert line.startswith(f"{table}: 8 axles, 1060 kN in all (120 to 170 kN an axle), 91.98 m from the first axle "
+                           "to the last; ")
+    assert "13.14 m" in line                          # its D, read from its dynamic signature
+    tonnes = tmp_path / "t.csv"
+    tonnes.write_text("position_m,load_kN\n0,17\n3,17\n")
+    assert main(["trains", str(table), str(tonnes)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == [f"vtsi trains: {tonnes} line 2: load_kN 17 is not a railway axle load (30 to 500 kN); is the "
+                   "table in tonnes? (17 t = 166.8 kN)"]
+
+
 def test_run_subcommand_and_the_original_form(tmp_path, capfd):
     pytest.importorskip("tkinter")
     script = write(tmp_path, "args.tcl", 'puts "args [llength $argv] $argv"\nexit 3\n')

@@ -234,8 +234,12 @@ def _parser():
     check.set_defaults(func=_check)
 
     trains = sub.add_parser("trains", prog="vtsi trains",
-                            help="list the train catalogue: name, fidelities, description",
-                            description="List the train catalogue (names for 'vtsi sweep --trains').")
+                            help="list the train catalogue: name, fidelities, description; or what vtsi reads "
+                                 "of axle tables",
+                            description="List the train catalogue (names for 'vtsi sweep --trains'); given axle "
+                                        "tables, what vtsi reads of each: axles, total load, length, D.")
+    trains.add_argument("tables", nargs="*", metavar="TABLE.csv",
+                        help="axle tables (columns position_m, load_kN) to read as 'vtsi sweep --trains' does")
     trains.set_defaults(func=_trains)
     return parser
 
@@ -384,8 +388,25 @@ def _run(parser, argv):
 
 # -- vtsi trains -------------------------------------------------------------------------------
 def _trains(ns):
+    from vtsi.errors import VtsiError
     from vtsi.models.catalogue import describe, fidelities, train_names
+    from vtsi.vehicle import Train
 
+    if ns.tables:                      # what a sweep reads of each axle table, one line each
+        lines = []
+        for path in ns.tables:
+            try:
+                train = Train.from_csv(path, speed=1.0)
+            except (VtsiError, OSError) as exc:
+                return _fail(exc, EXIT_USAGE, "trains")
+            loads = train.static_wheel_loads
+            D = train.characteristic_length
+            peak = train.signature_peak
+            lines.append(f"{path}: {len(loads)} axles, {loads.sum() / 1e3:g} kN in all ({loads.min() / 1e3:g} to "
+                         f"{loads.max() / 1e3:g} kN an axle), {train.length:g} m from the first axle to the last; "
+                         + (peak.text() if peak is not None else f"D = {D:g} m"))
+        _print_out("\n".join(lines))
+        return 0
     rows = [("name", "fidelities", "description")]
     for name in train_names():
         text = describe(name)
