@@ -280,6 +280,7 @@ class Irregularity:
         contact='lcp' an undeclared upward kink throws the wheel off the rail (a false flight that
         does not shrink with Δt). r itself must be continuous: a step in r is no kink."""
         values = as_numbers(kinks, "Irregularity.from_function", "kinks [m]")
+        values = values.reshape(-1) if values.ndim == 0 else values          # one kink
         if values.ndim != 1:
             raise ModelError(f"Irregularity.from_function: kinks must be a sequence of positions [m], "
                              f"got an array of shape {values.shape}")

@@ -7,6 +7,7 @@ sample, the counted samples and car-body points against their per-array versions
 smoothed rail's node values against one profile call per Gauss point.
 """
 import functools
+import math
 
 import numpy as np
 import pytest
@@ -181,7 +182,8 @@ def test_smoothed_rail_nodes_are_one_call_per_gauss_point():
 def test_a_profile_of_one_value_holds_everywhere_and_another_shape_is_named(interpolation):
     """A plain callable giving one number (a constant rail, ``lambda x: 0.001``) holds at every
     position, as before the smoothed rail's nodes were read in one call (which raised numpy's
-    reshape error); one of another shape is refused naming both shapes."""
+    reshape error); one of another shape is refused naming both shapes, and a function of one
+    number (math.sin: numpy's TypeError) is named so."""
     model = vtsi.Model()
     bridge = simply_supported_beam(model, L=30.0, n_elements=10, E=3.5e10, I=7.0, mu=3.0e4)
     car = four_dof_car(m_c=47800, J_c=1.96e6, m_w=7100, k_s=1.4e6, c_s=8e4, l_c=17.375)
@@ -196,3 +198,6 @@ def test_a_profile_of_one_value_holds_everywhere_and_another_shape_is_named(inte
     with pytest.raises(ModelError, match=r"the irregularity gives values of shape \(3,\) for positions of shape "
                                          r"\((\d+,|2, 2)\): it must give one value \[m\] per position"):
         tie(lambda x: np.zeros(3)).irregularity_at(np.array([0.1, 0.2]), 1e-3)
+    with pytest.raises(ModelError, match=r"the irregularity must take an array of positions \[m\] \(numpy functions, "
+                                         r"or np.vectorize\): r\(x\) of .* positions raised TypeError"):
+        tie(lambda x: 1e-3 * math.sin(x)).irregularity_at(np.array([0.1, 0.2]), 1e-3)     # math, not numpy

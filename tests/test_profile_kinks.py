@@ -61,9 +61,11 @@ def _rigid_ground(car, profile, integrator, dt, t_end, contact="lcp", **kwargs):
 def test_kinks_are_validated_and_sorted():
     assert _ramp(kinks=(3.0, -1.0, 2)).kinks == (-1.0, 2.0, 3.0)
     assert Irregularity.from_function(_zero).kinks == ()
+    assert _ramp(kinks=1.0).kinks == (1.0,)                   # one kink, a number
     assert Irregularity(np.linspace(0, 1, 5), np.zeros(5)).kinks == ()
     assert "kinks at x = -1, 2, 3 m" in repr(_ramp(kinks=(3.0, -1.0, 2)))
-    for kinks, words in [((1.0, np.nan), "kinks must be finite, got nan"), ((2.0, 1.0, 2.0), "kink x = 2 m is given twice"),
+    for kinks, words in [((1.0, np.nan), "kinks must be finite, got nan"), (np.inf, "kinks must be finite, got inf"),
+                         ((2.0, 1.0, 2.0), "kink x = 2 m is given twice"),
                          ("1.0", "kinks [m] must be numbers, got '1.0'"), ([[1.0, 2.0]], "shape (1, 2)"),
                          ((True,), "kinks [m] must be numbers")]:
         with pytest.raises(ModelError, match="Irregularity.from_function: ") as err:

@@ -110,8 +110,13 @@ class MovingLoadConstraint:
         except TypeError:
             rail = lambda z: np.asarray(self.irregularity(z), dtype=float)
             h = 1e-4 if nu == 1 else 1e-3
-            r = (rail(x) if nu == 0 else (rail(x + h) - rail(x - h)) / (2 * h) if nu == 1 else
-                 (rail(x + h) - 2.0 * rail(x) + rail(x - h)) / (h * h))
+            try:
+                r = (rail(x) if nu == 0 else (rail(x + h) - rail(x - h)) / (2 * h) if nu == 1 else
+                     (rail(x + h) - 2.0 * rail(x) + rail(x - h)) / (h * h))
+            except TypeError as exc:          # math.sin of an array: a function of one number
+                raise ModelError(f"MovingLoadConstraint: the irregularity must take an array of positions [m] "
+                                 f"(numpy functions, or np.vectorize): r(x) of {x.shape} positions raised "
+                                 f"TypeError: {exc}") from None
         try:
             return np.broadcast_to(r, x.shape)
         except ValueError:
