@@ -17,6 +17,8 @@ reference_solvers.md has the full tables):
   ballistic flight and landing; on a flexible beam against the bilateral R1 (lift-off where its λ
   crosses zero) and the LCP analysis (lift-off and landing times).
 """
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 from scipy.integrate import trapezoid
@@ -415,3 +417,16 @@ def test_coupled_analysis_converges_to_r2(s2_r2, integrator):
     errors = np.array(errors)
     assert np.all(errors[-1] < [5e-5, 2e-4, 1e-5]), errors[-1]
     assert np.all(errors[:-1] / errors[1:] > 2.8), errors
+
+
+def test_a_segment_ended_by_an_event_before_its_first_output_time():
+    """A terminal event before the first output time (a short flight between two impacts):
+    scipy gives t and y as empty lists, which raised numpy's TypeError; the segment is the event
+    alone."""
+    def reached(t, z):
+        return z[0] - 0.05
+    reached.terminal, reached.direction = True, 1
+    phase = SimpleNamespace(fun=lambda t, z: np.array([1.0]))       # z = t
+    t, z, hit = elimination.integrate_segment(phase, 0.0, 1.0, np.array([0.0]), np.array([0.5, 1.0]), "DOP853",
+                                              1e-10, 1e-12, {}, events=[reached])
+    assert hit == 0 and t == pytest.approx([0.05], abs=1e-12) and z.shape == (1, 1) and z[0, 0] == pytest.approx(0.05)

@@ -799,8 +799,10 @@ def integrate_segment(phase, ta, tb, z0, times, method, rtol, atol, stats, event
     if sol.status == 1:
         hit = next(i for i, te in enumerate(sol.t_events) if len(te))
         te, ze = sol.t_events[hit][0], sol.y_events[hit][0]
-        keep = sol.t < te
-        return np.append(sol.t[keep], te), np.column_stack([sol.y[:, keep], ze]), hit
+        # an event before the first output time: scipy gives t and y as empty lists
+        t_out, y_out = np.asarray(sol.t, dtype=float), np.asarray(sol.y, dtype=float).reshape(len(z0), -1)
+        keep = t_out < te
+        return np.append(t_out[keep], te), np.column_stack([y_out[:, keep], ze]), hit
     return sol.t, sol.y, None
 
 

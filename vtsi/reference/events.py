@@ -98,6 +98,7 @@ def solve_single_wheel(model, constraint, t_end, t_eval=None, rtol=1e-10, atol=N
                 if phase.accel(t, y, yd)[1][0] < 0:     # lands (or sits) where it cannot stay
                     events.append(("lift-off", float(t), x_of(t)))
                     contact = False
+                    u_b, v_b, _, u_t, v_t, _, _ = phase.full(t, y, yd)   # it leaves with the impact's velocities
                     continue
             else:
                 y, yd = phase.reduce(t, u_b, v_b, u_t, v_t)
