@@ -279,7 +279,7 @@ class Irregularity:
         cannot be seen: the analysis samples f, df, d2f at its stage times only, and under
         contact='lcp' an undeclared upward kink throws the wheel off the rail (a false flight that
         does not shrink with Δt). r itself must be continuous: a step in r is no kink."""
-        values = as_numbers(kinks, "Irregularity.from_function", "kinks [m]")
+        values = as_numbers(() if kinks is None else kinks, "Irregularity.from_function", "kinks [m]")
         values = values.reshape(-1) if values.ndim == 0 else values          # one kink
         if values.ndim != 1:
             raise ModelError(f"Irregularity.from_function: kinks must be a sequence of positions [m], "

@@ -127,8 +127,8 @@ def test_trains_lists_the_catalogue(capsys):
 
 def test_trains_reads_axle_tables_as_a_sweep_does(tmp_path, capsys):
     """vtsi trains TABLE.csv: one line per table, its axles, total and per-axle load, length and
-    where its D comes from (a CSV train's were seen only inside a sweep); a bad table exits 2
-    with one line naming the file and line."""
+    where its D comes from (a CSV train's were seen only inside a sweep); a bad table gets one
+    line naming the file and line, the others theirs, and the exit status 2."""
     table = tmp_path / "talgo.csv"
     table.write_text("position_m,load_kN\n" + "".join(f"{13.14 * k:.2f},{170 if k < 2 else 120}\n" for k in range(8)))
     assert main(["trains", str(table)]) == 0
@@ -138,10 +138,16 @@ def test_trains_reads_axle_tables_as_a_sweep_does(tmp_path, capsys):
     assert "13.14 m" in line                          # its D, read from its dynamic signature
     tonnes = tmp_path / "t.csv"
     tonnes.write_text("position_m,load_kN\n0,17\n3,17\n")
-    assert main(["trains", str(table), str(tonnes)]) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert err == [f"vtsi trains: {tonnes} line 2: load_kN 17 is not a railway axle load (30 to 500 kN); is the "
-                   "table in tonnes? (17 t = 166.8 kN)"]
+    assert main(["trains", str(tonnes), str(table)]) == 2         # the good one still read
+    out, err = capsys.readouterr()
+    assert out.splitlines() == [line] and err.splitlines() == [
+        f"vtsi trains: {tonnes} line 2: load_kN 17 is not a railway axle load (30 to 500 kN); is the table in "
+        "tonnes? (17 t = 166.8 kN)"]
+    cut = tmp_path / "cut.csv"
+    cut.write_bytes(b"\xff\xfe\x00\x01garbage\x80\x81")          # a UTF-16 mark, then no UTF-16
+    assert main(["trains", str(cut)]) == 2
+    assert capsys.readouterr().err.splitlines() == [f"vtsi trains: axle table {cut}: not UTF-16 text, though it "
+                                                    "starts with its byte-order mark (truncated data at byte 12)"]
 
 
 def test_run_subcommand_and_the_original_form(tmp_path, capfd):

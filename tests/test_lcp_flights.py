@@ -17,6 +17,7 @@ import vtsi.passage as passage
 from vtsi.check import CheckSettings, check
 from vtsi.passage import Output, PassageSettings
 from vtsi.sweep import Sweep, beam_bridge
+from vtsi.errors import ModelError
 from vtsi.sweep_results import SweepResults
 
 L, F1, MU, ZETA, DT = 15.0, 5.5, 12000.0, 0.0135, 4e-4
@@ -75,8 +76,8 @@ def test_the_flights_on_a_deck_are_counted_written_and_read(bspline):
 
 
 def test_a_flight_on_bspline_rows_leaves_a_pass_not_checked_and_a_fail_standing(bspline):
-    """With exact_events too: events take kinks on 'hermite' rows only (a probe's PASS of 0.31
-    stood with no note)."""
+    """exact_events on 'bspline' rows would do nothing (a probe's PASS of 0.31 stood with no
+    note, its file saying exact events): refused; with cars it takes 'hermite' rows by default."""
     _, res = bspline
     result = check(res)
     row, loss = result.row("wheel_unloading"), result.row("contact_loss")
@@ -89,8 +90,10 @@ def test_a_flight_on_bspline_rows_leaves_a_pass_not_checked_and_a_fail_standing(
     assert "1 of 1 passages had a wheel fly on a deck for less than the 10 ms mean shows" in loss.note
     failed = check(res, CheckSettings(unloading_limit=0.3)).row("wheel_unloading")
     assert failed.status == "fail" and FLIGHT in failed.note and "not checked" not in failed.note
-    events = check(_sweep(exact_events=True).run(None, workers=1, progress=False))    # no kink on 'bspline' rows
-    assert events.row("wheel_unloading").value == row.value and events.row("wheel_unloading").note == row.note
+    with pytest.raises(ModelError, match=r"exact_events takes the kinks of 'hermite' rows; 'bspline' rows smooth "
+                                         r"them and take none: take interpolation='hermite'"):
+        _sweep(exact_events=True, interpolation="bspline")            # it would do nothing (a probe's PASS of 0.31)
+    assert PassageSettings(cars="full", exact_events=True).interpolation == "hermite"
 
 
 def test_no_note_without_a_flight_with_exact_events_or_bilateral_contact():
@@ -134,7 +137,7 @@ def test_an_older_file_resumed_counts_only_its_new_cases(tmp_path):
     np.testing.assert_array_equal(resumed.deck_flights().ravel(), [np.nan, 12.0])   # the old case: not counted
 
 
-def test_the_command_line_takes_exact_events(tmp_path, beam_toml):
+def test_the_command_line_takes_exact_events(tmp_path, beam_toml, capsys):
     """--exact-events (the flight note's remedy, with --interpolation hermite) reaches the sweep's
     settings; left out, the bridge file's [analysis] exact_events stands, and absent both, off."""
     from vtsi.__main__ import main
@@ -147,3 +150,8 @@ def test_the_command_line_takes_exact_events(tmp_path, beam_toml):
         return SweepResults(out).identity["settings"]["exact_events"]
 
     assert ran("--exact-events") is True and ran(exact_events=True) is True and ran() is False
+    args = ["sweep", str(beam_toml(tmp_path / "c.toml")), "--trains", "ICE3", "--speeds", "200", "--cars", "full",
+            "--contact", "lcp", "--workers", "1", "--quiet", "--out", str(tmp_path / "c.h5")]
+    assert main(args + ["--exact-events"]) == 0 and main(args + ["--resume"]) == 2
+    assert "differs in settings.exact_events (false here, true in the file) (to continue that file, give " \
+           "--exact-events)" in capsys.readouterr().err

@@ -201,3 +201,5 @@ def test_a_profile_of_one_value_holds_everywhere_and_another_shape_is_named(inte
     with pytest.raises(ModelError, match=r"the irregularity must take an array of positions \[m\] \(numpy functions, "
                                          r"or np.vectorize\): r\(x\) of .* positions raised TypeError"):
         tie(lambda x: 1e-3 * math.sin(x)).irregularity_at(np.array([0.1, 0.2]), 1e-3)     # math, not numpy
+    with pytest.raises(ModelError, match=r"must take an array of positions .* raised ValueError"):
+        tie(lambda x: 1e-3 if x < 5 else 0.0).irregularity_at(np.array([0.1, 0.2]), 1e-3)     # a branch

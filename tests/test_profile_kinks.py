@@ -61,7 +61,7 @@ def _rigid_ground(car, profile, integrator, dt, t_end, contact="lcp", **kwargs):
 def test_kinks_are_validated_and_sorted():
     assert _ramp(kinks=(3.0, -1.0, 2)).kinks == (-1.0, 2.0, 3.0)
     assert Irregularity.from_function(_zero).kinks == ()
-    assert _ramp(kinks=1.0).kinks == (1.0,)                   # one kink, a number
+    assert _ramp(kinks=1.0).kinks == (1.0,) and _ramp(kinks=None).kinks == ()      # one kink, a number; none
     assert Irregularity(np.linspace(0, 1, 5), np.zeros(5)).kinks == ()
     assert "kinks at x = -1, 2, 3 m" in repr(_ramp(kinks=(3.0, -1.0, 2)))
     for kinks, words in [((1.0, np.nan), "kinks must be finite, got nan"), (np.inf, "kinks must be finite, got inf"),

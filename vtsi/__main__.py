@@ -279,9 +279,10 @@ def _sweep_options(p, check):
                           help="rail shape functions: hermite or bspline (default: bspline with --cars full, "
                                "hermite for moving forces)")
     settings.add_argument("--exact-events", action="store_const", const=True, default=None,
-                          help="take each kink of the rail line (a span's end next to rigid ground, the rail "
-                               "profile's declared kinks) at its own time, with hermite rows (default: the step "
-                               "that holds it takes it)")
+                          help="take each kink of the rail line (a span's end next to rigid ground or to another "
+                               "span's end, the rail profile's declared kinks) at its own time, for cars on hermite "
+                               "rows (their default with it; bspline rows refuse it) (default: the step that holds "
+                               "it takes it)")
     settings.add_argument("--bridge-model", choices=_bridge_models(),
                           help="fe (the FE bridge, time-stepped; default), modal (its modes up to --modal-hz, the "
                                "damping ratio on every mode: exact passages for moving forces, time-stepped for "
@@ -393,20 +394,19 @@ def _trains(ns):
     from vtsi.vehicle import Train
 
     if ns.tables:                      # what a sweep reads of each axle table, one line each
-        lines = []
+        status = 0
         for path in ns.tables:
             try:
                 train = Train.from_csv(path, speed=1.0)
-            except (VtsiError, OSError) as exc:
-                return _fail(exc, EXIT_USAGE, "trains")
-            loads = train.static_wheel_loads
-            D = train.characteristic_length
-            peak = train.signature_peak
-            lines.append(f"{path}: {len(loads)} axles, {loads.sum() / 1e3:g} kN in all ({loads.min() / 1e3:g} to "
-                         f"{loads.max() / 1e3:g} kN an axle), {train.length:g} m from the first axle to the last; "
-                         + (peak.text() if peak is not None else f"D = {D:g} m"))
-        _print_out("\n".join(lines))
-        return 0
+            except (VtsiError, OSError) as exc:      # named on standard error; the others still read
+                status = _fail(exc, EXIT_USAGE, "trains")
+                continue
+            loads, peak = train.static_wheel_loads, train.signature_peak
+            _print_out(f"{path}: {len(loads)} axle{'s' * (len(loads) > 1)}, {loads.sum() / 1e3:g} kN in all "
+                       f"({loads.min() / 1e3:g} to {loads.max() / 1e3:g} kN an axle), {train.length:g} m from the "
+                       "first axle to the last; "
+                       + (peak.text() if peak is not None else f"D = {train.characteristic_length:g} m"))
+        return status
     rows = [("name", "fidelities", "description")]
     for name in train_names():
         text = describe(name)

@@ -1286,7 +1286,7 @@ def _rayleigh_note(sweep, bridge):
     less, more = _rayleigh_off(zeta, pair, rows, modes)
     at_cut = float(rayleigh_ratio(cut, *rayleigh_coefficients(zeta, *pair)))
     if ("frequencies_to_cutoff_hz" not in bridge and at_cut > (1 + RAYLEIGH_SPREAD) * zeta
-            and cut > rows[:, 2].max() * (1 + 1e-9)):          # modes between a deck's n3 and the cut-off
+            and cut > rows[:, 2].min() * (1 + 1e-9)):          # modes between a deck's n3 and the cut-off
         more.append(f"any mode between a deck's n3 and the cut-off, which a results file of an older vtsi does not "
                     f"list, up to zeta = {100 * at_cut:.3g} % at the cut-off ({cut:.4g} Hz)")
     if not (less or more):

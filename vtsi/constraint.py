@@ -113,10 +113,10 @@ class MovingLoadConstraint:
             try:
                 r = (rail(x) if nu == 0 else (rail(x + h) - rail(x - h)) / (2 * h) if nu == 1 else
                      (rail(x + h) - 2.0 * rail(x) + rail(x - h)) / (h * h))
-            except TypeError as exc:          # math.sin of an array: a function of one number
+            except (TypeError, ValueError) as exc:     # math.sin, 'if x < 5': a function of one number
                 raise ModelError(f"MovingLoadConstraint: the irregularity must take an array of positions [m] "
                                  f"(numpy functions, or np.vectorize): r(x) of {x.shape} positions raised "
-                                 f"TypeError: {exc}") from None
+                                 f"{type(exc).__name__}: {exc}") from None
         try:
             return np.broadcast_to(r, x.shape)
         except ValueError:

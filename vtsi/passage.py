@@ -229,8 +229,12 @@ class PassageSettings:
     contact : 'bilateral' or 'lcp' (contact loss).
     interpolation : 'hermite' or 'bspline' (the ringing remedy (a)); None: 'bspline' for trains of
         cars (with Newmark's undamped rule 'hermite' rows ring after the rail's kinks at the
-        supports, and the check reads no wheel unloading from them), 'hermite' for moving forces.
-    exact_events : take span entries and exits at their own time (see CoupledAnalysis).
+        supports, and the check reads no wheel unloading from them), 'hermite' for moving forces
+        and with ``exact_events``.
+    exact_events : take the kinks of the rail line (span entries and exits, a profile's declared
+        kinks) at their own time (see CoupledAnalysis), for the wheels of cars on 'hermite' rows
+        (the rows' default with it; 'bspline' rows refuse it: it would do nothing; moving forces
+        have no wheels, and it changes nothing for them).
     damping : None (the bridge as built) or a damping ratio ζ [-] given to the bridge by
         Rayleigh damping through the two frequencies ``damping_hz`` (default: the first
         vertical frequency n₀ and the EN 1990 A2 cut-off max(30 Hz, 1.5 n₀, n₃), of several
@@ -312,8 +316,12 @@ class PassageSettings:
                 raise ModelError(f"sweep settings: damping_hz must be two different frequencies > 0 [Hz], "
                                  f"got {self.damping_hz!r}")
             object.__setattr__(self, "damping_hz", pair)
-        if self.interpolation is None:
-            object.__setattr__(self, "interpolation", "bspline" if self.cars == "full" else "hermite")
+        if self.exact_events is True and self.interpolation == "bspline":
+            raise ModelError("sweep settings: exact_events takes the kinks of 'hermite' rows; 'bspline' rows smooth "
+                             "them and take none: take interpolation='hermite' (the default with exact_events)")
+        if self.interpolation is None:           # exact events need the kinks of 'hermite' rows
+            object.__setattr__(self, "interpolation", "bspline" if self.cars == "full" and not self.exact_events
+                               else "hermite")
         for name, valid in (("cars", FIDELITIES), ("contact", CONTACT_STRATEGIES), ("interpolation", INTERPOLATIONS)):
             if getattr(self, name) not in valid:
                 raise ModelError(f"sweep settings: unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")

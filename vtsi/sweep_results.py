@@ -591,6 +591,8 @@ def _describe(diff, runner):
         hint = f" (to continue that file, give its dt = {there:g} s)"
     if path == ("settings", "modal_hz") and there is not None:   # the default basis follows the outputs and trains
         hint = f" (to continue that file, give its modal_hz = {there:.10g} Hz)"
+    if path == ("settings", "exact_events"):
+        hint = f" (to continue that file, {'give' if there else 'leave out'} --exact-events)"
     if path == ("settings", "hslm_b"):                           # none: vtsi's reading of EN 1991-2 Figure 6.13
         hint = (" (to continue that file, give no --hslm-b: it ran vtsi's reading of EN 1991-2 Figure 6.13)"
                 if there is None else f" (to continue that file, give its --hslm-b {there[0]},{there[1]:g})")
@@ -672,10 +674,11 @@ class ResultsWriter:
             if os.path.exists(self.path):
                 try:
                     self._check(self.path)     # an overwrite of this same sweep that was stopped: go on
-                    self._add_modes()
-                    return
                 except SweepError:
                     pass                       # another sweep's, or unreadable: begun anew
+                else:
+                    self._add_modes()          # (a failure to add them is the file's, not another sweep's)
+                    return
             self._create()
 
     def _add_modes(self):

@@ -515,7 +515,11 @@ def _read_text(path):
     except OSError as exc:
         raise ModelError(f"axle table {path}: cannot read it ({exc.strerror or exc})") from None
     if raw.startswith((b'\xff\xfe', b'\xfe\xff')):
-        return raw.decode('utf-16')
+        try:
+            return raw.decode('utf-16')
+        except UnicodeDecodeError as exc:
+            raise ModelError(f"axle table {path}: not UTF-16 text, though it starts with its byte-order mark "
+                             f"({exc.reason} at byte {exc.start})") from None
     try:
         return raw.decode('utf-8-sig')
     except UnicodeDecodeError:
