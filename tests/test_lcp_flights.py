@@ -102,6 +102,11 @@ def test_a_flight_on_bspline_rows_leaves_a_pass_not_checked_and_a_fail_standing(
     row = passing.row("deck_acceleration")          # 1.46 m/s^2, 28 wheels flew: a PASS is not sure
     assert row.value < row.limit and row.status == "info" and "deck_acceleration" in passing.unchecked
     assert "; not checked: 1 of 1 passages had a wheel fly on a deck (contact='lcp')" in row.note
+    deck_only = Sweep(beam_bridge([L], EI, 1.0, MU, elements_per_span=10), ["ICE3"], "200",
+                      PassageSettings(cars="full", damping=ZETA, dt=DT, contact="lcp", interpolation="hermite"),
+                      outputs=(Output("acceleration", "accel", cutoff="en"),)).run(None, workers=1, progress=False)
+    assert deck_only.deck_flights().tolist() == [[[28.0]]]        # counted without a contact-force output
+    assert check(deck_only).row("deck_acceleration").status == "info"
 
 
 def test_no_note_without_a_flight_with_exact_events_or_bilateral_contact():
@@ -163,4 +168,9 @@ def test_the_command_line_takes_exact_events(tmp_path, beam_toml, capsys):
             "--contact", "lcp", "--workers", "1", "--quiet", "--out", str(tmp_path / "c.h5")]
     assert main(args + ["--exact-events"]) == 0 and main(args + ["--resume"]) == 2
     assert "differs in settings.exact_events (false here, true in the file) (to continue that file, give " \
-           "--exact-events)" in capsys.readouterr().err
+           "--exact-events or [analysis] exact_events = true)" in capsys.readouterr().err
+    on = beam_toml(tmp_path / "on.toml", exact_events=True)            # --no-exact-events over the file's
+    out = tmp_path / "off.h5"
+    assert main(["sweep", str(on), "--trains", "ICE3", "--speeds", "200", "--cars", "full", "--contact", "lcp",
+                 "--no-exact-events", "--workers", "1", "--quiet", "--out", str(out)]) == 0
+    assert SweepResults(out).identity["settings"]["exact_events"] is False

@@ -199,7 +199,13 @@ def test_a_profile_of_one_value_holds_everywhere_and_another_shape_is_named(inte
                                          r"\((\d+,|2, 2)\): it must give one value \[m\] per position"):
         tie(lambda x: np.zeros(3)).irregularity_at(np.array([0.1, 0.2]), 1e-3)
     with pytest.raises(ModelError, match=r"the irregularity must take an array of positions \[m\] \(numpy functions, "
-                                         r"or np.vectorize\): r\(x\) of .* positions raised TypeError"):
+                                         r"or np.vectorize\): r\(x\) of .* positions \(x = .* m\) raised TypeError"):
         tie(lambda x: 1e-3 * math.sin(x)).irregularity_at(np.array([0.1, 0.2]), 1e-3)     # math, not numpy
     with pytest.raises(ModelError, match=r"must take an array of positions .* raised ValueError"):
         tie(lambda x: 1e-3 if x < 5 else 0.0).irregularity_at(np.array([0.1, 0.2]), 1e-3)     # a branch
+
+    def measured(x):                    # vectorised, but raising on positions it has no data for
+        raise ValueError("no data before x = 0")
+    with pytest.raises(ModelError, match=r"the irregularity r\(x\) of .* positions \(x = -?[\d.]+ to [\d.]+ m\) "
+                                         r"raised ValueError: no data before x = 0$"):
+        tie(measured).irregularity_at(np.array([0.1, 0.2]), 1e-3)

@@ -278,11 +278,12 @@ def _sweep_options(p, check):
     settings.add_argument("--interpolation", choices=("hermite", "bspline"),
                           help="rail shape functions: hermite or bspline (default: bspline with --cars full, "
                                "hermite for moving forces)")
-    settings.add_argument("--exact-events", action="store_const", const=True, default=None,
+    settings.add_argument("--exact-events", action=argparse.BooleanOptionalAction, default=None,
                           help="take each kink of the rail line (a span's end next to rigid ground or to another "
                                "span's end, the rail profile's declared kinks) at its own time, for cars on hermite "
-                               "rows (their default with it; bspline rows refuse it) (default: the step that holds "
-                               "it takes it)")
+                               "rows (their default with it; bspline rows refuse it); --no-exact-events: the step "
+                               "that holds a kink takes it (the default, over a bridge file's [analysis] "
+                               "exact_events)")
     settings.add_argument("--bridge-model", choices=_bridge_models(),
                           help="fe (the FE bridge, time-stepped; default), modal (its modes up to --modal-hz, the "
                                "damping ratio on every mode: exact passages for moving forces, time-stepped for "

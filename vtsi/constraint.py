@@ -114,9 +114,11 @@ class MovingLoadConstraint:
                 r = (rail(x) if nu == 0 else (rail(x + h) - rail(x - h)) / (2 * h) if nu == 1 else
                      (rail(x + h) - 2.0 * rail(x) + rail(x - h)) / (h * h))
             except (TypeError, ValueError) as exc:     # math.sin, 'if x < 5': a function of one number
-                raise ModelError(f"MovingLoadConstraint: the irregularity must take an array of positions [m] "
-                                 f"(numpy functions, or np.vectorize): r(x) of {x.shape} positions raised "
-                                 f"{type(exc).__name__}: {exc}") from None
+                scalar = isinstance(exc, TypeError) or "truth value of an array" in str(exc)
+                raise ModelError(f"MovingLoadConstraint: the irregularity "
+                                 + ("must take an array of positions [m] (numpy functions, or np.vectorize): "
+                                    if scalar else "") + f"r(x) of {x.shape} positions (x = {x.min():g} to "
+                                 f"{x.max():g} m) raised {type(exc).__name__}: {exc}") from None
         try:
             return np.broadcast_to(r, x.shape)
         except ValueError:

@@ -612,8 +612,9 @@ class CaseResult:
     ``whole_run[name]`` (6, n_columns): a vehicle output's envelope over the whole run, where
     ``envelopes[name]`` counts only the samples on the bridge (:meth:`PassageRunner.counted`);
     ``deck_flights``: how many contact wheels flew (gap > gap_tol at the end of a step, however
-    briefly: the raw contact, not the 10 ms mean) while their contact force counts on a deck, in
-    a passage with contact='lcp' and a contact-force output; -1 otherwise (not counted).
+    briefly: the raw contact, not the 10 ms mean) while their contact force would count on a
+    deck (:meth:`PassageRunner.counted`), in a passage with contact='lcp', whatever its
+    outputs; -1 otherwise (not counted).
     """
 
     train: str
@@ -1163,15 +1164,16 @@ class PassageRunner:
                 env.update(*history)
             result.envelopes[output.name] = np.array([env.min, env.max, env.absmax, env.time_of_min,
                                                       env.time_of_max, env.time_of_absmax])
-            if output in averaged and s.contact == "lcp":  # raw flights on a deck, which the mean may hide
-                flying = np.asarray(analysis.gap) > analysis.gap_tol
-                result.deck_flights = int(np.sum(np.any(flying & counted, axis=0)))
             if output in averaged or output in bodies:     # what the bridge does: on its decks only
                 result.whole_run[output.name] = result.envelopes[output.name]
                 result.envelopes[output.name] = windowed_envelope(*history, counted)
             result.columns[output.name] = self.columns(output, train)
             if output.history:
                 result.histories[output.name] = kept
+        if s.contact == "lcp":           # raw flights on a deck (whatever the outputs), which a 10 ms mean may hide
+            t = np.asarray(analysis.time)
+            window = self.counted(Output("contact", "contact_force"), train, x_head0, t)
+            result.deck_flights = int(np.sum(np.any((np.asarray(analysis.gap) > analysis.gap_tol) & window, axis=0)))
         result.seconds = time.perf_counter() - clock
         return result
 

@@ -592,7 +592,8 @@ def _describe(diff, runner):
     if path == ("settings", "modal_hz") and there is not None:   # the default basis follows the outputs and trains
         hint = f" (to continue that file, give its modal_hz = {there:.10g} Hz)"
     if path == ("settings", "exact_events"):
-        hint = f" (to continue that file, {'give' if there else 'leave out'} --exact-events)"
+        hint = (" (to continue that file, give --exact-events or [analysis] exact_events = true)" if there else
+                " (to continue that file, give --no-exact-events, or exact_events = false in [analysis])")
     if path == ("settings", "hslm_b"):                           # none: vtsi's reading of EN 1991-2 Figure 6.13
         hint = (" (to continue that file, give no --hslm-b: it ran vtsi's reading of EN 1991-2 Figure 6.13)"
                 if there is None else f" (to continue that file, give its --hslm-b {there[0]},{there[1]:g})")
