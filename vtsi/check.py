@@ -735,8 +735,7 @@ def _deck_acceleration(results, outputs, bridge, settings):
     if rings:
         note += (f"; not checked: {RINGING}, and the deck's acceleration grows as dt shrinks (an ICE3 on a 20 m span: "
                  f"2.3 to 13.8 m/s^2 for dt 2 to 0.25 ms); {RINGING_REMEDY}: 2.2 at every dt")
-    flights = results.deck_flights() if sweep.get("contact") == "lcp" else None
-    flown = int(np.sum(flights > 0)) if flights is not None else 0       # NaN: not run, not counted
+    flown = int(np.sum(_flown(results)))
     if flown:
         note += (f"; {'not checked: ' if value <= limit else ''}{flown} of {results.n_done} passages had a wheel fly "
                  f"on a deck (contact='lcp'), and each touch-down, a rigid point impact, excites the deck's modes up "
@@ -1528,15 +1527,19 @@ KINK_FLIGHT = ("an ICE3 at 360 km/h over a 15 m, 5.5 Hz span (smooth rail, its w
 KINK_REMEDY = ("take interpolation='hermite' with exact_events=True (--interpolation hermite --exact-events)")
 
 
+def _flown(results):
+    """(n_train, n_speed, n_seed) bool: the cases of ``results`` in which a wheel flew on a deck
+    (raw contact, contact='lcp': :meth:`SweepResults.deck_flights`; NaN, a case not run or not
+    counted, is no flight); False for a file of an older vtsi, which did not count flights."""
+    flights = results.deck_flights()
+    return np.asarray(False) if flights is None else flights > 0
+
+
 def _flights(results, lifting):
     """(passages with a wheel that flew on a deck, those of them whose 10 ms mean never reached
-    zero): counts over the cases of ``results`` (raw contact, :meth:`SweepResults.deck_flights`;
-    ``lifting`` (n_train, n_speed, n_seed): the cases whose mean reached zero); (0, 0) for a file
-    of an older vtsi, which did not count flights."""
-    flights = results.deck_flights()
-    if flights is None:
-        return 0, 0
-    flown = flights > 0                 # NaN (not counted, not run): no flight
+    zero): counts over the cases of ``results`` (:func:`_flown`; ``lifting`` (n_train, n_speed,
+    n_seed): the cases whose mean reached zero)."""
+    flown = _flown(results)
     return int(np.sum(flown)), int(np.sum(flown & ~lifting))
 
 
